@@ -1,0 +1,1 @@
+"""Writers of winder's output files, one module per format; every write is atomic."""
