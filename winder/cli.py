@@ -17,26 +17,36 @@ import numpy as np
 
 from winder import __version__
 from winder.config import load_config
-from winder.errors import ConfigError, SolverError, WinderError
+from winder.errors import ConfigError, SolverError
 from winder.geodesic import DEFAULT_POINTS, Method, geodesic
+from winder import regress as regress_mod
+from winder.jobs import (FORMATS, JobReport, JobTask, default_workers, error_message, exit_code_of,
+                         exit_status, run_jobs)
 from winder.surface import build_surface
 
 
+def _error(exc: BaseException, source: str | None = None) -> int:
+    """Print the one `Error: ...` line of exc (naming source if the message does not) and return
+    its SPEC exit status: 2 for an invalid config or bad input, 1 for anything that could not be
+    computed or written, 1 (with a please-report note) for an unexpected exception."""
+    click.echo(f"Error: {error_message(exc, source)}", err=True)
+    return exit_code_of(exc)
+
+
 def _guard(fn: Callable) -> Callable:
-    """Turn winder's errors into `Error: ...` and the SPEC exit codes; never a traceback."""
+    """Turn winder's errors into `Error: ...` and the SPEC exit codes; never a traceback.
+
+    The one place where an exception becomes an exit status (through winder.jobs.exit_code_of, which
+    the batch commands use for each of their jobs as well)."""
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
         try:
             return fn(*args, **kwargs)
-        except WinderError as exc:
-            click.echo(f"Error: {exc}", err=True)
-            sys.exit(exc.exit_code)
-        except (KeyboardInterrupt, click.exceptions.Exit, click.ClickException):
+        except (KeyboardInterrupt, click.exceptions.Exit, click.ClickException, click.Abort):
             raise
         except Exception as exc:  # noqa: BLE001 - the promise is: no traceback, ever
-            click.echo(f"Error: internal error ({type(exc).__name__}: {exc}); please report it", err=True)
-            sys.exit(1)
+            sys.exit(_error(exc))
 
     return wrapper
 
@@ -128,16 +138,150 @@ def check_cmd(configs: tuple[str, ...]) -> None:
         try:
             job = load_config(path)
             build_surface(job.mandrel, job.source, job.name)
-        except WinderError as exc:
-            click.echo(f"Error: {exc}", err=True)
-            bad += 1
-        except Exception as exc:  # noqa: BLE001
-            click.echo(f"Error: {path}: internal error ({type(exc).__name__}: {exc}); please report it", err=True)
+        except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
+            _error(exc, path)
             bad += 1
         else:
             click.echo(f"ok: {path} ({job.name})")
     if bad:
         sys.exit(2)
+
+
+# -- run -------------------------------------------------------------------------------------------
+def _parse_formats(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
+    """--format csv --format gcode, or --format csv,gcode; none given: all of them."""
+    if not values:
+        return FORMATS
+    chosen = set()
+    for value in values:
+        for part in value.split(","):
+            part = part.strip().lower()
+            if part not in FORMATS:
+                raise click.BadParameter(f"{part!r} is not one of {', '.join(FORMATS)} (the summary "
+                                         "JSON is always written)", ctx=ctx, param=param)
+            chosen.add(part)
+    return tuple(f for f in FORMATS if f in chosen)
+
+
+def _workers(jobs: int, tasks: int) -> int:
+    return max(1, min(jobs or default_workers(), tasks))
+
+
+def _progress(length: int, label: str):
+    """A progress bar on stderr for a batch (more than one job); a no-op context otherwise."""
+    return click.progressbar(length=length, label=label, file=click.get_text_stream("stderr"),
+                             show_pos=True, show_eta=False, hidden=length <= 1)
+
+
+def _fmt_length(value: float | None) -> str:
+    return "-" if value is None else f"{value:.3f}"
+
+
+def _table(rows: list[tuple[str, ...]], right: set[int]) -> list[str]:
+    widths = [max(len(row[j]) for row in rows) for j in range(len(rows[0]))]
+    return ["  ".join(cell.rjust(w) if j in right else cell.ljust(w)
+                      for j, (cell, w) in enumerate(zip(row, widths))).rstrip() for row in rows]
+
+
+@main.command("run", short_help="Plan and export whole jobs (CSV, G-code, PLY, summary).")
+@click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default=".",
+              show_default=True, help="Folder for the output files (created if missing).")
+@click.option("--format", "formats", multiple=True, callback=_parse_formats, metavar="csv|gcode|ply",
+              help="Outputs to write besides <name>.summary.json; repeat or comma-separate "
+                   "(default: all).")
+@click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
+              help="Worker processes for a batch; 0: one per CPU. The outputs do not depend on it.")
+@_guard
+def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jobs: int) -> None:
+    """Plan and export the whole job of each CONFIG: <name>.csv, .gcode, .ply and .summary.json.
+
+    A batch runs on --jobs worker processes; a config that fails is reported and the others still
+    run. Exit status: 0 all ok, 2 if any config was invalid, else 1 if any job could not be
+    computed or written.
+    """
+    reports: list[JobReport | None] = [None] * len(configs)
+    tasks: list[JobTask] = []
+    index: list[int] = []
+    owner: dict[str, str] = {}
+    for i, path in enumerate(configs):
+        # Jobs in one folder must not share a name: they would overwrite each other's files. The
+        # names are known only from the configs, so read them first (cheap: no computation); a
+        # config that cannot be read goes to the job anyway, which reports it in order.
+        try:
+            name = load_config(path).name
+        except Exception:  # noqa: BLE001 - reported by run_job, in its turn
+            name = None
+        key = name.casefold() if name is not None else None  # Pipe and pipe clash on some disks
+        if key is not None and key in owner:
+            exc = ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
+                              f"both would write {name}.* into {out_dir}")
+            reports[i] = JobReport(path, name, False, exit_code_of(exc), error_message(exc, path))
+            continue
+        if key is not None:
+            owner[key] = path
+        tasks.append(JobTask(path, out_dir, formats))
+        index.append(i)
+
+    with _progress(len(configs), f"winding {len(configs)} jobs") as bar:
+        bar.update(len(configs) - len(tasks))
+        for k, report in run_jobs(tasks, _workers(jobs, len(tasks))):
+            reports[index[k]] = report
+            bar.update(1)
+
+    done = [r for r in reports if r is not None]
+    for report in done:
+        if not report.ok:
+            click.echo(f"Error: {report.message}", err=True)
+    rows = [("config", "name", "status", "layers", "fiber (mm)", "seconds")]
+    rows += [(r.config, r.name or "-", r.status, str(r.layers) if r.layers else "-",
+              _fmt_length(r.fiber_length_mm), f"{r.seconds:.2f}") for r in done]
+    for line in _table(rows, right={3, 4, 5}):
+        click.echo(line)
+    ok = sum(r.ok for r in done)
+    written = sum(len(r.outputs) for r in done)
+    tally = f"{ok} of {len(done)} jobs ok" if len(done) > 1 else ("ok" if ok else "failed")
+    click.echo(f"{tally}; {written} file{'s' if written != 1 else ''} written to {out_dir}")
+    status = exit_status(r.exit_code for r in done)
+    if status:
+        sys.exit(status)
+
+
+# -- regress ---------------------------------------------------------------------------------------
+@main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")
+@click.argument("directory", type=click.Path(file_okay=False))
+@click.option("--update", is_flag=True, help="Rewrite the references with the current outputs.")
+@click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
+              help="Worker processes; 0: one per CPU.")
+@_guard
+def regress_cmd(directory: str, update: bool, jobs: int) -> None:
+    """Recompute each sample DIRECTORY/<sample>.yaml and compare it with its reference outputs in
+    DIRECTORY/reference/<sample>/ (numbers within tolerance); --update rewrites the references.
+
+    Exit status: 0 all match (or were updated), 1 a difference or a failed job, 2 an invalid sample.
+    """
+    samples = regress_mod.find_samples(directory)
+    label = f"{'updating' if update else 'comparing'} {len(samples)} samples"
+    with _progress(len(samples), label) as bar:
+        results = regress_mod.regress(directory, update=update, workers=_workers(jobs, len(samples)),
+                                      on_result=lambda _: bar.update(1))
+    for result in results:
+        for line in regress_mod.format_result(result):
+            click.echo(line)
+    bad = [r for r in results if not r.ok]
+    for result in bad:
+        click.echo(f"Error: {regress_mod.failure_line(result)}", err=True)
+    n = len(results)
+    if update:
+        changed = sum(any(f.status != "same" for f in r.files) for r in results if r.ok)
+        click.echo(f"{n} sample{'s' if n != 1 else ''}: {changed} updated, {n - changed - len(bad)} unchanged"
+                   + (f", {len(bad)} failed" if bad else ""))
+    else:
+        click.echo(f"{n} sample{'s' if n != 1 else ''}: {n - len(bad)} passed"
+                   + (f", {len(bad)} failed" if bad else ""))
+    status = regress_mod.regress_exit_status(results)
+    if status:
+        sys.exit(status)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -118,24 +118,51 @@ def _arc_from(origin: np.ndarray, tangent: np.ndarray, e2: np.ndarray, cfg: ArcA
 
 @dataclass(frozen=True)
 class Path:
-    """A tangent-continuous chain of lines and arcs; frames carried across the joints."""
+    """A tangent-continuous chain of lines and arcs; frames carried across the joints.
+
+    Evaluated in one vectorized pass: every piece is an arc of curvature kappa (0 for a line) in
+    the plane of its start tangent T0 and in-plane normal u, with the sinc forms of sin(phi) / kappa
+    and (1 - cos(phi)) / kappa, so lines need no special case.
+    """
 
     pieces: tuple[Line | Arc, ...]
     starts: np.ndarray  # (k,) float, station where each piece begins
     length: float
     is_straight: bool = False
 
+    def __post_init__(self) -> None:
+        rows = []
+        for piece in self.pieces:
+            t0 = piece.tangent
+            if isinstance(piece, Arc):
+                u, kappa = piece.toward_dir, 1.0 / piece.radius
+            else:
+                u, kappa = piece.e2, 0.0
+            b = np.cross(t0, u)
+            e3 = np.cross(t0, piece.e2)
+            rows.append((piece.origin, t0, u, b, kappa, piece.e2 @ u, piece.e2 @ b, e3 @ u, e3 @ b))
+        cols = list(zip(*rows))
+        object.__setattr__(self, "_vec", tuple(np.array(c, dtype=float) for c in cols))
+
     def evaluate(self, z: np.ndarray) -> CurveEval:
         z = np.asarray(z, dtype=float)
-        idx = np.clip(np.searchsorted(self.starts, z, side="right") - 1, 0, len(self.pieces) - 1)
-        out = [np.empty((z.shape[0], 3)) for _ in range(6)]
-        for k, piece in enumerate(self.pieces):
-            mask = idx == k
-            if np.any(mask):
-                ev = piece.evaluate(z[mask] - self.starts[k])
-                for arr, val in zip(out, ev):
-                    arr[mask] = val
-        return CurveEval(*out)
+        if len(self.pieces) == 1:
+            # One piece: its parameters broadcast as they are (no per-point gather).
+            origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = (a[0] for a in self._vec)
+            zl = z
+        else:
+            k = np.clip(np.searchsorted(self.starts, z, side="right") - 1, 0, len(self.pieces) - 1)
+            origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = (
+                a[k] if a.ndim == 2 else a[k][:, None] for a in self._vec)
+            zl = z - self.starts[k]
+        phi = kappa * zl if np.ndim(kappa) == 0 else kappa[:, 0] * zl
+        along = (zl * np.sinc(phi / np.pi))[:, None]  # sin(phi) / kappa
+        across = (0.5 * zl * phi * np.sinc(phi / (2.0 * np.pi)) ** 2)[:, None]  # (1 - cos(phi)) / kappa
+        c, s = np.cos(phi)[:, None], np.sin(phi)[:, None]
+        x = origin + along * t0 + across * u
+        tan = c * t0 + s * u
+        nrm = -s * t0 + c * u
+        return CurveEval(x, tan, kappa * nrm, -(kappa * kappa) * tan, e2u * nrm + e2b * b, e3u * nrm + e3b * b)
 
     def max_curvature(self) -> float:
         return max(p.max_curvature() for p in self.pieces)

@@ -65,6 +65,12 @@ class AxialProfile:
 
     def evaluate(self, s: np.ndarray) -> ProfileEval:
         s = np.asarray(s, dtype=float)
+        if self.spline.c.shape[1] == 1:
+            # One cubic piece (constant and cone profiles): Horner directly, no spline call overhead.
+            c3, c2, c1, c0 = self.spline.c[:, 0]
+            x = s - self.spline.x[0]
+            return _axial(s, ((c3 * x + c2) * x + c1) * x + c0, (3.0 * c3 * x + 2.0 * c2) * x + c1,
+                          6.0 * c3 * x + 2.0 * c2)
         return _axial(s, self.spline(s), self.spline(s, 1), self.spline(s, 2))
 
     def s_of_t(self, t: np.ndarray) -> np.ndarray:

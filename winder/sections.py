@@ -119,8 +119,10 @@ class RoundedRectangle:
         rho = np.empty_like(theta)
         d1 = np.empty_like(theta)
         d2 = np.empty_like(theta)
-        m1 = phi <= side_x
-        m3 = phi >= side_y
+        # Strict: a joint belongs to the corner, so a zero-length side (corner_radius = height / 2 or
+        # width / 2) never wins there; corner_radius > 0 (config) keeps the corner formula finite.
+        m1 = phi < side_x
+        m3 = phi > side_y
         m2 = ~(m1 | m3)
         rho[m1] = hw / ac[m1]
         d1[m1] = hw * as_[m1] / ac[m1] ** 2
@@ -151,3 +153,53 @@ def make_section(cfg: object) -> Circle | Ellipse | Superellipse | RoundedRectan
     if isinstance(cfg, RoundedRectangleSection):
         return RoundedRectangle(cfg.width, cfg.height, cfg.corner_radius)
     raise TypeError(f"unsupported section {cfg!r}")
+
+
+@dataclass(frozen=True)
+class ArcMap:
+    """Arc-length position along a section: fraction f in [0, 1) of the perimeter from theta = 0.
+
+    The section is scaled uniformly by the profile, so the fraction of a polar angle does not depend
+    on the station. Both directions are unwrapped: theta + 2 pi <-> f + 1.
+    theta_grid, frac_grid : (k,) float, the monotone table over one turn.
+    """
+
+    theta_grid: np.ndarray
+    frac_grid: np.ndarray
+    identity: bool
+    rate_grid: np.ndarray | None = None  # (k,) float, dfrac/dtheta on theta_grid
+
+    def dtheta_dfrac(self, theta: np.ndarray) -> np.ndarray:
+        """d theta / d fraction at theta: 2 pi on a circle."""
+        theta = np.asarray(theta, dtype=float)
+        if self.identity:
+            return np.full_like(theta, 2.0 * np.pi)
+        return 1.0 / np.interp(np.mod(theta, 2.0 * np.pi), self.theta_grid, self.rate_grid)
+
+    def fraction(self, theta: np.ndarray) -> np.ndarray:
+        theta = np.asarray(theta, dtype=float)
+        if self.identity:
+            return theta / (2.0 * np.pi)
+        turns = np.floor(theta / (2.0 * np.pi))
+        return turns + np.interp(theta - 2.0 * np.pi * turns, self.theta_grid, self.frac_grid)
+
+    def theta(self, frac: np.ndarray) -> np.ndarray:
+        frac = np.asarray(frac, dtype=float)
+        if self.identity:
+            return 2.0 * np.pi * frac
+        turns = np.floor(frac)
+        return 2.0 * np.pi * turns + np.interp(frac - turns, self.frac_grid, self.theta_grid)
+
+
+ARC_MAP_SAMPLES = 20000  # linear interpolation error ~ (2 pi / samples)^2: 1e-7 of the perimeter
+
+
+def arc_map(section: Section) -> ArcMap:
+    """The arc-length map of a section (exact identity for circles)."""
+    if section.is_circle:
+        return ArcMap(np.array([0.0, 2.0 * np.pi]), np.array([0.0, 1.0]), True)
+    th = np.linspace(0.0, 2.0 * np.pi, ARC_MAP_SAMPLES + 1)
+    rho, d1, _ = section.polar(th)
+    speed = np.hypot(rho, d1)
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(th))])
+    return ArcMap(th, cum / cum[-1], False, speed / cum[-1])

@@ -100,7 +100,8 @@ def velocity_of_heading(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     The unit vector d = cos(a) e1 + sin(a) e2 written as d = s' Phi_s + theta' Phi_theta.
     All arguments (m,) float (broadcast); returns two (m,) arrays.
     """
-    s, theta, a = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float)) for v in (s, theta, heading_rad)))
+    s, theta, a = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
+                                        for v in (s, theta, heading_rad)))
     ev = surface.evaluate(s, theta, order=1)
     ns, along, w = _tangent_basis(ev.ps, ev.pt)
     dth = np.sin(a) / w
@@ -235,7 +236,8 @@ def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float,
         return dense(l)[:2]
 
     return Trace(s=s, theta=th, arc=arc, length=float(arc[-1]), sol=sol, state=dense, left_mandrel=left,
-                 status=status, heading_deg=float(heading_deg), speed_error=float(np.max(np.abs(speed - 1.0))),
+                 status=status, heading_deg=float(heading_deg),
+                 speed_error=float(np.max(np.abs(speed - 1.0))),
                  nfev=int(res.nfev))
 
 
@@ -306,9 +308,11 @@ class ShootResult:
     arc, s, theta : (m,) float, SHOT_SAMPLES samples equally spaced in arc length.
     sol : dense output of the final trace (arc length -> (s, theta)); state : -> (s, theta, s', theta').
     residual : distance (mm, in the metric at the end) between the traced end and the target.
-    converged : the root finder succeeded, the residual is <= CONVERGED_RESIDUAL * max(length, 1) and
-        the path stays on the mandrel. left_mandrel : the path leaves s in [0, surface.length].
-    nfev : fan integrations by the root finder; seconds : wall time.
+    converged : the residual is <= CONVERGED_RESIDUAL * max(length, 1) and the path stays on the
+        mandrel. left_mandrel : the path leaves s in [0, surface.length] by more than LEAVE_TOL (the
+        surface formulas were continued past the ends while shooting).
+    nfev : three-ray fan integrations (Newton and line search, or hybrj); seconds : wall time.
+    speed_error : max | |J u'| - 1 | at the final trace's steps.
     """
 
     heading_deg: float
@@ -327,7 +331,8 @@ class ShootResult:
     speed_error: float
 
 
-def initial_guess(surface: SweepSurface, start: tuple[float, float], end: tuple[float, float]) -> tuple[float, float]:
+def initial_guess(surface: SweepSurface, start: tuple[float, float],
+                  end: tuple[float, float]) -> tuple[float, float]:
     """(heading_deg, length) of the straight segment start -> end in the (s, theta) domain.
 
     The segment's velocity J du is split, along the segment, into its parts along the meridian (e1)
@@ -490,6 +495,7 @@ def shoot(surface: SweepSurface, start: tuple[float, float], end: tuple[float, f
     s_arc, th_arc = path(arc)
     st = dense(res.t)
     _, speed = heading_of_velocity(surface, st[0], st[3], st[6], st[9])
-    return ShootResult(heading_deg=heading, length=length, arc=arc, s=s_arc, theta=th_arc, sol=path, state=path_state,
+    return ShootResult(heading_deg=heading, length=length, arc=arc, s=s_arc, theta=th_arc, sol=path,
+                       state=path_state,
                        converged=converged, residual=residual, left_mandrel=left, nfev=count, status=status,
                        seconds=time.perf_counter() - t_start, speed_error=float(np.max(np.abs(speed - 1.0))))

@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 
 from winder.config import LineAxis, MandrelConfig
-from winder.curves import GuideCurve, make_curve
+from winder.curves import SPLINE_GRID, GuideCurve, Path, SplineCurve, make_curve
 from winder.errors import ConfigError
 from winder.profiles import AxialProfile, Profile, make_profile
 from winder.sections import Circle, Section, make_section
@@ -144,25 +144,60 @@ class SweepSurface:
 SELF_INTERSECTION_MARGIN = 1e-6  # 1 - R (K.n) must stay above this (a regular sweep)
 
 
+def _check_stations(surface: SweepSurface) -> np.ndarray:
+    """Internal stations s for the regularity check: a uniform grid, plus each bent piece of a path on
+    its own grid (a short tight arc can hide between uniform stations) and a spline's fit grid."""
+    s = [np.linspace(0.0, surface.length, 801)]
+    curve, z = surface.curve, []
+    if isinstance(curve, Path):
+        for piece, z0 in zip(curve.pieces, curve.starts):
+            if not piece.is_straight:
+                z.append(z0 + np.linspace(0.0, piece.length, 65))
+    elif isinstance(curve, SplineCurve):
+        z.append(np.linspace(0.0, curve.length, SPLINE_GRID))
+    if z:
+        t = np.clip(np.concatenate(z), 0.0, surface.axial_length)
+        s.append(surface.s_of_t(t))
+    return np.concatenate(s)
+
+
 def _check_regular(surface: SweepSurface, source: str) -> None:
-    """Refuse a sweep whose section reaches the centre of curvature of a bend (self-intersection)."""
+    """Refuse a sweep whose section reaches the centre of curvature of a bend (self-intersection):
+    1 - R(s, theta) (K . n(theta)) must stay positive. The worst theta of each station is found on a
+    2.5 deg grid and refined by golden-section search (the inside of a bend need not be on the grid)."""
     if surface.curve.max_curvature() == 0.0:
         return
-    s = np.linspace(0.0, surface.length, 801)
-    th = np.linspace(0.0, 2.0 * np.pi, 145)
-    ss, tt = (a.ravel() for a in np.meshgrid(s, th))
-    z = surface.t_of_s(ss)
+    s = _check_stations(surface)
+    z = surface.t_of_s(s)
     cv = surface.curve.evaluate(z)
-    n = np.cos(tt)[:, None] * cv.e2 + np.sin(tt)[:, None] * cv.e3
-    reach = surface.radius(ss, tt) * np.einsum("ij,ij->i", cv.d2, n)
-    worst = int(np.argmax(reach))
-    if reach[worst] >= 1.0 - SELF_INTERSECTION_MARGIN:
+
+    def reach(tt: np.ndarray) -> np.ndarray:
+        n = np.cos(tt)[:, None] * cv.e2 + np.sin(tt)[:, None] * cv.e3
+        return surface.radius(s, tt) * np.einsum("ij,ij->i", cv.d2, n)
+
+    th = np.linspace(0.0, 2.0 * np.pi, 145)[:-1]
+    grid = np.stack([reach(np.full_like(s, t)) for t in th], axis=1)
+    lo = th[np.argmax(grid, axis=1)] - (th[1] - th[0])
+    hi = lo + 2.0 * (th[1] - th[0])
+    g = 0.5 * (np.sqrt(5.0) - 1.0)
+    for _ in range(40):
+        a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+        left = reach(a) > reach(b)
+        lo, hi = np.where(left, lo, a), np.where(left, b, hi)
+    tt = 0.5 * (lo + hi)
+    r = reach(tt)
+    use_grid = grid.max(axis=1) > r
+    tt = np.where(use_grid, th[np.argmax(grid, axis=1)], tt)
+    r = np.maximum(r, grid.max(axis=1))
+    worst = int(np.argmax(r))
+    if r[worst] >= 1.0 - SELF_INTERSECTION_MARGIN:
         kappa = float(np.linalg.norm(cv.d2[worst]))
+        radius = surface.radius(s[worst:worst + 1], tt[worst:worst + 1])[0]
         raise ConfigError(
-            f"{source}: mandrel: the section (radius {surface.radius(ss[worst:worst+1], tt[worst:worst+1])[0]:.4g} "
-            f"at t = {z[worst]:.4g}, theta = {np.degrees(tt[worst]) % 360:.4g} deg) reaches the bend's centre "
-            f"of curvature (bend radius {1.0 / kappa:.4g}): the mandrel would self-intersect; the section "
-            f"radius on the inside of a bend must be smaller than the bend radius")
+            f"{source}: mandrel: the section (radius {radius:.4g} at t = {z[worst]:.4g}, theta = "
+            f"{np.degrees(tt[worst]) % 360:.4g} deg) reaches the bend's centre of curvature (bend radius "
+            f"{1.0 / kappa:.4g}): the mandrel would self-intersect; the section radius on the inside of a "
+            f"bend must be smaller than the bend radius")
 
 
 def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:

@@ -1,0 +1,313 @@
+"""Machine kinematics: the eye on the fiber's tangent line and on its envelope (MATH.md 6).
+
+Also home of the small plan builders the export tests share (the planner is not needed: passes are
+helices on a cylinder, exact geodesics of a developable surface, or solved two-point geodesics).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.interpolate import CubicSpline
+
+from conftest import surface_of
+from winder.config import ArcAxis, ConeProfile, ConstantProfile, EllipseSection, LineAxis
+from winder.config_job import LayerType, MachineConfig, MachineLimits
+from winder.errors import ExportError
+from winder.geodesic import geodesic
+from winder.machine import check_limits, eye_envelope, eye_path, robot_poses
+from winder.plan import Coverage, FiberPass, LayerPlan, PassKind, WindingPlan, winding_angle_deg
+
+ON_LINE_TOL = 1e-9  # mm: the eye is constructed on the tangent line
+ENVELOPE_TOL = 1e-9  # mm: radius mode is a closed form
+CLEARANCE_TOL = 1e-6  # mm: clearance mode is a bisection on a tabulated contour
+CONE_TOL = 0.02  # mm: the dilated cone contour is tabulated at 0.25 mm steps
+ROBOT_TOL = 1e-6  # mm: distance of the robot eye from the bend's guide circle
+
+R = 40.0
+T = 300.0
+
+
+# -- plan builders (shared by the export tests) ---------------------------------------------------
+def make_pass(surface, s, theta, direction, *, layer, circuit, number, kind) -> FiberPass:
+    s = np.asarray(s, float)
+    theta = np.asarray(theta, float)
+    pts = surface.points(s, theta)
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d, axis=1)[:, None]
+    length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+    return FiberPass(layer, circuit, number, kind, surface.t_of_s(s), s, theta, pts, d,
+                     winding_angle_deg(surface, s, theta, d), length)
+
+
+def helix(surface, t0, t1, th0, th1, m, **kw) -> FiberPass:
+    """A helix on a straight circular tube (a geodesic: it unrolls to a straight line); it also
+    serves for a dwell (t0 == t1: the mandrel turns, the carriage waits)."""
+    u = np.linspace(0.0, 1.0, m)
+    s = t0 + u * (t1 - t0)
+    th = th0 + u * (th1 - th0)
+    ev = surface.evaluate(s, th, order=1)
+    d = ev.ps * (t1 - t0) + ev.pt * (th1 - th0)
+    out = make_pass(surface, s, th, d, **kw)
+    radius = float(surface.radius(np.array([t0]), np.array([0.0]))[0])
+    return FiberPass(*[getattr(out, f) for f in ("layer", "circuit", "number", "kind", "t", "s", "theta",
+                                                  "points", "direction", "alpha_deg")],
+                     length=float(np.hypot(t1 - t0, radius * (th1 - th0))) if surface.section.is_circle
+                     else out.length)
+
+
+def geodesic_pass(surface, start, end, n, *, rounds=0, **kw) -> FiberPass:
+    """A solved geodesic; directions from the smooth path through its vertices."""
+    res = geodesic(surface, start, end, rounds=rounds, n=n, estimate=False)
+    i = np.arange(res.s.shape[0], dtype=float)
+    cs, ct = CubicSpline(i, res.s), CubicSpline(i, res.theta)
+    ev = surface.evaluate(res.s, res.theta, order=1)
+    d = ev.ps * cs(i, 1)[:, None] + ev.pt * ct(i, 1)[:, None]
+    out = make_pass(surface, res.s, res.theta, d, **kw)
+    return FiberPass(*[getattr(out, f) for f in ("layer", "circuit", "number", "kind", "t", "s", "theta",
+                                                  "points", "direction", "alpha_deg")], length=res.length)
+
+
+def make_layer(index, passes, *, type_=LayerType.HELICAL, angle=55.0, circuits=2, pattern=1) -> LayerPlan:
+    alphas = np.abs(np.concatenate([p.alpha_deg for p in passes]))
+    return LayerPlan(index=index, type=type_, angle_deg=angle, requested_angle_deg=angle - 0.25,
+                     circuits=circuits, pattern=pattern, dwell_start_deg=30.0, dwell_end_deg=45.0,
+                     turnaround_radius=None, fiber_length_mm=float(sum(p.length for p in passes)),
+                     alpha_min_deg=float(alphas.min()), alpha_max_deg=float(alphas.max()),
+                     time_s=123.456789, passes=tuple(passes),
+                     coverage=Coverage(np.linspace(20, 280, 5), 0.987654321, 1.23456789, 0.5, 1, 3),
+                     notes=("a note",))
+
+
+def cylinder_plan(surface, *, circuits=2, alpha=55.0, hoop=True, points=120) -> WindingPlan:
+    """Helical circuits (forward, dwell, return, dwell) on a 40 mm tube, then a hoop layer whose
+    angles restart near 0 (the program must carry A on)."""
+    t0, t1 = 20.0, 280.0
+    adv = (t1 - t0) * np.tan(np.radians(alpha)) / R
+    passes = []
+    th = 0.0
+    number = 0
+    for c in range(1, circuits + 1):
+        for kind, (ta, tb, dth) in ((PassKind.FORWARD, (t0, t1, adv)), (PassKind.DWELL, (t1, t1, np.radians(45))),
+                                    (PassKind.RETURN, (t1, t0, adv)), (PassKind.DWELL, (t0, t0, np.radians(30)))):
+            number += 1
+            m = points if kind in (PassKind.FORWARD, PassKind.RETURN) else 12
+            passes.append(helix(surface, ta, tb, th, th + dth, m, layer=1, circuit=c, number=number, kind=kind))
+            th += dth
+    layers = [make_layer(1, passes, circuits=circuits, angle=alpha)]
+    if hoop:
+        turns = (t1 - t0) * np.tan(np.radians(86.0)) / R
+        hp = helix(surface, t0, t1, 0.3, 0.3 + turns, 600, layer=2, circuit=1, number=1, kind=PassKind.HOOP)
+        layers.append(make_layer(2, [hp], type_=LayerType.HOOP, angle=86.0, circuits=1, pattern=1))
+    return WindingPlan("tube-test", "tests/tube.yaml", surface, tuple(layers))
+
+
+@pytest.fixture(scope="module")
+def tube():
+    return surface_of(LineAxis(T), ConstantProfile(R))
+
+
+def _radius_machine(z=60.0, **kw):
+    return MachineConfig(eye_radius=z, eye_clearance=None, **kw)
+
+
+# -- straight-axis kinematics ---------------------------------------------------------------------
+def _tangent_residual(p, d, e):
+    """Distance of e from the line p + lambda d, and lambda."""
+    lam = np.einsum("ij,ij->i", e - p, d)
+    return np.linalg.norm(e - p - lam[:, None] * d, axis=1), lam
+
+
+@pytest.mark.parametrize("alpha", [15.0, 55.0, 85.0])
+def test_cylinder_closed_form(tube, alpha):
+    """Helix at alpha on radius R, eye cylinder Z: the tangent line climbs as sqrt(R^2 + l^2 sin^2
+    alpha), so l = sqrt(Z^2 - R^2) / sin(alpha); the eye leads the contact by atan(l sin alpha / R)
+    around the axis and by l cos(alpha) along it."""
+    z = 60.0
+    adv = 260.0 * np.tan(np.radians(alpha)) / R
+    fp = helix(tube, 20.0, 280.0, 0.0, adv, 50, layer=1, circuit=1, number=1, kind=PassKind.FORWARD)
+    path = eye_path(fp.points, fp.direction, tube, _radius_machine(z), theta=fp.theta)
+    sa, ca = np.sin(np.radians(alpha)), np.cos(np.radians(alpha))
+    lam = np.sqrt(z * z - R * R) / sa
+    lead = np.arctan(lam * sa / R)
+    assert np.allclose(path.lead, lam, atol=1e-9)
+    assert np.allclose(path.x, fp.t + lam * ca, atol=1e-9)
+    assert np.allclose(path.z, z, atol=ENVELOPE_TOL)
+    assert np.allclose(path.a_deg, -np.degrees(fp.theta + lead), atol=1e-9)
+    # Yaw: d = (cos a) z + (sin a) e_theta; the eye's tangential direction is e_theta turned by lead.
+    assert np.allclose(path.b_deg, np.degrees(np.arctan2(sa * np.cos(lead), ca)), atol=1e-9)
+    assert path.on_envelope.all()
+
+
+def test_eye_ahead_on_tangent_line_and_forward_kinematics(tube):
+    """E = p + lambda d with lambda > 0 (the free fiber is the part not yet laid), and SPEC's forward
+    kinematics (Z cos(-A), Z sin(-A), X) gives back E."""
+    plan = cylinder_plan(tube)
+    for fp in plan.layers[0].passes + plan.layers[1].passes:
+        path = eye_path(fp.points, fp.direction, tube, _radius_machine(), theta=fp.theta)
+        res, lam = _tangent_residual(fp.points, fp.direction, path.eye_xyz)
+        assert res.max() < ON_LINE_TOL and (lam > 0).all()
+        a = np.radians(path.a_deg)
+        fk = np.column_stack([path.z * np.cos(-a), path.z * np.sin(-a), path.x])
+        assert np.abs(fk - path.eye_xyz).max() < 1e-9
+        assert np.abs(np.hypot(path.eye_xyz[:, 0], path.eye_xyz[:, 1]) - 60.0).max() < ENVELOPE_TOL
+
+
+def test_a_follows_planned_turns(tube):
+    """A is cumulative and fixed by the planned (unwrapped) theta: 5 turns of contact are -1800 deg."""
+    fp = helix(tube, 20.0, 280.0, 0.0, 10 * np.pi, 400, layer=1, circuit=1, number=1, kind=PassKind.HOOP)
+    path = eye_path(fp.points, fp.direction, tube, _radius_machine(), theta=fp.theta)
+    assert path.a_deg[-1] - path.a_deg[0] == pytest.approx(-1800.0, abs=1e-9)
+    assert (np.diff(path.a_deg) < 0).all()
+    shifted = eye_path(fp.points, fp.direction, tube, _radius_machine(), theta=fp.theta + 4 * np.pi)
+    assert np.allclose(shifted.a_deg, path.a_deg - 720.0, atol=1e-9)
+
+
+def test_return_pass_yaw_mirrors_forward(tube):
+    """The mandrel turns one way: the return pass's yaw is 180 - the forward's (through the hoop)."""
+    adv = 260.0 * np.tan(np.radians(50.0)) / R
+    fw = helix(tube, 20.0, 280.0, 0.0, adv, 30, layer=1, circuit=1, number=1, kind=PassKind.FORWARD)
+    rt = helix(tube, 280.0, 20.0, adv, 2 * adv, 30, layer=1, circuit=1, number=2, kind=PassKind.RETURN)
+    m = _radius_machine()
+    bf = eye_path(fp := fw.points, fw.direction, tube, m, theta=fw.theta).b_deg
+    br = eye_path(rt.points, rt.direction, tube, m, theta=rt.theta).b_deg
+    assert fp.shape[0] == 30
+    assert np.allclose(bf + br, 180.0, atol=1e-9)
+    assert (bf > 0).all() and (bf < 90).all()
+
+
+def test_elliptic_section_eye_on_tangent_and_envelope():
+    surface = surface_of(LineAxis(400.0), None, EllipseSection(60.0, 35.0))
+    fp = geodesic_pass(surface, (10.0, np.radians(-20.0)), (390.0, np.radians(70.0)), 150, rounds=2,
+                       layer=1, circuit=1, number=1, kind=PassKind.FORWARD)
+    path = eye_path(fp.points, fp.direction, surface, _radius_machine(90.0), theta=fp.theta)
+    res, lam = _tangent_residual(fp.points, fp.direction, path.eye_xyz)
+    assert res.max() < ON_LINE_TOL and (lam > 0).all()
+    assert np.abs(path.z - 90.0).max() < ENVELOPE_TOL
+    # A tracks the planned turns: two rounds and 90 degrees, within the eye's lead change.
+    a = np.radians(path.a_deg)
+    assert np.allclose(-a - fp.theta, np.angle(np.exp(1j * (-a - fp.theta))), atol=1e-12)
+
+
+def test_clearance_mode_cylinder(tube):
+    """eye: {clearance: c}: on a cylinder the eye keeps Z = R + c, also beyond the mandrel's ends."""
+    plan = cylinder_plan(tube, hoop=False)
+    machine = MachineConfig(eye_clearance=15.0)
+    env = eye_envelope(tube, machine)
+    for fp in plan.layers[0].passes:
+        path = eye_path(fp.points, fp.direction, tube, machine, theta=fp.theta, envelope=env)
+        assert np.abs(path.z - (R + 15.0)).max() < CLEARANCE_TOL
+        res, lam = _tangent_residual(fp.points, fp.direction, path.eye_xyz)
+        assert res.max() < ON_LINE_TOL and (lam > 0).all()
+    assert np.allclose(env.at(np.array([-50.0, 0.0, 150.0, 300.0, 400.0])), R + 15.0)
+
+
+def test_clearance_mode_cone_keeps_distance_in_3d():
+    """A cone r = 60 - 0.1 t: the contour keeps c from the surface in 3D, which is
+    Z = r(X) + c sqrt(1 + k^2) radially (k = 0.1) away from the ends."""
+    cone = surface_of(LineAxis(300.0), ConeProfile(60.0, 30.0))
+    c, k = 10.0, 0.1
+    machine = MachineConfig(eye_clearance=c)
+    fp = geodesic_pass(cone, (20.0, 0.0), (250.0, np.radians(200.0)), 120, layer=1, circuit=1, number=1,
+                       kind=PassKind.FORWARD)
+    path = eye_path(fp.points, fp.direction, cone, machine, theta=fp.theta)
+    inner = (path.x > 20.0) & (path.x < 280.0)
+    assert inner.sum() > 50
+    expect = 60.0 - k * path.x + c * np.sqrt(1 + k * k)
+    assert np.abs(path.z - expect)[inner].max() < CONE_TOL
+    # Distance from the cone's surface line in the meridian plane: (Z - r(X)) / sqrt(1 + k^2) = c.
+    dist = (path.z - (60.0 - k * path.x)) / np.sqrt(1 + k * k)
+    assert np.abs(dist[inner] - c).max() < CONE_TOL
+    res, lam = _tangent_residual(fp.points, fp.direction, path.eye_xyz)
+    assert res.max() < ON_LINE_TOL and (lam > 0).all()
+
+
+def test_nearly_axial_fiber_caps_the_lead(tube):
+    d = np.array([[0.0, 1e-9, 1.0], [0.0, 1.0, 1.0]])
+    p = np.array([[R, 0.0, 100.0], [R, 0.0, 100.0]])
+    path = eye_path(p, d, tube, _radius_machine())
+    assert not path.on_envelope[0] and path.on_envelope[1]
+    assert path.lead[0] == pytest.approx(600.0)  # MAX_LEAD_FACTOR x 60 mm
+    res, _ = _tangent_residual(p, d / np.linalg.norm(d, axis=1)[:, None], path.eye_xyz)
+    assert res.max() < ON_LINE_TOL
+
+
+def test_limits_refused_with_clear_message(tube):
+    fp = helix(tube, 20.0, 280.0, 0.0, 6.0, 40, layer=1, circuit=1, number=3, kind=PassKind.FORWARD)
+    machine = _radius_machine(limits=MachineLimits(carriage=(0.0, 200.0)))
+    path = eye_path(fp.points, fp.direction, tube, machine, theta=fp.theta)
+    with pytest.raises(ExportError) as err:
+        check_limits(path, machine, "job.yaml: layer 1 circuit 1 pass 3 (forward)")
+    msg = str(err.value)
+    assert "machine.limits.carriage" in msg and "axis X" in msg and "[0, 200]" in msg
+    assert "layer 1 circuit 1 pass 3" in msg
+    assert f"{path.x.max():.3f}" in msg
+    check_limits(path, _radius_machine(limits=MachineLimits(carriage=(-500.0, 900.0))), "ok")
+
+
+def test_envelope_inside_mandrel_refused(tube):
+    fp = helix(tube, 20.0, 280.0, 0.0, 6.0, 10, layer=1, circuit=1, number=1, kind=PassKind.FORWARD)
+    with pytest.raises(ExportError, match="does not clear the mandrel"):
+        eye_path(fp.points, fp.direction, tube, _radius_machine(30.0))
+
+
+# -- bent mandrels: robot poses -------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def bend():
+    return surface_of(ArcAxis(150.0, 90.0), ConstantProfile(40.0))
+
+
+def test_straight_winder_refuses_bent_axis(bend):
+    with pytest.raises(ExportError, match="bent"):
+        eye_path(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]), bend, MachineConfig())
+
+
+@pytest.mark.parametrize("machine, radius", [(MachineConfig(eye_radius=70.0, eye_clearance=None, robot=True), 70.0),
+                                             (MachineConfig(eye_clearance=12.0, robot=True), 52.0)])
+def test_robot_poses_on_tangent_line_and_tube(bend, machine, radius):
+    """The quarter bend's guide is the circle of radius 150 about (150, 0, 0) in the xz plane: a
+    point's distance from it is sqrt((rho - 150)^2 + y^2), rho its distance from the centre in xz."""
+    fp = geodesic_pass(bend, (30.0, 0.0), (200.0, np.radians(120.0)), 120, rounds=1, layer=1, circuit=1,
+                       number=1, kind=PassKind.FORWARD)
+    pose = robot_poses(fp.points, fp.direction, bend, machine)
+    assert np.allclose(pose.direction, -fp.direction, atol=1e-12)
+    res, lam = _tangent_residual(fp.points, fp.direction, pose.position)
+    assert res.max() < ON_LINE_TOL and (lam > 0).all() and pose.on_envelope.all()
+    e = pose.position
+    rel = e - np.array([150.0, 0.0, 0.0])
+    rho = np.hypot(rel[:, 0], rel[:, 2])
+    angle = np.degrees(np.arctan2(rel[:, 2], -rel[:, 0]))  # 0 at the start of the arc, 90 at its end
+    within = (angle > 0.5) & (angle < 89.5)
+    assert within.sum() > 60
+    dist = np.hypot(rho - 150.0, rel[:, 1])
+    assert np.abs(dist - radius)[within].max() < ROBOT_TOL
+    assert np.allclose(pose.station[within], np.radians(angle[within]) * 150.0, atol=1e-6)
+
+
+@pytest.fixture(scope="module")
+def vessel():
+    from winder.config import Dome, DomeType, MandrelConfig, VesselProfile  # noqa: PLC0415
+    from winder.surface import build_surface  # noqa: PLC0415
+    dome = Dome(DomeType.HEMISPHERE, 30.0)
+    return build_surface(MandrelConfig(None, VesselProfile(100.0, 300.0, dome, dome)), "v.yaml", "v")
+
+
+def test_vessel_dome_eye_modes(vessel):
+    """A pass running from the cylinder over the first hemisphere toward its pole (the fiber heads
+    toward the axis there). Radius mode: on the 180 mm cylinder. Clearance mode: the eye keeps c
+    from the mandrel in 3D (distance from the meridian profile), exactly c where it is closest."""
+    fp = geodesic_pass(vessel, (200.0, 0.0), (8.0, 2.0), 200, layer=1, circuit=1, number=1,
+                       kind=PassKind.RETURN)
+    path = eye_path(fp.points, fp.direction, vessel, _radius_machine(180.0), theta=fp.theta)
+    res, lam = _tangent_residual(fp.points, fp.direction, path.eye_xyz)
+    assert res.max() < ON_LINE_TOL and (lam > 0).all() and path.on_envelope.all()
+    assert np.abs(path.z - 180.0).max() < ENVELOPE_TOL
+    c = 20.0
+    path = eye_path(fp.points, fp.direction, vessel, MachineConfig(eye_clearance=c), theta=fp.theta)
+    res, lam = _tangent_residual(fp.points, fp.direction, path.eye_xyz)
+    assert res.max() < ON_LINE_TOL and (lam > 0).all()
+    s = np.linspace(0.0, vessel.length, 20001)
+    prof = np.column_stack([vessel.t_of_s(s), vessel.radius(s, 0.0 * s)])
+    dist = np.hypot(path.x[:, None] - prof[None, :, 0], path.z[:, None] - prof[None, :, 1]).min(axis=1)
+    assert dist.min() > c - 0.01 and dist.min() < c + 0.01
+    assert (path.z >= np.interp(np.clip(path.x, 0, vessel.axial_length), prof[:, 0], prof[:, 1]) + c - 1e-6).all()

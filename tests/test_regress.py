@@ -1,0 +1,258 @@
+"""winder.regress: the comparison of outputs with their references (tolerances, structure, readable
+differences) and the sample runner, with a stand-in job so that these tests need no planning."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from winder.errors import ConfigError
+from winder.jobs import JobReport
+from winder.regress import (
+    Difference,
+    compare_csv,
+    compare_file,
+    compare_json,
+    compare_lines,
+    failure_line,
+    find_samples,
+    format_result,
+    regress,
+    regress_exit_status,
+)
+
+CSV = "layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg\n" + "".join(
+    f"1,1,1,{i},{i * 1.5:.6f},{i * 10.0 + 0.5:.6f},50.000000,0.000000,{i * 1.5:.6f},55.000000\n" for i in range(8))
+GCODE = "; winder job\nG21\nG90\nG94\nG1 X0.000 A0.000 Z70.000 B0.000 F3000\nG1 X12.500 A36.250 Z70.000 B5.000\n"
+SUMMARY = {"name": "job", "total_fiber_length_mm": 12345.678901,
+           "layers": [{"type": "helical", "angle_deg": 55.0, "circuits": 19, "pattern": 5, "fiber_length_mm": 12345.678901,
+                       "coverage": {"covered_fraction": 1.0, "max_gap_mm": 0.0}}]}
+
+
+def _replace_field(text: str, line: int, column: int, value: str) -> str:
+    lines = text.splitlines()
+    fields = lines[line].split(",")
+    fields[column] = value
+    lines[line] = ",".join(fields)
+    return "\n".join(lines) + "\n"
+
+
+# -- JSON ------------------------------------------------------------------------------------------
+def test_json_equal_within_tolerance():
+    got = json.loads(json.dumps(SUMMARY))
+    got["total_fiber_length_mm"] *= 1 + 5e-7  # relative 1e-6
+    got["layers"][0]["coverage"]["max_gap_mm"] = 9e-7  # absolute 1e-6 (mm) near zero
+    assert compare_json(json.dumps(SUMMARY), json.dumps(got)) == ([], 0)
+
+
+def test_json_differences_are_named_by_key_path():
+    got = json.loads(json.dumps(SUMMARY))
+    got["total_fiber_length_mm"] *= 1 + 2e-6
+    got["layers"][0]["circuits"] = 21
+    got["layers"][0]["type"] = "hoop"
+    del got["layers"][0]["pattern"]
+    got["extra"] = 1
+    shown, count = compare_json(json.dumps(SUMMARY), json.dumps(got))
+    assert count == 5
+    text = "\n".join(map(str, shown))
+    assert "total_fiber_length_mm: expected 12345.678901, got 12345.70359" in text
+    assert "layers[0].circuits: expected 19, got 21" in text
+    assert 'layers[0].type: expected "helical", got "hoop"' in text
+    assert "layers[0].pattern: expected 5, got (key missing)" in text
+    assert "extra: expected (no such key)" in text
+
+
+def test_json_structure():
+    got = json.loads(json.dumps(SUMMARY))
+    got["layers"].append(got["layers"][0])
+    shown, count = compare_json(json.dumps(SUMMARY), json.dumps(got))
+    assert count == 1 and "layers: expected 1 items, got 2 items" in str(shown[0])
+    shown, count = compare_json(json.dumps(SUMMARY), json.dumps({**SUMMARY, "layers": {}}))
+    assert count == 1 and "expected list" in str(shown[0])
+    shown, count = compare_json('{"a": true}', '{"a": 1}')
+    assert count == 1  # a boolean is not a number
+    shown, count = compare_json(json.dumps(SUMMARY), "{not json")
+    assert count == 1 and "unreadable" in str(shown[0])
+
+
+def test_json_nan_and_inf():
+    assert compare_json('{"a": NaN, "b": Infinity}', '{"a": NaN, "b": Infinity}')[1] == 0
+    assert compare_json('{"a": NaN}', '{"a": 1.0}')[1] == 1
+    assert compare_json('{"b": Infinity}', '{"b": -Infinity}')[1] == 1
+
+
+# -- CSV -------------------------------------------------------------------------------------------
+def test_csv_tolerance_is_absolute_1e5():
+    near = _replace_field(CSV, 3, 6, "50.000009")
+    assert compare_csv(CSV, near) == ([], 0)
+    far = _replace_field(CSV, 3, 6, "50.000020")
+    shown, count = compare_csv(CSV, far)
+    assert count == 1
+    d = shown[0]
+    assert d.where == "line 4 (layer 1, circuit 1, pass 1, i 2), column x"
+    assert (d.expected, d.got) == ("50.000000", "50.000020")
+    assert "tolerance 1e-05" in d.note
+
+
+def test_csv_structure():
+    shown, count = compare_csv(CSV, CSV.replace("alpha_deg", "alpha"))
+    assert count == 1 and "header" in shown[0].where
+    shown, count = compare_csv(CSV, CSV + CSV.splitlines()[-1] + "\n")
+    assert count == 1 and "rows" in shown[0].where and "8 rows" in shown[0].expected
+    shown, count = compare_csv(CSV, _replace_field(CSV, 2, 9, "55.0,1"))
+    assert count == 1 and "11 fields" in shown[0].got
+    shown, count = compare_csv(CSV, _replace_field(CSV, 2, 0, "x"))
+    assert count == 1 and shown[0].got == "x"
+
+
+def test_csv_shows_the_first_few_and_counts_all():
+    lines = CSV.splitlines()
+    got = "\n".join([lines[0]] + [line.replace("50.000000", "51.000000") for line in lines[1:]]) + "\n"
+    shown, count = compare_csv(CSV, got)
+    assert count == 8 and len(shown) == 5
+
+
+# -- G-code ----------------------------------------------------------------------------------------
+def test_gcode_numbers_within_tolerance():
+    assert compare_lines(GCODE, GCODE.replace("A36.250", "A36.250004")) == ([], 0)
+    assert compare_lines(GCODE, GCODE.replace("X0.000", "X-0.000")) == ([], 0)
+
+
+def test_gcode_word_differences():
+    shown, count = compare_lines(GCODE, GCODE.replace("A36.250", "A36.260"))
+    assert count == 1
+    assert shown[0].where == "line 6, word A" and (shown[0].expected, shown[0].got) == ("36.250", "36.260")
+    shown, count = compare_lines(GCODE, GCODE.replace("G1 X12.500", "G0 X12.500"))
+    assert count == 1 and shown[0].where == "line 6, word G"
+    shown, count = compare_lines(GCODE, GCODE.replace("Z70.000 B5", "Y70.000 B5"))
+    assert count == 1 and shown[0].where == "line 6"  # another axis word: the whole line
+    shown, count = compare_lines(GCODE, GCODE.replace("; winder job", "; winder job 2"))
+    assert count == 1
+
+
+def test_gcode_line_count():
+    shown, count = compare_lines(GCODE, GCODE + "M30\n")
+    assert count == 1 and shown[0].where == "lines" and "6 lines" in shown[0].expected
+
+
+def test_compare_file_dispatch():
+    assert compare_file("a.summary.json", json.dumps(SUMMARY).encode(), json.dumps(SUMMARY, indent=2).encode()) == ([], 0)
+    assert compare_file("a.ply", b"ply\x00\x01", b"ply\x00\x02")[1] == 1
+    assert compare_file("a.csv", CSV.encode(), CSV.replace("55.000000", "55.000001").encode()) == ([], 0)
+    assert compare_file("a.gcode", GCODE.encode(), GCODE.encode()) == ([], 0)
+
+
+def test_difference_text():
+    d = Difference("line 4, column x", "1.0", "2.0", "off by 1")
+    assert str(d) == "line 4, column x: expected 1.0, got 2.0 (off by 1)"
+
+
+# -- samples and the runner ------------------------------------------------------------------------
+def fake_job(config, out_dir, formats):
+    """Stand-in for run_job: writes the outputs from the config's text (no planning)."""
+    text = Path(config).read_text()
+    name = Path(config).stem
+    if "invalid" in text:
+        return JobReport(str(config), name, False, 2, f"{config}: mandrel: invalid")
+    scale = float(text.split("scale:")[1].split()[0]) if "scale:" in text else 1.0
+    files = {f"{name}.csv": _replace_field(CSV, 2, 6, f"{50 * scale:.6f}"),
+             f"{name}.summary.json": json.dumps({**SUMMARY, "total_fiber_length_mm": 1000.0 * scale})}
+    if "gcode" in formats:
+        files[f"{name}.gcode"] = GCODE
+    if "ply" in formats:
+        files[f"{name}.ply"] = "ply\n"
+    outputs = []
+    for file_name, data in files.items():
+        (Path(out_dir) / file_name).write_text(data)
+        outputs.append(str(Path(out_dir) / file_name))
+    return JobReport(str(config), name, True, 0, "", tuple(outputs), 1000.0 * scale, 1, 0.01)
+
+
+def make_samples(tmp_path: Path, **scales: float) -> Path:
+    folder = tmp_path / "samples"
+    folder.mkdir(exist_ok=True)
+    for name, scale in scales.items():
+        (folder / f"{name}.yaml").write_text(f"name: {name}\nscale: {scale}\n")
+    return folder
+
+
+def test_find_samples(tmp_path):
+    folder = make_samples(tmp_path, b=1.0, a=1.0)
+    (folder / "notes.txt").write_text("x")
+    samples = find_samples(folder)
+    assert [s.name for s in samples] == ["a", "b"]
+    assert samples[0].reference == folder / "reference" / "a"
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ConfigError, match="no samples"):
+        find_samples(tmp_path / "empty")
+    with pytest.raises(ConfigError, match="not a folder"):
+        find_samples(tmp_path / "missing")
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_regress_update_then_compare(tmp_path, workers):
+    folder = make_samples(tmp_path, a=1.0, b=2.0)
+    results = regress(folder, workers=workers, job=fake_job)
+    assert [r.ok for r in results] == [False, False]  # no references yet
+    assert "--update" in "\n".join(format_result(results[0]))
+
+    results = regress(folder, update=True, workers=workers, job=fake_job)
+    assert all(r.ok for r in results)
+    assert sorted(p.name for p in (folder / "reference" / "a").iterdir()) == ["a.csv", "a.gcode", "a.summary.json"]
+    assert all(f.status == "new" for f in results[0].files)
+
+    results = regress(folder, workers=workers, job=fake_job)
+    assert all(r.ok for r in results) and regress_exit_status(results) == 0
+    assert format_result(results[0])[0].startswith("ok   a")
+
+    make_samples(tmp_path, b=2.001)
+    results = regress(folder, workers=workers, job=fake_job)
+    assert [r.ok for r in results] == [True, False] and regress_exit_status(results) == 1
+    lines = format_result(results[1])
+    assert lines[0].startswith("FAIL b")
+    assert any("b.csv: differs, 1 difference" in line for line in lines)
+    assert any("line 3 (layer 1, circuit 1, pass 1, i 1), column x: expected 100.000000, got 100.050000" in line
+               for line in lines)
+    assert any("total_fiber_length_mm: expected 2000.0, got 2001.0" in line for line in lines)
+    assert "b.csv" in failure_line(results[1]) and "b.summary.json" in failure_line(results[1])
+
+    results = regress(folder, update=True, workers=workers, job=fake_job)
+    text = "\n".join(format_result(results[1]))
+    assert "b.csv: changed, 1 difference" in text and "was 100.000000, now 100.050000" in text
+    assert "b.gcode" not in text  # unchanged files are not listed
+    assert regress(folder, workers=workers, job=fake_job)[1].ok
+
+
+def test_regress_missing_and_unexpected_files(tmp_path):
+    folder = make_samples(tmp_path, a=1.0)
+    regress(folder, update=True, job=fake_job)
+    ref = folder / "reference" / "a"
+    (ref / "a.gcode").rename(ref / "old.gcode")
+    result = regress(folder, job=fake_job)[0]
+    status = {f.file: f.status for f in result.files}
+    assert status == {"a.csv": "same", "a.gcode": "unexpected", "a.summary.json": "same", "old.gcode": "missing"}
+    assert not result.ok
+    result = regress(folder, update=True, job=fake_job)[0]
+    assert {f.file: f.status for f in result.files if f.status != "same"} == {"a.gcode": "new", "old.gcode": "removed"}
+    assert not (ref / "old.gcode").exists()
+
+
+def test_regress_keeps_a_stored_ply(tmp_path):
+    folder = make_samples(tmp_path, a=1.0)
+    regress(folder, update=True, job=fake_job)
+    (folder / "reference" / "a" / "a.ply").write_text("ply\n")
+    result = regress(folder, job=fake_job)[0]
+    assert result.ok and "a.ply" in {f.file for f in result.files}
+
+
+def test_regress_failed_job(tmp_path):
+    folder = make_samples(tmp_path, a=1.0)
+    (folder / "bad.yaml").write_text("invalid\n")
+    results = regress(folder, update=True, job=fake_job)
+    assert [r.ok for r in results] == [True, False]
+    assert regress_exit_status(results) == 2
+    assert not (folder / "reference" / "bad").exists()
+    assert "the job failed" in format_result(results[1])[0]
+    assert failure_line(results[1]).endswith("mandrel: invalid")

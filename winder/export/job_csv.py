@@ -1,0 +1,40 @@
+"""The job CSV `<name>.csv` of `winder run` (SPEC.md "Output files"): every point of every pass.
+
+Columns: layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind
+- layer, circuit: 1-based; pass: FiberPass.number (1-based, the pass within its layer, in winding
+  order); i: the point's index within its pass (0-based).
+- t: axial station (mm); theta_deg: the planned contact angle, unwrapped (never reduced modulo 360);
+  x, y, z: mandrel-frame point (mm); alpha_deg: signed winding angle from the meridian (deg).
+- kind: forward, return, dwell or hoop.
+Rows in winding order; numbers with 6 decimals, "-0.000000" written as "0.000000".
+"""
+
+from __future__ import annotations
+
+import io
+import re
+
+import numpy as np
+
+from winder.plan import WindingPlan
+
+HEADER = "layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind"
+DECIMALS = 6
+_NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
+
+
+def job_csv_text(plan: WindingPlan) -> str:
+    """The CSV text: the header, then one row per point of every pass, in winding order."""
+    buf = io.StringIO()
+    buf.write(HEADER + "\n")
+    num = f"%.{DECIMALS}f"
+    for layer in plan.layers:
+        for fp in layer.passes:
+            m = len(fp.t)
+            if m == 0:
+                continue
+            table = np.column_stack([np.full(m, fp.layer), np.full(m, fp.circuit), np.full(m, fp.number),
+                                     np.arange(m), fp.t, np.degrees(fp.theta), fp.points, fp.alpha_deg])
+            fmt = ",".join(["%d"] * 4 + [num] * 6) + "," + fp.kind.value.replace("%", "%%")
+            np.savetxt(buf, table, fmt=fmt)
+    return _NEG_ZERO.sub(r"\1", buf.getvalue())

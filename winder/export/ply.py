@@ -1,0 +1,116 @@
+"""The 3D view `<name>.ply` (SPEC.md "Output files"): binary little-endian PLY, written by trimesh.
+
+One triangle mesh with per-vertex RGBA colors (readable by trimesh and MeshLab):
+- the mandrel surface: a grid over the internal station s in [0, length] and theta in [0, 2 pi),
+  closed in theta, faces outward, colored MANDREL_COLOR (neutral gray);
+- every fiber pass as a ribbon band_width wide, centred on the path in the surface's tangent plane:
+  its sides at +-band_width/2 along N x d (N the outward normal, d the fiber direction), lifted by
+  LAYER_OFFSET * layer index along N so each layer shows above the mandrel and the layers below.
+  Color: the hue names the layer, the shade names the pass kind (KIND_SHADE: forward bright, return
+  dark, hoop pale, dwell grayish); every band color is saturated, so no band has the mandrel's gray.
+The mesh is not processed (no vertex merging), so the bytes are deterministic.
+"""
+
+from __future__ import annotations
+
+import colorsys
+import math
+
+import numpy as np
+import trimesh
+from trimesh.exchange.ply import export_ply
+
+from winder.errors import ExportError
+from winder.plan import FiberPass, PassKind, WindingPlan
+
+MANDREL_COLOR = (190, 190, 190, 255)
+LAYER_OFFSET = 0.05  # mm per layer index, along the outward normal
+THETA_SAMPLES = 128  # mandrel grid around the section
+MIN_STATIONS, MAX_STATIONS = 16, 2048  # mandrel grid along the axis (near-square cells in between)
+GOLDEN = 0.618033988749895  # hue step between layers: far-apart hues for neighbouring layers
+KIND_SHADE = {  # (saturation, value) of HSV
+    PassKind.FORWARD: (0.85, 0.95),
+    PassKind.RETURN: (0.85, 0.55),
+    PassKind.HOOP: (0.45, 1.00),
+    PassKind.DWELL: (0.30, 0.75),
+}
+
+
+def band_color(layer: int, kind: PassKind) -> tuple[int, int, int, int]:
+    """RGBA (0-255) of a band of the given layer (1-based) and pass kind."""
+    hue = ((layer - 1) * GOLDEN) % 1.0
+    sat, val = KIND_SHADE[kind]
+    r, g, b = colorsys.hsv_to_rgb(hue, sat, val)
+    return (int(round(255 * r)), int(round(255 * g)), int(round(255 * b)), 255)
+
+
+def _mandrel(plan: WindingPlan) -> tuple[np.ndarray, np.ndarray]:
+    surface = plan.surface
+    nth = THETA_SAMPLES
+    s_probe = np.linspace(0.0, surface.length, 65)
+    th_probe = np.linspace(0.0, 2.0 * np.pi, 65)
+    ss, tt = np.meshgrid(s_probe, th_probe, indexing="ij")
+    pts = surface.points(ss.ravel(), tt.ravel()).reshape(65, 65, 3)
+    meridian = float(np.max(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=2), axis=0)))
+    perimeter = float(np.max(np.sum(np.linalg.norm(np.diff(pts, axis=1), axis=2), axis=1)))
+    ns = int(np.clip(math.ceil(meridian / max(perimeter / nth, 1e-9)) + 1, MIN_STATIONS, MAX_STATIONS))
+    s = np.linspace(0.0, surface.length, ns)
+    th = np.linspace(0.0, 2.0 * np.pi, nth, endpoint=False)
+    ss, tt = np.meshgrid(s, th, indexing="ij")
+    verts = surface.points(ss.ravel(), tt.ravel())
+    i, j = np.meshgrid(np.arange(ns - 1), np.arange(nth), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    v00 = i * nth + j
+    v01 = i * nth + (j + 1) % nth
+    v10 = (i + 1) * nth + j
+    v11 = (i + 1) * nth + (j + 1) % nth
+    # Phi_theta x Phi_s points outward (SweepSurface.normals): (v00, v01, v10) is counter-clockwise.
+    faces = np.concatenate([np.column_stack([v00, v01, v10]), np.column_stack([v01, v11, v10])])
+    return verts, faces
+
+
+def _ribbon(plan: WindingPlan, fp: FiberPass, band_width: float) -> tuple[np.ndarray, np.ndarray]:
+    m = len(fp.points)
+    if m < 2:
+        return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
+    nrm = plan.surface.normals(np.asarray(fp.s, float), np.asarray(fp.theta, float))
+    d = np.asarray(fp.direction, dtype=float)
+    side = np.cross(nrm, d)
+    side /= np.linalg.norm(side, axis=1)[:, None]
+    centre = np.asarray(fp.points, dtype=float) + LAYER_OFFSET * fp.layer * nrm
+    left = centre - 0.5 * band_width * side
+    right = centre + 0.5 * band_width * side
+    verts = np.empty((2 * m, 3))
+    verts[0::2], verts[1::2] = left, right
+    k = np.arange(m - 1)
+    lo, ro, ln, rn = 2 * k, 2 * k + 1, 2 * k + 2, 2 * k + 3
+    # side = N x d, so (left, right-next, right) and (left, left-next, right-next) face along +N.
+    faces = np.concatenate([np.column_stack([lo, rn, ro]), np.column_stack([lo, ln, rn])])
+    return verts, faces
+
+
+def ply_mesh(plan: WindingPlan, band_width: float) -> trimesh.Trimesh:
+    """The colored mesh of ply_bytes (mandrel first, then the bands in winding order)."""
+    if not (math.isfinite(band_width) and band_width > 0.0):
+        raise ExportError(f"{plan.source}: winding.band_width: must be > 0 for the PLY bands, got {band_width!r}")
+    verts, faces = _mandrel(plan)
+    all_v, all_f = [verts], [faces]
+    colors = [np.tile(np.array(MANDREL_COLOR, dtype=np.uint8), (len(verts), 1))]
+    base = len(verts)
+    for layer in plan.layers:
+        for fp in layer.passes:
+            v, f = _ribbon(plan, fp, band_width)
+            if len(f) == 0:
+                continue
+            all_v.append(v)
+            all_f.append(f + base)
+            colors.append(np.tile(np.array(band_color(fp.layer, fp.kind), dtype=np.uint8), (len(v), 1)))
+            base += len(v)
+    return trimesh.Trimesh(vertices=np.concatenate(all_v), faces=np.concatenate(all_f),
+                           vertex_colors=np.concatenate(colors), process=False, validate=False)
+
+
+def ply_bytes(plan: WindingPlan, band_width: float) -> bytes:
+    """The binary PLY file's bytes."""
+    return export_ply(ply_mesh(plan, band_width), encoding="binary", vertex_normal=False,
+                      include_attributes=False)

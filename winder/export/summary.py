@@ -1,0 +1,81 @@
+"""The job summary `<name>.summary.json` (SPEC.md "Output files").
+
+One JSON object, keys sorted, indent 2, newline-terminated. Floats are rounded to fixed decimals
+(LENGTH_DECIMALS for mm, ANGLE_DECIMALS for degrees, FRACTION_DECIMALS for fractions, TIME_DECIMALS
+for seconds) so the file is byte-stable across platforms; a value that is not finite is null. No
+wall-clock timings: estimated times are the planner's, at the machine feed.
+
+Keys: name, source, total_fiber_length_mm, estimated_time_s, layer_count, and layers: one object per
+layer with index, type, angle_deg, requested_angle_deg, angle_change_deg, circuits, pattern (as planned),
+passes, fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
+when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
+{covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+from winder.plan import LayerPlan, WindingPlan
+
+LENGTH_DECIMALS = 3
+ANGLE_DECIMALS = 4
+FRACTION_DECIMALS = 6
+TIME_DECIMALS = 2
+
+
+def _num(value: float | None, decimals: int) -> float | None:
+    if value is None:
+        return None
+    value = float(value)
+    if not math.isfinite(value):
+        return None
+    out = round(value, decimals)
+    return 0.0 if out == 0.0 else out  # no "-0.0"
+
+
+def _layer(layer: LayerPlan) -> dict[str, Any]:
+    cov = layer.coverage
+    return {
+        "index": int(layer.index),
+        "type": layer.type.value,
+        "angle_deg": _num(layer.angle_deg, ANGLE_DECIMALS),
+        "requested_angle_deg": _num(layer.requested_angle_deg, ANGLE_DECIMALS),
+        "angle_change_deg": _num(layer.angle_change_deg, ANGLE_DECIMALS),
+        "circuits": int(layer.circuits),
+        "pattern": None if layer.pattern is None else int(layer.pattern),
+        "passes": len(layer.passes),
+        "fiber_length_mm": _num(layer.fiber_length_mm, LENGTH_DECIMALS),
+        "dwell_start_deg": _num(layer.dwell_start_deg, ANGLE_DECIMALS),
+        "dwell_end_deg": _num(layer.dwell_end_deg, ANGLE_DECIMALS),
+        "turnaround_radius_mm": _num(layer.turnaround_radius, LENGTH_DECIMALS),
+        "alpha_range_deg": [_num(layer.alpha_min_deg, ANGLE_DECIMALS), _num(layer.alpha_max_deg, ANGLE_DECIMALS)],
+        "time_s": _num(layer.time_s, TIME_DECIMALS),
+        "coverage": {
+            "covered_fraction": _num(cov.covered_fraction, FRACTION_DECIMALS),
+            "max_gap_mm": _num(cov.max_gap_mm, LENGTH_DECIMALS),
+            "max_overlap_mm": _num(cov.max_overlap_mm, LENGTH_DECIMALS),
+            "min_layers": int(cov.min_layers),
+            "max_layers": int(cov.max_layers),
+        },
+        "notes": [str(n) for n in layer.notes],
+    }
+
+
+def summary_dict(plan: WindingPlan) -> dict[str, Any]:
+    """The summary as plain Python data (what summary_text serializes)."""
+    return {
+        "name": plan.name,
+        "source": plan.source,
+        "total_fiber_length_mm": _num(plan.total_fiber_length_mm, LENGTH_DECIMALS),
+        "estimated_time_s": _num(plan.total_time_s, TIME_DECIMALS),
+        "layer_count": len(plan.layers),
+        "layers": [_layer(layer) for layer in plan.layers],
+    }
+
+
+def summary_text(plan: WindingPlan) -> str:
+    """The summary JSON text (sorted keys, indent 2, newline-terminated)."""
+    return json.dumps(summary_dict(plan), sort_keys=True, indent=2, allow_nan=False) + "\n"

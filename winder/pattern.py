@@ -1,0 +1,115 @@
+"""The circuit pattern of a helical layer (MATH.md 5): how many circuits, which skip, how it closes.
+
+A circuit is a forward and a return pass; the mandrel turns one way throughout. With N_c circuits
+and a circuit advance of k / N_c of a turn (gcd(k, N_c) = 1), circuit j starts in slot j k mod N_c
+and after N_c circuits every slot holds exactly one circuit. Advances here are fractions of a turn
+of the section's perimeter (arc length), so the same arithmetic serves non-circular sections.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.optimize import brentq
+
+from winder.errors import ConfigError, SolverError
+
+
+def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:
+    """N_c = ceil(P cos(alpha) / B): the fewest circuits whose bands cover the perimeter."""
+    need = perimeter * math.cos(angle_rad) / band_width
+    return max(1, math.ceil(need - 1e-9))
+
+
+def coprime_skips(circuits: int) -> list[int]:
+    """The skips k in [1, N_c) with gcd(k, N_c) = 1 (k = 1 alone for a single circuit)."""
+    if circuits == 1:
+        return [1]
+    return [k for k in range(1, circuits) if math.gcd(k, circuits) == 1]
+
+
+def _check_skip(pattern: int | None, circuits: int, key: str) -> list[int]:
+    skips = coprime_skips(circuits)
+    if pattern is None:
+        return skips
+    if circuits > 1 and math.gcd(pattern, circuits) != 1:
+        raise ConfigError(f"{key}: pattern {pattern} shares a factor with the {circuits} circuits this layer "
+                          f"needs, so some slots would be wound twice and others never; allowed: "
+                          f"{', '.join(map(str, skips[:12]))}{' ...' if len(skips) > 12 else ''} or auto")
+    return [pattern % circuits if circuits > 1 else 1]
+
+
+@dataclass(frozen=True)
+class OpenPattern:
+    """Pattern of an open mandrel: the passes' natural advance plus the dwells close it.
+
+    advance : circuit advance (turns) = natural + dwell_start + dwell_end = k / N_c (mod 1).
+    """
+
+    circuits: int
+    pattern: int
+    natural: float
+    dwell_start: float
+    dwell_end: float
+
+    @property
+    def advance(self) -> float:
+        return self.natural + self.dwell_start + self.dwell_end
+
+
+def close_open_pattern(circuits: int, natural: float, min_start: float, min_end: float,
+                       pattern: int | None, key: str) -> OpenPattern:
+    """Choose k and the dwells (turns, each >= its minimum) so the circuit advance is k / N_c.
+
+    The extra dwell is the least non-negative amount that closes the pattern; it is shared equally
+    by the two ends. pattern: a given k, or None for the k needing the least extra dwell.
+    """
+    best = None
+    for k in _check_skip(pattern, circuits, key):
+        extra = (k / circuits - (natural + min_start + min_end)) % 1.0
+        if extra > 1.0 - 1e-12:
+            extra = 0.0
+        if best is None or extra < best[1] - 1e-12:
+            best = (k, extra)
+    k, extra = best
+    return OpenPattern(circuits, k, natural, min_start + extra / 2.0, min_end + extra / 2.0)
+
+
+def close_vessel_pattern(advance: Callable[[float], float], c0: float, c_lo: float, c_hi: float,
+                         circuits: int, pattern: int | None, key: str) -> tuple[int, float]:
+    """Move the turnaround radius c (hence the angle) so that advance(c) = k / N_c (mod 1 turn).
+
+    advance : circuit advance in turns as a function of c, increasing on (c_lo, c_hi).
+    Returns (k, c) with the least |c - c0|.
+    """
+    a_lo, a_hi = advance(c_lo), advance(c_hi)
+    a0 = advance(c0)
+    # Every skip offers the targets just above and below a0; advance(c) is smooth and increasing, so
+    # the few targets nearest a0 hold the least |c - c0|: solve those alone.
+    candidates = []
+    for k in _check_skip(pattern, circuits, key):
+        up = a0 + (k / circuits - a0) % 1.0
+        candidates += [(abs(t - a0), k, t) for t in (up, up - 1.0) if a_lo <= t <= a_hi]
+    best = None
+    for _, k, target in sorted(candidates)[:4]:
+        c = c0 if abs(target - a0) < 1e-13 else brentq(lambda x: advance(x) - target, c_lo, c_hi,
+                                                        xtol=1e-13, rtol=1e-14)
+        if best is None or abs(c - c0) < abs(best[1] - c0):
+            best = (k, c)
+    if best is None:
+        raise SolverError(f"{key}: no turnaround radius between {c_lo:.4g} and {c_hi:.4g} mm closes a pattern "
+                          f"of {circuits} circuits; change the angle or the band width")
+    return best
+
+
+def slot_of_circuit(circuit: int, circuits: int, pattern: int) -> int:
+    """The slot (0 .. N_c - 1) that circuit j (0-based) starts in."""
+    return (circuit * pattern) % circuits
+
+
+def slots_filled(circuits: int, pattern: int) -> np.ndarray:
+    """How many circuits start in each slot: all ones for a closed, even pattern. (N_c,) int."""
+    return np.bincount([slot_of_circuit(j, circuits, pattern) for j in range(circuits)], minlength=circuits)
