@@ -98,3 +98,12 @@ def test_summary_text_stable_and_sorted(plan):
     assert summary_dict(plan)["layers"][0]["time_s"] == 123.46
     for word in ("seconds", "timestamp", "NaN", "Infinity"):
         assert word not in text
+
+
+def test_summary_not_finite_is_null(plan):
+    from dataclasses import replace  # noqa: PLC0415
+    layer = replace(plan.layers[0], coverage=replace(plan.layers[0].coverage, max_gap_mm=float("nan")),
+                    turnaround_radius=37.12345678)
+    data = json.loads(summary_text(replace(plan, layers=(layer,))))
+    assert data["layers"][0]["coverage"]["max_gap_mm"] is None
+    assert data["layers"][0]["turnaround_radius_mm"] == 37.123

@@ -118,6 +118,29 @@ def test_failure_while_writing_removes_what_was_renamed(tiny, tmp_path, monkeypa
     assert names(out) == set()  # nothing of this job, no temporary file either
 
 
+def test_failure_while_writing_puts_back_the_previous_outputs(tiny, tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    assert run_job(tiny, out).ok
+    before = contents(out)
+    tiny.write_text(TINY.replace("angle: 45", "angle: 40"))  # a new plan: different bytes
+    real = winder.export.atomic.write_atomic
+    calls = []
+
+    def flaky(path, data):
+        calls.append(path)
+        if len(calls) == 3:
+            raise ExportError(f"{path}: cannot write: No space left on device")
+        real(path, data)
+
+    monkeypatch.setattr(winder.export.atomic, "write_atomic", flaky)
+    assert not run_job(tiny, out).ok
+    assert contents(out) == before  # the earlier run's files, whole, and nothing else
+    monkeypatch.setattr(winder.export.atomic, "write_atomic", real)
+    assert run_job(tiny, out).ok
+    after = contents(out)
+    assert after.keys() == before.keys() and after["tiny.csv"] != before["tiny.csv"]
+
+
 def test_interrupt_while_writing_removes_what_was_renamed(tiny, tmp_path, monkeypatch):
     real = winder.export.atomic.write_atomic
     calls = []

@@ -134,8 +134,9 @@ def test_cylinder_closed_form(tube, alpha):
     assert np.allclose(path.x, fp.t + lam * ca, atol=1e-9)
     assert np.allclose(path.z, z, atol=ENVELOPE_TOL)
     assert np.allclose(path.a_deg, -np.degrees(fp.theta + lead), atol=1e-9)
-    # Yaw: d = (cos a) z + (sin a) e_theta; the eye's tangential direction is e_theta turned by lead.
-    assert np.allclose(path.b_deg, np.degrees(np.arctan2(sa * np.cos(lead), ca)), atol=1e-9)
+    # Yaw from the hoop orientation: d = (cos a) z + (sin a) e_theta, and the eye's tangential
+    # direction u is e_theta turned by the lead angle, so d.u = sin(a) cos(lead).
+    assert np.allclose(path.b_deg, np.degrees(np.arctan2(ca, sa * np.cos(lead))), atol=1e-9)
     assert path.on_envelope.all()
 
 
@@ -164,7 +165,7 @@ def test_a_follows_planned_turns(tube):
 
 
 def test_return_pass_yaw_mirrors_forward(tube):
-    """The mandrel turns one way: the return pass's yaw is 180 - the forward's (through the hoop)."""
+    """The mandrel turns one way: the return pass's yaw mirrors the forward's about the hoop (0)."""
     adv = 260.0 * np.tan(np.radians(50.0)) / R
     fw = helix(tube, 20.0, 280.0, 0.0, adv, 30, layer=1, circuit=1, number=1, kind=PassKind.FORWARD)
     rt = helix(tube, 280.0, 20.0, adv, 2 * adv, 30, layer=1, circuit=1, number=2, kind=PassKind.RETURN)
@@ -172,8 +173,15 @@ def test_return_pass_yaw_mirrors_forward(tube):
     bf = eye_path(fp := fw.points, fw.direction, tube, m, theta=fw.theta).b_deg
     br = eye_path(rt.points, rt.direction, tube, m, theta=rt.theta).b_deg
     assert fp.shape[0] == 30
-    assert np.allclose(bf + br, 180.0, atol=1e-9)
+    assert np.allclose(bf + br, 0.0, atol=1e-9)
     assert (bf > 0).all() and (bf < 90).all()
+    # A dwell (a hoop at the end) is yaw 0.
+    dw = helix(tube, 280.0, 280.0, adv, adv + 1.0, 5, layer=1, circuit=1, number=2, kind=PassKind.DWELL)
+    assert np.allclose(eye_path(dw.points, dw.direction, tube, m, theta=dw.theta).b_deg, 0.0, atol=1e-9)
+    # Winding the other way (theta decreasing) mirrors B: the forward pass is then negative.
+    back = helix(tube, 20.0, 280.0, 0.0, -adv, 30, layer=1, circuit=1, number=1, kind=PassKind.FORWARD)
+    bb = eye_path(back.points, back.direction, tube, m, theta=back.theta).b_deg
+    assert np.allclose(bb, -bf, atol=1e-9)
 
 
 def test_elliptic_section_eye_on_tangent_and_envelope():

@@ -77,6 +77,14 @@ def test_json_structure():
     assert count == 1 and "unreadable" in str(shown[0])
 
 
+def test_json_numbers_in_text():
+    a = json.dumps({"notes": ["dwells lengthened to 14.561 / 14.561 deg (k = 5 of 19)"]})
+    assert compare_json(a, a.replace("14.561 /", "14.5610000001 /")) == ([], 0)
+    shown, count = compare_json(a, a.replace("14.561 /", "14.562 /"))
+    assert count == 1 and shown[0].where == "notes[0]"
+    assert compare_json(a, a.replace("dwells", "dwell"))[1] == 1
+
+
 def test_json_nan_and_inf():
     assert compare_json('{"a": NaN, "b": Infinity}', '{"a": NaN, "b": Infinity}')[1] == 0
     assert compare_json('{"a": NaN}', '{"a": 1.0}')[1] == 1
@@ -150,7 +158,7 @@ def test_difference_text():
 
 
 # -- samples and the runner ------------------------------------------------------------------------
-def fake_job(config, out_dir, formats):
+def fake_job(config, out_dir, formats, source=None):
     """Stand-in for run_job: writes the outputs from the config's text (no planning)."""
     text = Path(config).read_text()
     name = Path(config).stem

@@ -2,8 +2,8 @@
 
 A job: load the config -> plan every layer -> render every requested output in memory -> only then
 write them all, each atomically. If anything fails, the files this call already renamed into place
-are removed again, so a failed job leaves no file of its own behind, not even a partial one
-(SPEC.md). Timings go into the JobReport (the console), never into the files, so a job's outputs
+are removed again (and earlier outputs they replaced are put back), so a failed job leaves no file
+of its own behind, not even a partial one (SPEC.md). Timings go into the JobReport (the console), never into the files, so a job's outputs
 are byte-identical from run to run and whatever the number of worker processes.
 
 No click here: the CLI (winder.cli) and the regression runner (winder.regress) both build on this.
@@ -150,34 +150,74 @@ def _plan(job):
 
 
 def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
-    """Write the rendered files atomically; on any failure remove those already written by this
-    call and re-raise. Returns the paths written."""
+    """Write the rendered files, each atomically, and return their paths.
+
+    All or nothing: on any failure (or an interrupt) the files this call already put in place are
+    taken back again; where one replaced the output of an earlier run, that earlier file is put
+    back (it is kept as a hard link until the end), so the folder holds the old set or the new set,
+    never a mix.
+    """
     from winder.export.atomic import write_atomic  # noqa: PLC0415
 
+    folder = Path(out_dir)
     written: list[Path] = []
+    backups: dict[Path, Path] = {}
     try:
         for file_name, data in rendered.items():
-            path = Path(out_dir) / file_name
+            path = folder / file_name
+            backup = _keep_old(path)
+            if backup is not None:
+                backups[path] = backup
             write_atomic(path, data)
             written.append(path)
     except BaseException:
-        for path in written:
+        for path in reversed(written):
             try:
-                path.unlink(missing_ok=True)
+                if path in backups:
+                    os.replace(backups.pop(path), path)
+                else:
+                    path.unlink(missing_ok=True)
             except OSError:
                 pass
         raise
+    finally:
+        for backup in backups.values():
+            try:
+                backup.unlink(missing_ok=True)
+            except OSError:
+                pass
     return [str(p) for p in written]
 
 
+def _keep_old(path: Path) -> Path | None:
+    """A hard link to an existing file at path (to put it back if the job fails), or None."""
+    if not path.is_file():
+        return None
+    backup = path.with_name(f".{path.name}.{os.getpid()}.old")
+    try:
+        backup.unlink(missing_ok=True)
+        os.link(path, backup)
+    except OSError:  # no hard links here (some network or FAT folders): no way back, as without
+        return None
+    return backup
+
+
 def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
-            formats: Sequence[str] = ALL_FORMATS) -> JobReport:
+            formats: Sequence[str] = ALL_FORMATS, source: str | None = None) -> JobReport:
     """Run one job: load, plan, render in memory, then write. Never raises for a failing job (the
     failure is in the report); only KeyboardInterrupt / SystemExit pass through. A top-level
-    function with picklable arguments and result, so it runs on a process pool."""
+    function with picklable arguments and result, so it runs on a process pool.
+
+    source: the config's name in messages and in the outputs (which may record it) once the file
+    is read; default the path as given. `regress` passes the bare file name, so that outputs do not
+    depend on the folder the samples were run from.
+    """
+    import dataclasses  # noqa: PLC0415
+
     from winder.config import load_config  # noqa: PLC0415
 
     config = os.fspath(config_path)
+    shown = config
     started = time.perf_counter()
     name: str | None = None
     plan = None
@@ -185,12 +225,15 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
         formats = tuple(formats)
         output_names("x", formats)  # refuses an unknown format before any work
         job = load_config(config)
+        if source is not None:
+            job = dataclasses.replace(job, source=source)
+            shown = source
         name = job.name
         plan = _plan(job)
         rendered = render_outputs(job, plan, formats)
         outputs = write_outputs(out_dir, rendered)
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback
-        return JobReport(config, name, False, exit_code_of(exc), error_message(exc, config),
+        return JobReport(config, name, False, exit_code_of(exc), error_message(exc, shown),
                          (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
     return JobReport(config, name, True, 0, "", tuple(outputs), _fiber_length(plan), _layer_count(plan),
                      time.perf_counter() - started)
@@ -213,11 +256,15 @@ def _layer_count(plan) -> int:
 # -- batches ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class JobTask:
-    """One job of a batch: run_job(config, out_dir, formats)."""
+    """One job of a batch: run_job(config, out_dir, formats[, source])."""
 
     config: str
     out_dir: str
     formats: tuple[str, ...] = ALL_FORMATS
+    source: str | None = None  # see run_job
+
+    def submit_args(self) -> tuple[tuple, dict]:
+        return (self.config, self.out_dir, self.formats), ({"source": self.source} if self.source else {})
 
 
 def default_workers() -> int:
@@ -241,13 +288,14 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
     workers = max(1, min(int(workers), len(tasks)))
     if workers == 1:
         for i, task in enumerate(tasks):
-            yield i, job(task.config, task.out_dir, task.formats)
+            args, kwargs = task.submit_args()
+            yield i, job(*args, **kwargs)
         return
     pool = ProcessPoolExecutor(max_workers=workers)
     retry: list[int] = []
     try:
         futures: dict[Future, int] = {
-            pool.submit(job, task.config, task.out_dir, task.formats): i for i, task in enumerate(tasks)
+            pool.submit(job, *task.submit_args()[0], **task.submit_args()[1]): i for i, task in enumerate(tasks)
         }
         pending = set(futures)
         while pending:
@@ -271,7 +319,8 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
         task = tasks[i]
         with ProcessPoolExecutor(max_workers=1) as alone:
             try:
-                report = alone.submit(job, task.config, task.out_dir, task.formats).result()
+                args, kwargs = task.submit_args()
+                report = alone.submit(job, *args, **kwargs).result()
             except Exception as exc:  # noqa: BLE001 - this job kills its worker: it fails, alone
                 report = _worker_failure(task.config, exc)
         yield i, report

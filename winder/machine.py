@@ -28,13 +28,16 @@ Axes (straight-axis winder, SPEC.md "<name>.gcode"):
 - A  mandrel rotation = -phi_E in degrees, phi_E = atan2(E_y, E_x) made continuous: phi_E is the
      contact angle theta (unwrapped, as planned) plus the eye's lead angle wrapped to (-180, 180].
      Forward kinematics: the eye is at mandrel-frame point (Z cos(-A), Z sin(-A), X).
-- B  eye yaw: the angle, in the eye's tangent plane (spanned by the carriage direction +z and the
-     eye's tangential direction u = z x E_xy / |E_xy|), from +z to the projection of d, the fiber
-     line's direction from the contact point toward the eye: B = atan2(d.u, d.z), in degrees,
-     unwrapped. With the mandrel turning theta+ it runs in (0, 180): near +alpha on a forward pass,
-     90 on a hoop, near 180 - alpha on a return pass (the eye turns through the hoop orientation at
-     each turnaround, never through 0). The radial component of d (the fiber climbing to the eye)
-     does not enter B.
+- B  eye yaw: the eye's rotation about the cross-feed axis (the outward radial direction r at the
+     eye), right-handed, measured from the hoop orientation: the angle, in the eye's tangent plane
+     (spanned by u = z x r, the tangential direction, and +z, the carriage direction), from u toward
+     +z of the fiber line:  B = atan2(sigma d.z, sigma d.u)  in degrees, made continuous.
+     sigma = +1 when the mandrel winds theta+ (A decreasing), -1 otherwise: of the line's two
+     orientations it takes the one running with the winding, so B = 0 on a hoop, +(90 - alpha') on
+     a forward pass and -(90 - alpha') on a return pass (alpha' the fiber's angle from the carriage
+     axis seen in the eye's plane), B in (-90, 90) whenever the fiber runs with the winding sense.
+     The eye turns through the hoop orientation at every turnaround, never through the axial one.
+     The radial component of d (the fiber climbing from the mandrel to the eye) does not enter B.
 
 Robot mode (bent axis, or machine.robot): the same tangent-line rule with the envelope taken around
 the guide curve: the eye's distance from its closest guide point x(t*) equals the envelope radius at
@@ -72,7 +75,7 @@ class EyePath:
     """Axis values of a straight-axis winder at m contact points (see the module docstring).
 
     x, a_deg, z, b_deg : (m,) float: carriage (mm), mandrel rotation (deg, cumulative), cross-feed
-        (mm), eye yaw (deg, unwrapped).
+        (mm), eye yaw (deg, continuous; 0 = hoop orientation).
     eye_xyz : (m, 3) float, the eye in the mandrel frame. lead : (m,) free-fiber length (mm).
     on_envelope : (m,) bool, False where the lead was capped (nearly axial fiber).
     """
@@ -260,11 +263,12 @@ def _lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
 
 def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, machine: MachineConfig,
              *, theta: np.ndarray | None = None, envelope: EyeEnvelope | None = None,
-             where: str = "eye path") -> EyePath:
+             sense: float | None = None, where: str = "eye path") -> EyePath:
     """Axis values of a straight-axis winder laying the fiber through contact points (m, 3) with unit
     fiber directions (m, 3) (toward the part not yet laid). theta : (m,) the contact angles, unwrapped
     (default: the polar angles of the points, unwrapped); they fix A's turn count. envelope : from
-    eye_envelope (computed here when left out). `where` prefixes error messages."""
+    eye_envelope (computed here when left out). sense : the winding sense sigma of B (> 0: theta
+    increasing; default: the sense the fiber runs in here). `where` prefixes error messages."""
     if not surface.curve.is_straight:
         raise ExportError(f"{where}: the mandrel axis is bent: a straight-axis winder cannot follow it; "
                           "use robot poses (machine.robot)")
@@ -280,8 +284,11 @@ def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, 
     lead_angle = np.angle(np.exp(1j * (phi_raw - theta)))  # wrapped to (-pi, pi]
     phi = theta + lead_angle
     zr = np.hypot(e[:, 0], e[:, 1])
-    u = np.column_stack([-np.sin(phi_raw), np.cos(phi_raw)])
-    b = np.unwrap(np.arctan2(d[:, 0] * u[:, 0] + d[:, 1] * u[:, 1], d[:, 2]))
+    d_u = -np.sin(phi_raw) * d[:, 0] + np.cos(phi_raw) * d[:, 1]
+    if sense is None:
+        sense = -1.0 if np.sum(d_u) < 0.0 else 1.0
+    sigma = -1.0 if sense < 0.0 else 1.0
+    b = np.unwrap(np.arctan2(sigma * d[:, 2], sigma * d_u))
     return EyePath(x=e[:, 2].copy(), a_deg=-np.degrees(phi), z=zr, b_deg=np.degrees(b), eye_xyz=e,
                    lead=lam, on_envelope=ok)
 

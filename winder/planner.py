@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import make_interp_spline
 from scipy.optimize import brentq
 
 from winder.config import JobConfig
@@ -56,7 +56,9 @@ class _Context:
 def _directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """Unit tangents (m, 3) of the smooth curve through the vertices, in laying order."""
     i = np.arange(s.shape[0], dtype=float)
-    ds, dth = CubicSpline(i, s)(i, 1), CubicSpline(i, theta)(i, 1)
+    # Quintic: the cubic's end slopes are O(h^3) off, visible next to a turnaround.
+    k = min(5, s.shape[0] - 1 - (s.shape[0] % 2 == 1 and s.shape[0] < 7))
+    ds, dth = make_interp_spline(i, s, k=k)(i, 1), make_interp_spline(i, theta, k=k)(i, 1)
     ev = surface.evaluate(s, theta, order=1)
     v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
     return v / np.linalg.norm(v, axis=1)[:, None]
@@ -71,10 +73,11 @@ def _make_pass(surface: SweepSurface, layer: int, circuit: int, number: int, kin
 
 
 def _solve(ctx: _Context, a: tuple[float, float], b: tuple[float, float],
-           warm: tuple[np.ndarray, np.ndarray] | None) -> tuple[np.ndarray, np.ndarray, float, GeodesicResult]:
-    """A two-point geodesic pass: vertices (Richardson-refined), length."""
+           warm: tuple[np.ndarray, np.ndarray] | None,
+           n: int | None = None) -> tuple[np.ndarray, np.ndarray, float, GeodesicResult]:
+    """A two-point geodesic pass: vertices (Richardson-refined), length. n: points (default config)."""
     w = ctx.winding
-    n = w.points or 200
+    n = n or w.points or 200
     res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm)
     for _ in range(2):
         if res.converged:
@@ -275,8 +278,9 @@ def _turnaround_s(prof: VesselMeridian, c: float) -> tuple[float, float]:
     return brentq(r_minus_c, 0.0, e1, xtol=1e-13), brentq(r_minus_c, e2, prof.length, xtol=1e-13)
 
 
-def _half_advance(prof: VesselMeridian, c: float) -> float:
-    """theta advance (rad) of a geodesic with Clairaut constant c from one turnaround to the other.
+def _advances(prof: VesselMeridian, c: float) -> tuple[float, float, float]:
+    """theta advances (rad) of the geodesic of Clairaut constant c: over the first dome (turnaround
+    to equator), the cylinder, and the end dome (equator to turnaround).
 
     dtheta/ds = c / (r sqrt(r^2 - c^2)), s the meridian arc length. On each dome the substitution
     s = s_c + (s_eq - s_c)(1 - cos tau) removes the inverse-square-root singularity at the turnaround;
@@ -286,14 +290,57 @@ def _half_advance(prof: VesselMeridian, c: float) -> float:
     e1, e2 = prof.equator_s
     x, w = np.polynomial.legendre.leggauss(QUAD_NODES)
     tau = 0.25 * np.pi * (x + 1.0)  # [0, pi/2]
-    total = c * prof.cylinder_length / (prof.radius * math.sqrt(prof.radius**2 - c * c))
+    domes = []
     for s_c, s_eq in ((s1, e1), (s2, e2)):
         span = s_eq - s_c
         s = s_c + span * (1.0 - np.cos(tau))
         r = prof.evaluate(s).r
         f = c / (r * np.sqrt(np.maximum(r * r - c * c, 1e-300))) * abs(span) * np.sin(tau)
-        total += 0.25 * np.pi * float(f @ w)
-    return total
+        domes.append(0.25 * np.pi * float(f @ w))
+    cylinder = c * prof.cylinder_length / (prof.radius * math.sqrt(prof.radius**2 - c * c))
+    return domes[0], cylinder, domes[1]
+
+
+def _half_advance(prof: VesselMeridian, c: float) -> float:
+    """theta advance (rad) from one turnaround to the other."""
+    return float(sum(_advances(prof, c)))
+
+
+def _vessel_pass(ctx: _Context, prof: VesselMeridian, c: float, forward: bool,
+                 theta0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """One pole-to-pole pass, solved piece by piece between the equators.
+
+    The meridian's curvature jumps where a dome meets the cylinder; a polyline vertex straddling
+    the jump carries an O(h^3) error that Richardson cannot remove and that tilts the whole helix on
+    the cylinder (1e-5 of the Clairaut constant at 200 points). The geodesic's equator crossings
+    are known by quadrature, so each smooth piece is solved on its own, with vertices on the joints.
+    Returns s, theta ((m,) float, laying order), the unit directions ((m, 3) float, from each piece's
+    own spline) and the length.
+    """
+    s1, s2 = _turnaround_s(prof, c)
+    e1, e2 = prof.equator_s
+    d1, cyl, d2 = _advances(prof, c)
+    knots, steps = ([s1, e1, e2, s2], [d1, cyl, d2]) if forward else ([s2, e2, e1, s1], [d2, cyl, d1])
+    thetas = theta0 + np.concatenate([[0.0], np.cumsum(steps)])
+    guide_s, guide_th = _clairaut_start(prof, c, knots[0], knots[-1], theta0, m=4001)
+    n_total = ctx.winding.points or 200
+    s_out, th_out, d_out, length = [], [], [], 0.0
+    for i in range(3):
+        lo, hi = sorted((knots[i], knots[i + 1]))
+        if hi - lo <= 1e-12:
+            continue  # no cylinder
+        inside = (guide_s >= lo) & (guide_s <= hi)
+        n_i = max(5, int(round(n_total * np.count_nonzero(inside) / guide_s.size)))
+        warm = (np.concatenate([[knots[i]], guide_s[inside], [knots[i + 1]]]),
+                np.concatenate([[thetas[i]], guide_th[inside], [thetas[i + 1]]]))
+        t_a, t_b = (float(v) for v in prof.t_of_s(np.array([knots[i], knots[i + 1]])))
+        s, th, ln, _ = _solve(ctx, (t_a, thetas[i]), (t_b, thetas[i + 1]), warm, n_i)
+        d = _directions(ctx.surface, s, th)
+        s_out.append(s if not s_out else s[1:])
+        th_out.append(th if not th_out else th[1:])
+        d_out.append(d if not d_out else d[1:])
+        length += ln
+    return np.concatenate(s_out), np.concatenate(th_out), np.concatenate(d_out), length
 
 
 def _clairaut_start(prof: VesselMeridian, c: float, s_from: float, s_to: float, theta0: float,
@@ -349,19 +396,18 @@ def _helical_vessel(ctx: _Context, cfg: LayerConfig, index: int, theta0: float) 
         n_c = need
     alpha = math.degrees(math.asin(c / big_r))
     half = _half_advance(prof, c)
-    s1, s2 = _turnaround_s(prof, c)
-    t1, t2 = (float(v) for v in surf.t_of_s(np.array([s1, s2])))
-    s_f, th_f, len_f, _ = _solve(ctx, (t1, theta0), (t2, theta0 + half),
-                                 _clairaut_start(prof, c, s1, s2, theta0))
-    s_r, th_r, len_r, _ = _solve(ctx, (t2, theta0 + half), (t1, theta0 + 2.0 * half),
-                                 _clairaut_start(prof, c, s2, s1, theta0 + half))
+    fwd = _vessel_pass(ctx, prof, c, True, theta0)
+    ret = _vessel_pass(ctx, prof, c, False, theta0 + half)
     passes: list[FiberPass] = []
     number = 0
     for j in range(n_c):
         shift = j * 2.0 * half
-        for kind, (s, th, ln) in ((PassKind.FORWARD, (s_f, th_f, len_f)), (PassKind.RETURN, (s_r, th_r, len_r))):
+        for kind, (s, th, d, ln) in ((PassKind.FORWARD, fwd), (PassKind.RETURN, ret)):
             number += 1
-            passes.append(_make_pass(surf, index + 1, j + 1, number, kind, s, th + shift, None, ln))
+            # A rotated copy: the directions turn with it (about the straight axis, +z).
+            c_, s_ = math.cos(shift), math.sin(shift)
+            turned = np.column_stack([c_ * d[:, 0] - s_ * d[:, 1], s_ * d[:, 0] + c_ * d[:, 1], d[:, 2]])
+            passes.append(_make_pass(surf, index + 1, j + 1, number, kind, s, th + shift, turned, ln))
     notes = [f"turnaround radius c = {c:.4f} mm on the domes (polar opening {r_open:.4g} mm); angle moved "
              f"{alpha - cfg.angle_deg:+.4f} deg to close the pattern (k = {k} of {n_c})"]
     e1, e2 = prof.equator_t

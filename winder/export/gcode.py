@@ -3,8 +3,10 @@
 Straight-axis winder: `G1` moves of the four axes (letters from machine.axes) in the order carriage,
 rotation, cross-feed, yaw, with the feed F (mm/min) on every move; the axis values are those of
 winder.machine.eye_path (its docstring defines them, B included). Values have 3 decimals (mm, deg);
-A is cumulative over the whole program: each pass and layer continues from the last, the mandrel
-turning on in its winding sense to a layer's first point.
+A is cumulative over the whole program: each pass and layer continues from the last; to reach a
+pass that starts elsewhere (a new layer) the mandrel turns on in its winding sense, less than a turn
+for the contact point and never back more than TURN_BACK_DEG for the eye. Every pass is checked
+against machine.limits (ExportError naming the file, layer, circuit, pass, axis, value and limits).
 
 Point reduction: of each pass's contact points, a point is dropped when its axis values lie within
 machine.chord_tolerance of the straight (axis-space) move between the kept neighbours, distances in
@@ -20,8 +22,9 @@ in the mandrel frame:
 
 X Y Z the eye position (mm, 3 decimals), I J K the unit vector from the eye to its contact point
 (6 decimals), the free fiber as it leaves the eye (winder.machine.robot_poses). Poses are reduced
-the same way (eye position in mm, direction as YAW_TOLERANCE_DEG). The preamble and comments are the
-same in both modes. The text is deterministic: no timestamps, no timings.
+the same way (eye position in mm, direction as YAW_TOLERANCE_DEG). machine.limits name winder axes
+and are not applied to poses. The preamble and comments are the same in both modes. The text is
+deterministic: no timestamps, no timings.
 """
 
 from __future__ import annotations
@@ -32,7 +35,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from winder.config_job import MachineConfig
-from winder.machine import EyeEnvelope, check_limits, eye_envelope, eye_path, make_guide, robot_poses
+from winder.errors import ExportError
+from winder.machine import (EyeEnvelope, RobotPoses, check_limits, eye_envelope, eye_path, make_guide,
+                            robot_poses)
 from winder.plan import FiberPass, LayerPlan, PassKind, WindingPlan
 
 DECIMALS = 3  # mm and deg
@@ -41,7 +46,10 @@ YAW_TOLERANCE_DEG = 0.5  # a yaw (or fiber direction) deviation this large count
 PREAMBLE = ("G21", "G90", "G94")
 END = "M2"
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
+TURN_BACK_DEG = 1.0  # moving to a new layer, the mandrel may turn back this much, not more
 _CONTINUITY_TOL = 1e-9  # rad: two passes whose angles meet this closely are continuous
+_TWO_PI = 2.0 * np.pi
+_POINT_TOL = 1e-6  # mm: a pass starting this close to where the last one ended continues it
 
 
 @dataclass(frozen=True)
@@ -103,36 +111,45 @@ def _clean(text: str) -> str:
     return " ".join(str(text).split())
 
 
-def _theta_offsets(plan: WindingPlan) -> list[np.ndarray]:
-    """Each pass's contact angles made continuous over the whole program (unwrapped theta plus
-    whole turns): a pass starting away from where the last one ended is reached by turning on in
-    the winding sense (the sense of the previous pass), never backwards."""
-    out: list[np.ndarray] = []
-    offset, end, sense = 0.0, None, 1.0
-    two_pi = 2.0 * np.pi
-    for layer in plan.layers:
-        for fp in layer.passes:
-            th = np.asarray(fp.theta, dtype=float)
-            if th.size == 0:
-                out.append(th)
-                continue
-            if end is not None:
-                offset += two_pi * np.round((end - (th[0] + offset)) / two_pi)
-                gap = th[0] + offset - end
-                if abs(gap) > _CONTINUITY_TOL and gap * sense < 0.0:
-                    offset += two_pi * sense
-            cum = th + offset
-            out.append(cum)
-            if cum[-1] != cum[0]:
-                sense = float(np.sign(cum[-1] - cum[0]))
-            end = float(cum[-1])
-    return out
+class _Turns:
+    """Carries the contact angle over the whole program: each pass's unwrapped theta plus whole
+    turns, so that A is cumulative. A pass continuing where the last one ended keeps its angles; a
+    pass starting elsewhere (a new layer) is reached by turning on in the winding sense (that of the
+    previous pass), less than a turn, never backwards."""
+
+    def __init__(self) -> None:
+        self.offset = 0.0
+        self.end: float | None = None
+        self.end_point: np.ndarray | None = None
+        self.sense = 1.0
+
+    def place(self, theta: np.ndarray, first: np.ndarray) -> tuple[np.ndarray, bool]:
+        """(the pass's program angles, whether it starts away from where the last pass ended);
+        first: the pass's first contact point."""
+        jumped = False
+        if self.end is not None:
+            self.offset += _TWO_PI * np.round((self.end - (theta[0] + self.offset)) / _TWO_PI)
+            gap = theta[0] + self.offset - self.end
+            jumped = abs(gap) > _CONTINUITY_TOL or float(np.linalg.norm(first - self.end_point)) > _POINT_TOL
+            if abs(gap) > _CONTINUITY_TOL and gap * self.sense < 0.0:
+                self.offset += _TWO_PI * self.sense
+        return theta + self.offset, jumped
+
+    def turn_on(self, theta: np.ndarray) -> np.ndarray:
+        """One more turn in the winding sense (the eye, not only the contact, must not turn back)."""
+        self.offset += _TWO_PI * self.sense
+        return theta + self.offset
+
+    def done(self, cum: np.ndarray, last: np.ndarray) -> None:
+        if cum[-1] != cum[0]:
+            self.sense = float(np.sign(cum[-1] - cum[0]))
+        self.end = float(cum[-1])
+        self.end_point = np.asarray(last, dtype=float)
 
 
 def _layer_line(layer: LayerPlan) -> str:
-    pattern = f", pattern {layer.pattern}" if layer.type.value == "helical" else ""
     return (f"layer {layer.index}: {layer.type.value}, angle {_fmt(layer.angle_deg)} deg (requested "
-            f"{_fmt(layer.requested_angle_deg)}), circuits {layer.circuits}{pattern}, "
+            f"{_fmt(layer.requested_angle_deg)}), circuits {layer.circuits}, pattern {layer.pattern}, "
             f"passes {len(layer.passes)}, fiber {_fmt(layer.fiber_length_mm)} mm")
 
 
@@ -141,7 +158,7 @@ def _header(plan: WindingPlan, machine: MachineConfig, robot: bool, env: EyeEnve
     lines = ["; winder filament-winding program", f"; job: {_clean(plan.name)}",
              f"; source: {_clean(plan.source)}"]
     if robot:
-        lines += ["; machine: robot eye poses in the mandrel frame (the mandrel does not turn)",
+        lines += ["; machine: robot; eye poses in the mandrel frame",
                   "; POSE X Y Z: eye position (mm); I J K: unit fiber direction from the eye to its "
                   "contact point; F feed (mm/min)"]
     else:
@@ -151,8 +168,8 @@ def _header(plan: WindingPlan, machine: MachineConfig, robot: bool, env: EyeEnve
                   f"; kinematics: eye at mandrel-frame ({ax.cross_feed} cos(-{ax.rotation}), "
                   f"{ax.cross_feed} sin(-{ax.rotation}), {ax.carriage}), on the tangent line of the "
                   "fiber path at its contact point",
-                  f"; yaw: angle of the fiber line (contact point to eye) from +{ax.carriage} in the "
-                  "eye's tangent plane"]
+                  f"; yaw: {ax.yaw} = eye rotation about the cross-feed axis from the hoop orientation "
+                  f"(0 hoop, +(90 - alpha) forward, -(90 - alpha) return)"]
     if env.constant is not None:
         lines.append(f"; eye envelope: radius {_fmt(env.constant)} mm around the axis")
     else:
@@ -165,6 +182,26 @@ def _header(plan: WindingPlan, machine: MachineConfig, robot: bool, env: EyeEnve
 
 def _pass_where(plan: WindingPlan, fp: FiberPass) -> str:
     return f"{plan.source}: layer {fp.layer} circuit {fp.circuit} pass {fp.number} ({fp.kind.value})"
+
+
+def _all_poses(plan: WindingPlan, machine: MachineConfig, env: EyeEnvelope, guide) -> list[RobotPoses]:
+    """Robot poses of every non-empty pass, solved in one batch (the solver's cost is per call)."""
+    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    if not passes:
+        return []
+    sizes = np.cumsum([len(fp.points) for fp in passes])[:-1]
+    try:
+        batch = robot_poses(np.concatenate([fp.points for fp in passes]),
+                            np.concatenate([fp.direction for fp in passes]), plan.surface, machine,
+                            envelope=env, guide=guide)
+    except ExportError:
+        for fp in passes:  # name the pass that fails
+            robot_poses(fp.points, fp.direction, plan.surface, machine, envelope=env, guide=guide,
+                        where=_pass_where(plan, fp))
+        raise
+    parts = [np.split(np.asarray(getattr(batch, f)), sizes) for f in
+             ("position", "direction", "station", "lead", "on_envelope")]
+    return [RobotPoses(*fields) for fields in zip(*parts)]
 
 
 def _program(plan: WindingPlan, machine: MachineConfig) -> tuple[list[str], list[Move]]:
@@ -184,12 +221,16 @@ def _program(plan: WindingPlan, machine: MachineConfig) -> tuple[list[str], list
     moves: list[Move] = []
     last_words: str | None = None
     b_end: float | None = None
-    thetas = iter(_theta_offsets(plan))
+    a_end: float | None = None
+    turns = _Turns()
+    progress = sum(float(fp.theta[-1] - fp.theta[0]) for layer in plan.layers for fp in layer.passes
+                   if len(fp.theta))
+    sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
+    poses = iter(_all_poses(plan, machine, env, guide) if robot else ())
     for layer in plan.layers:
         lines.append(f"; {_layer_line(layer)}")
         circuit = None
         for fp in layer.passes:
-            theta = next(thetas)
             if fp.circuit != circuit:
                 circuit = fp.circuit
                 lines.append(f"; layer {layer.index} circuit {circuit}")
@@ -197,9 +238,9 @@ def _program(plan: WindingPlan, machine: MachineConfig) -> tuple[list[str], list
             if len(fp.points) == 0:
                 continue
             where = _pass_where(plan, fp)
+            theta, jumped = turns.place(np.asarray(fp.theta, dtype=float), np.asarray(fp.points[0], float))
             if robot:
-                pose = robot_poses(fp.points, fp.direction, surface, machine, envelope=env, guide=guide,
-                                   where=where)
+                pose = next(poses)
                 capped = int(np.count_nonzero(~pose.on_envelope))
                 lead = pose.lead
                 q = np.column_stack([pose.position, angle_scale * pose.direction])
@@ -207,7 +248,13 @@ def _program(plan: WindingPlan, machine: MachineConfig) -> tuple[list[str], list
                 decimals = (DECIMALS,) * 3 + (DIRECTION_DECIMALS,) * 3
             else:
                 path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
-                                where=where)
+                                sense=sense, where=where)
+                if jumped and a_end is not None and (path.a_deg[0] - a_end) * turns.sense > TURN_BACK_DEG:
+                    # A runs against theta: the eye would turn back on the way to this pass.
+                    theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
+                    path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
+                                    sense=sense, where=where)
+                a_end = float(path.a_deg[-1])
                 if b_end is not None:
                     path = replace(path, b_deg=path.b_deg + 360.0 * np.round((b_end - path.b_deg[0]) / 360.0))
                 b_end = float(path.b_deg[-1])
@@ -218,6 +265,7 @@ def _program(plan: WindingPlan, machine: MachineConfig) -> tuple[list[str], list
                                      np.radians(path.b_deg) * angle_scale])
                 table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
                 decimals = (DECIMALS,) * 4
+            turns.done(theta, fp.points[-1])
             if capped:
                 lines.append(f"; note: {capped} points of this pass run nearly along the axis: the eye is "
                              f"held at the largest lead, {_fmt(float(np.max(lead)))} mm, off the envelope")
