@@ -284,5 +284,34 @@ def regress_cmd(directory: str, update: bool, jobs: int) -> None:
         sys.exit(status)
 
 
+# -- bench -----------------------------------------------------------------------------------------
+@main.command("bench", short_help="Benchmark against the paper and baselines; write the results page.")
+@click.option("--quick", is_flag=True, help="A smaller run (about a minute) instead of the full one.")
+@click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default="docs/bench",
+              show_default=True, help="Folder for RESULTS.md, results.json and the figures.")
+@click.option("--from-json", is_flag=True, help="Only rewrite RESULTS.md and the figures from OUTPUT_DIR/results.json.")
+@_guard
+def bench_cmd(quick: bool, out_dir: str, from_json: bool) -> None:
+    """Regenerate the benchmark tables and plots (Markdown, JSON, PNG) in one run.
+
+    Optional baselines (pip install .[bench]; fiberpath separately) are skipped with a note when missing.
+    """
+    import time  # noqa: PLC0415
+
+    from winder.bench import FULL, QUICK, report_from_json, run_bench, write_outputs  # noqa: PLC0415
+
+    if from_json:
+        click.echo(f"wrote {report_from_json(out_dir)}")
+        return
+    t0 = time.perf_counter()
+
+    def say(msg: str) -> None:
+        click.echo(f"[{time.perf_counter() - t0:6.1f} s] {msg}", err=True)
+
+    results = run_bench(QUICK if quick else FULL, progress=say)
+    for path in write_outputs(results, out_dir, progress=say):
+        click.echo(f"wrote {path}")
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()

@@ -36,7 +36,7 @@ def _crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.n
     d /= np.linalg.norm(d, axis=1)[:, None]
     e_t = ev.pt / np.linalg.norm(ev.pt, axis=1)[:, None]
     sin_beta = np.linalg.norm(np.cross(d, e_t), axis=1)
-    perimeter = np.array([surface.perimeter(v) for v in s_x])
+    perimeter = surface.perimeter(s_x)
     return idx, arcs.fraction(th_x), 0.5 * band_width / np.maximum(sin_beta, 1e-12) / perimeter
 
 
@@ -87,7 +87,7 @@ def layer_coverage(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass],
     groups += [[p] for p in passes if p.kind is PassKind.HOOP]
     groups = [g for g in groups if g]
     stations = np.asarray(stations, dtype=float)
-    perimeters = np.array([surface.perimeter(v) for v in surface.s_of_t(stations)])
+    perimeters = surface.perimeter(surface.s_of_t(stations))
     hits = [[_crossings(surface, arcs, p, stations, band_width) for p in g] for g in groups]
     worst_cov, worst_gap, worst_overlap = 1.0, 0.0, 0.0
     min_layers, max_layers = None, 0

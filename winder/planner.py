@@ -35,6 +35,7 @@ from winder.surface import SweepSurface, build_surface
 COVERAGE_STATIONS = 21
 DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
 HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
+TRACE_RTOL = 1e-10
 QUAD_NODES = 200  # Gauss-Legendre nodes per dome for the turnaround advance
 FEED_MM_PER_S = 1.0 / 60.0
 
@@ -109,7 +110,9 @@ def _arc_pass(ctx: _Context, layer: int, circuit: int, number: int, s: float, th
 def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float, s_target: float,
            span: float) -> float:
     """theta where the geodesic from start at heading_deg reaches station s_target."""
-    tr = trace(surface, start, heading_deg, span)
+    # 1e-10 is plenty for a pattern advance, and tight tolerances crawl on guides whose third
+    # derivative is only piecewise smooth (splines).
+    tr = trace(surface, start, heading_deg, span, rtol=TRACE_RTOL, atol=TRACE_RTOL)
     ls = np.linspace(0.0, tr.length, 4001)
     ss = tr.sol(ls)[0]
     sign = 1.0 if s_target >= start[0] else -1.0
@@ -160,7 +163,7 @@ def _reference(ctx: _Context, t_a: float, t_b: float) -> tuple[float, float]:
     """Station (s) and perimeter of the largest section of the region: the reference section."""
     ts = np.linspace(t_a, t_b, 41)
     ss = ctx.surface.s_of_t(ts)
-    per = np.array([ctx.surface.perimeter(s) for s in ss])
+    per = ctx.surface.perimeter(ss)
     k = int(np.argmax(per))
     return float(ss[k]), float(per[k])
 
@@ -227,6 +230,7 @@ def _helical_open(ctx: _Context, cfg: LayerConfig, index: int, theta0: float) ->
     notes: list[str] = []
     ends = (t_a, t_b, s_a, s_b)
     last_cov = None
+    cov = None
     while True:
         pat = close_open_pattern(n_c, 2.0 * natural_fwd, w.dwell_start_deg / 360.0, w.dwell_end_deg / 360.0,
                                  cfg.pattern, ctx.key(index, "pattern"))
@@ -253,7 +257,7 @@ def _helical_open(ctx: _Context, cfg: LayerConfig, index: int, theta0: float) ->
         notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
                      f"the pattern (k = {pat.pattern} of {n_c})")
     return _layer(ctx, cfg, index, alpha, n_c, pat.pattern, pat.dwell_start * 360.0, pat.dwell_end * 360.0,
-                  None, passes, stations, notes)
+                  None, passes, stations, notes, cov)
 
 
 def _turned(p: FiberPass, surf: SweepSurface, shift: float) -> np.ndarray:

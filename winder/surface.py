@@ -16,6 +16,7 @@ Derivatives (MATH.md 1), with T = x', K = x'', K' = x''' at z and m = dn/dtheta:
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -134,10 +135,16 @@ class SweepSurface:
         nrm = np.cross(ev.pt, ev.ps)
         return nrm / np.linalg.norm(nrm, axis=1)[:, None]
 
-    def perimeter(self, s: float) -> float:
-        """Perimeter of the cross-section at station s (mm)."""
-        p = float(self._profile(np.array([float(s)]))[3][0])
-        return p * self.section.perimeter() / self.section_scale
+    @functools.cached_property
+    def _unit_perimeter(self) -> float:
+        # The section's own perimeter needs a quadrature for non-circular shapes: once per surface.
+        return self.section.perimeter() / self.section_scale
+
+    def perimeter(self, s: float | np.ndarray) -> float | np.ndarray:
+        """Perimeter of the cross-section at station(s) s (mm): float, or (m,) float for an array."""
+        arr = np.atleast_1d(np.asarray(s, dtype=float))
+        per = self._profile(arr)[3] * self._unit_perimeter
+        return float(per[0]) if np.ndim(s) == 0 else per
 
 
 # -- building from a config -----------------------------------------------------------------------

@@ -28,6 +28,7 @@ class Timed:
 
     samples: list[float] = field(default_factory=list)
     value: Any = None
+    values: list[Any] = field(default_factory=list)
     error: str | None = None
 
     @property
@@ -40,10 +41,16 @@ class Timed:
 
 
 def _once(fn: Callable[[], Any]) -> tuple[float, Any]:
-    gc.collect()
-    t0 = time.perf_counter()
-    value = fn()
-    return time.perf_counter() - t0, value
+    """One timed call, the garbage collector paused inside it (collected once per round instead)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        t0 = time.perf_counter()
+        value = fn()
+        return time.perf_counter() - t0, value
+    finally:
+        if enabled:
+            gc.enable()
 
 
 def interleaved(tasks: list[tuple[Any, Callable[[], Any]]], repeats: int, min_repeats: int,
@@ -56,6 +63,7 @@ def interleaved(tasks: list[tuple[Any, Callable[[], Any]]], repeats: int, min_re
     """
     out: dict[Any, Timed] = {key: Timed() for key, _ in tasks}
     target: dict[Any, int] = {}
+    gc.collect()
     for key, fn in tasks:
         try:
             dt, value = _once(fn)
@@ -65,8 +73,10 @@ def interleaved(tasks: list[tuple[Any, Callable[[], Any]]], repeats: int, min_re
         out[key].value = value
         if dt > SLOW:
             out[key].samples.append(dt)
+            out[key].values.append(value)
         target[key] = max(min_repeats, min(repeats, int(budget / max(dt, 1e-9))))
-    for r in range(max(target.values(), default=0)):
+    for _ in range(max(target.values(), default=0)):
+        gc.collect()
         for key, fn in tasks:
             t = out[key]
             if key not in target or len(t.samples) >= target[key] or t.error is not None:
@@ -78,6 +88,7 @@ def interleaved(tasks: list[tuple[Any, Callable[[], Any]]], repeats: int, min_re
                 continue
             t.samples.append(dt)
             t.value = value
+            t.values.append(value)
     return out
 
 

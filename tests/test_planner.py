@@ -1,0 +1,181 @@
+"""The winding planner against closed forms (cylinder), Clairaut (vessels) and coverage."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from winder.config import parse_config
+from winder.errors import ConfigError, SolverError
+from winder.plan import PassKind
+from winder.planner import plan
+
+CLAIRAUT_REL = 1e-6
+COVERED = 0.999
+GAP_OF_BAND = 0.02
+
+
+def job(mandrel: dict, winding: dict, **extra) -> object:
+    return parse_config({"name": "t", "mandrel": mandrel, "winding": winding, **extra}, "t.yaml")
+
+
+PIPE = {"axis": {"type": "line", "length": 500}, "profile": {"type": "constant", "radius": 50}}
+VESSEL = {"profile": {"type": "vessel", "radius": 100, "cylinder_length": 300,
+                      "dome": {"type": "hemisphere", "polar_opening": 30}}}
+
+
+def assert_even(layer, band):
+    assert layer.coverage.covered_fraction >= COVERED
+    assert layer.coverage.max_gap_mm <= GAP_OF_BAND * band
+
+
+@pytest.fixture(scope="module")
+def pipe_plan():
+    return plan(job(PIPE, {"band_width": 10, "region": {"start": 20, "end": 480}, "points": 100,
+                           "dwell": {"start": 10, "end": 10},
+                           "layers": [{"type": "helical", "angle": 55}, {"type": "hoop", "passes": 2}]}))
+
+
+def test_cylinder_closed_forms(pipe_plan):
+    layer = pipe_plan.layers[0]
+    alpha, radius, length = math.radians(55.0), 50.0, 460.0
+    assert layer.circuits == math.ceil(2 * math.pi * radius * math.cos(alpha) / 10.0) == 19
+    forward = [p for p in layer.passes if p.kind is PassKind.FORWARD]
+    returns = [p for p in layer.passes if p.kind is PassKind.RETURN]
+    assert len(forward) == len(returns) == layer.circuits
+    for p in forward + returns:
+        # The per-pass advance of a helix at alpha: L tan(alpha) / R.
+        assert p.theta[-1] - p.theta[0] == pytest.approx(length * math.tan(alpha) / radius, rel=1e-9)
+        assert p.length == pytest.approx(length / math.cos(alpha), rel=1e-9)
+    assert np.allclose(np.concatenate([p.alpha_deg for p in forward]), 55.0, atol=1e-6)
+    assert np.allclose(np.concatenate([p.alpha_deg for p in returns]), -55.0, atol=1e-6)
+    # Every dwell respects the configured minimum.
+    assert layer.dwell_start_deg >= 10.0 and layer.dwell_end_deg >= 10.0
+
+
+def test_cylinder_pattern_closes_and_fills_every_slot(pipe_plan):
+    layer = pipe_plan.layers[0]
+    n = layer.circuits
+    theta0 = layer.passes[0].theta[0]
+    # After N_c circuits the start angle returns to itself (mod 360).
+    turns = (layer.passes[-1].theta[-1] - theta0) / (2 * math.pi)
+    assert abs(turns - round(turns)) < 1e-9
+    starts = np.array([p.theta[0] for p in layer.passes if p.kind is PassKind.FORWARD]) - theta0
+    slots = np.mod(starts, 2 * math.pi) / (2 * math.pi / n)
+    assert np.allclose(slots, np.round(slots), atol=1e-9)
+    assert sorted(np.round(slots).astype(int) % n) == list(range(n))
+    assert math.gcd(layer.pattern, n) == 1
+
+
+def test_cylinder_coverage_even(pipe_plan):
+    assert_even(pipe_plan.layers[0], 10.0)
+    # Bands of one direction overlap by (B / cos(alpha) - P / N_c) where neighbours meet.
+    layer = pipe_plan.layers[0]
+    overlap = 10.0 / math.cos(math.radians(55)) - 2 * math.pi * 50 / layer.circuits
+    assert layer.coverage.max_overlap_mm == pytest.approx(overlap, abs=1e-3)
+
+
+def test_hoop_on_cylinder(pipe_plan):
+    hoop = pipe_plan.layers[1]
+    perimeter = 2 * math.pi * 50
+    assert hoop.angle_deg == pytest.approx(math.degrees(math.acos(10 / perimeter)))
+    p = hoop.passes[0]
+    turns = (p.theta[-1] - p.theta[0]) / (2 * math.pi)
+    pitch = (p.t[-1] - p.t[0]) / turns
+    assert pitch == pytest.approx(10 / math.sin(math.radians(hoop.angle_deg)), rel=1e-9)
+    assert_even(hoop, 10.0)
+    assert [q.t[0] for q in hoop.passes] == [20.0, 480.0]
+
+
+def test_totals(pipe_plan):
+    total = sum(p.length for layer in pipe_plan.layers for p in layer.passes)
+    assert pipe_plan.total_fiber_length_mm == pytest.approx(total)
+    assert pipe_plan.total_time_s == pytest.approx(total / 3000.0 * 60.0)
+
+
+@pytest.fixture(scope="module")
+def vessel_plan():
+    return plan(job(VESSEL, {"band_width": 10, "points": 200, "layers": [{"type": "helical", "angle": 22}]}))
+
+
+def test_vessel_clairaut_along_every_pass(vessel_plan):
+    layer = vessel_plan.layers[0]
+    c = layer.turnaround_radius
+    surface = vessel_plan.surface
+    assert c > 30.0 + 5.0  # clears the polar opening plus half a band
+    for p in layer.passes:
+        r = surface.radius(p.s, p.theta)
+        constant = r * np.abs(np.sin(np.radians(p.alpha_deg)))
+        assert np.max(np.abs(constant / c - 1.0)) < CLAIRAUT_REL
+        # The turnarounds: on the parallel r = c and tangent to it.
+        assert r[0] == pytest.approx(c, rel=1e-12) and r[-1] == pytest.approx(c, rel=1e-12)
+        assert abs(p.alpha_deg[0]) > 89.99 and abs(p.alpha_deg[-1]) > 89.99
+
+
+def test_vessel_angle_moved_to_close_pattern(vessel_plan):
+    layer = vessel_plan.layers[0]
+    assert layer.angle_deg == pytest.approx(math.degrees(math.asin(layer.turnaround_radius / 100.0)))
+    assert abs(layer.angle_change_deg) < 1.0
+    assert any("angle moved" in note for note in layer.notes)
+    turns = (layer.passes[-1].theta[-1] - layer.passes[0].theta[0]) / (2 * math.pi)
+    assert abs(turns - round(turns)) < 1e-9
+    assert_even(layer, 10.0)
+
+
+def test_vessel_angle_below_polar_opening_refused():
+    with pytest.raises(SolverError, match=r"winding.layers\[0\].angle: 15 deg turns around at r = 25.882 mm, "
+                                          r"inside the polar opening"):
+        plan(job(VESSEL, {"band_width": 10, "layers": [{"type": "helical", "angle": 15}]}))
+
+
+def test_cone_coverage():
+    p = plan(job({"axis": {"type": "line", "length": 300}, "profile": {"type": "cone", "start_radius": 60,
+                                                                         "end_radius": 40}},
+                 {"band_width": 10, "points": 80, "layers": [{"type": "helical", "angle": 30}]}))
+    assert_even(p.layers[0], 10.0)
+
+
+def test_elliptic_tube_each_circuit_solved_and_even():
+    p = plan(job({"axis": {"type": "line", "length": 300}, "section": {"type": "ellipse", "a": 60, "b": 35}},
+                 {"band_width": 10, "points": 80, "layers": [{"type": "helical", "angle": 45}]}))
+    layer = p.layers[0]
+    assert_even(layer, 10.0)
+    forward = [q for q in layer.passes if q.kind is PassKind.FORWARD]
+    # Not rotated copies: the shape theta(t) - theta(0) depends on where the pass starts.
+    shapes = np.array([q.theta - q.theta[0] for q in forward])
+    assert np.max(np.ptp(shapes, axis=0)) > 1e-2
+
+
+def test_gentle_elbow_even_with_more_circuits():
+    p = plan(job({"axis": {"type": "path", "segments": [{"line": 50}, {"arc": {"radius": 800, "angle": 90}},
+                                                         {"line": 50}]},
+                  "profile": {"type": "constant", "radius": 40}},
+                 {"band_width": 10, "points": 100, "layers": [{"type": "helical", "angle": 55}]}))
+    layer = p.layers[0]
+    assert_even(layer, 10.0)
+    assert layer.circuits >= math.ceil(2 * math.pi * 40 * math.cos(math.radians(55)) / 10)
+
+
+def test_tight_elbow_reports_incomplete_coverage():
+    """Geodesics bunch toward the inside of a tight bend: the planner says so instead of hiding it."""
+    p = plan(job({"axis": {"type": "path", "segments": [{"line": 100}, {"arc": {"radius": 150, "angle": 90}},
+                                                         {"line": 100}]},
+                  "profile": {"type": "constant", "radius": 40}},
+                 {"band_width": 10, "points": 60, "layers": [{"type": "helical", "angle": 30}]}))
+    layer = p.layers[0]
+    assert layer.coverage.covered_fraction < COVERED
+    assert any("coverage stays incomplete" in note for note in layer.notes)
+
+
+def test_hoop_on_cone_slips():
+    with pytest.raises(SolverError, match="a hoop layer would slip"):
+        plan(job({"axis": {"type": "line", "length": 300}, "profile": {"type": "cone", "start_radius": 60,
+                                                                         "end_radius": 30}},
+                 {"band_width": 10, "friction": 0.05, "layers": [{"type": "hoop"}]}))
+
+
+def test_plan_needs_winding():
+    with pytest.raises(ConfigError, match="t.yaml: winding: missing"):
+        plan(parse_config({"name": "t", "mandrel": PIPE}, "t.yaml"))
