@@ -187,7 +187,7 @@ def make_figures(results: dict[str, Any], out: Path) -> tuple[list[Path], list[s
     plots = [("frontier.png", _frontier, bool(results.get("cases"))),
              ("figure7_convergence.png", _figure7, bool(results.get("cases"))),
              ("figure8_iterations.png", _figure8, any(c.get("figure8") for c in results.get("cases", []))),
-             ("evolution.png", _evolution, bool(results.get("evolution", {}).get("runs")))]
+             ("evolution.png", _evolution, bool((results.get("evolution") or {}).get("runs")))]
     for name, draw, wanted in plots:
         if wanted:
             draw(plt, results, out / name)

@@ -276,7 +276,10 @@ def _figure8(r: dict[str, Any]) -> list[str]:
                          e(h["final_rel_error"]), t(h["seconds_per_iteration"])])
         rows.append([c["title"], str(f8["n"]), "Newton, coarse-to-fine (as `geodesic` runs it)",
                      str(f8["newton_coarse_to_fine_iterations"]), "-", "-", "-"])
-    lines += _table(["mandrel", "n", "method", "iterations (cap " + str(r["cases"][0]["figure8"]["cap"]) + ")",
+    if not rows:
+        return []
+    cap = next(c["figure8"]["cap"] for c in r["cases"] if c.get("figure8"))
+    lines += _table(["mandrel", "n", "method", f"iterations (cap {cap})",
                      "paper stop at", "final polyline error", "time per iteration"], rows)
     return lines
 
@@ -391,7 +394,15 @@ def _notes(r: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _errors(r: dict[str, Any]) -> list[str]:
+    if not r.get("errors"):
+        return []
+    return ["## Experiments that failed", "",
+            "Their tracebacks are in results.json (`errors`); the rest of the page is unaffected.", ""] + [
+        f"- {err['experiment']}: `{err['traceback'].strip().splitlines()[-1]}`" for err in r["errors"]] + [""]
+
+
 def markdown(r: dict[str, Any]) -> str:
     parts = (_header(r) + _summary(r) + _cases(r) + _frontier(r) + _table1(r) + _figure7(r) + _figure8(r)
-             + _helix(r) + _evolution(r) + _job(r) + _notes(r))
+             + _helix(r) + _evolution(r) + _job(r) + _errors(r) + _notes(r))
     return "\n".join(parts).rstrip() + "\n"

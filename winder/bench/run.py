@@ -6,6 +6,7 @@ import json
 import math
 import statistics
 import time
+import traceback
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable
@@ -56,6 +57,41 @@ def blas_check(progress: Progress) -> dict[str, Any]:
             "ms_per_iteration_one_thread": o * 1e3, "ratio": d / o}
 
 
+def _guarded(results: dict[str, Any], name: str, fn: Callable[[], Any]) -> Any:
+    """Run one experiment; if it raises, record the error (a note on the page, the traceback in the
+    JSON) and go on with the others. Returns fn's value or None."""
+    try:
+        return fn()
+    except Exception as exc:  # noqa: BLE001 - one failing experiment must not lose the others
+        results["notes"].append(f"{name} failed and is left out: {type(exc).__name__}: {exc}")
+        results.setdefault("errors", []).append({"experiment": name, "traceback": traceback.format_exc()})
+        return None
+
+
+def _case_entry(case, settings: Settings, say: Progress) -> dict[str, Any]:
+    surface = case.surface()
+    say(f"{case.key}: ground truth")
+    tr = truth(case, surface, settings.truth_tol)
+    entry: dict[str, Any] = {
+        "key": case.key, "title": case.title, "radius_case": case.radius_case,
+        "description": case.description, "rounds": case.rounds,
+        "truth": {"length_mm": tr.length, "source": tr.source, "shoot_length_mm": tr.shoot_length,
+                  "shoot_rel_diff": tr.shoot_vs_truth, "shoot_seconds": tr.shoot_seconds,
+                  "shoot_converged": tr.shoot_converged, "shoot_tol": settings.truth_tol},
+    }
+    entry.update(measure_case(case, surface, tr, settings, say))
+    entry["agreement"] = _agreement(entry)
+    entry["frontier"] = frontier(entry)
+    entry["verdicts"] = verdicts(entry["frontier"])
+    entry["speedups"] = speedups(entry["frontier"])
+    entry["table1"] = table1(entry, settings.table_n)
+    entry["convergence"] = convergence(entry)
+    if case.key == "bend" and settings.large_n:
+        entry["large_n"] = large_n(case, surface, settings, say)
+    entry["figure8"] = iteration_histories(case, surface, tr.length, settings.fig8_n, settings.fig8_cap, say)
+    return entry
+
+
 def run_bench(settings: Settings = FULL, progress: Progress | None = None) -> dict[str, Any]:
     """Run the bench; returns the results (JSON-ready). Nothing is written."""
     say = progress or (lambda _msg: None)
@@ -69,39 +105,20 @@ def run_bench(settings: Settings = FULL, progress: Progress | None = None) -> di
             results["notes"].append("threadpoolctl is not installed: the BLAS threads were not limited "
                                     "(pip install .[bench])")
         for case in cases():
-            if case.key not in settings.cases:
-                continue
-            surface = case.surface()
-            say(f"{case.key}: ground truth")
-            tr = truth(case, surface, settings.truth_tol)
-            entry: dict[str, Any] = {
-                "key": case.key, "title": case.title, "radius_case": case.radius_case,
-                "description": case.description, "rounds": case.rounds,
-                "truth": {"length_mm": tr.length, "source": tr.source, "shoot_length_mm": tr.shoot_length,
-                          "shoot_rel_diff": tr.shoot_vs_truth, "shoot_seconds": tr.shoot_seconds,
-                          "shoot_converged": tr.shoot_converged, "shoot_tol": settings.truth_tol},
-            }
-            entry.update(measure_case(case, surface, tr, settings, say))
-            entry["agreement"] = _agreement(entry)
-            entry["frontier"] = frontier(entry)
-            entry["verdicts"] = verdicts(entry["frontier"])
-            entry["speedups"] = speedups(entry["frontier"])
-            entry["table1"] = table1(entry, settings.table_n)
-            entry["convergence"] = convergence(entry)
-            if case.key == "bend" and settings.large_n:
-                entry["large_n"] = large_n(case, surface, settings, say)
-            entry["figure8"] = iteration_histories(case, surface, tr.length, settings.fig8_n, settings.fig8_cap, say)
-            results["cases"].append(entry)
+            if case.key in settings.cases:
+                entry = _guarded(results, f"the {case.title} measurements", lambda c=case: _case_entry(c, settings, say))
+                if entry is not None:
+                    results["cases"].append(entry)
         if settings.helix_rounds:
-            results["helix"] = helices(settings, say)
+            results["helix"] = _guarded(results, "section 6.1 (helices)", lambda: helices(settings, say))
         if settings.frames and settings.evolution_n:
-            results["evolution"] = evolution(settings, say)
+            results["evolution"] = _guarded(results, "section 6.2 (evolution)", lambda: evolution(settings, say))
         if settings.job:
             from winder.bench.job import compare_job  # noqa: PLC0415
 
-            results["job"] = compare_job(settings, say)
+            results["job"] = _guarded(results, "the whole-job comparison", lambda: compare_job(settings, say))
     if settings.blas_check:
-        results["blas_check"] = blas_check(say)
+        results["blas_check"] = _guarded(results, "the BLAS-thread check", lambda: blas_check(say))
     results["meta"]["total_seconds"] = time.perf_counter() - t_start
     return results
 
