@@ -26,7 +26,7 @@ def tiny_run(tmp_path_factory):
 
 
 def test_tiny_bench_writes_json_markdown_and_matches(tiny_run):
-    results, out, paths = tiny_run
+    _, out, paths = tiny_run
     assert (out / "results.json") in paths and (out / "RESULTS.md") in paths
     data = json.loads((out / "results.json").read_text())
     page = (out / "RESULTS.md").read_text()

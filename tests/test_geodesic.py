@@ -192,3 +192,38 @@ def test_lbfgs_matches_newton(quarter_bend):
 def test_station_outside_mandrel_refused(straight_tube):
     with pytest.raises(ConfigError, match=r"--end: t must lie on the mandrel, in \[0, 300\]"):
         geodesic(straight_tube, (0.0, 0.0), (301.0, 0.0))
+
+
+def test_path_over_the_polar_opening_refused():
+    from winder.config import parse_config  # noqa: PLC0415
+    from winder.errors import SolverError  # noqa: PLC0415
+    from winder.surface import build_surface  # noqa: PLC0415
+
+    job = parse_config({"name": "v", "mandrel": {"profile": {
+        "type": "vessel", "radius": 100, "cylinder_length": 300,
+        "dome": {"type": "hemisphere", "polar_opening": 30}}}}, "v.yaml")
+    vessel = build_surface(job.mandrel, job.source)
+    with pytest.raises(SolverError, match=r"runs off the mandrel past t = 0 \(the first polar opening\)"):
+        geodesic(vessel, (5.0, 0.0), (5.0, np.pi))
+    # A quarter turn stays on the dome.
+    assert geodesic(vessel, (5.0, 0.0), (5.0, np.pi / 2)).converged
+
+
+def test_hemisphere_great_circle():
+    """On a hemispherical dome geodesics are great circles: length = R * central angle."""
+    from winder.config import parse_config  # noqa: PLC0415
+    from winder.surface import build_surface  # noqa: PLC0415
+
+    job = parse_config({"name": "v", "mandrel": {"profile": {
+        "type": "vessel", "radius": 100, "cylinder_length": 300,
+        "dome": {"type": "hemisphere", "polar_opening": 20}}}}, "v.yaml")
+    vessel = build_surface(job.mandrel, job.source)
+    centre = np.array([0.0, 0.0, np.sqrt(100.0**2 - 20.0**2)])  # the first dome's centre, on the axis
+    a, b = (10.0, 0.3), (60.0, 1.9)
+    res = geodesic(vessel, a, b, n=200)
+    pa, pb = res.points[0] - centre, res.points[-1] - centre
+    truth = 100.0 * np.arccos(pa @ pb / (np.linalg.norm(pa) * np.linalg.norm(pb)))
+    assert abs(res.length - truth) / truth < 1e-9
+    # Every vertex lies in the plane of the great circle through the end points and the centre.
+    normal = np.cross(pa, pb)
+    assert np.max(np.abs((res.points - centre) @ normal)) / np.linalg.norm(normal) < 1e-3

@@ -94,8 +94,11 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
     a, b = _station(start, "--start"), _station(end, "--end")
     job = load_config(config)
     surface = build_surface(job.mandrel, job.source, job.name)
-    res = geodesic(surface, a, b, rounds=rounds, n=points or DEFAULT_POINTS, tolerance=tolerance,
-                   method=Method(method))
+    try:
+        res = geodesic(surface, a, b, rounds=rounds, n=points or DEFAULT_POINTS, tolerance=tolerance,
+                       method=Method(method))
+    except SolverError as exc:
+        raise SolverError(error_message(exc, config)) from exc  # names the file, once
     if not res.converged:
         raise SolverError(f"{config}: the {method} solver did not converge in {res.iterations} "
                           f"iterations ({res.reason.value})")

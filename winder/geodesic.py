@@ -224,10 +224,11 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
 
 def _raise_left(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> None:
     low = s[1:-1].min() <= surface.length / 2
-    where = "t = 0 (the start end" if low else f"t = {surface.axial_length:.6g} (the far end"
-    raise SolverError(f"the geodesic leaves the mandrel past {where} of the mandrel): there is no "
-                      f"geodesic on the surface between these points with this number of rounds; "
-                      f"move the end points away from the edge or change the rounds")
+    edge = "polar opening" if not surface.is_axial_parameter else "end"
+    where = f"t = 0 (the first {edge})" if low else f"t = {surface.axial_length:.6g} (the far {edge})"
+    raise SolverError(f"the shortest path between these points runs off the mandrel past {where}: no "
+                      f"geodesic on the surface joins them with this number of rounds; move the end "
+                      f"points away from the edge or change --rounds")
 
 
 def _lbfgs(surface: SweepSurface, s: np.ndarray, th: np.ndarray, max_iter: int = LBFGS_MAX_ITER,

@@ -28,8 +28,8 @@ def helices(settings: Settings, progress: Callable[[str], None]) -> dict[str, An
         progress(f"helix: {rounds} rounds")
         n = settings.helix_n
         tasks = [
-            ("newton", lambda r=rounds: geodesic(surface, start, end, rounds=r, n=n, estimate=False)),
-            ("richardson", lambda r=rounds: geodesic(surface, start, end, rounds=r, n=n, estimate=True)),
+            ("newton", lambda r=rounds, n=n: geodesic(surface, start, end, rounds=r, n=n, estimate=False)),
+            ("richardson", lambda r=rounds, n=n: geodesic(surface, start, end, rounds=r, n=n, estimate=True)),
             ("shooting", lambda r=rounds: shoot(surface, a, b, rounds=r, tol=settings.truth_tol)),
         ]
         timed = interleaved(tasks, settings.repeats, settings.min_repeats, settings.budget)
@@ -77,14 +77,14 @@ def evolution(settings: Settings, progress: Callable[[str], None]) -> dict[str, 
             build = time.perf_counter() - t0
             start, end = (0.0, 0.0), (surface.axial_length, np.pi / 2.0)
 
-            def cold(surface=surface, start=start, end=end):
+            def cold(surface=surface, start=start, end=end, n=n):
                 return geodesic(surface, start, end, rounds=1, n=n, estimate=False)
 
             tasks = [("cold", cold)]
             if prev is not None:
                 init = (prev.s * (surface.length / prev_len), prev.theta)
 
-                def warm(surface=surface, start=start, end=end, init=init):
+                def warm(surface=surface, start=start, end=end, init=init, n=n):
                     return geodesic(surface, start, end, rounds=1, n=n, init=init, estimate=False)
 
                 tasks.append(("warm", warm))

@@ -49,14 +49,15 @@ def convergence(case_result: dict[str, Any]) -> dict[str, Any]:
         "seconds": [smooth[k]["seconds"] if k in smooth else None for k in n],
         "seconds_with_estimate": [p["seconds"] for p in rich],
         "order": {"polyline": slope(n, poly), "smooth": slope(n, sm), "richardson": slope(n, ext)},
-        "estimate_ratio": _ratios([p["error_estimate_rel"] for p in rich], poly_2n),
-        "smooth_estimate_ratio": _ratios([p["smooth_error_estimate_rel"] for p in rich], sm),
+        "estimate_ratio": _ratios(n, [p["error_estimate_rel"] for p in rich], poly_2n),
+        "smooth_estimate_ratio": _ratios(n, [p["smooth_error_estimate_rel"] for p in rich], sm),
     }
 
 
-def _ratios(estimate: list[float], true: list[float]) -> dict[str, float] | None:
-    """Median, min and max of estimate / |true error| where the true error is above the floor."""
-    r = [e / abs(t) for e, t in zip(estimate, true) if abs(t) > SLOPE_FLOOR]
+def _ratios(n: list[int], estimate: list[float], true: list[float]) -> dict[str, float] | None:
+    """Median, min and max of estimate / |true error| over the range of the fitted orders (n >= 50,
+    true error above the floor)."""
+    r = [e / abs(t) for k, e, t in zip(n, estimate, true) if k >= SLOPE_MIN_N and abs(t) > SLOPE_FLOOR]
     if not r:
         return None
     return {"median": float(np.median(r)), "min": float(np.min(r)), "max": float(np.max(r))}

@@ -21,11 +21,20 @@ from winder.bench.baselines import length_and_gradient, length_optimization
 from winder.bench.cases import Case
 from winder.bench.sweeps import PAPER_STOP_MM
 from winder.geodesic import STEP_TOL, _lbfgs, _newton, energy_terms, solve_path, straight_path
-from winder.measure import polyline_length
+from winder.measure import polyline_length, spacing_deviation
 from winder.surface import SweepSurface
 
 MAX_NEWTON_ITER = 100
 METRIC_POINTS = 150  # iterates at which the gradient norms are evaluated (log-spaced)
+
+
+def _chord_depth(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> float:
+    """How far (mm) the chords of the polyline stray from the surface: the largest distance between a
+    chord's midpoint and the surface point at the parameter midpoint. Large when vertices bunch up and
+    chords cut through the mandrel."""
+    pts = surface.points(s, th)
+    mid = surface.points(0.5 * (s[1:] + s[:-1]), 0.5 * (th[1:] + th[:-1]))
+    return float(np.max(np.linalg.norm(0.5 * (pts[1:] + pts[:-1]) - mid, axis=1)))
 
 
 def _metrics(surface: SweepSurface, iterates: list[tuple[np.ndarray, np.ndarray]], truth: float,
@@ -47,6 +56,8 @@ def _metrics(surface: SweepSurface, iterates: list[tuple[np.ndarray, np.ndarray]
         "grad_length": grad_l,
         "paper_stop_iteration": stop,
         "final_rel_error": (lengths[-1] - truth) / truth,
+        "final_spacing_deviation": spacing_deviation(surface.points(*iterates[-1])),
+        "final_max_chord_depth": _chord_depth(surface, *iterates[-1]),
         "iterations": k - 1,
         "seconds_per_iteration": seconds_per_iteration,
     }
@@ -74,7 +85,7 @@ def iteration_histories(case: Case, surface: SweepSurface, truth: float, n: int,
         progress(f"{case.key}: Figure 8, {name} per iteration (n = {n}, cap {cap})")
         xs: list[np.ndarray] = []
 
-        def keep(x) -> None:
+        def keep(x, xs=xs) -> None:
             xs.append(np.array(x.x if hasattr(x, "x") else x, copy=True))
 
         t0 = time.perf_counter()

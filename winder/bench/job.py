@@ -74,31 +74,33 @@ def compare_job(settings: Settings, progress: Callable[[str], None]) -> dict[str
             p = plan(job)
             return p, gcode_text(p, job.machine)
 
-        def winder_cli():
-            res = subprocess.run([sys.executable, "-m", "winder.cli", "run", str(tmpd / "cyl.yaml"), "-o",
-                                  str(tmpd / "w"), "--format", "gcode"], capture_output=True, text=True, timeout=600)
-            if res.returncode != 0:
-                raise RuntimeError(f"winder run failed: {(res.stderr or res.stdout).strip()[:300]}")
-            return res
+        def command(args: list[str], what: str):
+            def call():
+                res = subprocess.run(args, capture_output=True, text=True, timeout=600, check=False)
+                if res.returncode != 0:
+                    raise RuntimeError(f"{what} failed: {(res.stderr or res.stdout).strip()[:300]}")
+                return res
+            return call
 
-        def fiberpath_cli():
-            res = subprocess.run([exe, "plan", str(tmpd / "cyl.wind"), "-o", str(tmpd / "fp.gcode"), "--json"],
-                                 capture_output=True, text=True, timeout=600)
-            if res.returncode != 0:
-                raise RuntimeError(f"fiberpath plan failed: {(res.stderr or res.stdout).strip()[:300]}")
-            return res
+        winder_cli = command([sys.executable, "-m", "winder.cli", "run", str(tmpd / "cyl.yaml"), "-o",
+                              str(tmpd / "w"), "--format", "gcode"], "winder run")
+        # Start-up alone (interpreter and imports): --version prints and exits.
+        winder_start = command([sys.executable, "-m", "winder.cli", "--version"], "winder --version")
+        fiberpath_cli = command([str(exe), "plan", str(tmpd / "cyl.wind"), "-o", str(tmpd / "fp.gcode"), "--json"],
+                                "fiberpath plan")
+        fiberpath_start = command([str(exe), "--help"], "fiberpath --help")
 
         progress("job: winder plan + G-code (in-process)")
         t0 = time.perf_counter()
         p, text = in_process()
         first = time.perf_counter() - t0
-        tasks = [("winder_in_process", in_process), ("winder_cli", winder_cli)]
+        tasks = [("winder_in_process", in_process), ("winder_cli", winder_cli), ("winder_start", winder_start)]
         if exe is not None:
-            tasks.append(("fiberpath_cli", fiberpath_cli))
+            tasks += [("fiberpath_cli", fiberpath_cli), ("fiberpath_start", fiberpath_start)]
         else:
             out["notes"].append("fiberpath is not installed (pip install fiberpath; AGPL, run only as a separate "
                                 "program): its side of the comparison is skipped")
-        progress("job: " + " vs ".join(k for k, _ in tasks[1:]) + " (command line, side by side)")
+        progress("job: winder and fiberpath command lines, side by side")
         timed = interleaved(tasks, min(settings.repeats, 5), settings.min_repeats, settings.budget * 2)
         layer = p.layers[0]
         out["winder"] = {
@@ -106,6 +108,7 @@ def compare_job(settings: Settings, progress: Callable[[str], None]) -> dict[str
             "in_process_seconds": timed["winder_in_process"].median,
             "cli_seconds": timed["winder_cli"].median if timed["winder_cli"].ok else None,
             "cli_error": timed["winder_cli"].error,
+            "startup_seconds": timed["winder_start"].median if timed["winder_start"].ok else None,
             "gcode": _gcode_stats(text),
             "circuits": layer.circuits, "pattern": layer.pattern, "angle_deg": layer.angle_deg,
             "fiber_length_m": sum(lp.fiber_length_mm for lp in p.layers) / 1000.0,
@@ -119,7 +122,9 @@ def compare_job(settings: Settings, progress: Callable[[str], None]) -> dict[str
             if t.ok:
                 info = json.loads(t.value.stdout)
                 gtext = (tmpd / "fp.gcode").read_text()
+                st = timed["fiberpath_start"]
                 out["fiberpath"] = {"cli_seconds": t.median, "gcode": _gcode_stats(gtext),
+                                    "startup_seconds": st.median if st.ok else None,
                                     "fiber_length_m": info.get("towMeters"), "time_estimate_s": info.get("timeSeconds"),
                                     "commands": info.get("commands")}
             else:

@@ -54,6 +54,10 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
 
 
 # -- sections ------------------------------------------------------------------------------------------------
+def _env_value(v: str | None) -> str:
+    return "unset" if v is None else f"= {v}"
+
+
 def _header(r: dict[str, Any]) -> list[str]:
     meta = r["meta"]
     env = meta["environment"]
@@ -72,7 +76,8 @@ def _header(r: dict[str, Any]) -> list[str]:
         "",
         f"Machine: {env['processor']}, {env['cpus']} CPUs, Python {env['python']}, numpy {pk.get('numpy')}, "
         f"scipy {pk.get('scipy')}, trimesh {pk.get('trimesh')}, potpourri3d {pk.get('potpourri3d') or 'not installed'}; "
-        f"BLAS: {blas}; OPENBLAS_CORETYPE={env['openblas_env'].get('OPENBLAS_CORETYPE')}. "
+        f"BLAS: {blas}; OPENBLAS_CORETYPE {_env_value(env['openblas_env'].get('OPENBLAS_CORETYPE'))}, "
+        f"OPENBLAS_L2_SIZE {_env_value(env['openblas_env'].get('OPENBLAS_L2_SIZE'))}. "
         f"Load average at the start: {env.get('load_average_at_start')} (the machine is shared: times are "
         "medians of interleaved repeats, and ratios are between methods measured side by side in this run).",
         "",
@@ -273,14 +278,24 @@ def _figure8(r: dict[str, Any]) -> list[str]:
             h = f8[m]
             rows.append([c["title"], str(f8["n"]), name, str(h["iterations"]),
                          "-" if h["paper_stop_iteration"] is None else str(h["paper_stop_iteration"]),
-                         e(h["final_rel_error"]), t(h["seconds_per_iteration"])])
+                         e(h["final_rel_error"]), f"{h['final_spacing_deviation']:.1e}",
+                         f"{h['final_max_chord_depth']:.2g} mm", t(h["seconds_per_iteration"])])
         rows.append([c["title"], str(f8["n"]), "Newton, coarse-to-fine (as `geodesic` runs it)",
-                     str(f8["newton_coarse_to_fine_iterations"]), "-", "-", "-"])
+                     str(f8["newton_coarse_to_fine_iterations"]), "-", "-", "-", "-", "-"])
     if not rows:
         return []
     cap = next(c["figure8"]["cap"] for c in r["cases"] if c.get("figure8"))
     lines += _table(["mandrel", "n", "method", f"iterations (cap {cap})",
-                     "paper stop at", "final polyline error", "time per iteration"], rows)
+                     "paper stop at", "final polyline error", "final spacing deviation", "chords off the surface",
+                     "time per iteration"], rows)
+    for c in r["cases"]:
+        lo = (c.get("figure8") or {}).get("lo")
+        if lo and lo["final_rel_error"] < -1e-2:
+            lines.append(f"- {c['title']}: LO ends {abs(lo['final_rel_error']) * 100:.3g} % *shorter* than the "
+                         f"geodesic: its segment lengths stray from their mean by up to {lo['final_spacing_deviation']:.3g} "
+                         f"times the mean and its chords pass up to {lo['final_max_chord_depth']:.3g} mm from the "
+                         "surface, cutting through the mandrel (the shortcut the paper warns of).")
+    lines.append("")
     return lines
 
 
@@ -345,15 +360,25 @@ def _job(r: dict[str, Any]) -> list[str]:
     f = j.get("fiberpath")
     rows = []
     if w:
-        rows.append(["winder (`winder run --format gcode`)", t(w.get("cli_seconds")), t(w["in_process_seconds"]),
+        rows.append(["winder (`winder run --format gcode`)", t(w.get("cli_seconds")), t(w.get("startup_seconds")),
+                     t(w["in_process_seconds"]),
                      f"{w['gcode']['bytes']:,}", f"{w['gcode']['lines']:,}", f"{w['circuits']}",
                      f"{w['fiber_length_m']:.2f}", t(w["time_estimate_s"])])
     if f and "cli_seconds" in f:
-        rows.append(["fiberpath (`fiberpath plan`)", t(f["cli_seconds"]), "-", f"{f['gcode']['bytes']:,}",
+        rows.append(["fiberpath (`fiberpath plan`)", t(f["cli_seconds"]), t(f.get("startup_seconds")), "-",
+                     f"{f['gcode']['bytes']:,}",
                      f"{f['gcode']['lines']:,}", "19 (set)", f"{f['fiber_length_m']:.2f}", t(f["time_estimate_s"])])
     if rows:
-        lines += _table(["program", "command line (wall)", "in-process plan + G-code", "G-code bytes", "G-code lines",
-                         "circuits", "fiber (m)", "machine time estimate"], rows)
+        lines += _table(["program", "command line (wall)", "start-up alone", "in-process plan + G-code",
+                         "G-code bytes", "G-code lines", "circuits", "fiber (m)", "machine time estimate"], rows)
+    if w and f and w.get("cli_seconds") and f.get("cli_seconds"):
+        ratio = w["cli_seconds"] / f["cli_seconds"]
+        faster = "fiberpath's" if ratio > 1 else "winder's"
+        lines.append(f"On this job {faster} command line is faster in wall time (winder / fiberpath = {ratio:.2f}); "
+                     f"start-up alone (`winder --version`, `fiberpath --help`) takes {t(w.get('startup_seconds'))} "
+                     f"and {t(f.get('startup_seconds'))}. winder's G-code is {f['gcode']['bytes'] / w['gcode']['bytes']:.0f}x "
+                     "smaller: its moves are reduced to the chord tolerance (0.05 mm by default).")
+        lines.append("")
     for note in j.get("notes", []):
         lines.append(f"- {note}")
     lines.append("")
@@ -375,15 +400,18 @@ def _notes(r: dict[str, Any]) -> list[str]:
         "- solve_bvp runs with its default finite-difference Jacobians and starts from the straight "
         "parameter-domain segment on 10 + 8 per round nodes; its sweep stops once its error is below 1e-11, it "
         "hits its node limit, or one solve exceeds the time limit.",
-        "- Shooting starts from winder's initial guess, which is exact on developable straight tubes (the cone "
-        "and the elliptic tube): there its Newton iteration has almost nothing to do, and its time is mostly "
-        "the integration at the asked rtol.",
+        "- Shooting starts from winder's initial guess (`shooting.initial_guess`, the unrolled parameter-domain "
+        "segment), which is exact on developable straight tubes: on the elliptic tube its loosest rtol already "
+        "returns the closed-form length (the guess is accepted as it is), so there its error says little about "
+        "the integrator, and shooting's points favour it. On the cone the guess is close but not exact.",
         "- The mesh is a regular (s, theta) grid with roughly square cells (end points on grid vertices); the "
         "edge-flip path is seeded with a vertex chain that winds the rounds (8 vertices per round). Its error "
         "is dominated by the inscribed mesh (O(h^2)); meshing and precompute are paid once per mandrel, so a "
         "job with many paths on one mandrel amortizes them: the query time is listed apart.",
         "- The paper's L-BFGS runs once per n (not repeated) and is capped; its time excludes the bench's own "
-        "per-iteration length bookkeeping but includes winder's `_lbfgs` history recording.",
+        "per-iteration length bookkeeping but includes winder's `_lbfgs` history recording (one extra energy and "
+        "gradient evaluation per iteration). In the frontier, every recorded iterate counts as if L-BFGS had "
+        "stopped there: an optimistic bound for it.",
         "- The truth on the bent tube is shooting at the tightest rtol; the closest approach of the other methods "
         "(table above) bounds its error.",
     ]
