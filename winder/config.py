@@ -34,6 +34,8 @@ from winder.config_job import (
 )
 from winder.errors import ConfigError
 
+MAX_SIZE = 1e6  # the largest length (mm), feed (mm/min) or other positive size a config may give
+
 __all__ = [
     "ArcAxis", "CircleSection", "ConeProfile", "ConstantProfile", "Dome", "DomeType", "EllipseSection",
     "JobConfig", "LayerConfig", "LayerType", "LineAxis", "MachineAxes", "MachineConfig", "MachineLimits",
@@ -369,6 +371,10 @@ class Reader:
         number = self.number(value, path, name)
         if number <= 0.0:
             raise self.error(path, f"{name + ' ' if name else ''}must be > 0", value)
+        if number > MAX_SIZE:
+            # Sizes, feeds and tolerances beyond this are typos (a kilometre-long mandrel), and they
+            # would send the geometry into ranges where nothing finishes in reasonable time.
+            raise self.error(path, f"{name + ' ' if name else ''}must be <= {MAX_SIZE:g}", value)
         return number
 
     def integer(self, value: Any, path: str, minimum: int, maximum: int | None = None,

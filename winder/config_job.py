@@ -21,6 +21,7 @@ DEFAULT_FRICTION = 0.2
 DEFAULT_EYE_CLEARANCE = 20.0
 DEFAULT_FEED = 3000.0
 DEFAULT_CHORD_TOLERANCE = 0.05
+MAX_EYE_CLEARANCE = 2000.0
 # Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
 MIN_HOOP_ANGLE = 70.0
 # Slack (mm) when comparing user-typed lengths with computed ones: an arc's length is irrational,
@@ -324,7 +325,11 @@ def _parse_eye(rd: Reader, value: Any, path: str, max_radius: float | None,
         raise rd.error(path, "give exactly one of radius (a cylinder around the axis) or clearance "
                        "(a distance beyond the mandrel surface)", m)
     if "clearance" in m:
-        return None, rd.positive(m["clearance"], rd.at(path, "clearance"))
+        clearance = rd.positive(m["clearance"], rd.at(path, "clearance"))
+        if clearance > MAX_EYE_CLEARANCE:
+            raise rd.error(rd.at(path, "clearance"), f"must be <= {MAX_EYE_CLEARANCE:g} mm (a payout eye "
+                           f"that far from the mandrel cannot guide the band)", m["clearance"])
+        return None, clearance
     where = rd.at(path, "radius")
     radius = rd.positive(m["radius"], where)
     if max_radius is not None and radius <= max_radius:

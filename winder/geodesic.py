@@ -47,6 +47,8 @@ STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the
 LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
 MAX_NEWTON = 100
 LBFGS_MAX_ITER = 200_000
+LBFGS_FTOL = 1e-15  # relative energy decrease per iteration at which L-BFGS-B stops
+LBFGS_GTOL = 1e-9  # largest gradient component (mm) at which L-BFGS-B stops
 ARMIJO = 1e-4
 BOUNDARY_TOL = 1e-9  # a vertex this close (mm) to an end of the mandrel is on it
 DEFAULT_POINTS = 200
@@ -206,7 +208,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
             if -slope <= 1e-13 * e or disp * alpha <= step_tol * h:
                 converged, reason = True, StopReason.ROUNDOFF
             elif bounded and alpha < 1e-9:
-                _raise_left(surface, s, th)
+                _raise_left(surface, s)
             break
         s, th = s_try, th_try
         # Quadratic convergence predicts the next step as disp^3 / prev_disp^2: stop when that (or
@@ -218,17 +220,17 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
         prev_disp = disp if alpha == 1.0 else np.inf
     interior = s[1:-1]
     if interior.size and (interior.min() <= BOUNDARY_TOL or interior.max() >= s_max - BOUNDARY_TOL):
-        _raise_left(surface, s, th)
+        _raise_left(surface, s)
     return PathSolve(s, th, it, converged, reason, np.array(history))
 
 
-def _raise_left(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> None:
+def _raise_left(surface: SweepSurface, s: np.ndarray) -> None:
     low = s[1:-1].min() <= surface.length / 2
     edge = "polar opening" if not surface.is_axial_parameter else "end"
     where = f"t = 0 (the first {edge})" if low else f"t = {surface.axial_length:.6g} (the far {edge})"
     raise SolverError(f"the shortest path between these points runs off the mandrel past {where}: no "
                       f"geodesic on the surface joins them with this number of rounds; move the end "
-                      f"points away from the edge or change --rounds")
+                      f"points away from the edge or change the number of rounds")
 
 
 def _lbfgs(surface: SweepSurface, s: np.ndarray, th: np.ndarray, max_iter: int = LBFGS_MAX_ITER,
@@ -236,21 +238,26 @@ def _lbfgs(surface: SweepSurface, s: np.ndarray, th: np.ndarray, max_iter: int =
     n = s.shape[0] - 2
     history: list[tuple[float, float]] = []
 
+    last: dict[str, np.ndarray] = {}
+
     def fun(x: np.ndarray) -> tuple[float, np.ndarray]:
         ss, tt = s.copy(), th.copy()
         ss[1:-1], tt[1:-1] = x[0::2], x[1::2]
         e, grad, *_ = energy_terms(surface, ss, tt, full_hessian=False)
-        return e, grad.ravel()
+        last["x"], last["g"] = x.copy(), grad.ravel()
+        return e, last["g"]
 
     def record(intermediate_result) -> None:
-        history.append((float(intermediate_result.fun), float(np.linalg.norm(fun(intermediate_result.x)[1]))))
+        # The accepted iterate is the last one evaluated (L-BFGS-B's line search ends on it).
+        g = last["g"] if np.array_equal(last["x"], intermediate_result.x) else fun(intermediate_result.x)[1]
+        history.append((float(intermediate_result.fun), float(np.linalg.norm(g))))
         if callback is not None:
             callback(intermediate_result)
 
     x0 = np.stack([s[1:-1], th[1:-1]], axis=1).ravel()
     bounds = [(0.0, surface.length), (None, None)] * n
     res = minimize(fun, x0, jac=True, method="L-BFGS-B", bounds=bounds, callback=record,
-                   options={"maxiter": max_iter, "maxfun": 2 * max_iter, "ftol": 1e-16, "gtol": 1e-12,
+                   options={"maxiter": max_iter, "maxfun": 2 * max_iter, "ftol": LBFGS_FTOL, "gtol": LBFGS_GTOL,
                             "maxcor": 10})
     s_out, th_out = s.copy(), th.copy()
     s_out[1:-1], th_out[1:-1] = res.x[0::2], res.x[1::2]

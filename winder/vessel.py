@@ -27,6 +27,7 @@ from winder.pattern import circuits_for_coverage, close_vessel_pattern
 from winder.plan import FiberPass, LayerPlan, PassKind
 
 QUAD_NODES = 200  # Gauss-Legendre nodes per dome for the turnaround advance
+_GAUSS = np.polynomial.legendre.leggauss(QUAD_NODES)
 
 
 def turnaround_stations(prof: VesselMeridian, c: float) -> tuple[float, float]:
@@ -49,7 +50,7 @@ def advances(prof: VesselMeridian, c: float) -> tuple[float, float, float]:
     """
     s1, s2 = turnaround_stations(prof, c)
     e1, e2 = prof.equator_s
-    x, w = np.polynomial.legendre.leggauss(QUAD_NODES)
+    x, w = _GAUSS
     tau = 0.25 * np.pi * (x + 1.0)  # [0, pi/2]
     domes = []
     for s_c, s_eq in ((s1, e1), (s2, e2)):

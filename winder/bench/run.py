@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import statistics
 import time
 import traceback
@@ -57,6 +58,16 @@ def blas_check(progress: Progress) -> dict[str, Any]:
             "ms_per_iteration_one_thread": o * 1e3, "ratio": d / o}
 
 
+def derive(entry: dict[str, Any], table_n: tuple[int, ...] | list[int]) -> None:
+    """The tables, frontier and verdicts of one mandrel, from its measured points (in place)."""
+    entry["agreement"] = _agreement(entry)
+    entry["frontier"] = frontier(entry)
+    entry["verdicts"] = verdicts(entry["frontier"])
+    entry["speedups"] = speedups(entry["frontier"])
+    entry["table1"] = table1(entry, tuple(table_n))
+    entry["convergence"] = convergence(entry)
+
+
 def _guarded(results: dict[str, Any], name: str, fn: Callable[[], Any]) -> Any:
     """Run one experiment; if it raises, record the error (a note on the page, the traceback in the
     JSON) and go on with the others. Returns fn's value or None."""
@@ -80,12 +91,7 @@ def _case_entry(case, settings: Settings, say: Progress) -> dict[str, Any]:
                   "shoot_converged": tr.shoot_converged, "shoot_tol": settings.truth_tol},
     }
     entry.update(measure_case(case, surface, tr, settings, say))
-    entry["agreement"] = _agreement(entry)
-    entry["frontier"] = frontier(entry)
-    entry["verdicts"] = verdicts(entry["frontier"])
-    entry["speedups"] = speedups(entry["frontier"])
-    entry["table1"] = table1(entry, settings.table_n)
-    entry["convergence"] = convergence(entry)
+    derive(entry, settings.table_n)
     if case.key == "bend" and settings.large_n:
         entry["large_n"] = large_n(case, surface, settings, say)
     entry["figure8"] = iteration_histories(case, surface, tr.length, settings.fig8_n, settings.fig8_cap, say)
@@ -96,7 +102,7 @@ def run_bench(settings: Settings = FULL, progress: Progress | None = None) -> di
     """Run the bench; returns the results (JSON-ready). Nothing is written."""
     say = progress or (lambda _msg: None)
     t_start = time.perf_counter()
-    results: dict[str, Any] = {"meta": {"settings": settings.name,
+    results: dict[str, Any] = {"meta": {"settings": settings.name, "table_n": list(settings.table_n),
                                         "started": datetime.now(timezone.utc).isoformat(timespec="seconds")},
                                "cases": [], "notes": []}
     with blas_threads(settings.blas_threads) as limited:
@@ -124,6 +130,15 @@ def run_bench(settings: Settings = FULL, progress: Progress | None = None) -> di
 
 
 # -- output ------------------------------------------------------------------------------------------------
+_NUMBER_LIST = re.compile(r"\[\s*((?:-?[0-9][0-9.eE+-]*|null)(?:,\s*(?:-?[0-9][0-9.eE+-]*|null))*)\s*\]")
+
+
+def _dumps(data: dict[str, Any]) -> str:
+    """Indented JSON with lists of numbers kept on one line (short, readable diffs)."""
+    text = json.dumps(data, indent=1, allow_nan=False)
+    return _NUMBER_LIST.sub(lambda m: "[" + " ".join(m.group(1).split()) + "]", text) + "\n"
+
+
 def _clean(value: Any) -> Any:
     """JSON-ready: numpy scalars to Python, non-finite floats to None, floats to 12 significant digits."""
     if isinstance(value, dict):
@@ -158,7 +173,7 @@ def write_outputs(results: dict[str, Any], out_dir: str | Path, progress: Progre
     path = out / "results.json"
     clean["figures"] = [p.name for p in figures]
     clean["figure_notes"] = fig_notes
-    path.write_text(json.dumps(clean, indent=1, allow_nan=False) + "\n")
+    path.write_text(_dumps(clean))
     written.append(path)
     md = out / "RESULTS.md"
     md.write_text(markdown(clean))
@@ -167,16 +182,20 @@ def write_outputs(results: dict[str, Any], out_dir: str | Path, progress: Progre
 
 
 def report_from_json(out_dir: str | Path) -> Path:
-    """Rewrite RESULTS.md (and the figures) from an existing results.json, without measuring again."""
+    """Rewrite RESULTS.md (and the figures) from an existing results.json, without measuring again; the
+    derived tables (frontier, verdicts, Table 1, orders) are recomputed from the measured points."""
     from winder.bench.figures import make_figures  # noqa: PLC0415
     from winder.bench.report import markdown  # noqa: PLC0415
 
     out = Path(out_dir)
     clean = json.loads((out / "results.json").read_text())
+    for entry in clean["cases"]:
+        derive(entry, clean["meta"].get("table_n", [50, 500, 1000]))
+    clean = _clean(clean)
     figures, notes = make_figures(clean, out)
     clean["figures"] = [p.name for p in figures]
     clean["figure_notes"] = notes
-    (out / "results.json").write_text(json.dumps(clean, indent=1, allow_nan=False) + "\n")
+    (out / "results.json").write_text(_dumps(clean))
     md = out / "RESULTS.md"
     md.write_text(markdown(clean))
     return md

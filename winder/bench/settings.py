@@ -49,7 +49,7 @@ class Settings:
     evolution_n: tuple[int, ...] = (50, 1000)
     bend_deg: tuple[float, float] = (60.0, 120.0)
     truth_tol: float = 1e-13
-    repeats: int = 7
+    repeats: int = 15
     min_repeats: int = 3
     budget: float = 1.5
     job: bool = True

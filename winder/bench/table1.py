@@ -1,7 +1,8 @@
 """Table 1 and the accuracy-time frontier, derived from the measured points of each mandrel.
 
 The frontier of a method at an accuracy level is the fastest of its measured configurations whose
-relative length error is at or below that level. winder is "ahead" at a level when its fastest
+relative length error is at or below that level, and stays there for every tighter configuration of
+its sweep (so that a setting whose error happens to cross zero is not taken for an accurate one). winder is "ahead" at a level when its fastest
 configuration there is faster than every baseline's; the verdicts are written from the numbers.
 """
 
@@ -26,20 +27,31 @@ BASELINES = ("collocation", "shooting", "mesh", "lbfgs")
 FRONTIER_METHODS = ("newton", "newton_richardson", "newton_polyline", "collocation", "shooting", "mesh", "lbfgs")
 
 
-def method_points(case_result: dict[str, Any], method: str) -> list[dict[str, Any]]:
-    """Measured (seconds, rel_error) points of a method; L-BFGS contributes its capped runs."""
+LOOSE_FIRST = {"collocation": True, "shooting": True}  # knob order: tolerances shrink, n and triangles grow
+
+
+def method_sweeps(case_result: dict[str, Any], method: str) -> list[list[dict[str, Any]]]:
+    """A method's measured (seconds, rel_error) points as sweeps, each ordered from the loosest to
+    the tightest setting. L-BFGS: one sweep per run, its recorded iterates in order (as if it had
+    been stopped at each)."""
     if method == "lbfgs":
-        # Every recorded iterate counts, as if L-BFGS had been stopped right there: an optimistic
-        # bound for it (knowing when to stop needs the answer).
-        return [{"method": "lbfgs", "setting": f"n = {r['n']}, it. {it}", "seconds": sec, "rel_error": err}
-                for r in case_result.get("lbfgs", [])
-                for it, sec, err in zip(r["trajectory"]["iteration"], r["trajectory"]["seconds"],
-                                        r["trajectory"]["rel_error"])]
-    return [p for p in case_result["points"] if p["method"] == method and "rel_error" in p]
+        return [[{"method": "lbfgs", "setting": f"n = {r['n']}, it. {it}", "seconds": sec, "rel_error": err}
+                 for it, sec, err in zip(r["trajectory"]["iteration"], r["trajectory"]["seconds"],
+                                         r["trajectory"]["rel_error"])]
+                for r in case_result.get("lbfgs", [])]
+    pts = [p for p in case_result["points"] if p["method"] == method and "rel_error" in p]
+    pts.sort(key=lambda p: -p["param"] if LOOSE_FIRST.get(method) else p["param"])
+    return [pts] if pts else []
 
 
-def best_at(points: list[dict[str, Any]], level: float) -> dict[str, Any] | None:
-    ok = [p for p in points if abs(p["rel_error"]) <= level]
+def best_at(sweeps: list[list[dict[str, Any]]], level: float) -> dict[str, Any] | None:
+    """The fastest point that meets the level and after which every tighter point of its sweep meets
+    it too: a setting that lands on the truth by luck (an error changing sign) does not count."""
+    ok = []
+    for sweep in sweeps:
+        for k, p in enumerate(sweep):
+            if all(abs(q["rel_error"]) <= level for q in sweep[k:]):
+                ok.append(p)
     return min(ok, key=lambda p: p["seconds"]) if ok else None
 
 
@@ -47,10 +59,10 @@ def frontier(case_result: dict[str, Any]) -> dict[str, Any]:
     """{"levels": [...], "rows": {method: [cell or None per level]}}, cell = setting, seconds, error."""
     rows = {}
     for m in FRONTIER_METHODS:
-        pts = method_points(case_result, m)
-        if not pts:
+        sweeps = method_sweeps(case_result, m)
+        if not sweeps:
             continue
-        rows[m] = [None if (b := best_at(pts, lv)) is None else
+        rows[m] = [None if (b := best_at(sweeps, lv)) is None else
                    {"setting": b["setting"], "seconds": b["seconds"], "rel_error": b["rel_error"]} for lv in LEVELS]
     return {"levels": list(LEVELS), "rows": rows}
 
