@@ -148,3 +148,12 @@ def test_verdicts_say_plainly_where_winder_is_behind():
     # Richardson reaches nothing above 1e-9 faster than collocation, and only 1e-9 at all from its sweep.
     rich = {item["level"] for item in v["newton_richardson"]}
     assert rich == {1e-4, 1e-5, 1e-6}
+
+
+def test_speed_check_runs_and_reports_its_stop():
+    from winder.bench.speed import measure  # noqa: PLC0415
+
+    rep = measure(repeats=1, lbfgs_cap=20, sizes=(100,))
+    assert rep.lbfgs_iterations <= 20 and rep.lbfgs_stop == "iteration cap"
+    assert rep.newton_change < 1e-12  # Newton is converged: one more solve leaves the length alone
+    assert [n for n, _ in rep.growth] == [100]

@@ -1,6 +1,6 @@
 """`winder bench`: the paper's Table 1, Figures 7 and 8 and applications (sections 6.1, 6.2), the
 accuracy-time frontier against solve_bvp, shooting, a mesh baseline and the paper's L-BFGS, and a whole
-job against fiberpath; written as Markdown, JSON and PNG (docs/bench/).
+job against fiberpath; written as Markdown, JSON and PNG (winder/bench/results/).
 
 run_bench(settings, progress) measures and returns a JSON-ready dict; write_outputs writes the page.
 Optional packages (the `bench` extra: matplotlib, potpourri3d, threadpoolctl; fiberpath, run as a

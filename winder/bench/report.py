@@ -71,7 +71,7 @@ def _header(r: dict[str, Any]) -> list[str]:
         f"(settings: {meta['settings']}) on {meta['started']}, in {meta['total_seconds'] / 60:.1f} min; "
         f"commit {env.get('git_commit') or 'unknown'}. Every number on this page is read from "
         "[results.json](results.json) by the generator (`winder/bench/report.py`); only the paper's figures "
-        "are quoted, and marked so. Regenerate everything with `winder bench -o docs/bench` "
+        "are quoted, and marked so. Regenerate everything with `winder bench -o winder/bench/results` "
         "(`--quick` for a run of about a minute).",
         "",
         f"Machine: {env['processor']}, {env['cpus']} CPUs, Python {env['python']}, numpy {pk.get('numpy')}, "
