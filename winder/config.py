@@ -10,10 +10,8 @@ winder.config_job.
 from __future__ import annotations
 
 import bisect
-import difflib
 import math
 import re
-from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
@@ -33,8 +31,7 @@ from winder.config_job import (
     parse_winding,
 )
 from winder.errors import ConfigError
-
-MAX_SIZE = 1e6  # the largest length (mm), feed (mm/min) or other positive size a config may give
+from winder.reading import Reader, YamlLoader, show_value
 
 __all__ = [
     "ArcAxis", "CircleSection", "ConeProfile", "ConstantProfile", "Dome", "DomeType", "EllipseSection",
@@ -189,67 +186,6 @@ class JobConfig:
     machine: MachineConfig | None = field(default_factory=MachineConfig)
 
 
-# -- reading YAML ----------------------------------------------------------------------------------
-class _Loader(yaml.SafeLoader):
-    """SafeLoader reading plain scalars by the YAML 1.2 core schema, refusing duplicate keys.
-
-    PyYAML follows YAML 1.1, where `1e-3` is a string, `no` and `off` are false, `1:30` is 90 and
-    `2024-01-01` is a date: surprises for a process engineer typing a tolerance or a name. A
-    duplicate key silently wins in PyYAML; here it is an error, since one of the two is a typo.
-    """
-
-    yaml_implicit_resolvers: dict[str, list[tuple[str, re.Pattern[str]]]] = {}
-
-    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
-        seen: set[Any] = set()
-        for key_node, _ in node.value:
-            key = self.construct_object(key_node, deep=True)
-            try:
-                duplicate = key in seen
-            except TypeError:  # an unhashable key: the base class reports it
-                continue
-            if duplicate:
-                raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}",
-                                                        key_node.start_mark)
-            seen.add(key)
-        return super().construct_mapping(node, deep)
-
-
-def _construct_int(loader: _Loader, node: yaml.ScalarNode) -> int:
-    text = loader.construct_scalar(node)
-    base = 16 if text.startswith("0x") else 8 if text.startswith("0o") else 10
-    return int(text[2:] if base != 10 else text, base)
-
-
-def _construct_float(loader: _Loader, node: yaml.ScalarNode) -> float:
-    text = loader.construct_scalar(node).lower()
-    if text.endswith(".inf"):
-        return -math.inf if text.startswith("-") else math.inf
-    return math.nan if text == ".nan" else float(text)
-
-
-def _construct_bool(loader: _Loader, node: yaml.ScalarNode) -> bool:
-    return loader.construct_scalar(node).lower() == "true"
-
-
-_Loader.add_implicit_resolver("tag:yaml.org,2002:null", re.compile(r"^(?:~|null|Null|NULL|)$"),
-                              ["~", "n", "N", ""])
-_Loader.add_implicit_resolver("tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"),
-                              list("tTfF"))
-# int before float: both match "12", and the first match wins.
-_Loader.add_implicit_resolver("tag:yaml.org,2002:int",
-                              re.compile(r"^(?:[-+]?[0-9]+|0o[0-7]+|0x[0-9a-fA-F]+)$"),
-                              list("-+0123456789"))
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
-               r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$"),
-    list("-+.0123456789"))
-_Loader.add_constructor("tag:yaml.org,2002:int", _construct_int)
-_Loader.add_constructor("tag:yaml.org,2002:float", _construct_float)
-_Loader.add_constructor("tag:yaml.org,2002:bool", _construct_bool)
-
-
 def load_config(path: str | Path) -> JobConfig:
     """Read and validate a job file; every problem is a ConfigError starting with the path."""
     source = str(path)
@@ -260,7 +196,7 @@ def load_config(path: str | Path) -> JobConfig:
     except UnicodeDecodeError as exc:
         raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
     try:
-        data = yaml.load(text, Loader=_Loader)  # noqa: S506 (a SafeLoader subclass)
+        data = yaml.load(text, Loader=YamlLoader)  # noqa: S506 (a SafeLoader subclass)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
@@ -269,137 +205,6 @@ def load_config(path: str | Path) -> JobConfig:
     except (yaml.YAMLError, ValueError) as exc:  # ValueError: an explicitly tagged !!int "x"
         raise ConfigError(f"{source}: invalid YAML: {exc}") from exc
     return parse_config(data, source)
-
-
-# -- checking values -------------------------------------------------------------------------------
-_NO_VALUE = object()
-
-
-def _show(value: object) -> str:
-    """A value as the user wrote it in YAML, short enough for a one-line message."""
-    if value is None:
-        return "null"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        if math.isnan(value):
-            return ".nan"
-        if math.isinf(value):
-            return ".inf" if value > 0 else "-.inf"
-        return str(int(value)) if value.is_integer() and abs(value) < 1e15 else repr(value)
-    text = repr(value)  # strings keep their quotes, so 40 and '40' stay distinguishable
-    return text if len(text) <= 80 else text[:77] + "..."
-
-
-class Reader:
-    """Reads the values of one job file; every error names the file and the key path."""
-
-    def __init__(self, source: str) -> None:
-        self.source = source
-
-    @staticmethod
-    def at(path: str, key: str | int) -> str:
-        """The key path of a mapping key (`a.b`) or a list index (`a[2]`) below path."""
-        if isinstance(key, int):
-            return f"{path}[{key}]"
-        return f"{path}.{key}" if path else key
-
-    def error(self, path: str, what: str, value: object = _NO_VALUE) -> ConfigError:
-        where = f"{self.source}: {path}: " if path else f"{self.source}: "
-        got = "" if value is _NO_VALUE else f", got {_show(value)}"
-        return ConfigError(f"{where}{what}{got}")
-
-    def mapping(self, value: Any, path: str, allowed: Sequence[str], required: Sequence[str] = (),
-                kind: str = "") -> dict[str, Any]:
-        """value as a mapping, refusing unknown keys (with a suggestion) and missing required ones."""
-        if not isinstance(value, dict):
-            raise self.error(path, f"must be a mapping with keys {', '.join(allowed)}", value)
-        for key in value:
-            if key in allowed:
-                continue
-            name = key if isinstance(key, str) else _show(key)
-            close = difflib.get_close_matches(name, allowed, n=1)
-            what = "unknown key" + (f" for {kind}" if kind else "")
-            hint = f"; did you mean '{close[0]}'? allowed: " if close else "; allowed: "
-            raise self.error(self.at(path, name), what + hint + ", ".join(allowed))
-        for key in required:
-            if key not in value:
-                raise self.error(self.at(path, key), "required key missing")
-        return value
-
-    def typed(self, value: Any, path: str, noun: str,
-              kinds: Mapping[str, tuple[Sequence[str], Sequence[str]]]) -> tuple[str, dict[str, Any]]:
-        """A mapping with a `type` key naming one of kinds: type -> (required keys, optional keys)."""
-        names = ", ".join(kinds)
-        if not isinstance(value, dict):
-            raise self.error(path, f"must be a mapping with a type ({names})", value)
-        where = self.at(path, "type")
-        if "type" not in value:
-            raise self.error(where, f"required key missing; one of {names}")
-        kind = value["type"]
-        if not isinstance(kind, str) or kind not in kinds:
-            close = difflib.get_close_matches(kind, list(kinds), n=1) if isinstance(kind, str) else []
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
-            raise self.error(where, f"must be one of {names}{hint}", kind)
-        required, optional = kinds[kind]
-        article = "an" if kind[0] in "aeiou" else "a"
-        return kind, self.mapping(value, path, ("type", *required, *optional), required,
-                                  kind=f"{article} {kind} {noun}")
-
-    def listing(self, value: Any, path: str, minimum: int, noun: str) -> list[Any]:
-        if not isinstance(value, list):
-            raise self.error(path, f"must be a list of {noun}s", value)
-        if len(value) < minimum:
-            raise self.error(path, f"must have at least {minimum} {noun}{'s' if minimum > 1 else ''}",
-                             value)
-        return value
-
-    def number(self, value: Any, path: str, name: str = "") -> float:
-        """A finite int or float; YAML booleans are not numbers. name prefixes the message."""
-        prefix = f"{name} " if name else ""
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(path, f"{prefix}must be a number", value)
-        try:
-            number = float(value)
-        except OverflowError:  # an int beyond float range
-            number = math.inf
-        if not math.isfinite(number):
-            raise self.error(path, f"{prefix}must be a finite number", value)
-        return number
-
-    def positive(self, value: Any, path: str, name: str = "") -> float:
-        number = self.number(value, path, name)
-        if number <= 0.0:
-            raise self.error(path, f"{name + ' ' if name else ''}must be > 0", value)
-        if number > MAX_SIZE:
-            # Sizes, feeds and tolerances beyond this are typos (a kilometre-long mandrel), and they
-            # would send the geometry into ranges where nothing finishes in reasonable time.
-            raise self.error(path, f"{name + ' ' if name else ''}must be <= {MAX_SIZE:g}", value)
-        return number
-
-    def integer(self, value: Any, path: str, minimum: int, maximum: int | None = None,
-                what: str = "") -> int:
-        """A whole number in [minimum, maximum]; 200.0 counts as whole, 200.5 and true do not."""
-        what = what or (f"must be a whole number >= {minimum}"
-                        + (f" and <= {maximum}" if maximum is not None else ""))
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.error(path, what, value)
-        if isinstance(value, float) and not (math.isfinite(value) and value.is_integer()):
-            raise self.error(path, what, value)
-        whole = int(value)
-        if whole < minimum or (maximum is not None and whole > maximum):
-            raise self.error(path, what, value)
-        return whole
-
-    def text(self, value: Any, path: str) -> str:
-        if not isinstance(value, str):
-            raise self.error(path, "must be text", value)
-        return value
-
-    def boolean(self, value: Any, path: str) -> bool:
-        if not isinstance(value, bool):
-            raise self.error(path, "must be true or false", value)
-        return value
 
 
 # -- the job file ----------------------------------------------------------------------------------
@@ -583,7 +388,7 @@ def _parse_table(rd: Reader, value: Any, path: str) -> TableProfile:
         if not points and t != 0.0:
             raise rd.error(where, "t of the first point must be 0 (the start of the axis)", item[0])
         if points and t <= points[-1][0]:
-            raise rd.error(where, f"t must increase strictly (the previous t is {_show(points[-1][0])})",
+            raise rd.error(where, f"t must increase strictly (the previous t is {show_value(points[-1][0])})",
                            item[0])
         if r <= 0.0:
             raise rd.error(where, "r must be > 0", item[1])
@@ -602,7 +407,7 @@ def _parse_dome(rd: Reader, value: Any, path: str, radius: float, radius_path: s
     opening_path = rd.at(path, "polar_opening")
     opening = rd.positive(m["polar_opening"], opening_path)
     if opening >= radius:
-        raise rd.error(opening_path, f"must be smaller than {radius_path} ({_show(radius)})",
+        raise rd.error(opening_path, f"must be smaller than {radius_path} ({show_value(radius)})",
                        m["polar_opening"])
     depth = None
     if "depth" in m:
@@ -632,7 +437,7 @@ def _parse_section(rd: Reader, value: Any, path: str) -> Section:
     corner = rd.positive(m["corner_radius"], rd.at(path, "corner_radius"))
     if corner > min(width, height) / 2.0:
         raise rd.error(rd.at(path, "corner_radius"), f"must be <= min(width, height) / 2 "
-                       f"({_show(min(width, height) / 2.0)})", m["corner_radius"])
+                       f"({show_value(min(width, height) / 2.0)})", m["corner_radius"])
     return RoundedRectangleSection(width, height, corner)
 
 

@@ -1,8 +1,7 @@
 """The `winding:` and `machine:` sections of a job file: the winding plan and the winder.
 
-Split from winder.config to keep each file readable. The parsers here receive the `Reader` of
-winder.config (it carries the file name and formats every message), plus the few facts about the
-mandrel they check against, so this module never imports winder.config at run time.
+The parsers here receive a `winder.reading.Reader` (it carries the file name and formats every
+message), plus the few facts about the mandrel they check against; winder.config calls them.
 """
 
 from __future__ import annotations
@@ -12,7 +11,7 @@ from enum import Enum
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from winder.config import Reader
+    from winder.reading import Reader
 
 DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
