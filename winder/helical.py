@@ -158,8 +158,9 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
         last_cov = cov.covered_fraction
         if grow > MAX_CIRCUIT_FACTOR * n_c0 or stuck:
             notes.append(f"coverage stays incomplete ({cov.covered_fraction:.4f}, gap {cov.max_gap_mm:.3f} mm) "
-                         f"up to {n_c} circuits: geodesics at {alpha:g} deg bunch on this mandrel; a larger "
-                         f"angle spreads them")
+                         f"up to {n_c} circuits: the geodesic passes at {alpha:g} deg bunch on this mandrel "
+                         f"(toward the inside of a bend, the shorter way) and more circuits do not close the "
+                         f"gaps; a gentler bend, or friction-held non-geodesic winding, is needed")
             break
         n_c = grow
     if n_c > n_c0:
