@@ -172,7 +172,7 @@ def _workers(jobs: int, tasks: int) -> int:
 
 def _progress(length: int, label: str):
     """A progress bar on stderr for a batch (more than one job); a no-op context otherwise."""
-    return click.progressbar(length=length, label=label, file=click.get_text_stream("stderr"),
+    return click.progressbar(length=length, label=label, file=sys.stderr,
                              show_pos=True, show_eta=False, hidden=length <= 1)
 
 
