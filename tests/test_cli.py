@@ -380,9 +380,9 @@ def test_regress_within_tolerance_passes(tmp_path):
     folder = copy_sample(tmp_path)
     path = folder / "reference" / "pipe" / "pipe.csv"
     lines = path.read_text().splitlines()
-    # 4e-6 mm is below the 1e-5 tolerance: printed with more digits, still the same number
+    # 4e-7 is below one unit of the 6 printed decimals: printed with more digits, the same number
     fields = lines[3].split(",")
-    fields[-2] = f"{float(fields[-2]) + 4e-6:.7f}"
+    fields[-2] = f"{float(fields[-2]) + 4e-7:.7f}"
     lines[3] = ",".join(fields)
     path.write_text("\n".join(lines) + "\n")
     result = invoke("regress", folder)

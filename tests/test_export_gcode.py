@@ -248,3 +248,23 @@ def test_robot_envelope_inside_mandrel_names_the_pass():
     machine = MachineConfig(eye_radius=30.0, eye_clearance=None, robot=True)
     with pytest.raises(ExportError, match=r"^elbow.yaml: layer 1 circuit 1 pass 1 \(forward\): the eye envelope"):
         gcode_text(plan, machine)
+
+
+def test_yaw_header_and_values_agree(plan):
+    """The header's rule, checked on the values written: on a cylinder of radius R with the eye at
+    Z, tan(B) = Z / (R tan(alpha)) on fiber moves (+ forward, - return), B = 0 on dwells."""
+    text = gcode_text(plan, MACHINE)
+    assert "tan(B) = Z / (R tan(alpha))" in text
+    moves = program_moves(plan, MACHINE)
+    by_key = passes_by_key(plan)
+    checked = 0
+    for m in moves:
+        fp = by_key[(m.layer, m.number)]
+        if fp.kind not in (PassKind.FORWARD, PassKind.RETURN):
+            continue
+        alpha = np.radians(abs(fp.alpha_deg[m.index]))
+        want = np.degrees(np.arctan2(60.0, R * np.tan(alpha)))
+        want = want if fp.kind is PassKind.FORWARD else -want
+        assert m.values[3] == pytest.approx(want, abs=1.5e-3), (m, fp.kind)  # 3 decimals written
+        checked += 1
+    assert checked > 4

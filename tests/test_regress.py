@@ -40,16 +40,21 @@ def _replace_field(text: str, line: int, column: int, value: str) -> str:
 
 
 # -- JSON ------------------------------------------------------------------------------------------
-def test_json_equal_within_tolerance():
+def test_json_equal_within_one_printed_unit():
+    """The summary writes mm with 3 decimals: a last-digit flip is round-off, two units are not."""
     got = json.loads(json.dumps(SUMMARY))
-    got["total_fiber_length_mm"] *= 1 + 5e-7  # relative 1e-6
-    got["layers"][0]["coverage"]["max_gap_mm"] = 9e-7  # absolute 1e-6 (mm) near zero
+    got["total_fiber_length_mm"] = 12345.679  # one unit of 3 decimals away from 12345.678(901)
+    got["layers"][0]["coverage"]["max_gap_mm"] = 0.001
+    got["layers"][0]["angle_deg"] = 55.0001  # 4 decimals for degrees
     assert compare_json(json.dumps(SUMMARY), json.dumps(got)) == ([], 0)
+    got["layers"][0]["angle_deg"] = 55.0002
+    shown, count = compare_json(json.dumps(SUMMARY), json.dumps(got))
+    assert count == 1 and shown[0].where == "layers[0].angle_deg" and "tolerance 0.0001" in shown[0].note
 
 
 def test_json_differences_are_named_by_key_path():
     got = json.loads(json.dumps(SUMMARY))
-    got["total_fiber_length_mm"] *= 1 + 2e-6
+    got["total_fiber_length_mm"] = 12345.7039
     got["layers"][0]["circuits"] = 21
     got["layers"][0]["type"] = "hoop"
     del got["layers"][0]["pattern"]
@@ -57,7 +62,7 @@ def test_json_differences_are_named_by_key_path():
     shown, count = compare_json(json.dumps(SUMMARY), json.dumps(got))
     assert count == 5
     text = "\n".join(map(str, shown))
-    assert "total_fiber_length_mm: expected 12345.678901, got 12345.70359" in text
+    assert "total_fiber_length_mm: expected 12345.678901, got 12345.7039" in text
     assert "layers[0].circuits: expected 19, got 21" in text
     assert 'layers[0].type: expected "helical", got "hoop"' in text
     assert "layers[0].pattern: expected 5, got (key missing)" in text
@@ -80,7 +85,8 @@ def test_json_structure():
 def test_json_numbers_in_text():
     a = json.dumps({"notes": ["dwells lengthened to 14.561 / 14.561 deg (k = 5 of 19)"]})
     assert compare_json(a, a.replace("14.561 /", "14.5610000001 /")) == ([], 0)
-    shown, count = compare_json(a, a.replace("14.561 /", "14.562 /"))
+    assert compare_json(a, a.replace("14.561 /", "14.562 /")) == ([], 0)  # last digit
+    shown, count = compare_json(a, a.replace("14.561 /", "14.563 /"))
     assert count == 1 and shown[0].where == "notes[0]"
     assert compare_json(a, a.replace("dwells", "dwell"))[1] == 1
 
@@ -92,16 +98,26 @@ def test_json_nan_and_inf():
 
 
 # -- CSV -------------------------------------------------------------------------------------------
-def test_csv_tolerance_is_absolute_1e5():
-    near = _replace_field(CSV, 3, 6, "50.000009")
+def test_csv_tolerance_is_one_printed_unit():
+    near = _replace_field(CSV, 3, 6, "50.000001")  # the last of 6 decimals flipped: round-off
     assert compare_csv(CSV, near) == ([], 0)
-    far = _replace_field(CSV, 3, 6, "50.000020")
+    far = _replace_field(CSV, 3, 6, "50.000002")
     shown, count = compare_csv(CSV, far)
     assert count == 1
     d = shown[0]
     assert d.where == "line 4 (layer 1, circuit 1, pass 1, i 2), column x"
-    assert (d.expected, d.got) == ("50.000000", "50.000020")
-    assert "tolerance 1e-05" in d.note
+    assert (d.expected, d.got) == ("50.000000", "50.000002")
+    assert "tolerance 1.5e-06" in d.note  # one unit + REL_NOISE x 50
+    # integers (layer, circuit, pass, i) are exact
+    assert compare_csv(CSV, _replace_field(CSV, 3, 3, "3"))[1] == 1
+
+
+def test_csv_alpha_is_a_line_angle():
+    """alpha_deg is compared modulo 180: -89.999999 and 90.000000 are one fiber line."""
+    at_90 = _replace_field(CSV, 3, 9, "90.000000")
+    assert compare_csv(at_90, _replace_field(CSV, 3, 9, "-89.999999")) == ([], 0)
+    assert compare_csv(at_90, _replace_field(CSV, 3, 9, "-89.999990"))[1] == 1
+    assert compare_csv(CSV, _replace_field(CSV, 3, 9, "55.010000"))[1] == 1  # +0.01 deg is real
 
 
 def test_csv_structure():
@@ -123,9 +139,12 @@ def test_csv_shows_the_first_few_and_counts_all():
 
 
 # -- G-code ----------------------------------------------------------------------------------------
-def test_gcode_numbers_within_tolerance():
-    assert compare_lines(GCODE, GCODE.replace("A36.250", "A36.250004")) == ([], 0)
+def test_gcode_numbers_within_one_printed_unit():
+    assert compare_lines(GCODE, GCODE.replace("A36.250", "A36.251")) == ([], 0)  # last digit
     assert compare_lines(GCODE, GCODE.replace("X0.000", "X-0.000")) == ([], 0)
+    shown, count = compare_lines(GCODE, GCODE.replace("A36.250", "A36.252"))
+    assert count == 1 and "tolerance 0.001" in shown[0].note
+    assert compare_lines(GCODE, GCODE.replace("F3000", "F3001"))[1] == 1  # integers are exact
 
 
 def test_gcode_word_differences():
@@ -149,6 +168,7 @@ def test_compare_file_dispatch():
     assert compare_file("a.summary.json", json.dumps(SUMMARY).encode(), json.dumps(SUMMARY, indent=2).encode()) == ([], 0)
     assert compare_file("a.ply", b"ply\x00\x01", b"ply\x00\x02")[1] == 1
     assert compare_file("a.csv", CSV.encode(), CSV.replace("55.000000", "55.000001").encode()) == ([], 0)
+    assert compare_file("a.csv", CSV.encode(), CSV.replace("55.000000", "55.000011").encode())[1] == 8
     assert compare_file("a.gcode", GCODE.encode(), GCODE.encode()) == ([], 0)
 
 

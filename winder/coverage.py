@@ -40,6 +40,9 @@ def _crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.n
     return idx, arcs.fraction(th_x), 0.5 * band_width / np.maximum(sin_beta, 1e-12) / perimeter
 
 
+EDGE_TOL = 1e-6  # mm, far below the 3 decimals the summary prints
+
+
 def _union_stats(centres: np.ndarray, halves: np.ndarray, perimeter: float) -> tuple[float, float, float, int, int]:
     """Covered length, longest gap, longest overlap, min and max band count on a circle of perimeter P.
 
@@ -58,7 +61,9 @@ def _union_stats(centres: np.ndarray, halves: np.ndarray, perimeter: float) -> t
     count = np.cumsum(delta)
     seg = np.diff(pos)
     mid = count[:-1]
-    inside = (pos[:-1] >= 0.0) & (pos[1:] <= perimeter) & (seg > 0)
+    # A stretch shorter than EDGE_TOL is where two band edges meet (hoop turns abut exactly): whether
+    # round-off puts a sliver of overlap or of gap there must not change the counts.
+    inside = (pos[:-1] >= 0.0) & (pos[1:] <= perimeter) & (seg > EDGE_TOL)
     seg, mid = seg[inside], mid[inside]
     covered = float(np.sum(seg[mid > 0]))
     return covered, _longest_run(seg, mid == 0, perimeter), _longest_run(seg, mid >= 2, perimeter), \

@@ -44,6 +44,8 @@ COARSEST = 31  # interior points of the coarsest level
 LEVEL_FACTOR = 4  # segments multiply by this from one level to the next
 POINTS_PER_ROUND = 24  # the coarsest level keeps this many points per round of a helix
 STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
+POLISH_STEP = 1e-4  # a full Newton step this small (of the mean segment) is taken even on flat energy
+ENERGY_ROUNDOFF = 1e-12  # relative energy rise that is round-off, not a worse path
 LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
 MAX_NEWTON = 100
 LBFGS_MAX_ITER = 200_000
@@ -204,7 +206,11 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
             if e_try <= e + ARMIJO * alpha * slope or alpha < 1e-12:
                 break
             alpha *= 0.5
-        if e_try >= e:
+        # The energy is flat to round-off this close to its minimum (it pins the vertices only to
+        # sqrt(eps) of a segment), but a small full Newton step is trusted: taking it makes the result
+        # independent of the BLAS and numpy build.
+        polish = newton and alpha == 1.0 and disp <= POLISH_STEP * h and e_try - e <= ENERGY_ROUNDOFF * e
+        if e_try >= e and not polish:
             if -slope <= 1e-13 * e or disp * alpha <= step_tol * h:
                 converged, reason = True, StopReason.ROUNDOFF
             elif bounded and alpha < 1e-9:

@@ -106,20 +106,20 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
             for p in passes[:4]:
                 number += 1
                 passes.append(make_pass(surf, layer, j + 1, number, p.kind, p.s, p.theta + shift,
-                                         None if p.kind is not PassKind.DWELL else _turned(p, surf, shift),
-                                         p.length))
+                                        _turned(p.direction, shift), p.length))
             continue
         # Cold starts: consecutive circuits lie k / N_c of a turn apart, where the geodesic can look
         # nothing alike (inside vs outside of a bend); coarse-to-fine is robust and as fast.
-        s_f, th_f, len_f, _ = solve_pass(ctx, (t_a, th[0]), (t_b, th[1]), None)
-        s_r, th_r, len_r, _ = solve_pass(ctx, (t_b, th[2]), (t_a, th[3]), None)
-        for kind, item in ((PassKind.FORWARD, (s_f, th_f, len_f)), (PassKind.DWELL, (s_b, th[1], th[2])),
-                           (PassKind.RETURN, (s_r, th_r, len_r)), (PassKind.DWELL, (s_a, th[3], th[4]))):
+        fwd = solve_pass(ctx, (t_a, th[0]), (t_b, th[1]), None)
+        ret = solve_pass(ctx, (t_b, th[2]), (t_a, th[3]), None)
+        for kind, item in ((PassKind.FORWARD, fwd), (PassKind.DWELL, (s_b, th[1], th[2])),
+                           (PassKind.RETURN, ret), (PassKind.DWELL, (s_a, th[3], th[4]))):
             number += 1
             if kind is PassKind.DWELL:
                 passes.append(dwell_pass(ctx, layer, j + 1, number, *item))
             else:
-                passes.append(make_pass(surf, layer, j + 1, number, kind, item[0], item[1], None, item[2]))
+                passes.append(make_pass(surf, layer, j + 1, number, kind, item.s, item.theta, item.direction,
+                                        item.length))
     return passes
 
 
@@ -173,8 +173,9 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
                   None, passes, stations, notes, cov)
 
 
-def _turned(p: FiberPass, surf: SweepSurface, shift: float) -> np.ndarray:
-    pt = surf.evaluate(p.s, p.theta + shift, order=1).pt
-    return pt / np.linalg.norm(pt, axis=1)[:, None]
+def _turned(d: np.ndarray, shift: float) -> np.ndarray:
+    """Directions (m, 3) turned with a circuit by shift (rad) about the straight axis (+z)."""
+    c, s = math.cos(shift), math.sin(shift)
+    return np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1], d[:, 2]])
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from scipy.interpolate import make_interp_spline
@@ -19,6 +20,20 @@ from winder.surface import SweepSurface
 
 COVERAGE_STATIONS = 21
 DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
+# A pass is re-solved on this many times finer segments (warm-started, Richardson-refined) for its
+# points and tangents: at 30 points per pass a spline through the vertices alone misses the tangent
+# by up to 1 deg next to a dome turnaround; 4x brings r sin(alpha) to 1e-6 of Clairaut there.
+TANGENT_REFINE = 4
+
+
+class SolvedPass(NamedTuple):
+    """A solved pass: s, theta (m,) float vertices; direction (m, 3) unit tangents; length (mm)."""
+
+    s: np.ndarray
+    theta: np.ndarray
+    direction: np.ndarray
+    length: float
+    result: GeodesicResult
 
 @dataclass(frozen=True)
 class PlanContext:
@@ -54,9 +69,13 @@ def make_pass(surface: SweepSurface, layer: int, circuit: int, number: int, kind
 
 
 def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
-           warm: tuple[np.ndarray, np.ndarray] | None,
-           n: int | None = None) -> tuple[np.ndarray, np.ndarray, float, GeodesicResult]:
-    """A two-point geodesic pass: vertices (Richardson-refined), length. n: points (default config)."""
+               warm: tuple[np.ndarray, np.ndarray] | None, n: int | None = None) -> SolvedPass:
+    """A two-point geodesic pass at n points (default: the config's), with exact-to-print tangents.
+
+    The pass is solved at n, then re-solved at TANGENT_REFINE times finer segments from it; the
+    returned vertices are the fine solution's (Richardson-refined) at the n + 2 shared fractions and
+    the directions the tangents of the smooth curve through all the fine vertices.
+    """
     w = ctx.winding
     n = n or w.points or 200
     res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm)
@@ -67,10 +86,19 @@ def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
         # segments, warm-started from the path so far.
         n = 2 * n + 1
         res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=(res.s, res.theta))
+    _check_converged(ctx, a, b, res)
+    k = TANGENT_REFINE
+    fine = geodesic(ctx.surface, a, b, n=k * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))
+    _check_converged(ctx, a, b, fine)
+    d = directions(ctx.surface, fine.refined_s, fine.refined_theta)
+    return SolvedPass(fine.refined_s[::k], fine.refined_theta[::k], d[::k], fine.length, fine)
+
+
+def _check_converged(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
+                     res: GeodesicResult) -> None:
     if not res.converged:
         raise SolverError(f"{ctx.job.source}: a pass from t = {a[0]:.3f} to t = {b[0]:.3f} did not converge "
                           f"({res.reason.value})")
-    return res.refined_s, res.refined_theta, res.length, res
 
 
 def dwell_pass(ctx: PlanContext, layer: int, circuit: int, number: int, s: float, th0: float,

@@ -117,13 +117,19 @@ class WindingPlan:
         return float(sum(layer.time_s for layer in self.layers))
 
 
+HOOP_SLOPE = 1e-12  # |meridian component| / |circumferential| below this: the fiber runs on a parallel
+
+
 def winding_angle_deg(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
                       direction: np.ndarray) -> np.ndarray:
     """Signed winding angle (deg, (-90, 90]) of fiber directions (m, 3) from the meridian.
 
     Magnitude: the angle between the fiber line and the meridian (direction of increasing t). Sign:
     + where theta increases with t (a forward pass with the mandrel turning +), - where it decreases
-    (the return pass of the same circuit): the +alpha / -alpha of a winding engineer.
+    (the return pass of the same circuit): the +alpha / -alpha of a winding engineer. A fiber along
+    a parallel (a dwell, the turn of a hoop, within HOOP_SLOPE) has no t direction to follow: its
+    sign is that of the mandrel's turn, and every plan turns the mandrel toward +theta, so it reads
+    +90 whatever the round-off in its meridian component.
     """
     ev = surface.evaluate(s, theta, order=1)
     e_s = ev.ps / np.linalg.norm(ev.ps, axis=1)[:, None]
@@ -131,6 +137,6 @@ def winding_angle_deg(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     e_t /= np.linalg.norm(e_t, axis=1)[:, None]
     v_s = np.einsum("ij,ij->i", direction, e_s)
     v_t = np.einsum("ij,ij->i", direction, e_t)
-    with np.errstate(divide="ignore"):
-        alpha = np.degrees(np.arctan(v_t / v_s))
-    return np.where(v_s == 0.0, 90.0, alpha)
+    magnitude = np.degrees(np.arctan2(np.abs(v_t), np.abs(v_s)))
+    alpha = np.where(v_s * v_t < 0.0, -magnitude, magnitude)
+    return np.where(np.abs(v_s) <= HOOP_SLOPE * np.abs(v_t), 90.0, alpha)

@@ -6,12 +6,19 @@ Layout of a sample folder DIR:
     DIR/reference/<sample>/           the outputs of `winder run DIR/<sample>.yaml`:
         <name>.csv, <name>.gcode, <name>.summary.json   (and <name>.ply, only if stored)
 
-Comparison (numbers as text are parsed, everything else must match exactly):
-- `*.json`: the same structure (keys, list lengths, types); numbers within a relative tolerance of
-  1e-6 or an absolute one of 1e-6 (mm), whichever is larger.
-- `*.csv`: the same header and row count, the same fields per row; numeric fields within 1e-5
-  (mm or deg), text fields identical.
-- `*.gcode` (and any other text): the same lines and words; each number within 1e-5.
+Comparison: a difference is reported only where it could not come from round-off in the last
+printed digit. Each number is compared within one unit in the last place its writer prints, plus a
+relative part for large values (REL_NOISE: the computation's reproducibility across machines, BLAS
+builds and process counts); integers must match exactly; a writer's periodic fields are compared
+modulo their period. See samples/README.md.
+- `*.json` (the summary): the same structure (keys, list lengths, types); a number within one unit
+  of the decimals the summary writes at its key (winder.export.summary.decimals_of), or 1e-6
+  relative for keys without fixed decimals. Numbers inside text (notes) by their printed digits.
+- `*.csv`: the same header and row count, the same fields per row; a number within one unit of its
+  printed last place; text identical. `alpha_deg` is a line angle (winder.export.job_csv:
+  PERIODIC_COLUMNS) compared modulo 180.
+- `*.gcode` (and any other text): the same lines and words; each number within one unit of its
+  printed last place.
 - anything else (PLY): byte for byte.
 
 No click here: winder.cli prints what this module returns.
@@ -30,18 +37,20 @@ from pathlib import Path
 from typing import Any
 
 from winder.errors import ConfigError
+from winder.export.job_csv import PERIODIC_COLUMNS
+from winder.export.summary import decimals_of
 from winder.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
 
 __all__ = [
-    "CSV_ATOL", "Difference", "FileCheck", "JSON_ATOL", "JSON_RTOL", "SampleResult", "Sample",
+    "Difference", "FileCheck", "JSON_ATOL", "JSON_RTOL", "PRINT_SLACK", "REL_NOISE", "SampleResult", "Sample",
     "compare_bytes", "compare_csv", "compare_file", "compare_json", "compare_lines", "find_samples",
     "format_result", "regress",
 ]
 
-JSON_RTOL = 1e-6
-JSON_ATOL = 1e-6  # mm
-CSV_ATOL = 1e-5  # mm or deg
-GCODE_ATOL = 1e-5  # mm or deg
+JSON_RTOL = 1e-6  # summary numbers under a key without fixed decimals
+JSON_ATOL = 1e-9
+REL_NOISE = 1e-8  # relative reproducibility of the computation (ill-conditioned bends), on top of the printed unit
+PRINT_SLACK = 1.0 + 1e-6  # one printed unit, and the binary round-off of the difference itself
 REFERENCE = "reference"
 # The outputs stored as references; a PLY only where the reference folder already holds one.
 REFERENCE_FORMATS = ("csv", "gcode")
@@ -138,6 +147,36 @@ def _tol_note(a: float, b: float, rtol: float, atol: float) -> str:
     return f"off by {abs(a - b):.3g}, tolerance {tol:.3g}" if math.isfinite(a - b) else ""
 
 
+def printed_unit(text: str) -> float:
+    """One unit in the last place of a number as printed: "391.680" -> 1e-3; 0.0 for an integer."""
+    mantissa, _, exponent = text.lower().partition("e")
+    decimals = len(mantissa.partition(".")[2]) if "." in mantissa else 0
+    if decimals == 0 and not exponent:
+        return 0.0
+    return 10.0 ** (int(exponent or 0) - decimals)
+
+
+def number_tolerance(unit: float, a: float, b: float) -> float:
+    """What two printed numbers may differ by: a unit in the last place plus REL_NOISE relative."""
+    if unit == 0.0:
+        return 0.0
+    return unit * PRINT_SLACK + REL_NOISE * max(abs(a), abs(b))
+
+
+def _printed_close(x: str, y: str, period: float | None = None) -> tuple[bool, str]:
+    """Whether two printed numbers are the same value at their printed precision; a note if not."""
+    a, b = float(x), float(y)
+    if not (math.isfinite(a) and math.isfinite(b)):
+        return (a == b or (math.isnan(a) and math.isnan(b))), ""
+    tol = number_tolerance(max(printed_unit(x), printed_unit(y)), a, b)
+    diff = abs(a - b)
+    if period:
+        diff = abs((a - b + 0.5 * period) % period - 0.5 * period)
+    ok = diff <= tol
+    return ok, ("" if ok else f"off by {diff:.3g}" + (f" modulo {period:g}" if period else "")
+                + f", tolerance {tol:.3g}")
+
+
 # -- JSON ------------------------------------------------------------------------------------------
 def compare_json(expected: str, got: str, rtol: float = JSON_RTOL, atol: float = JSON_ATOL,
                  limit: int = MAX_SHOWN) -> tuple[list[Difference], int]:
@@ -191,14 +230,23 @@ def _walk(a: Any, b: Any, path: str, out: _Collector, rtol: float, atol: float) 
         for i, (x, y) in enumerate(zip(a, b)):
             _walk(x, y, f"{path}[{i}]", out, rtol, atol)
     elif ka == "number":
-        if not _close(float(a), float(b), rtol, atol):
-            out.add(where, a, b, _tol_note(float(a), float(b), rtol, atol))
+        decimals = decimals_of(path) if isinstance(a, float) or isinstance(b, float) else None
+        x, y = float(a), float(b)
+        if isinstance(a, int) and isinstance(b, int):
+            if a != b:
+                out.add(where, a, b)
+        elif decimals is not None and math.isfinite(x) and math.isfinite(y):
+            tol = number_tolerance(10.0 ** -decimals, x, y)
+            if abs(x - y) > tol:
+                out.add(where, a, b, f"off by {abs(x - y):.3g}, tolerance {tol:.3g}")
+        elif not _close(x, y, rtol, atol):
+            out.add(where, a, b, _tol_note(x, y, rtol, atol))
     elif ka == "text" and a != b:
         # Text may quote numbers ("dwells lengthened to 14.561 deg"): the same words, and each
         # number within the tolerance, is the same text.
         pa, pb = _split_numbers(a), _split_numbers(b)
         if len(pa) != len(pb) or any(x != y for x, y in zip(pa[0::2], pb[0::2])) or not all(
-                _close(float(x), float(y), rtol, atol) for x, y in zip(pa[1::2], pb[1::2])):
+                _printed_close(x, y)[0] for x, y in zip(pa[1::2], pb[1::2])):
             out.add(where, json.dumps(a), json.dumps(b))
     elif a != b:
         out.add(where, json.dumps(a), json.dumps(b))
@@ -217,9 +265,10 @@ def _number(text: str) -> float | None:
     return value
 
 
-def compare_csv(expected: str, got: str, atol: float = CSV_ATOL, limit: int = MAX_SHOWN,
-                rtol: float = 0.0) -> tuple[list[Difference], int]:
-    """Differences between two CSV texts, field by field: numbers within atol, text identical."""
+def compare_csv(expected: str, got: str, limit: int = MAX_SHOWN,
+                periodic: dict[str, float] = PERIODIC_COLUMNS) -> tuple[list[Difference], int]:
+    """Differences between two CSV texts, field by field: numbers at their printed precision (the
+    columns in `periodic` modulo their period), text identical."""
     out = _Collector(limit)
     a_lines, b_lines = expected.splitlines(), got.splitlines()
     if not a_lines or not b_lines:
@@ -245,11 +294,12 @@ def compare_csv(expected: str, got: str, atol: float = CSV_ATOL, limit: int = MA
             col = header[j] if j < len(header) else f"field {j + 1}"
             row = ", ".join(f"{header[k]} {fa[k]}" for k in keys if k != j)
             where = f"line {n}" + (f" ({row})" if row else "") + f", column {col}"
-            nx, ny = _number(x), _number(y)
-            if nx is None or ny is None:
+            if _number(x) is None or _number(y) is None:
                 out.add(where, x, y)
-            elif not _close(nx, ny, rtol, atol):
-                out.add(where, x, y, _tol_note(nx, ny, rtol, atol))
+                continue
+            ok, note = _printed_close(x, y, periodic.get(col))
+            if not ok:
+                out.add(where, x, y, note)
     return out.shown, out.count
 
 
@@ -262,10 +312,9 @@ def _split_numbers(line: str) -> list[str]:
     return _NUM.split(line)
 
 
-def compare_lines(expected: str, got: str, atol: float = GCODE_ATOL, limit: int = MAX_SHOWN,
-                  rtol: float = 0.0) -> tuple[list[Difference], int]:
+def compare_lines(expected: str, got: str, limit: int = MAX_SHOWN) -> tuple[list[Difference], int]:
     """Differences between two line-oriented texts (G-code): the same lines with the same words;
-    each number within atol. A difference names the line and the word (`X`, `A`, ...)."""
+    each number at its printed precision. A difference names the line and the word (`X`, `A`, ...)."""
     out = _Collector(limit)
     a_lines, b_lines = expected.splitlines(), got.splitlines()
     if len(a_lines) != len(b_lines):
@@ -278,13 +327,13 @@ def compare_lines(expected: str, got: str, atol: float = GCODE_ATOL, limit: int 
             out.add(f"line {n}", la, lb)
             continue
         for k in range(1, len(pa), 2):
-            x, y = float(pa[k]), float(pb[k])
-            if not _close(x, y, rtol, atol):
+            ok, note = _printed_close(pa[k], pb[k])
+            if not ok:
                 prev = pa[k - 1].rstrip()
                 where = f"line {n}, word {prev[-1]}" if prev[-1:].isalpha() else f"line {n}, number {k // 2 + 1}"
                 if ";" in "".join(pa[:k]):
                     where += " (in a comment)"
-                out.add(where, pa[k], pb[k], _tol_note(x, y, rtol, atol) + f"; line: {lb.strip()}")
+                out.add(where, pa[k], pb[k], note + f"; line: {lb.strip()}")
     return out.shown, out.count
 
 

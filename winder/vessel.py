@@ -18,7 +18,6 @@ from winder.errors import SolverError
 from winder.passes import (
     COVERAGE_STATIONS,
     PlanContext,
-    directions,
     finish_layer,
     make_pass,
     solve_pass,
@@ -96,8 +95,7 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
         warm = (np.concatenate([[knots[i]], guide_s[inside], [knots[i + 1]]]),
                 np.concatenate([[thetas[i]], guide_th[inside], [thetas[i + 1]]]))
         t_a, t_b = (float(v) for v in prof.t_of_s(np.array([knots[i], knots[i + 1]])))
-        s, th, ln, _ = solve_pass(ctx, (t_a, thetas[i]), (t_b, thetas[i + 1]), warm, n_i)
-        d = directions(ctx.surface, s, th)
+        s, th, d, ln, _ = solve_pass(ctx, (t_a, thetas[i]), (t_b, thetas[i + 1]), warm, n_i)
         s_out.append(s if not s_out else s[1:])
         th_out.append(th if not th_out else th[1:])
         d_out.append(d if not d_out else d[1:])

@@ -168,8 +168,11 @@ def _header(plan: WindingPlan, machine: MachineConfig, robot: bool, env: EyeEnve
                   f"; kinematics: eye at mandrel-frame ({ax.cross_feed} cos(-{ax.rotation}), "
                   f"{ax.cross_feed} sin(-{ax.rotation}), {ax.carriage}), on the tangent line of the "
                   "fiber path at its contact point",
-                  f"; yaw: {ax.yaw} = eye rotation about the cross-feed axis from the hoop orientation "
-                  f"(0 hoop, +(90 - alpha) forward, -(90 - alpha) return)"]
+                  f"; yaw: {ax.yaw} = eye rotation about the cross-feed axis from the hoop orientation: "
+                  f"the free fiber's direction d at the eye, {ax.yaw} = atan2(d.z, d.u) with u the eye's "
+                  f"tangential direction (0 hoop, + forward, - return); on a cylinder of radius R with the "
+                  f"eye at {ax.cross_feed}: tan({ax.yaw}) = {ax.cross_feed} / (R tan(alpha)), alpha the "
+                  f"winding angle on the mandrel"]
     if env.constant is not None:
         lines.append(f"; eye envelope: radius {_fmt(env.constant)} mm around the axis")
     else:

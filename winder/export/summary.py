@@ -24,6 +24,16 @@ LENGTH_DECIMALS = 3
 ANGLE_DECIMALS = 4
 FRACTION_DECIMALS = 6
 TIME_DECIMALS = 2
+# The decimals each number is written with, by the end of its key: what `winder regress` compares
+# at (one unit in the last place). A key matching none of these is compared relatively (1e-6).
+DECIMALS_BY_SUFFIX = (("_mm", LENGTH_DECIMALS), ("_deg", ANGLE_DECIMALS), ("_fraction", FRACTION_DECIMALS),
+                      ("_s", TIME_DECIMALS))
+
+
+def decimals_of(key: str) -> int | None:
+    """Decimals the summary writes the number at key path `key` with ("layers[0].alpha_range_deg[1]")."""
+    name = key.rsplit(".", 1)[-1].split("[", 1)[0]
+    return next((d for suffix, d in DECIMALS_BY_SUFFIX if name.endswith(suffix)), None)
 
 
 def _num(value: float | None, decimals: int) -> float | None:

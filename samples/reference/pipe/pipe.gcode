@@ -3,7 +3,7 @@
 ; source: pipe.yaml
 ; machine: straight-axis winder; X carriage (mm), A mandrel rotation (deg, cumulative), Z cross-feed: eye distance from the axis (mm), B eye yaw (deg)
 ; kinematics: eye at mandrel-frame (Z cos(-A), Z sin(-A), X), on the tangent line of the fiber path at its contact point
-; yaw: B = eye rotation about the cross-feed axis from the hoop orientation (0 hoop, +(90 - alpha) forward, -(90 - alpha) return)
+; yaw: B = eye rotation about the cross-feed axis from the hoop orientation: the free fiber's direction d at the eye, B = atan2(d.z, d.u) with u the eye's tangential direction (0 hoop, + forward, - return); on a cylinder of radius R with the eye at Z: tan(B) = Z / (R tan(alpha)), alpha the winding angle on the mandrel
 ; eye envelope: clearance 20.000 mm from the mandrel
 ; feed 3000.000 mm/min, chord tolerance 0.050 mm
 ; layers: 2, fiber 59860.955 mm
