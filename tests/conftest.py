@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from winder.config import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, LineAxis,
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, LineAxis,
                            MandrelConfig)
-from winder.surface import SweepSurface, build_surface
+from winder.geometry.surface import SweepSurface, build_surface
 
 
 def surface_of(axis, profile=None, section=None) -> SweepSurface:

@@ -7,14 +7,13 @@ import json
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
-from winder.bench import run_bench, tiny, write_outputs
-from winder.bench.baselines import bvp_geodesic, grid_for, length_and_gradient, seed_chain
-from winder.bench.cases import cases, cone_length, developable_tube_length, ellipse_perimeter
-from winder.bench.table1 import frontier, verdict_text, verdicts
-from winder.cli import main
-from winder.geodesic import geodesic
+from bench import run_bench, tiny, write_outputs
+from bench.__main__ import main as bench_main
+from bench.baselines import bvp_geodesic, grid_for, length_and_gradient, seed_chain
+from bench.cases import cases, cone_length, developable_tube_length, ellipse_perimeter
+from bench.table1 import frontier, verdict_text, verdicts
+from winder.paths.geodesic import geodesic
 
 
 @pytest.fixture(scope="module")
@@ -59,9 +58,8 @@ def test_from_json_rewrites_the_page(tiny_run, monkeypatch):
     before = (out / "RESULTS.md").read_text()
     (out / "RESULTS.md").unlink()
     # The figures were checked above; skip redrawing them here (matplotlib is the slow part).
-    monkeypatch.setattr("winder.bench.figures.make_figures", lambda results, path: ([], []))
-    res = CliRunner().invoke(main, ["bench", "-o", str(out), "--from-json"])
-    assert res.exit_code == 0, res.output
+    monkeypatch.setattr("bench.figures.make_figures", lambda results, path: ([], []))
+    assert bench_main(["-o", str(out), "--from-json"]) == 0
     after = (out / "RESULTS.md").read_text()
     assert after.startswith("# winder benchmarks")
     def table1(page):
@@ -151,7 +149,7 @@ def test_verdicts_say_plainly_where_winder_is_behind():
 
 
 def test_speed_check_runs_and_reports_its_stop():
-    from winder.bench.speed import measure  # noqa: PLC0415
+    from bench.speed import measure  # noqa: PLC0415
 
     rep = measure(repeats=1, lbfgs_cap=20, sizes=(100,))
     assert rep.lbfgs_iterations <= 20 and rep.lbfgs_stop == "iteration cap"

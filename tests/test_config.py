@@ -1,4 +1,4 @@
-"""winder.config: valid job files parse to the right dataclasses; invalid ones are refused with
+"""winder.config.mandrel: valid job files parse to the right dataclasses; invalid ones are refused with
 messages naming the file, the key path and the value (SPEC.md, "Invalid mandrels")."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from winder.config import (
+from winder.config.mandrel import (
     ArcAxis,
     CircleSection,
     ConeProfile,

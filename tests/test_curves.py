@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-from winder.config import ArcAxis, LineAxis, PathAxis, SplineAxis
-from winder.curves import make_curve
-from winder.frames import double_reflection
+from winder.config.mandrel import ArcAxis, LineAxis, PathAxis, SplineAxis
+from winder.geometry.curves import make_curve
+from winder.geometry.frames import double_reflection
 
 EXACT_TOL = 1e-12  # closed-form geometry (mm, or dimensionless for unit vectors), scaled below
 FRAME_TOL = 1e-12  # orthonormality / right-handedness of exact frames

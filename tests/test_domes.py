@@ -19,11 +19,11 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import ellipeinc
 
-from winder.config import Dome, DomeType, VesselProfile
-from winder.domes import (ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING, ISOTENSOID_MIN_OPENING, DomeMeridian,
+from winder.config.mandrel import Dome, DomeType, VesselProfile
+from winder.geometry.domes import (ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING, ISOTENSOID_MIN_OPENING, DomeMeridian,
                           VesselMeridian, make_dome, make_vessel)
 from winder.errors import ConfigError
-from winder.profiles import make_profile
+from winder.geometry.profiles import make_profile
 
 R = 100.0  # vessel radius used throughout, mm
 EPS = np.finfo(float).eps

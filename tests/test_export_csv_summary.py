@@ -11,7 +11,7 @@ import pytest
 
 from conftest import surface_of
 from test_machine import cylinder_plan
-from winder.config import ConstantProfile, LineAxis
+from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.export.job_csv import job_csv_text
 from winder.export.summary import summary_dict, summary_text
 

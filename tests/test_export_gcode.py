@@ -9,11 +9,11 @@ import pytest
 
 from conftest import surface_of
 from test_machine import cylinder_plan, geodesic_pass, make_layer
-from winder.config import ArcAxis, ConstantProfile, LineAxis
-from winder.config_job import MachineAxes, MachineConfig, MachineLimits
+from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
+from winder.config.winding import MachineAxes, MachineConfig, MachineLimits
 from winder.errors import ExportError
-from winder.export.gcode import gcode_text, program_moves, reduce_points
-from winder.plan import PassKind, WindingPlan
+from winder.export.dialects.generic import gcode_text, program_moves, reduce_points
+from winder.winding.results import PassKind, WindingPlan
 
 TANGENT_TOL = 0.01  # mm: a programmed eye from its contact point's tangent line (SPEC rounding: 3 decimals)
 ROUND_SLACK = 0.002  # mm: what 3-decimal rounding may add to a chord deviation

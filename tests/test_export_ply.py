@@ -10,10 +10,10 @@ import trimesh
 
 from conftest import surface_of
 from test_machine import cylinder_plan, geodesic_pass, make_layer
-from winder.config import ArcAxis, ConstantProfile, LineAxis
+from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
 from winder.errors import ExportError
 from winder.export.ply import MANDREL_COLOR, band_color, ply_bytes
-from winder.plan import PassKind, WindingPlan
+from winder.winding.results import PassKind, WindingPlan
 
 AREA_REL = 0.01  # band area against fiber length x band width (brief: 1 %)
 MANDREL_AREA_REL = 1e-3  # a 128-gon cylinder: area factor 1 - (pi/128)^2 / 6 ~ 1 - 1e-4

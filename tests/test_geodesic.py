@@ -8,7 +8,7 @@ from scipy.interpolate import CubicSpline
 
 from conftest import ellipse_arc
 from winder.errors import ConfigError
-from winder.geodesic import Method, energy_terms, geodesic, solve_path, straight_path
+from winder.paths.geodesic import Method, energy_terms, geodesic, solve_path, straight_path
 
 SMOOTH_REL = 1e-9  # smooth-path length, n = 200, on developable tubes
 FD_REL = 1e-5  # finite-difference checks of gradient and Hessian
@@ -109,7 +109,7 @@ def test_gradient_and_hessian_finite_differences(name, request):
 @pytest.fixture(scope="module")
 def bend_truth(quarter_bend):
     """Quarter bend, 1 extra round, by two-point shooting (independent of the variational solver)."""
-    from winder.shooting import shoot  # noqa: PLC0415
+    from winder.paths.shooting import shoot  # noqa: PLC0415
 
     res = shoot(quarter_bend, (0.0, 0.0), (quarter_bend.length, np.pi / 2), rounds=1)
     assert res.converged
@@ -196,9 +196,9 @@ def test_station_outside_mandrel_refused(straight_tube):
 
 
 def test_path_over_the_polar_opening_refused():
-    from winder.config import parse_config  # noqa: PLC0415
+    from winder.config.mandrel import parse_config  # noqa: PLC0415
     from winder.errors import SolverError  # noqa: PLC0415
-    from winder.surface import build_surface  # noqa: PLC0415
+    from winder.geometry.surface import build_surface  # noqa: PLC0415
 
     job = parse_config({"name": "v", "mandrel": {"profile": {
         "type": "vessel", "radius": 100, "cylinder_length": 300,
@@ -212,8 +212,8 @@ def test_path_over_the_polar_opening_refused():
 
 def test_hemisphere_great_circle():
     """On a hemispherical dome geodesics are great circles: length = R * central angle."""
-    from winder.config import parse_config  # noqa: PLC0415
-    from winder.surface import build_surface  # noqa: PLC0415
+    from winder.config.mandrel import parse_config  # noqa: PLC0415
+    from winder.geometry.surface import build_surface  # noqa: PLC0415
 
     job = parse_config({"name": "v", "mandrel": {"profile": {
         "type": "vessel", "radius": 100, "cylinder_length": 300,

@@ -1,4 +1,4 @@
-"""winder.jobs: a job's outputs are all-or-nothing (a failed job leaves no file of its own, not even
+"""winder.app.jobs: a job's outputs are all-or-nothing (a failed job leaves no file of its own, not even
 a partial one) and reproducible: byte-identical from run to run and whatever the number of worker
 processes."""
 
@@ -11,11 +11,11 @@ import pytest
 from click.testing import CliRunner
 
 import winder.export.atomic
-import winder.export.gcode
+import winder.export.dialects.generic
 import winder.export.ply
 from winder.cli import main
 from winder.errors import ExportError
-from winder.jobs import ALL_FORMATS, JobReport, JobTask, exit_status, output_names, run_job, run_jobs
+from winder.app.jobs import ALL_FORMATS, JobReport, JobTask, exit_status, output_names, run_job, run_jobs
 
 ROOT = Path(__file__).resolve().parent.parent
 SAMPLES = ROOT / "samples"
@@ -161,7 +161,7 @@ def test_unexpected_exception_is_an_internal_error(tiny, tmp_path, monkeypatch):
     def buggy(plan, machine):
         raise ZeroDivisionError("float division by zero")
 
-    monkeypatch.setattr(winder.export.gcode, "gcode_text", buggy)
+    monkeypatch.setattr(winder.export.dialects.generic, "gcode_text", buggy)
     report = run_job(tiny, tmp_path / "out")
     assert not report.ok and report.exit_code == 1
     assert "internal error (ZeroDivisionError: float division by zero)" in report.message
@@ -173,7 +173,7 @@ def test_cli_failing_exporter_leaves_nothing(tiny, tmp_path, monkeypatch):
     def broken(plan, machine):
         raise ExportError(f"{plan.source}: machine.limits.carriage: exceeded")
 
-    monkeypatch.setattr(winder.export.gcode, "gcode_text", broken)
+    monkeypatch.setattr(winder.export.dialects.generic, "gcode_text", broken)
     out = tmp_path / "out"
     result = CliRunner().invoke(main, ["run", str(tiny), "-o", str(out)])
     assert result.exit_code == 1

@@ -11,12 +11,12 @@ import pytest
 from scipy.interpolate import CubicSpline
 
 from conftest import surface_of
-from winder.config import ArcAxis, ConeProfile, ConstantProfile, EllipseSection, LineAxis
-from winder.config_job import LayerType, MachineConfig, MachineLimits
+from winder.config.mandrel import ArcAxis, ConeProfile, ConstantProfile, EllipseSection, LineAxis
+from winder.config.winding import LayerType, MachineConfig, MachineLimits
 from winder.errors import ExportError
-from winder.geodesic import geodesic
-from winder.machine import check_limits, eye_envelope, eye_path, robot_poses
-from winder.plan import Coverage, FiberPass, LayerPlan, PassKind, WindingPlan, winding_angle_deg
+from winder.paths.geodesic import geodesic
+from winder.machine.kinematics import check_limits, eye_envelope, eye_path, robot_poses
+from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, WindingPlan, winding_angle_deg
 
 ON_LINE_TOL = 1e-9  # mm: the eye is constructed on the tangent line
 ENVELOPE_TOL = 1e-9  # mm: radius mode is a closed form
@@ -294,8 +294,8 @@ def test_robot_poses_on_tangent_line_and_tube(bend, machine, radius):
 
 @pytest.fixture(scope="module")
 def vessel():
-    from winder.config import Dome, DomeType, MandrelConfig, VesselProfile  # noqa: PLC0415
-    from winder.surface import build_surface  # noqa: PLC0415
+    from winder.config.mandrel import Dome, DomeType, MandrelConfig, VesselProfile  # noqa: PLC0415
+    from winder.geometry.surface import build_surface  # noqa: PLC0415
     dome = Dome(DomeType.HEMISPHERE, 30.0)
     return build_surface(MandrelConfig(None, VesselProfile(100.0, 300.0, dome, dome)), "v.yaml", "v")
 

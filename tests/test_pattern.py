@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from winder.errors import ConfigError
-from winder.pattern import (circuits_for_coverage, close_open_pattern, close_vessel_pattern, coprime_skips,
+from winder.winding.pattern import (circuits_for_coverage, close_open_pattern, close_vessel_pattern, coprime_skips,
                             slot_of_circuit, slots_filled)
 
 CLOSE = 1e-12

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from winder.config import parse_config
+from winder.config.mandrel import parse_config
 from winder.errors import ConfigError, SolverError
-from winder.plan import PassKind
-from winder.planner import plan
+from winder.winding.results import PassKind
+from winder.winding.plan import plan
 
 CLAIRAUT_REL = 1e-6
 COVERED = 0.999

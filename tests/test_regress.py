@@ -1,4 +1,4 @@
-"""winder.regress: the comparison of outputs with their references (tolerances, structure, readable
+"""winder.app.regress: the comparison of outputs with their references (tolerances, structure, readable
 differences) and the sample runner, with a stand-in job so that these tests need no planning."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from winder.errors import ConfigError
-from winder.jobs import JobReport
-from winder.regress import (
+from winder.app.jobs import JobReport
+from winder.app.regress import (
     Difference,
     compare_csv,
     compare_file,

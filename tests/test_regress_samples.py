@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from winder import geodesic as geodesic_module
-from winder.regress import format_result, regress
+from winder.app.regress import format_result, regress
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
@@ -96,7 +96,7 @@ def test_tighter_newton_stop_is_noise(tmp_path, monkeypatch):
 # Runs regress in a fresh process with the samples in reverse order.
 REVERSED_REGRESS = """
 import sys
-import winder.regress as r
+import winder.app.regress as r
 found = r.find_samples
 r.find_samples = lambda folder: found(folder)[::-1]
 results = r.regress(sys.argv[1])

@@ -1,4 +1,4 @@
-"""Geodesic shooting (winder.shooting) against closed forms, Clairaut, and the variational solver.
+"""Geodesic shooting (winder.paths.shooting) against closed forms, Clairaut, and the variational solver.
 
 Every truth here is independent of winder: helices on a cylinder, the unrolled cone sector, the
 unrolled (developable) elliptic tube with the section's arc length by quadrature, great circles on a
@@ -14,7 +14,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipeinc
 
-from winder.config import (
+from winder.config.mandrel import (
     ArcAxis,
     CircleSection,
     ConeProfile,
@@ -27,9 +27,9 @@ from winder.config import (
     VesselProfile,
 )
 from winder.errors import ConfigError, SolverError
-from winder.geodesic import geodesic
-from winder.shooting import clairaut_constant, shoot, trace, trace_fan
-from winder.surface import build_surface
+from winder.paths.geodesic import geodesic
+from winder.paths.shooting import clairaut_constant, shoot, trace, trace_fan
+from winder.geometry.surface import build_surface
 
 HELIX_TOL = 1e-9  # mm: traced helix vs closed form (s, and R * theta)
 SPEED_TOL = 1e-10  # | |J u'| - 1 |: the arc-length parametrization holds along a trace
@@ -280,7 +280,7 @@ def test_shoot_reports_a_geodesic_that_leaves_the_mandrel():
 
 
 def test_shoot_falls_back_to_minpack(monkeypatch):
-    import winder.shooting as shooting
+    import winder.paths.shooting as shooting
 
     monkeypatch.setattr(shooting, "MAX_NEWTON", 0)
     r = shooting.shoot(tube(), (20.0, 0.0), (180.0, 3.0), guess=(60.0, 250.0))
@@ -291,7 +291,7 @@ def test_shoot_falls_back_to_minpack(monkeypatch):
 
 def test_heading_convention_on_a_non_orthogonal_parametrization():
     # A cone with an elliptic section: R(s, theta) depends on both, so Phi_s . Phi_theta != 0.
-    from winder.shooting import heading_of_velocity, velocity_of_heading
+    from winder.paths.shooting import heading_of_velocity, velocity_of_heading
 
     surf = build_surface(MandrelConfig(LineAxis(200.0), ConeProfile(50.0, 30.0), EllipseSection(60.0, 35.0)))
     s = np.array([10.0, 80.0, 150.0, 190.0])

@@ -13,14 +13,14 @@ import itertools
 import numpy as np
 import pytest
 
-from winder.config import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, LineAxis,
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, LineAxis,
                            MandrelConfig, PathAxis, RoundedRectangleSection, SplineAxis, SuperellipseSection,
                            TableProfile)
-from winder.curves import make_curve
+from winder.geometry.curves import make_curve
 from winder.errors import ConfigError
-from winder.profiles import make_profile
-from winder.sections import Circle, RoundedRectangle, make_section
-from winder.surface import SweepSurface, build_surface
+from winder.geometry.profiles import make_profile
+from winder.geometry.sections import Circle, RoundedRectangle, make_section
+from winder.geometry.surface import SweepSurface, build_surface
 
 EXACT_TOL = 1e-10  # mm: closed-form positions (round-off on lengths ~ 100 mm)
 H_S = 1e-4  # mm, finite-difference step along the axis

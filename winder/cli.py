@@ -16,13 +16,13 @@ import click
 import numpy as np
 
 from winder import __version__
-from winder.config import load_config
+from winder.config.mandrel import load_config
 from winder.errors import ConfigError, SolverError
-from winder.geodesic import DEFAULT_POINTS, Method, geodesic
-from winder import regress as regress_mod
-from winder.jobs import (FORMATS, JobReport, JobTask, default_workers, error_message, exit_code_of,
+from winder.paths.geodesic import DEFAULT_POINTS, Method, geodesic
+from winder.app import regress as regress_mod
+from winder.app.jobs import (FORMATS, JobReport, JobTask, default_workers, error_message, exit_code_of,
                          exit_status, run_jobs)
-from winder.surface import build_surface
+from winder.geometry.surface import build_surface
 
 
 def _error(exc: BaseException, source: str | None = None) -> int:
@@ -36,7 +36,7 @@ def _error(exc: BaseException, source: str | None = None) -> int:
 def _guard(fn: Callable) -> Callable:
     """Turn winder's errors into `Error: ...` and the SPEC exit codes; never a traceback.
 
-    The one place where an exception becomes an exit status (through winder.jobs.exit_code_of, which
+    The one place where an exception becomes an exit status (through winder.app.jobs.exit_code_of, which
     the batch commands use for each of their jobs as well)."""
 
     @functools.wraps(fn)
@@ -285,48 +285,6 @@ def regress_cmd(directory: str, update: bool, jobs: int) -> None:
     status = regress_mod.regress_exit_status(results)
     if status:
         sys.exit(status)
-
-
-# -- bench -----------------------------------------------------------------------------------------
-@main.command("bench", short_help="Benchmark against the paper and baselines; write the results page.")
-@click.option("--quick", is_flag=True, help="A smaller run (about a minute) instead of the full one.")
-@click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default="winder/bench/results",
-              show_default=True, help="Folder for RESULTS.md, results.json and the figures.")
-@click.option("--from-json", is_flag=True, help="Only rewrite RESULTS.md and the figures from OUTPUT_DIR/results.json.")
-@click.option("--speed", "speed_cap", type=click.IntRange(min=1), default=None, metavar="LBFGS_CAP",
-              help="Only the solver speed check: Newton vs L-BFGS (capped at LBFGS_CAP iterations), growth with n.")
-@_guard
-def bench_cmd(quick: bool, out_dir: str, from_json: bool, speed_cap: int | None) -> None:
-    """Regenerate the benchmark tables and plots (Markdown, JSON, PNG) in one run.
-
-    Optional baselines (pip install .[bench]; fiberpath separately) are skipped with a note when missing.
-    """
-    import time  # noqa: PLC0415
-
-    from winder.bench import FULL, QUICK, report_from_json, run_bench, write_outputs  # noqa: PLC0415
-
-    if speed_cap is not None:
-        from winder.bench.speed import measure  # noqa: PLC0415
-
-        rep = measure(lbfgs_cap=speed_cap)
-        click.echo(f"quarter bend, 1 round, n = 1000: newton {rep.newton_ms:.2f} ms (median, {rep.newton_steps} "
-                   f"Newton steps over all levels; one more step changes the length by {rep.newton_change:.1e})")
-        click.echo(f"  lbfgs {rep.lbfgs_s:.2f} s, {rep.lbfgs_iterations} iterations, stopped at: {rep.lbfgs_stop} "
-                   f"(length gap {rep.lbfgs_gap:.1e}); lbfgs / newton = {rep.ratio:.0f}x")
-        for n, secs in rep.growth:
-            click.echo(f"  newton n = {n:>7d}: {secs * 1e3:8.1f} ms ({secs / n * 1e6:.2f} us per point)")
-        return
-    if from_json:
-        click.echo(f"wrote {report_from_json(out_dir)}")
-        return
-    t0 = time.perf_counter()
-
-    def say(msg: str) -> None:
-        click.echo(f"[{time.perf_counter() - t0:6.1f} s] {msg}", err=True)
-
-    results = run_bench(QUICK if quick else FULL, progress=say)
-    for path in write_outputs(results, out_dir, progress=say):
-        click.echo(f"wrote {path}")
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -18,7 +18,7 @@ import re
 
 import numpy as np
 
-from winder.plan import WindingPlan
+from winder.winding.results import WindingPlan
 
 HEADER = "layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind"
 DECIMALS = 6

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from winder.export.atomic import write_atomic
-from winder.geodesic import GeodesicResult
+from winder.paths.geodesic import GeodesicResult
 
 HEADER = "i,t,theta_deg,x,y,z"
 

@@ -21,7 +21,7 @@ import trimesh
 from trimesh.exchange.ply import export_ply
 
 from winder.errors import ExportError
-from winder.plan import FiberPass, PassKind, WindingPlan
+from winder.winding.results import FiberPass, PassKind, WindingPlan
 
 MANDREL_COLOR = (190, 190, 190, 255)
 LAYER_OFFSET = 0.05  # mm per layer index, along the outward normal

@@ -18,7 +18,7 @@ import json
 import math
 from typing import Any
 
-from winder.plan import LayerPlan, WindingPlan
+from winder.winding.results import LayerPlan, WindingPlan
 
 LENGTH_DECIMALS = 3
 ANGLE_DECIMALS = 4

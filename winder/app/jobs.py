@@ -1,0 +1,334 @@
+"""One `winder run` job, start to finish, and batches of them on a process pool.
+
+A job: load the config -> plan every layer -> render every requested output in memory -> only then
+write them all, each atomically. If anything fails, the files this call already renamed into place
+are removed again (and earlier outputs they replaced are put back), so a failed job leaves no file
+of its own behind, not even a partial one (SPEC.md). Timings go into the JobReport (the console), never into the files, so a job's outputs
+are byte-identical from run to run and whatever the number of worker processes.
+
+No click here: the CLI (winder.cli) and the regression runner (winder.app.regress) both build on this.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from pathlib import Path
+
+from winder.errors import ConfigError, WinderError
+
+__all__ = [
+    "ALL_FORMATS", "FORMATS", "JobReport", "JobTask", "error_message", "exit_status", "output_names",
+    "render_outputs", "run_job", "run_jobs",
+]
+
+# Optional outputs of `run`, in the order they are written; `<name>.summary.json` is always written.
+FORMATS = ("csv", "gcode", "ply")
+ALL_FORMATS = FORMATS
+SUMMARY_SUFFIX = ".summary.json"
+_SUFFIX = {"csv": ".csv", "gcode": ".gcode", "ply": ".ply"}
+
+
+@dataclass(frozen=True)
+class JobReport:
+    """What happened to one config.
+
+    config: the config path as given. name: the job name (None if the config could not be read).
+    ok: all outputs written. exit_code: 0, or the SPEC exit status of the failure (2 invalid config,
+    1 not computable / not writable). message: the one-line error (starting with the config path),
+    "" when ok. outputs: the files written (paths as strings, in writing order; empty on failure).
+    fiber_length_mm, layers: of the plan (None / 0 when planning failed). seconds: wall time.
+    """
+
+    config: str
+    name: str | None
+    ok: bool
+    exit_code: int
+    message: str
+    outputs: tuple[str, ...] = ()
+    fiber_length_mm: float | None = None
+    layers: int = 0
+    seconds: float = 0.0
+
+    @property
+    def status(self) -> str:
+        if self.ok:
+            return "ok"
+        return "invalid" if self.exit_code == 2 else "failed"
+
+
+def error_message(exc: BaseException, source: str | None = None) -> str:
+    """The one-line message of an error (without the `Error: ` prefix), starting with source.
+
+    WinderError messages name their file already; an unexpected exception is a bug in winder and
+    says so, rather than showing a traceback.
+    """
+    if isinstance(exc, WinderError):
+        text = str(exc).strip() or type(exc).__name__
+    else:
+        text = f"internal error ({type(exc).__name__}: {exc}); please report it"
+    text = " ".join(text.splitlines())  # one line per problem
+    if source and not text.startswith(f"{source}:"):
+        text = f"{source}: {text}"
+    return text
+
+
+def exit_code_of(exc: BaseException) -> int:
+    """SPEC exit status of an error: the WinderError's own (2 invalid input, 1 not computable); 1
+    for anything unexpected."""
+    return int(exc.exit_code) if isinstance(exc, WinderError) else 1
+
+
+def exit_status(codes: Iterable[int]) -> int:
+    """The exit status of a batch: 2 if any config was invalid, else 1 if any job failed, else 0."""
+    codes = set(codes)
+    if 2 in codes:
+        return 2
+    if codes - {0}:
+        return 1
+    return 0
+
+
+def output_names(name: str, formats: Iterable[str]) -> list[str]:
+    """File names of a job's outputs, in writing order: the requested formats, then the summary."""
+    wanted = set(formats)
+    unknown = wanted - set(FORMATS)
+    if unknown:
+        raise ConfigError(f"--format: unknown format {sorted(unknown)[0]!r}; allowed: {', '.join(FORMATS)}")
+    return [name + _SUFFIX[f] for f in FORMATS if f in wanted] + [name + SUMMARY_SUFFIX]
+
+
+def render_outputs(job, plan, formats: Iterable[str]) -> dict[str, bytes]:
+    """Every requested output of a planned job, in memory: file name -> bytes (writing order)."""
+    import json  # noqa: PLC0415
+
+    from winder.export import summary  # noqa: PLC0415
+
+    wanted = set(formats)
+    rendered: dict[str, bytes] = {}
+    if "csv" in wanted:
+        from winder.export.job_csv import job_csv_text  # noqa: PLC0415
+
+        rendered[job.name + ".csv"] = _as_bytes(job_csv_text(plan))
+    if "gcode" in wanted:
+        from winder.export.dialects.generic import gcode_text  # noqa: PLC0415
+
+        rendered[job.name + ".gcode"] = _as_bytes(gcode_text(plan, job.machine))
+    if "ply" in wanted:
+        from winder.export.ply import ply_bytes  # noqa: PLC0415
+
+        rendered[job.name + ".ply"] = _as_bytes(ply_bytes(plan, job.winding.band_width))
+    text = summary.summary_text(plan)
+    # The summary must be JSON (regress and other tools read it); refuse anything else here rather
+    # than write a file nobody can read.
+    try:
+        json.loads(text)
+    except ValueError as exc:
+        raise WinderError(f"{job.source}: internal error: the summary is not valid JSON ({exc}); "
+                          "please report it") from exc
+    rendered[job.name + SUMMARY_SUFFIX] = _as_bytes(text)
+    expected = output_names(job.name, wanted)
+    assert list(rendered) == expected, (list(rendered), expected)  # noqa: S101 - an invariant
+    return rendered
+
+
+def _as_bytes(data: str | bytes) -> bytes:
+    return data.encode("utf-8") if isinstance(data, str) else bytes(data)
+
+
+def _plan(job):
+    from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
+
+    if job.winding is None:
+        raise ConfigError(f"{job.source}: winding: required key missing; `run` needs a winding plan "
+                          "(band_width and layers)")
+    return plan(job)
+
+
+def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
+    """Write the rendered files, each atomically, and return their paths.
+
+    All or nothing: on any failure (or an interrupt) the files this call already put in place are
+    taken back again; where one replaced the output of an earlier run, that earlier file is put
+    back (it is kept as a hard link until the end), so the folder holds the old set or the new set,
+    never a mix.
+    """
+    from winder.export.atomic import write_atomic  # noqa: PLC0415
+
+    folder = Path(out_dir)
+    written: list[Path] = []
+    backups: dict[Path, Path] = {}
+    try:
+        for file_name, data in rendered.items():
+            path = folder / file_name
+            backup = _keep_old(path)
+            if backup is not None:
+                backups[path] = backup
+            write_atomic(path, data)
+            written.append(path)
+    except BaseException:
+        for path in reversed(written):
+            try:
+                if path in backups:
+                    os.replace(backups.pop(path), path)
+                else:
+                    path.unlink(missing_ok=True)
+            except OSError:
+                pass
+        raise
+    finally:
+        for backup in backups.values():
+            try:
+                backup.unlink(missing_ok=True)
+            except OSError:
+                pass
+    return [str(p) for p in written]
+
+
+def _keep_old(path: Path) -> Path | None:
+    """A hard link to an existing file at path (to put it back if the job fails), or None."""
+    if not path.is_file():
+        return None
+    backup = path.with_name(f".{path.name}.{os.getpid()}.old")
+    try:
+        backup.unlink(missing_ok=True)
+        os.link(path, backup)
+    except OSError:  # no hard links here (some network or FAT folders): no way back, as without
+        return None
+    return backup
+
+
+def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
+            formats: Sequence[str] = ALL_FORMATS, source: str | None = None) -> JobReport:
+    """Run one job: load, plan, render in memory, then write. Never raises for a failing job (the
+    failure is in the report); only KeyboardInterrupt / SystemExit pass through. A top-level
+    function with picklable arguments and result, so it runs on a process pool.
+
+    source: the config's name in messages and in the outputs (which may record it) once the file
+    is read; default the path as given. `regress` passes the bare file name, so that outputs do not
+    depend on the folder the samples were run from.
+    """
+    import dataclasses  # noqa: PLC0415
+
+    from winder.config.mandrel import load_config  # noqa: PLC0415
+
+    config = os.fspath(config_path)
+    shown = config
+    started = time.perf_counter()
+    name: str | None = None
+    plan = None
+    try:
+        formats = tuple(formats)
+        output_names("x", formats)  # refuses an unknown format before any work
+        job = load_config(config)
+        if source is not None:
+            job = dataclasses.replace(job, source=source)
+            shown = source
+        name = job.name
+        plan = _plan(job)
+        rendered = render_outputs(job, plan, formats)
+        outputs = write_outputs(out_dir, rendered)
+    except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback
+        return JobReport(config, name, False, exit_code_of(exc), error_message(exc, shown),
+                         (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
+    return JobReport(config, name, True, 0, "", tuple(outputs), _fiber_length(plan), _layer_count(plan),
+                     time.perf_counter() - started)
+
+
+def _fiber_length(plan) -> float | None:
+    try:
+        return None if plan is None else float(plan.total_fiber_length_mm)
+    except Exception:  # noqa: BLE001
+        return None
+
+
+def _layer_count(plan) -> int:
+    try:
+        return 0 if plan is None else len(plan.layers)
+    except Exception:  # noqa: BLE001
+        return 0
+
+
+# -- batches ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class JobTask:
+    """One job of a batch: run_job(config, out_dir, formats[, source])."""
+
+    config: str
+    out_dir: str
+    formats: tuple[str, ...] = ALL_FORMATS
+    source: str | None = None  # see run_job
+
+    def submit_args(self) -> tuple[tuple, dict]:
+        return (self.config, self.out_dir, self.formats), ({"source": self.source} if self.source else {})
+
+
+def default_workers() -> int:
+    """One worker per CPU this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not on every platform
+        return max(1, os.cpu_count() or 1)
+
+
+def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
+             job: Callable[..., JobReport] = run_job) -> Iterator[tuple[int, JobReport]]:
+    """Run the tasks, yielding (index, report) as each finishes (completion order).
+
+    workers == 1 (or a single task) runs in this process, in order; otherwise a pool of that many
+    worker processes (never more than there are tasks). A worker process that dies (killed, out of
+    memory) breaks the pool: the jobs it took down are run again, each alone in a fresh process, so
+    only the job that kills its worker fails (exit status 1) and the others still run. job is run_job (replaceable
+    for tests; it must be picklable for workers > 1).
+    """
+    workers = max(1, min(int(workers), len(tasks)))
+    if workers == 1:
+        for i, task in enumerate(tasks):
+            args, kwargs = task.submit_args()
+            yield i, job(*args, **kwargs)
+        return
+    pool = ProcessPoolExecutor(max_workers=workers)
+    retry: list[int] = []
+    try:
+        futures: dict[Future, int] = {
+            pool.submit(job, *task.submit_args()[0], **task.submit_args()[1]): i for i, task in enumerate(tasks)
+        }
+        pending = set(futures)
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in sorted(done, key=futures.__getitem__):
+                i = futures[future]
+                try:
+                    report = future.result()
+                except BrokenProcessPool:
+                    # A worker died; every job not finished by then fails with the pool, though only
+                    # one of them killed it. Each gets a second chance, alone, below.
+                    retry.append(i)
+                    continue
+                except Exception as exc:  # noqa: BLE001 - e.g. an unpicklable result
+                    report = _worker_failure(tasks[i].config, exc)
+                yield i, report
+    finally:
+        # On an interrupt or an abandoned generator: drop what has not started.
+        pool.shutdown(wait=True, cancel_futures=True)
+    for i in sorted(retry):
+        task = tasks[i]
+        with ProcessPoolExecutor(max_workers=1) as alone:
+            try:
+                args, kwargs = task.submit_args()
+                report = alone.submit(job, *args, **kwargs).result()
+            except Exception as exc:  # noqa: BLE001 - this job kills its worker: it fails, alone
+                report = _worker_failure(task.config, exc)
+        yield i, report
+
+
+def _worker_failure(config: str, exc: BaseException) -> JobReport:
+    if isinstance(exc, BrokenProcessPool):
+        what = "the worker process running this job died (killed, or out of memory?)"
+    else:
+        what = f"the worker process failed ({type(exc).__name__}: {exc})"
+    return JobReport(config, None, False, 1, error_message(WinderError(what), config))

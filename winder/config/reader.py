@@ -1,0 +1,211 @@
+"""Reading a job file's values: a YAML 1.2 loader and the Reader that checks each value.
+
+Every error a Reader raises is a ConfigError reading `<file>: <key.path>: <what is wrong>, got
+<value>` (SPEC.md); the parsers of winder.config.mandrel and winder.config.winding use nothing else.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import yaml
+
+from winder.errors import ConfigError
+
+MAX_SIZE = 1e6  # the largest length (mm), feed (mm/min) or other positive size a config may give
+
+
+# -- reading YAML ----------------------------------------------------------------------------------
+class YamlLoader(yaml.SafeLoader):
+    """SafeLoader reading plain scalars by the YAML 1.2 core schema, refusing duplicate keys.
+
+    PyYAML follows YAML 1.1, where `1e-3` is a string, `no` and `off` are false, `1:30` is 90 and
+    `2024-01-01` is a date: surprises for a process engineer typing a tolerance or a name. A
+    duplicate key silently wins in PyYAML; here it is an error, since one of the two is a typo.
+    """
+
+    yaml_implicit_resolvers: dict[str, list[tuple[str, re.Pattern[str]]]] = {}
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
+        seen: set[Any] = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=True)
+            try:
+                duplicate = key in seen
+            except TypeError:  # an unhashable key: the base class reports it
+                continue
+            if duplicate:
+                raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}",
+                                                        key_node.start_mark)
+            seen.add(key)
+        return super().construct_mapping(node, deep)
+
+
+def _construct_int(loader: YamlLoader, node: yaml.ScalarNode) -> int:
+    text = loader.construct_scalar(node)
+    base = 16 if text.startswith("0x") else 8 if text.startswith("0o") else 10
+    return int(text[2:] if base != 10 else text, base)
+
+
+def _construct_float(loader: YamlLoader, node: yaml.ScalarNode) -> float:
+    text = loader.construct_scalar(node).lower()
+    if text.endswith(".inf"):
+        return -math.inf if text.startswith("-") else math.inf
+    return math.nan if text == ".nan" else float(text)
+
+
+def _construct_bool(loader: YamlLoader, node: yaml.ScalarNode) -> bool:
+    return loader.construct_scalar(node).lower() == "true"
+
+
+YamlLoader.add_implicit_resolver("tag:yaml.org,2002:null", re.compile(r"^(?:~|null|Null|NULL|)$"),
+                              ["~", "n", "N", ""])
+YamlLoader.add_implicit_resolver("tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"),
+                              list("tTfF"))
+# int before float: both match "12", and the first match wins.
+YamlLoader.add_implicit_resolver("tag:yaml.org,2002:int",
+                              re.compile(r"^(?:[-+]?[0-9]+|0o[0-7]+|0x[0-9a-fA-F]+)$"),
+                              list("-+0123456789"))
+YamlLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
+               r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$"),
+    list("-+.0123456789"))
+YamlLoader.add_constructor("tag:yaml.org,2002:int", _construct_int)
+YamlLoader.add_constructor("tag:yaml.org,2002:float", _construct_float)
+YamlLoader.add_constructor("tag:yaml.org,2002:bool", _construct_bool)
+
+
+# -- checking values -------------------------------------------------------------------------------
+_NO_VALUE = object()
+
+
+def show_value(value: object) -> str:
+    """A value as the user wrote it in YAML, short enough for a one-line message."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        if math.isnan(value):
+            return ".nan"
+        if math.isinf(value):
+            return ".inf" if value > 0 else "-.inf"
+        return str(int(value)) if value.is_integer() and abs(value) < 1e15 else repr(value)
+    text = repr(value)  # strings keep their quotes, so 40 and '40' stay distinguishable
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+class Reader:
+    """Reads the values of one job file; every error names the file and the key path."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+
+    @staticmethod
+    def at(path: str, key: str | int) -> str:
+        """The key path of a mapping key (`a.b`) or a list index (`a[2]`) below path."""
+        if isinstance(key, int):
+            return f"{path}[{key}]"
+        return f"{path}.{key}" if path else key
+
+    def error(self, path: str, what: str, value: object = _NO_VALUE) -> ConfigError:
+        where = f"{self.source}: {path}: " if path else f"{self.source}: "
+        got = "" if value is _NO_VALUE else f", got {show_value(value)}"
+        return ConfigError(f"{where}{what}{got}")
+
+    def mapping(self, value: Any, path: str, allowed: Sequence[str], required: Sequence[str] = (),
+                kind: str = "") -> dict[str, Any]:
+        """value as a mapping, refusing unknown keys (with a suggestion) and missing required ones."""
+        if not isinstance(value, dict):
+            raise self.error(path, f"must be a mapping with keys {', '.join(allowed)}", value)
+        for key in value:
+            if key in allowed:
+                continue
+            name = key if isinstance(key, str) else show_value(key)
+            close = difflib.get_close_matches(name, allowed, n=1)
+            what = "unknown key" + (f" for {kind}" if kind else "")
+            hint = f"; did you mean '{close[0]}'? allowed: " if close else "; allowed: "
+            raise self.error(self.at(path, name), what + hint + ", ".join(allowed))
+        for key in required:
+            if key not in value:
+                raise self.error(self.at(path, key), "required key missing")
+        return value
+
+    def typed(self, value: Any, path: str, noun: str,
+              kinds: Mapping[str, tuple[Sequence[str], Sequence[str]]]) -> tuple[str, dict[str, Any]]:
+        """A mapping with a `type` key naming one of kinds: type -> (required keys, optional keys)."""
+        names = ", ".join(kinds)
+        if not isinstance(value, dict):
+            raise self.error(path, f"must be a mapping with a type ({names})", value)
+        where = self.at(path, "type")
+        if "type" not in value:
+            raise self.error(where, f"required key missing; one of {names}")
+        kind = value["type"]
+        if not isinstance(kind, str) or kind not in kinds:
+            close = difflib.get_close_matches(kind, list(kinds), n=1) if isinstance(kind, str) else []
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            raise self.error(where, f"must be one of {names}{hint}", kind)
+        required, optional = kinds[kind]
+        article = "an" if kind[0] in "aeiou" else "a"
+        return kind, self.mapping(value, path, ("type", *required, *optional), required,
+                                  kind=f"{article} {kind} {noun}")
+
+    def listing(self, value: Any, path: str, minimum: int, noun: str) -> list[Any]:
+        if not isinstance(value, list):
+            raise self.error(path, f"must be a list of {noun}s", value)
+        if len(value) < minimum:
+            raise self.error(path, f"must have at least {minimum} {noun}{'s' if minimum > 1 else ''}",
+                             value)
+        return value
+
+    def number(self, value: Any, path: str, name: str = "") -> float:
+        """A finite int or float; YAML booleans are not numbers. name prefixes the message."""
+        prefix = f"{name} " if name else ""
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(path, f"{prefix}must be a number", value)
+        try:
+            number = float(value)
+        except OverflowError:  # an int beyond float range
+            number = math.inf
+        if not math.isfinite(number):
+            raise self.error(path, f"{prefix}must be a finite number", value)
+        return number
+
+    def positive(self, value: Any, path: str, name: str = "") -> float:
+        number = self.number(value, path, name)
+        if number <= 0.0:
+            raise self.error(path, f"{name + ' ' if name else ''}must be > 0", value)
+        if number > MAX_SIZE:
+            # Sizes, feeds and tolerances beyond this are typos (a kilometre-long mandrel), and they
+            # would send the geometry into ranges where nothing finishes in reasonable time.
+            raise self.error(path, f"{name + ' ' if name else ''}must be <= {MAX_SIZE:g}", value)
+        return number
+
+    def integer(self, value: Any, path: str, minimum: int, maximum: int | None = None,
+                what: str = "") -> int:
+        """A whole number in [minimum, maximum]; 200.0 counts as whole, 200.5 and true do not."""
+        what = what or (f"must be a whole number >= {minimum}"
+                        + (f" and <= {maximum}" if maximum is not None else ""))
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(path, what, value)
+        if isinstance(value, float) and not (math.isfinite(value) and value.is_integer()):
+            raise self.error(path, what, value)
+        whole = int(value)
+        if whole < minimum or (maximum is not None and whole > maximum):
+            raise self.error(path, what, value)
+        return whole
+
+    def text(self, value: Any, path: str) -> str:
+        if not isinstance(value, str):
+            raise self.error(path, "must be text", value)
+        return value
+
+    def boolean(self, value: Any, path: str) -> bool:
+        if not isinstance(value, bool):
+            raise self.error(path, "must be true or false", value)
+        return value

@@ -1,0 +1,276 @@
+"""Guide curves x(t), t the arc length, with their rotation-minimizing frames.
+
+SPEC.md conventions: x(0) = origin, x'(0) = +z, e2(0) = +x, e3 = e1 x e2. Every curve evaluates,
+vectorized over stations z (m,), the point, its first three derivatives and the frame (e2, e3).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple, Protocol
+
+import numpy as np
+from scipy.interpolate import CubicSpline, make_interp_spline
+
+from winder.config.mandrel import ArcAxis, LineAxis, PathAxis, SplineAxis
+from winder.errors import ConfigError
+from winder.geometry.frames import double_reflection, orthonormalize
+
+Z_AXIS = np.array([0.0, 0.0, 1.0])
+X_AXIS = np.array([1.0, 0.0, 0.0])
+Y_AXIS = np.array([0.0, 1.0, 0.0])
+
+
+class CurveEval(NamedTuple):
+    """A guide curve at stations z; every field (m, 3) float.
+
+    x : point; d1 = x' (unit tangent T); d2 = x'' (= T'); d3 = x''' (= T'');
+    e2, e3 : the rotation-minimizing frame's normals.
+    """
+
+    x: np.ndarray
+    d1: np.ndarray
+    d2: np.ndarray
+    d3: np.ndarray
+    e2: np.ndarray
+    e3: np.ndarray
+
+
+class GuideCurve(Protocol):
+    length: float
+    is_straight: bool
+
+    def evaluate(self, z: np.ndarray) -> CurveEval: ...
+
+    def max_curvature(self) -> float: ...
+
+
+def _tile(v: np.ndarray, m: int) -> np.ndarray:
+    return np.broadcast_to(v, (m, 3)).copy()
+
+
+@dataclass(frozen=True)
+class Line:
+    """A straight segment from `origin` along `tangent`, frame constant."""
+
+    length: float
+    origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    tangent: np.ndarray = field(default_factory=lambda: Z_AXIS.copy())
+    e2: np.ndarray = field(default_factory=lambda: X_AXIS.copy())
+    is_straight: bool = True
+
+    def evaluate(self, z: np.ndarray) -> CurveEval:
+        z = np.asarray(z, dtype=float)
+        m = z.shape[0]
+        zero = np.zeros((m, 3))
+        e3 = np.cross(self.tangent, self.e2)
+        return CurveEval(self.origin + z[:, None] * self.tangent, _tile(self.tangent, m), zero,
+                         zero, _tile(self.e2, m), _tile(e3, m))
+
+    def max_curvature(self) -> float:
+        return 0.0
+
+
+@dataclass(frozen=True)
+class Arc:
+    """A circular arc of bend radius `radius` turning from `tangent` toward `toward_dir`.
+
+    Its RMF is the rotation about the binormal b = T0 x u by the swept angle phi = z / radius:
+    a frame vector v maps to (v.u) N(phi) + (v.b) b, N(phi) = -sin(phi) T0 + cos(phi) u.
+    """
+
+    length: float
+    radius: float
+    origin: np.ndarray
+    tangent: np.ndarray
+    e2: np.ndarray
+    toward_dir: np.ndarray
+    is_straight: bool = False
+
+    def __post_init__(self) -> None:
+        b = np.cross(self.tangent, self.toward_dir)
+        e3 = np.cross(self.tangent, self.e2)
+        # Cached because evaluation sits in the solver's inner loop.
+        object.__setattr__(self, "_coef", (b, self.e2 @ self.toward_dir, self.e2 @ b,
+                                           e3 @ self.toward_dir, e3 @ b))
+
+    def evaluate(self, z: np.ndarray) -> CurveEval:
+        z = np.asarray(z, dtype=float)
+        rho, t0, u = self.radius, self.tangent, self.toward_dir
+        b, e2u, e2b, e3u, e3b = self._coef
+        phi = (z / rho)[:, None]
+        c, s = np.cos(phi), np.sin(phi)
+        x = self.origin + rho * s * t0 + rho * (1.0 - c) * u
+        tan = c * t0 + s * u
+        nrm = -s * t0 + c * u  # in-plane normal toward the centre of curvature
+        return CurveEval(x, tan, nrm / rho, -tan / rho**2, e2u * nrm + e2b * b, e3u * nrm + e3b * b)
+
+    def max_curvature(self) -> float:
+        return 1.0 / self.radius
+
+
+def _arc_from(origin: np.ndarray, tangent: np.ndarray, e2: np.ndarray, cfg: ArcAxis) -> Arc:
+    toward = np.radians(cfg.toward_deg)
+    e3 = np.cross(tangent, e2)
+    u = np.cos(toward) * e2 + np.sin(toward) * e3
+    return Arc(cfg.radius * np.radians(cfg.angle_deg), cfg.radius, origin, tangent, e2, u)
+
+
+@dataclass(frozen=True)
+class Path:
+    """A tangent-continuous chain of lines and arcs; frames carried across the joints.
+
+    Evaluated in one vectorized pass: every piece is an arc of curvature kappa (0 for a line) in
+    the plane of its start tangent T0 and in-plane normal u, with the sinc forms of sin(phi) / kappa
+    and (1 - cos(phi)) / kappa, so lines need no special case.
+    """
+
+    pieces: tuple[Line | Arc, ...]
+    starts: np.ndarray  # (k,) float, station where each piece begins
+    length: float
+    is_straight: bool = False
+
+    def __post_init__(self) -> None:
+        rows = []
+        for piece in self.pieces:
+            t0 = piece.tangent
+            if isinstance(piece, Arc):
+                u, kappa = piece.toward_dir, 1.0 / piece.radius
+            else:
+                u, kappa = piece.e2, 0.0
+            b = np.cross(t0, u)
+            e3 = np.cross(t0, piece.e2)
+            rows.append((piece.origin, t0, u, b, kappa, piece.e2 @ u, piece.e2 @ b, e3 @ u, e3 @ b))
+        cols = list(zip(*rows))
+        object.__setattr__(self, "_vec", tuple(np.array(c, dtype=float) for c in cols))
+
+    def evaluate(self, z: np.ndarray) -> CurveEval:
+        z = np.asarray(z, dtype=float)
+        if len(self.pieces) == 1:
+            # One piece: its parameters broadcast as they are (no per-point gather).
+            origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = (a[0] for a in self._vec)
+            zl = z
+        else:
+            k = np.clip(np.searchsorted(self.starts, z, side="right") - 1, 0, len(self.pieces) - 1)
+            origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = (
+                a[k] if a.ndim == 2 else a[k][:, None] for a in self._vec)
+            zl = z - self.starts[k]
+        phi = kappa * zl if np.ndim(kappa) == 0 else kappa[:, 0] * zl
+        along = (zl * np.sinc(phi / np.pi))[:, None]  # sin(phi) / kappa
+        across = (0.5 * zl * phi * np.sinc(phi / (2.0 * np.pi)) ** 2)[:, None]  # (1 - cos(phi)) / kappa
+        c, s = np.cos(phi)[:, None], np.sin(phi)[:, None]
+        x = origin + along * t0 + across * u
+        tan = c * t0 + s * u
+        nrm = -s * t0 + c * u
+        return CurveEval(x, tan, kappa * nrm, -(kappa * kappa) * tan, e2u * nrm + e2b * b, e3u * nrm + e3b * b)
+
+    def max_curvature(self) -> float:
+        return max(p.max_curvature() for p in self.pieces)
+
+
+def _chain(segments: tuple[LineAxis | ArcAxis, ...]) -> Path:
+    origin, tangent, e2 = np.zeros(3), Z_AXIS.copy(), X_AXIS.copy()
+    pieces: list[Line | Arc] = []
+    starts = []
+    z0 = 0.0
+    for seg in segments:
+        piece: Line | Arc
+        if isinstance(seg, LineAxis):
+            piece = Line(seg.length, origin, tangent, e2)
+        else:
+            piece = _arc_from(origin, tangent, e2, seg)
+        end = piece.evaluate(np.array([piece.length]))
+        pieces.append(piece)
+        starts.append(z0)
+        z0 += piece.length
+        origin, tangent, e2 = end.x[0], end.d1[0], end.e2[0]
+    return Path(tuple(pieces), np.array(starts), z0)
+
+
+@dataclass(frozen=True)
+class SplineCurve:
+    """A C2 interpolating curve through points, re-parametrized by arc length.
+
+    The interpolant c(u) (cubic, chord-length u) is sampled finely at equal arc length and fitted by
+    a quintic spline in arc length, so x, x', x'', x''' are smooth and |x'| = 1 to ~1e-10. The RMF is
+    computed on the same grid by double reflection and interpolated (then re-orthonormalized).
+    """
+
+    xs: object  # BSpline of x(z), k = 5
+    e2s: object  # BSpline of the RMF normal e2(z), k = 5
+    length: float
+    kappa_max: float
+    is_straight: bool = False
+
+    def evaluate(self, z: np.ndarray) -> CurveEval:
+        z = np.asarray(z, dtype=float)
+        d1 = self.xs(z, 1)
+        e2, e3 = orthonormalize(self.e2s(z), d1 / np.linalg.norm(d1, axis=1)[:, None])
+        return CurveEval(self.xs(z), d1, self.xs(z, 2), self.xs(z, 3), e2, e3)
+
+    def max_curvature(self) -> float:
+        return self.kappa_max
+
+
+SPLINE_GRID = 4097  # samples of the arc-length fit; the fit error is far below solver tolerances
+
+
+def _spline(cfg: SplineAxis, source: str) -> SplineCurve:
+    pts = np.asarray(cfg.points, dtype=float)
+    pts = pts - pts[0]
+    chord = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    u = np.concatenate([[0.0], np.cumsum(chord)])
+    bc = "not-a-knot" if len(pts) > 3 else "natural"
+    c = CubicSpline(u, pts, axis=0, bc_type=bc)
+    # Arc length of c by Gauss-Legendre on a fine sub-grid of u.
+    fine = np.linspace(0.0, u[-1], 8 * SPLINE_GRID + 1)
+    gx, gw = np.polynomial.legendre.leggauss(6)
+    a, b = fine[:-1], fine[1:]
+    nodes = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * gx
+    speed = np.linalg.norm(c(nodes.ravel(), 1), axis=1).reshape(nodes.shape)
+    seg = 0.5 * (b - a) * (speed @ gw)
+    ell = np.concatenate([[0.0], np.cumsum(seg)])
+    length = float(ell[-1])
+    zgrid = np.linspace(0.0, length, SPLINE_GRID)
+    ugrid = np.interp(zgrid, ell, fine)
+    for _ in range(3):  # Newton on ell(u) = z, ell by Gauss-Legendre from the grid node below u
+        k = np.clip(np.searchsorted(fine, ugrid, side="right") - 1, 0, fine.size - 2)
+        half = 0.5 * (ugrid - fine[k])
+        nodes = (fine[k] + half)[:, None] + half[:, None] * gx
+        sp = np.linalg.norm(c(nodes.ravel(), 1), axis=1).reshape(nodes.shape)
+        cur = ell[k] + half * (sp @ gw)
+        ugrid = ugrid - (cur - zgrid) / np.linalg.norm(c(ugrid, 1), axis=1)
+    xs = make_interp_spline(zgrid, c(ugrid), k=5, axis=0)
+    tangent = xs(zgrid, 1)
+    tangent /= np.linalg.norm(tangent, axis=1)[:, None]
+    t0 = tangent[0]
+    ref = X_AXIS if abs(t0 @ X_AXIS) < 1.0 - 1e-9 else Y_AXIS
+    e2_0 = ref - (ref @ t0) * t0
+    e2_0 /= np.linalg.norm(e2_0)
+    e2 = double_reflection(xs(zgrid), tangent, e2_0)
+    kappa = np.linalg.norm(xs(zgrid, 2), axis=1)
+    if not np.all(np.isfinite(kappa)):
+        raise ConfigError(f"{source}: mandrel.axis.points: the spline through the points is not finite")
+    return SplineCurve(xs, make_interp_spline(zgrid, e2, k=5, axis=0), length, float(kappa.max()))
+
+
+def make_curve(cfg: LineAxis | ArcAxis | PathAxis | SplineAxis, source: str) -> GuideCurve:
+    """The guide curve of an axis config."""
+    if isinstance(cfg, LineAxis):
+        return Line(cfg.length)
+    if isinstance(cfg, ArcAxis):
+        return _chain((cfg,))
+    if isinstance(cfg, PathAxis):
+        return _chain(cfg.segments)
+    if isinstance(cfg, SplineAxis):
+        return _spline(cfg, source)
+    raise ConfigError(f"{source}: mandrel.axis: unsupported axis {cfg!r}")
+
+
+def axis_length(cfg: LineAxis | ArcAxis | PathAxis) -> float:
+    """Length of an axis known without computation (not for splines)."""
+    if isinstance(cfg, LineAxis):
+        return cfg.length
+    if isinstance(cfg, ArcAxis):
+        return cfg.radius * np.radians(cfg.angle_deg)
+    return float(sum(axis_length(s) for s in cfg.segments))

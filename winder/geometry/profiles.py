@@ -1,0 +1,118 @@
+"""Radius along the axis: the profile r(s) of a mandrel, with its axial station z(s).
+
+Every profile is parametrized by an internal station s in [0, length]. For tubes and cones s is
+the axial arc length t itself (z(s) = s). For vessels s is the meridian arc length, so nothing is
+singular on the domes down to the polar opening; the user-facing station t = z(s) stays axial.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple, Protocol
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from winder.config.mandrel import ConeProfile, ConstantProfile, TableProfile, VesselProfile
+from winder.errors import ConfigError
+
+
+class ProfileEval(NamedTuple):
+    """A profile evaluated at stations s, each array (m,) float.
+
+    z, z1, z2 : axial station t = z(s) and its first two derivatives in s.
+    r, r1, r2 : radius r(s) and its first two derivatives in s.
+    """
+
+    z: np.ndarray
+    z1: np.ndarray
+    z2: np.ndarray
+    r: np.ndarray
+    r1: np.ndarray
+    r2: np.ndarray
+
+
+class Profile(Protocol):
+    """What the surface needs of a profile."""
+
+    length: float  # internal station range: s in [0, length]
+    axial_length: float  # T, the axial length covered
+    reference_radius: float  # profile(0) in SPEC.md terms, scales a non-circular section
+
+    def evaluate(self, s: np.ndarray) -> ProfileEval: ...
+
+    def s_of_t(self, t: np.ndarray) -> np.ndarray: ...
+
+
+def _axial(s: np.ndarray, r: np.ndarray, r1: np.ndarray, r2: np.ndarray) -> ProfileEval:
+    return ProfileEval(s, np.ones_like(s), np.zeros_like(s), r, r1, r2)
+
+
+@dataclass(frozen=True)
+class AxialProfile:
+    """A profile over the axial station itself (z(s) = s): constant, cone and table profiles.
+
+    r(t) is a cubic polynomial piece list (a scipy CubicSpline, C2), so all three share one path.
+    """
+
+    spline: CubicSpline
+    length: float
+    reference_radius: float
+
+    @property
+    def axial_length(self) -> float:
+        return self.length
+
+    def evaluate(self, s: np.ndarray) -> ProfileEval:
+        s = np.asarray(s, dtype=float)
+        if self.spline.c.shape[1] == 1:
+            # One cubic piece (constant and cone profiles): Horner directly, no spline call overhead.
+            c3, c2, c1, c0 = self.spline.c[:, 0]
+            x = s - self.spline.x[0]
+            return _axial(s, ((c3 * x + c2) * x + c1) * x + c0, (3.0 * c3 * x + 2.0 * c2) * x + c1,
+                          6.0 * c3 * x + 2.0 * c2)
+        return _axial(s, self.spline(s), self.spline(s, 1), self.spline(s, 2))
+
+    def s_of_t(self, t: np.ndarray) -> np.ndarray:
+        return np.asarray(t, dtype=float)
+
+    def t_of_s(self, s: np.ndarray) -> np.ndarray:
+        return np.asarray(s, dtype=float)
+
+
+def _linear(length: float, r0: float, r1: float) -> CubicSpline:
+    # A straight piece as a degenerate cubic spline: exact, and shares the evaluation path.
+    return CubicSpline([0.0, length], [r0, r1], bc_type="not-a-knot")
+
+
+def make_profile(cfg: object, axial_length: float | None, source: str) -> AxialProfile | Profile:
+    """Build the profile of a mandrel config.
+
+    axial_length : the guide curve's length T, or None when the axis is implied by the profile.
+    Vessels are built by winder.geometry.domes.
+    """
+    if isinstance(cfg, ConstantProfile):
+        return AxialProfile(_linear(axial_length, cfg.radius, cfg.radius), axial_length, cfg.radius)
+    if isinstance(cfg, ConeProfile):
+        return AxialProfile(_linear(axial_length, cfg.start_radius, cfg.end_radius), axial_length,
+                            cfg.start_radius)
+    if isinstance(cfg, TableProfile):
+        pts = np.asarray(cfg.points, dtype=float)
+        length = float(pts[-1, 0]) if axial_length is None else axial_length
+        if pts.shape[0] == 2:
+            spline = _linear(float(pts[1, 0]), float(pts[0, 1]), float(pts[1, 1]))
+        else:
+            spline = CubicSpline(pts[:, 0], pts[:, 1], bc_type="not-a-knot")
+        grid = np.linspace(0.0, length, 4001)
+        rmin = float(np.min(spline(grid)))
+        if not rmin > 0.0:
+            bad = float(grid[np.argmin(spline(grid))])
+            raise ConfigError(f"{source}: mandrel.profile.points: the smooth interpolation through the "
+                              f"points dips to radius {rmin:.4g} at t = {bad:.4g}; radius must be > 0 "
+                              f"everywhere (add points or soften the steps)")
+        return AxialProfile(spline, length, float(pts[0, 1]))
+    if isinstance(cfg, VesselProfile):
+        from winder.geometry.domes import make_vessel  # noqa: PLC0415  (domes is the heavier module)
+
+        return make_vessel(cfg, source)
+    raise ConfigError(f"{source}: mandrel.profile: unsupported profile {cfg!r}")

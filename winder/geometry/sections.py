@@ -1,0 +1,205 @@
+"""Cross-section shapes as polar radius functions rho(theta), with two derivatives.
+
+Every section is star-shaped around the axis (SPEC.md), so each theta names one point:
+the section point is rho(theta) (cos theta, sin theta) in the (e2, e3) plane.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from winder.config.mandrel import CircleSection, EllipseSection, RoundedRectangleSection, SuperellipseSection
+
+
+class Section(Protocol):
+    is_circle: bool
+
+    def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """rho, rho', rho'' at theta (radians), each (m,) float."""
+        ...
+
+    def perimeter(self) -> float: ...
+
+
+def _perimeter(section: Section, samples: int = 20000) -> float:
+    th = np.linspace(0.0, 2.0 * np.pi, samples + 1)[:-1] + np.pi / samples
+    rho, d1, _ = section.polar(th)
+    # Midpoint rule on a periodic integrand converges spectrally for smooth sections.
+    return float(np.sum(np.hypot(rho, d1)) * 2.0 * np.pi / samples)
+
+
+@dataclass(frozen=True)
+class Circle:
+    radius: float = 1.0
+    is_circle: bool = True
+
+    def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        theta = np.asarray(theta, dtype=float)
+        return np.full_like(theta, self.radius), np.zeros_like(theta), np.zeros_like(theta)
+
+    def perimeter(self) -> float:
+        return 2.0 * np.pi * self.radius
+
+
+@dataclass(frozen=True)
+class Ellipse:
+    """Semi-axis a along e2, b along e3: rho = a b / sqrt((b cos)^2 + (a sin)^2)."""
+
+    a: float
+    b: float
+    is_circle: bool = False
+
+    def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        c, s = np.cos(theta), np.sin(theta)
+        a, b = self.a, self.b
+        q = (b * c) ** 2 + (a * s) ** 2
+        q1 = 2.0 * (a * a - b * b) * s * c
+        q2 = 2.0 * (a * a - b * b) * (c * c - s * s)
+        rho = a * b * q**-0.5
+        d1 = -0.5 * a * b * q**-1.5 * q1
+        d2 = a * b * (0.75 * q**-2.5 * q1 * q1 - 0.5 * q**-1.5 * q2)
+        return rho, d1, d2
+
+    def perimeter(self) -> float:
+        return _perimeter(self)
+
+
+@dataclass(frozen=True)
+class Superellipse:
+    """|x/a|^p + |y/b|^p = 1, p >= 2 (C2): rho = (|cos/a|^p + |sin/b|^p)^(-1/p)."""
+
+    a: float
+    b: float
+    p: float
+    is_circle: bool = False
+
+    def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        c, s = np.cos(theta), np.sin(theta)
+        p = self.p
+        ac, as_ = np.abs(c) / self.a, np.abs(s) / self.b
+        sc, ss = np.sign(c), np.sign(s)
+        # f = ac^p + as^p; derivative of |cos|^p is -p |cos|^(p-1) sign(cos) sin, etc.
+        f = ac**p + as_**p
+        f1 = p * (-(ac ** (p - 1)) * sc * s / self.a + as_ ** (p - 1) * ss * c / self.b)
+        f2 = p * ((p - 1) * ac ** (p - 2) * s * s / self.a**2 - ac ** (p - 1) * np.abs(c) / self.a
+                  + (p - 1) * as_ ** (p - 2) * c * c / self.b**2 - as_ ** (p - 1) * np.abs(s) / self.b)
+        rho = f ** (-1.0 / p)
+        d1 = -(1.0 / p) * f ** (-1.0 / p - 1.0) * f1
+        d2 = (1.0 / p) * (1.0 / p + 1.0) * f ** (-1.0 / p - 2.0) * f1 * f1 - (1.0 / p) * f ** (-1.0 / p - 1.0) * f2
+        return rho, d1, d2
+
+    def perimeter(self) -> float:
+        return _perimeter(self)
+
+
+@dataclass(frozen=True)
+class RoundedRectangle:
+    """Width along e2, height along e3, corners of radius rc; C1 where sides meet corners."""
+
+    width: float
+    height: float
+    corner_radius: float
+    is_circle: bool = False
+
+    def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        theta = np.asarray(theta, dtype=float)
+        hw, hh, rc = 0.5 * self.width, 0.5 * self.height, self.corner_radius
+        # Fold into the first quadrant; the shape is symmetric about both axes.
+        c, s = np.cos(theta), np.sin(theta)
+        sgn = np.sign(c * s)  # rho' flips sign under each reflection, rho'' does not
+        ac, as_ = np.abs(c), np.abs(s)
+        cx, cy = hw - rc, hh - rc
+        # Corner arc spans the polar angles between the side tangency points.
+        side_x = np.arctan2(cy, hw)  # below: the vertical side x = hw
+        side_y = np.arctan2(hh, cx)  # above: the horizontal side y = hh
+        phi = np.arctan2(as_, ac)
+        rho = np.empty_like(theta)
+        d1 = np.empty_like(theta)
+        d2 = np.empty_like(theta)
+        # Strict: a joint belongs to the corner, so a zero-length side (corner_radius = height / 2 or
+        # width / 2) never wins there; corner_radius > 0 (config) keeps the corner formula finite.
+        m1 = phi < side_x
+        m3 = phi > side_y
+        m2 = ~(m1 | m3)
+        rho[m1] = hw / ac[m1]
+        d1[m1] = hw * as_[m1] / ac[m1] ** 2
+        d2[m1] = hw * (1.0 + as_[m1] ** 2) / ac[m1] ** 3
+        rho[m3] = hh / as_[m3]
+        d1[m3] = -hh * ac[m3] / as_[m3] ** 2
+        d2[m3] = hh * (1.0 + ac[m3] ** 2) / as_[m3] ** 3
+        aa = cx * ac[m2] + cy * as_[m2]  # centre . u
+        bb = -cx * as_[m2] + cy * ac[m2]  # centre . u_perp
+        q = np.sqrt(rc * rc - bb * bb)
+        rho[m2] = aa + q
+        d1[m2] = bb + aa * bb / q
+        d2[m2] = -aa + (bb * bb - aa * aa) / q - aa * aa * bb * bb / q**3
+        return rho, sgn * d1, d2
+
+    def perimeter(self) -> float:
+        rc = self.corner_radius
+        return 2.0 * (self.width + self.height) - 8.0 * rc + 2.0 * np.pi * rc
+
+
+def make_section(cfg: object) -> Circle | Ellipse | Superellipse | RoundedRectangle:
+    if isinstance(cfg, CircleSection):
+        return Circle()
+    if isinstance(cfg, EllipseSection):
+        return Ellipse(cfg.a, cfg.b)
+    if isinstance(cfg, SuperellipseSection):
+        return Superellipse(cfg.a, cfg.b, cfg.exponent)
+    if isinstance(cfg, RoundedRectangleSection):
+        return RoundedRectangle(cfg.width, cfg.height, cfg.corner_radius)
+    raise TypeError(f"unsupported section {cfg!r}")
+
+
+@dataclass(frozen=True)
+class ArcMap:
+    """Arc-length position along a section: fraction f in [0, 1) of the perimeter from theta = 0.
+
+    The section is scaled uniformly by the profile, so the fraction of a polar angle does not depend
+    on the station. Both directions are unwrapped: theta + 2 pi <-> f + 1.
+    theta_grid, frac_grid : (k,) float, the monotone table over one turn.
+    """
+
+    theta_grid: np.ndarray
+    frac_grid: np.ndarray
+    identity: bool
+    rate_grid: np.ndarray | None = None  # (k,) float, dfrac/dtheta on theta_grid
+
+    def dtheta_dfrac(self, theta: np.ndarray) -> np.ndarray:
+        """d theta / d fraction at theta: 2 pi on a circle."""
+        theta = np.asarray(theta, dtype=float)
+        if self.identity:
+            return np.full_like(theta, 2.0 * np.pi)
+        return 1.0 / np.interp(np.mod(theta, 2.0 * np.pi), self.theta_grid, self.rate_grid)
+
+    def fraction(self, theta: np.ndarray) -> np.ndarray:
+        theta = np.asarray(theta, dtype=float)
+        if self.identity:
+            return theta / (2.0 * np.pi)
+        turns = np.floor(theta / (2.0 * np.pi))
+        return turns + np.interp(theta - 2.0 * np.pi * turns, self.theta_grid, self.frac_grid)
+
+    def theta(self, frac: np.ndarray) -> np.ndarray:
+        frac = np.asarray(frac, dtype=float)
+        if self.identity:
+            return 2.0 * np.pi * frac
+        turns = np.floor(frac)
+        return 2.0 * np.pi * turns + np.interp(frac - turns, self.frac_grid, self.theta_grid)
+
+
+ARC_MAP_SAMPLES = 20000  # linear interpolation error ~ (2 pi / samples)^2: 1e-7 of the perimeter
+
+
+def arc_map(section: Section) -> ArcMap:
+    """The arc-length map of a section (exact identity for circles)."""
+    if section.is_circle:
+        return ArcMap(np.array([0.0, 2.0 * np.pi]), np.array([0.0, 1.0]), True)
+    th = np.linspace(0.0, 2.0 * np.pi, ARC_MAP_SAMPLES + 1)
+    rho, d1, _ = section.polar(th)
+    speed = np.hypot(rho, d1)
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(th))])
+    return ArcMap(th, cum / cum[-1], False, speed / cum[-1])

@@ -1,0 +1,230 @@
+"""The mandrel as a sweep surface Phi(s, theta) = x(z(s)) + R(s, theta) n(z(s), theta).
+
+x is the guide curve with its rotation-minimizing frame (e2, e3), n = cos(theta) e2 + sin(theta) e3,
+z(s) the axial station of the internal station s (z = s except on vessels, see profiles.py) and
+R(s, theta) = p(s) q(theta): the profile radius times the section shape. One code path serves the
+paper's three radius cases; a case only changes which derivatives vanish.
+
+Derivatives (MATH.md 1), with T = x', K = x'', K' = x''' at z and m = dn/dtheta:
+  n_z = -(K.n) T,   m_z = -(K.m) T,   n_zz = -(K'.n) T - (K.n) K
+  Phi_s   = z1 T + R_s n + R z1 n_z
+  Phi_th  = R_th n + R m
+  Phi_ss  = z2 T + z1^2 K + R_ss n + 2 R_s z1 n_z + R (z2 n_z + z1^2 n_zz)
+  Phi_sth = R_sth n + R_s m + R_th z1 n_z + R z1 m_z
+  Phi_thth = (R_thth - R) n + 2 R_th m
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from winder.config.mandrel import LineAxis, MandrelConfig
+from winder.geometry.curves import SPLINE_GRID, GuideCurve, Path, SplineCurve, make_curve
+from winder.errors import ConfigError
+from winder.geometry.profiles import AxialProfile, Profile, make_profile
+from winder.geometry.sections import Circle, Section, make_section
+
+
+class SurfaceEval(NamedTuple):
+    """Phi and its derivatives at m parameter points; each field (m, 3) float or None (not asked)."""
+
+    p: np.ndarray
+    ps: np.ndarray | None = None
+    pt: np.ndarray | None = None
+    pss: np.ndarray | None = None
+    pst: np.ndarray | None = None
+    ptt: np.ndarray | None = None
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.einsum("ij,ij->i", a, b)[:, None]
+
+
+@dataclass(frozen=True)
+class SweepSurface:
+    """A mandrel surface. s in [0, length] is the internal station, theta in radians (unwrapped)."""
+
+    curve: GuideCurve
+    profile: Profile | None
+    section: Section
+    section_scale: float  # q(theta) = rho(theta) / section_scale
+    length: float
+    name: str = ""
+
+    # -- stations ---------------------------------------------------------------------------------
+    @property
+    def axial_length(self) -> float:
+        """T: the user-facing station t runs over [0, T]."""
+        return self.profile.axial_length if self.profile is not None else self.length
+
+    def t_of_s(self, s: np.ndarray) -> np.ndarray:
+        s = np.asarray(s, dtype=float)
+        return self.profile.evaluate(s).z if self.profile is not None else s
+
+    def s_of_t(self, t: np.ndarray) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        return self.profile.s_of_t(t) if self.profile is not None else t
+
+    @property
+    def is_revolution(self) -> bool:
+        """A straight axis and a circular section: a surface of revolution (Clairaut holds)."""
+        return bool(self.curve.is_straight and self.section.is_circle)
+
+    @property
+    def is_axial_parameter(self) -> bool:
+        """Whether s is the axial station itself (everything but vessels)."""
+        return self.profile is None or isinstance(self.profile, AxialProfile)
+
+    # -- radius -----------------------------------------------------------------------------------
+    def _profile(self, s: np.ndarray):
+        if self.profile is None:
+            one, zero = np.ones_like(s), np.zeros_like(s)
+            return s, one, zero, one, zero, zero
+        return self.profile.evaluate(s)
+
+    def radius(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """R(s, theta): (m,) float, the distance of the surface point from the guide curve."""
+        s, theta = np.broadcast_arrays(np.asarray(s, float), np.asarray(theta, float))
+        p = self._profile(s)[3]
+        return p * self.section.polar(theta)[0] / self.section_scale
+
+    # -- evaluation -------------------------------------------------------------------------------
+    def evaluate(self, s: np.ndarray, theta: np.ndarray, order: int = 2) -> SurfaceEval:
+        """Phi (order 0), with first (order 1) and second (order 2) derivatives.
+
+        s, theta : (m,) float. Returns SurfaceEval of (m, 3) arrays.
+        """
+        s, theta = np.broadcast_arrays(np.asarray(s, float), np.asarray(theta, float))
+        z, z1, z2, p, p1, p2 = (np.asarray(a)[:, None] for a in self._profile(s))
+        q, q1, q2 = (a[:, None] / self.section_scale for a in self.section.polar(theta))
+        cv = self.curve.evaluate(z[:, 0])
+        c, sn = np.cos(theta)[:, None], np.sin(theta)[:, None]
+        n = c * cv.e2 + sn * cv.e3
+        r = p * q
+        point = cv.x + r * n
+        if order == 0:
+            return SurfaceEval(point)
+        m = -sn * cv.e2 + c * cv.e3
+        tan, kap = cv.d1, cv.d2
+        kn = _dot(kap, n)
+        n_z = -kn * tan
+        r_s, r_t = p1 * q, p * q1
+        ps = z1 * tan + r_s * n + r * z1 * n_z
+        pt = r_t * n + r * m
+        if order == 1:
+            return SurfaceEval(point, ps, pt)
+        km = _dot(kap, m)
+        m_z = -km * tan
+        n_zz = -_dot(cv.d3, n) * tan - kn * kap
+        pss = z2 * tan + z1 * z1 * kap + p2 * q * n + 2.0 * r_s * z1 * n_z + r * (z2 * n_z + z1 * z1 * n_zz)
+        pst = p1 * q1 * n + r_s * m + r_t * z1 * n_z + r * z1 * m_z
+        ptt = (p * q2 - r) * n + 2.0 * r_t * m
+        return SurfaceEval(point, ps, pt, pss, pst, ptt)
+
+    def points(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """Phi(s, theta): (m, 3) float."""
+        return self.evaluate(s, theta, order=0).p
+
+    def normals(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """Outward unit normals: (m, 3) float."""
+        ev = self.evaluate(s, theta, order=1)
+        nrm = np.cross(ev.pt, ev.ps)
+        return nrm / np.linalg.norm(nrm, axis=1)[:, None]
+
+    @functools.cached_property
+    def _unit_perimeter(self) -> float:
+        # The section's own perimeter needs a quadrature for non-circular shapes: once per surface.
+        return self.section.perimeter() / self.section_scale
+
+    def perimeter(self, s: float | np.ndarray) -> float | np.ndarray:
+        """Perimeter of the cross-section at station(s) s (mm): float, or (m,) float for an array."""
+        arr = np.atleast_1d(np.asarray(s, dtype=float))
+        per = self._profile(arr)[3] * self._unit_perimeter
+        return float(per[0]) if np.ndim(s) == 0 else per
+
+
+# -- building from a config -----------------------------------------------------------------------
+SELF_INTERSECTION_MARGIN = 1e-6  # 1 - R (K.n) must stay above this (a regular sweep)
+
+
+def _check_stations(surface: SweepSurface) -> np.ndarray:
+    """Internal stations s for the regularity check: a uniform grid, plus each bent piece of a path on
+    its own grid (a short tight arc can hide between uniform stations) and a spline's fit grid."""
+    s = [np.linspace(0.0, surface.length, 801)]
+    curve, z = surface.curve, []
+    if isinstance(curve, Path):
+        for piece, z0 in zip(curve.pieces, curve.starts):
+            if not piece.is_straight:
+                z.append(z0 + np.linspace(0.0, piece.length, 65))
+    elif isinstance(curve, SplineCurve):
+        z.append(np.linspace(0.0, curve.length, SPLINE_GRID))
+    if z:
+        t = np.clip(np.concatenate(z), 0.0, surface.axial_length)
+        s.append(surface.s_of_t(t))
+    return np.concatenate(s)
+
+
+def _check_regular(surface: SweepSurface, source: str) -> None:
+    """Refuse a sweep whose section reaches the centre of curvature of a bend (self-intersection):
+    1 - R(s, theta) (K . n(theta)) must stay positive. The worst theta of each station is found on a
+    2.5 deg grid and refined by golden-section search (the inside of a bend need not be on the grid)."""
+    if surface.curve.max_curvature() == 0.0:
+        return
+    s = _check_stations(surface)
+    z = surface.t_of_s(s)
+    cv = surface.curve.evaluate(z)
+
+    def reach(tt: np.ndarray) -> np.ndarray:
+        n = np.cos(tt)[:, None] * cv.e2 + np.sin(tt)[:, None] * cv.e3
+        return surface.radius(s, tt) * np.einsum("ij,ij->i", cv.d2, n)
+
+    th = np.linspace(0.0, 2.0 * np.pi, 145)[:-1]
+    grid = np.stack([reach(np.full_like(s, t)) for t in th], axis=1)
+    lo = th[np.argmax(grid, axis=1)] - (th[1] - th[0])
+    hi = lo + 2.0 * (th[1] - th[0])
+    g = 0.5 * (np.sqrt(5.0) - 1.0)
+    for _ in range(40):
+        a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+        left = reach(a) > reach(b)
+        lo, hi = np.where(left, lo, a), np.where(left, b, hi)
+    tt = 0.5 * (lo + hi)
+    r = reach(tt)
+    use_grid = grid.max(axis=1) > r
+    tt = np.where(use_grid, th[np.argmax(grid, axis=1)], tt)
+    r = np.maximum(r, grid.max(axis=1))
+    worst = int(np.argmax(r))
+    if r[worst] >= 1.0 - SELF_INTERSECTION_MARGIN:
+        kappa = float(np.linalg.norm(cv.d2[worst]))
+        radius = surface.radius(s[worst:worst + 1], tt[worst:worst + 1])[0]
+        raise ConfigError(
+            f"{source}: mandrel: the section (radius {radius:.4g} at t = {z[worst]:.4g}, theta = "
+            f"{np.degrees(tt[worst]) % 360:.4g} deg) reaches the bend's centre of curvature (bend radius "
+            f"{1.0 / kappa:.4g}): the mandrel would self-intersect; the section radius on the inside of a "
+            f"bend must be smaller than the bend radius")
+
+
+def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
+    """The sweep surface of a validated mandrel config; geometric checks raise ConfigError."""
+    section = make_section(mandrel.section)
+    if mandrel.profile is None:
+        curve = make_curve(mandrel.axis, source)
+        surface = SweepSurface(curve, None, section, 1.0, curve.length, name)
+    else:
+        axis_cfg = mandrel.axis
+        if axis_cfg is None:
+            profile = make_profile(mandrel.profile, None, source)
+            curve = make_curve(LineAxis(profile.axial_length), source)
+        else:
+            curve = make_curve(axis_cfg, source)
+            profile = make_profile(mandrel.profile, curve.length, source)
+            if profile.axial_length > curve.length * (1.0 + 1e-9):
+                raise ConfigError(f"{source}: mandrel.axis: length {curve.length:.6g} is shorter than the "
+                                  f"profile ({profile.axial_length:.6g})")
+        scale = 1.0 if isinstance(section, Circle) else profile.reference_radius
+        surface = SweepSurface(curve, profile, section, scale, profile.length, name)
+    _check_regular(surface, source)
+    return surface

@@ -1,0 +1,389 @@
+"""Machine kinematics: where the payout eye sits while the fiber is laid (MATH.md 6, SPEC.md).
+
+Conventions (mandrel frame, SPEC.md): a straight mandrel axis is +z through the origin.
+
+Eye on the tangent line. d is the unit fiber direction in laying order: it points from the contact
+point p toward the part of the path not yet laid. The fiber not yet laid is exactly the free span
+between the mandrel and the eye: as the mandrel turns, that span is wound on and the contact point
+moves along +d. So the free fiber leaves the mandrel at p along +d, and the eye is on that ray:
+
+    E = p + lambda d,  lambda > 0   (the free-fiber length)
+
+(E = p - lambda d would put the eye over the part already laid, which would peel it off.)
+lambda is the smallest positive value that puts E on the eye envelope:
+- `eye: {radius: Z}`: a cylinder of radius Z around the axis: |E_xy| = Z, closed form.
+- `eye: {clearance: c}`: a contour of revolution Z_env(X) around the axis that keeps c mm from the
+  mandrel: the radial profile r_max(t) (the largest section radius at station t) dilated by a disc
+  of radius c, Z_env(X) = max over t of r_max(t) + sqrt(c^2 - (t - X)^2). On a cylinder this is
+  exactly r + c; where the profile slopes (cone, dome) the eye keeps c measured in 3D, i.e. somewhat
+  more than c radially (a cone of slope k: r + c sqrt(1 + k^2)). It is continuous (no jumps). Beyond
+  the mandrel's ends the contour keeps its end value.
+Where the tangent line does not reach the envelope within MAX_LEAD_FACTOR times the largest envelope
+radius (a fiber running almost parallel to the axis), the eye is held at that lead on the tangent
+line (EyePath.on_envelope is False there).
+
+Axes (straight-axis winder, SPEC.md "<name>.gcode"):
+- X  carriage = E_z.
+- Z  cross-feed = |E_xy|.
+- A  mandrel rotation = -phi_E in degrees, phi_E = atan2(E_y, E_x) made continuous: phi_E is the
+     contact angle theta (unwrapped, as planned) plus the eye's lead angle wrapped to (-180, 180].
+     Forward kinematics: the eye is at mandrel-frame point (Z cos(-A), Z sin(-A), X).
+- B  eye yaw: the eye's rotation about the cross-feed axis (the outward radial direction r at the
+     eye), right-handed, measured from the hoop orientation: the angle, in the eye's tangent plane
+     (spanned by u = z x r, the tangential direction, and +z, the carriage direction), from u toward
+     +z of the fiber line:  B = atan2(sigma d.z, sigma d.u)  in degrees, made continuous.
+     sigma = +1 when the mandrel winds theta+ (A decreasing), -1 otherwise: of the line's two
+     orientations it takes the one running with the winding, so B = 0 on a hoop, +(90 - alpha') on
+     a forward pass and -(90 - alpha') on a return pass (alpha' the fiber's angle from the carriage
+     axis seen in the eye's plane), B in (-90, 90) whenever the fiber runs with the winding sense.
+     The eye turns through the hoop orientation at every turnaround, never through the axial one.
+     The radial component of d (the fiber climbing from the mandrel to the eye) does not enter B.
+
+Robot mode (bent axis, or machine.robot): the same tangent-line rule with the envelope taken around
+the guide curve: the eye's distance from its closest guide point x(t*) equals the envelope radius at
+t* (eye_radius, or r_max(t*) + clearance dilated as above). The pose is the eye position and the unit
+fiber direction from the eye to its contact point, both in the mandrel frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from winder.config.winding import MachineConfig
+from winder.errors import ExportError
+from winder.geometry.surface import SweepSurface
+
+MAX_LEAD_FACTOR = 10.0  # the free fiber is at most this times the largest envelope radius
+LEAD_SCAN = 32  # samples of the tangent line when bracketing the envelope crossing
+ROOT_ITER = 100  # regula falsi (Illinois) steps on the bracket, at most
+ROOT_TOL = 1e-10  # mm: the eye's distance from its envelope
+SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
+ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
+ENVELOPE_MAX_SAMPLES = 65537
+CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
+PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
+
+ROLE_UNITS = {"carriage": "mm", "rotation": "deg", "cross_feed": "mm", "yaw": "deg"}
+
+
+# -- results ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class EyePath:
+    """Axis values of a straight-axis winder at m contact points (see the module docstring).
+
+    x, a_deg, z, b_deg : (m,) float: carriage (mm), mandrel rotation (deg, cumulative), cross-feed
+        (mm), eye yaw (deg, continuous; 0 = hoop orientation).
+    eye_xyz : (m, 3) float, the eye in the mandrel frame. lead : (m,) free-fiber length (mm).
+    on_envelope : (m,) bool, False where the lead was capped (nearly axial fiber).
+    """
+
+    x: np.ndarray
+    a_deg: np.ndarray
+    z: np.ndarray
+    b_deg: np.ndarray
+    eye_xyz: np.ndarray
+    lead: np.ndarray
+    on_envelope: np.ndarray
+
+    def axes(self) -> dict[str, np.ndarray]:
+        """The four axis arrays by role name (carriage, rotation, cross_feed, yaw)."""
+        return {"carriage": self.x, "rotation": self.a_deg, "cross_feed": self.z, "yaw": self.b_deg}
+
+
+@dataclass(frozen=True)
+class RobotPoses:
+    """Eye poses in the mandrel frame for a robot (bent mandrels).
+
+    position : (m, 3) eye position (mm). direction : (m, 3) unit vector from the eye to its contact
+    point (the free fiber as it leaves the eye). station : (m,) guide station t* of the eye's closest
+    axis point (mm). lead : (m,) free-fiber length (mm). on_envelope : (m,) bool, as in EyePath.
+    """
+
+    position: np.ndarray
+    direction: np.ndarray
+    station: np.ndarray
+    lead: np.ndarray
+    on_envelope: np.ndarray
+
+
+# -- the envelope ----------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class EyeEnvelope:
+    """The radius the eye keeps from the mandrel axis, as a function of the axial station.
+
+    stations, radius : (k,) float, a uniform table of Z_env; `constant` set in radius mode.
+    mandrel_radius : (k,) float, r_max at the same stations (the largest section radius).
+    """
+
+    stations: np.ndarray
+    radius: np.ndarray
+    mandrel_radius: np.ndarray
+    constant: float | None
+    clearance: float | None
+
+    @property
+    def max_radius(self) -> float:
+        return float(self.constant if self.constant is not None else np.max(self.radius))
+
+    def at(self, t: np.ndarray) -> np.ndarray:
+        """Z_env at stations t (clamped to the mandrel's ends)."""
+        t = np.asarray(t, dtype=float)
+        if self.constant is not None:
+            return np.full(t.shape, self.constant)
+        return np.interp(t, self.stations, self.radius)
+
+    def mandrel_at(self, t: np.ndarray) -> np.ndarray:
+        """r_max at stations t (clamped to the mandrel's ends)."""
+        return np.interp(np.asarray(t, dtype=float), self.stations, self.mandrel_radius)
+
+
+def _largest_section_angle(surface: SweepSurface) -> float:
+    """The section angle of the largest radius (the section is the same shape at every station,
+    scaled by the profile: R(s, theta) = p(s) q(theta))."""
+    th = np.linspace(0.0, 2.0 * np.pi, SECTION_SAMPLES)
+    s_mid = np.full(th.shape, 0.5 * surface.length)
+    r = surface.radius(s_mid, th)
+    k = int(np.argmax(r))
+    # One parabola step through the neighbours refines the grid maximum.
+    if 0 < k < th.shape[0] - 1:
+        r0, r1, r2 = r[k - 1], r[k], r[k + 1]
+        den = r0 - 2.0 * r1 + r2
+        if den < 0.0:
+            return float(th[k] + 0.5 * (r0 - r2) / den * (th[1] - th[0]))
+    return float(th[k])
+
+
+def eye_envelope(surface: SweepSurface, machine: MachineConfig) -> EyeEnvelope:
+    """The eye envelope of a machine around a mandrel (module docstring); computed once per job."""
+    T = surface.axial_length
+    clearance = machine.eye_clearance if machine.eye_radius is None else None
+    step = ENVELOPE_STEP if clearance is None else min(ENVELOPE_STEP, clearance / 16.0)
+    n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil(T / step) + 1)))
+    stations = np.linspace(0.0, T, n)
+    th_max = _largest_section_angle(surface)
+    # r_max(t): sampled in the internal station (arc length on domes), then put on the uniform grid.
+    s = np.linspace(0.0, surface.length, max(n, 2049))
+    r_s = surface.radius(s, np.full(s.shape, th_max))
+    r_max = np.interp(stations, surface.t_of_s(s), r_s)
+    if machine.eye_radius is not None:
+        zr = float(machine.eye_radius)
+        return EyeEnvelope(stations, np.full(n, zr), r_max, zr, None)
+    c = float(clearance)
+    h = stations[1] - stations[0]
+    k_max = int(np.floor(c / h))
+    dil = r_max + c
+    for k in range(1, k_max + 1):
+        rise = np.sqrt(max(c * c - (k * h) ** 2, 0.0))
+        dil[k:] = np.maximum(dil[k:], r_max[:-k] + rise)
+        dil[:-k] = np.maximum(dil[:-k], r_max[k:] + rise)
+    return EyeEnvelope(stations, dil, r_max, None, c)
+
+
+# -- the lead (free-fiber length) -----------------------------------------------------------------
+def _unit(v: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(v, axis=1)
+    n = np.where(n > 0.0, n, 1.0)
+    return v / n[:, None]
+
+
+def _first_crossing(f, m: int, lmax: float) -> tuple[np.ndarray, np.ndarray]:
+    """Smallest lambda in (0, lmax] with f(lambda) = 0 for each of m lines, f(0) < 0 (f vectorized
+    over (lambda (k,), line index (k,)), in mm). A scan brackets the first sign change, the Illinois
+    variant of regula falsi closes the bracket to ROOT_TOL. Returns (lambda, found); lambda = lmax
+    where the line does not reach the envelope."""
+    lam = np.full(m, lmax)
+    lo, hi = np.zeros(m), np.full(m, lmax)
+    flo, fhi = np.zeros(m), np.zeros(m)
+    found = np.zeros(m, dtype=bool)
+    pending = np.arange(m)
+    prev_lam, prev_f = 0.0, f(np.zeros(m), pending)
+    for grid_lam in lmax * (np.arange(1, LEAD_SCAN + 1) / LEAD_SCAN) ** 2:
+        if pending.size == 0:
+            break
+        val = f(np.full(pending.size, grid_lam), pending)
+        hit = val >= 0.0
+        sel = pending[hit]
+        lo[sel], hi[sel], flo[sel], fhi[sel] = prev_lam, grid_lam, prev_f[hit], val[hit]
+        found[sel] = True
+        pending, prev_f, prev_lam = pending[~hit], val[~hit], grid_lam
+    active = np.flatnonzero(found)
+    a, b, fa, fb = lo[active], hi[active], flo[active], fhi[active]
+    side = np.zeros(active.size, dtype=np.int8)
+    for _ in range(ROOT_ITER):
+        if active.size == 0:
+            break
+        c = np.clip(b - fb * (b - a) / (fb - fa), a, b)
+        fc = f(c, active)
+        done = (np.abs(fc) <= ROOT_TOL) | (b - a <= ROOT_TOL)
+        lam[active[done]] = c[done]
+        up = fc >= 0.0  # c replaces b (the end with f >= 0), else a
+        fa = np.where(up & (side == 1), 0.5 * fa, np.where(up, fa, fc))
+        fb = np.where(~up & (side == -1), 0.5 * fb, np.where(up, fc, fb))
+        a, b = np.where(up, a, c), np.where(up, c, b)
+        side = np.where(up, 1, -1).astype(np.int8)
+        keep = ~done
+        active, a, b, fa, fb, side = active[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep]
+    lam[active] = b  # not converged within ROOT_ITER steps: the bracket's end with f >= 0
+    return lam, found
+
+
+def _lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
+                   where: str) -> tuple[np.ndarray, np.ndarray]:
+    """lambda putting p + lambda d on the envelope around the z axis; (lead, on_envelope)."""
+    m = p.shape[0]
+    lmax = MAX_LEAD_FACTOR * env.max_radius
+    r0 = np.hypot(p[:, 0], p[:, 1])
+    inside = r0 < env.at(p[:, 2])
+    if not inside.all():
+        k = int(np.argmin(inside))
+        raise ExportError(f"{where}: the eye envelope (radius {float(env.at(p[k:k+1, 2])[0]):.3f} mm) does "
+                          f"not clear the mandrel at t = {p[k, 2]:.3f} mm (fiber at radius {r0[k]:.3f} mm)")
+    if env.constant is not None:
+        zr = env.constant
+        a = d[:, 0] ** 2 + d[:, 1] ** 2
+        b = p[:, 0] * d[:, 0] + p[:, 1] * d[:, 1]
+        c = r0**2 - zr * zr  # < 0: p is inside the cylinder, so exactly one positive root
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # The root (-b + sqrt(b^2 - a c)) / a, in the form without cancellation for either sign
+            # of b (b < 0: the fiber heads toward the axis, as toward a dome's pole).
+            root = np.sqrt(b * b - a * c)
+            lam = np.where(b >= 0.0, -c / (b + root), (root - b) / a)
+        ok = np.isfinite(lam) & (lam > 0.0) & (lam <= lmax)
+        return np.where(ok, lam, lmax), ok
+
+    def f(lam: np.ndarray, i: np.ndarray) -> np.ndarray:
+        e = p[i] + lam[:, None] * d[i]
+        return np.hypot(e[:, 0], e[:, 1]) - env.at(e[:, 2])
+
+    return _first_crossing(f, m, lmax)
+
+
+def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, machine: MachineConfig,
+             *, theta: np.ndarray | None = None, envelope: EyeEnvelope | None = None,
+             sense: float | None = None, where: str = "eye path") -> EyePath:
+    """Axis values of a straight-axis winder laying the fiber through contact points (m, 3) with unit
+    fiber directions (m, 3) (toward the part not yet laid). theta : (m,) the contact angles, unwrapped
+    (default: the polar angles of the points, unwrapped); they fix A's turn count. envelope : from
+    eye_envelope (computed here when left out). sense : the winding sense sigma of B (> 0: theta
+    increasing; default: the sense the fiber runs in here). `where` prefixes error messages."""
+    if not surface.curve.is_straight:
+        raise ExportError(f"{where}: the mandrel axis is bent: a straight-axis winder cannot follow it; "
+                          "use robot poses (machine.robot)")
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    d = _unit(np.asarray(directions, dtype=float).reshape(-1, 3))
+    env = envelope if envelope is not None else eye_envelope(surface, machine)
+    lam, ok = _lead_straight(p, d, env, where)
+    e = p + lam[:, None] * d
+    phi_raw = np.arctan2(e[:, 1], e[:, 0])
+    if theta is None:
+        theta = np.unwrap(np.arctan2(p[:, 1], p[:, 0]))
+    theta = np.asarray(theta, dtype=float)
+    lead_angle = np.angle(np.exp(1j * (phi_raw - theta)))  # wrapped to (-pi, pi]
+    phi = theta + lead_angle
+    zr = np.hypot(e[:, 0], e[:, 1])
+    d_u = -np.sin(phi_raw) * d[:, 0] + np.cos(phi_raw) * d[:, 1]
+    if sense is None:
+        sense = -1.0 if np.sum(d_u) < 0.0 else 1.0
+    sigma = -1.0 if sense < 0.0 else 1.0
+    b = np.unwrap(np.arctan2(sigma * d[:, 2], sigma * d_u))
+    return EyePath(x=e[:, 2].copy(), a_deg=-np.degrees(phi), z=zr, b_deg=np.degrees(b), eye_xyz=e,
+                   lead=lam, on_envelope=ok)
+
+
+def check_limits(path: EyePath, machine: MachineConfig, where: str) -> None:
+    """Refuse axis values outside machine.limits; the message names the axis, value, limit, where."""
+    letters = machine.axes
+    for role, (lo, hi) in machine.limits.items():
+        values = path.axes()[role]
+        if values.size == 0:
+            continue
+        bad = np.flatnonzero((values < lo) | (values > hi))
+        if bad.size:
+            k = int(bad[np.argmax(np.maximum(lo - values[bad], values[bad] - hi))])
+            unit = ROLE_UNITS[role]
+            raise ExportError(
+                f"{where}: machine.limits.{role}: axis {getattr(letters, role)} ({role.replace('_', '-')}) "
+                f"would reach {values[k]:.3f} {unit} (at point {k} of the pass, carriage at {path.x[k]:.3f} mm), "
+                f"outside the limits [{lo:g}, {hi:g}] {unit}")
+
+
+# -- robot mode ------------------------------------------------------------------------------------
+class _Guide:
+    """Closest points on the guide curve, extended beyond its ends by its end tangents."""
+
+    def __init__(self, surface: SweepSurface, extend: float) -> None:
+        T = surface.axial_length
+        self.T = T
+        curve = surface.curve
+        n = int(max(257, np.ceil(T / CURVE_STEP) + 1))
+        z = np.linspace(0.0, T, n)
+        ends = curve.evaluate(np.array([0.0, T]))
+        self.x0, self.x1 = ends.x[0], ends.x[1]
+        self.t0, self.t1 = _unit(ends.d1)[0], _unit(ends.d1)[1]
+        ne = int(np.ceil(extend / CURVE_STEP)) + 1
+        ext = np.linspace(0.0, extend, ne)[1:]
+        self.z = np.concatenate([-ext[::-1], z, T + ext])
+        self.x = np.concatenate([self.x0 - ext[::-1, None] * self.t0, curve.evaluate(z).x,
+                                 self.x1 + ext[:, None] * self.t1])
+        self.curve = curve
+        self.tree = cKDTree(self.x)
+
+    def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Point, unit tangent and curvature vector x'' of the extended guide at stations z."""
+        zi = np.clip(z, 0.0, self.T)
+        ev = self.curve.evaluate(zi)
+        x, tan, kap = ev.x.copy(), _unit(ev.d1), ev.d2.copy()
+        lo, hi = z < 0.0, z > self.T
+        x[lo] = self.x0 + z[lo, None] * self.t0
+        tan[lo] = self.t0
+        x[hi] = self.x1 + (z[hi] - self.T)[:, None] * self.t1
+        tan[hi] = self.t1
+        kap[lo | hi] = 0.0
+        return x, tan, kap
+
+    def project(self, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(station t*, distance) of the closest guide point of each point e (m, 3)."""
+        _, k = self.tree.query(e)
+        z = self.z[k]
+        for _ in range(PROJECT_NEWTON):  # Newton on g(z) = (e - x(z)) . x'(z) = 0
+            x, tan, kap = self.evaluate(z)
+            rel = e - x
+            slope = 1.0 - np.einsum("ij,ij->i", rel, kap)  # -g'(z), > 0 outside the centre of curvature
+            step = np.einsum("ij,ij->i", rel, tan) / np.where(slope > 0.1, slope, 1.0)
+            z = np.clip(z + np.clip(step, -CURVE_STEP * 4, CURVE_STEP * 4), self.z[0], self.z[-1])
+        x, _, _ = self.evaluate(z)
+        return z, np.linalg.norm(e - x, axis=1)
+
+
+def robot_poses(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, machine: MachineConfig,
+                *, envelope: EyeEnvelope | None = None, guide: _Guide | None = None,
+                where: str = "eye poses") -> RobotPoses:
+    """Eye poses (mandrel frame) for contact points (m, 3) with fiber directions (m, 3), any axis."""
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    d = _unit(np.asarray(directions, dtype=float).reshape(-1, 3))
+    env = envelope if envelope is not None else eye_envelope(surface, machine)
+    lmax = MAX_LEAD_FACTOR * env.max_radius
+    g = guide if guide is not None else _Guide(surface, lmax)
+    z0, r0 = g.project(p)
+    clear = r0 < env.at(z0)
+    if not clear.all():
+        k = int(np.argmin(clear))
+        raise ExportError(f"{where}: the eye envelope (radius {float(env.at(z0[k:k+1])[0]):.3f} mm) does not "
+                          f"clear the mandrel at t = {z0[k]:.3f} mm")
+
+    def f(lam: np.ndarray, i: np.ndarray) -> np.ndarray:
+        zs, dist = g.project(p[i] + lam[:, None] * d[i])
+        return dist - env.at(zs)
+
+    lam, ok = _first_crossing(f, p.shape[0], lmax)
+    e = p + lam[:, None] * d
+    station, _ = g.project(e)
+    return RobotPoses(position=e, direction=-d, station=station, lead=lam, on_envelope=ok)
+
+
+def make_guide(surface: SweepSurface, envelope: EyeEnvelope) -> _Guide:
+    """The closest-point helper of robot_poses, built once per job."""
+    return _Guide(surface, MAX_LEAD_FACTOR * envelope.max_radius)

@@ -1,0 +1,113 @@
+"""Coverage of a layer (MATH.md 5): where the bands cross stations along the winding region.
+
+At a station t each pass crosses the section once; its band covers B / sin(beta) of the perimeter,
+beta the angle between the fiber and the section curve (B / cos(alpha) on a surface of revolution),
+centred on the crossing. The bands of each direction (forward, return, hoop) must each cover the
+perimeter once for an even layer: gaps are uncovered stretches, overlaps doubly covered ones.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from winder.winding.results import Coverage, FiberPass, PassKind
+from winder.geometry.sections import ArcMap
+from winder.geometry.surface import SweepSurface
+
+
+def _crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.ndarray,
+               band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where a pass crosses the stations: (station index, perimeter fraction, band half-width / P).
+
+    Cubic splines of s and theta against t (monotone along a pass) give the crossing and the local
+    direction Phi_s s'(t) + Phi_theta theta'(t) to O(h^4), far below a band's width.
+    """
+    forward = p.t[-1] > p.t[0]
+    t, s, th = (p.t, p.s, p.theta) if forward else (p.t[::-1], p.s[::-1], p.theta[::-1])
+    idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
+    if idx.size == 0:
+        return idx, np.zeros(0), np.zeros(0)
+    st = stations[idx]
+    cs, ct = CubicSpline(t, s), CubicSpline(t, th)
+    s_x, th_x = cs(st), ct(st)
+    ev = surface.evaluate(s_x, th_x, order=1)
+    d = ev.ps * cs(st, 1)[:, None] + ev.pt * ct(st, 1)[:, None]
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    e_t = ev.pt / np.linalg.norm(ev.pt, axis=1)[:, None]
+    sin_beta = np.linalg.norm(np.cross(d, e_t), axis=1)
+    perimeter = surface.perimeter(s_x)
+    return idx, arcs.fraction(th_x), 0.5 * band_width / np.maximum(sin_beta, 1e-12) / perimeter
+
+
+EDGE_TOL = 1e-6  # mm, far below the 3 decimals the summary prints
+
+
+def _union_stats(centres: np.ndarray, halves: np.ndarray, perimeter: float) -> tuple[float, float, float, int, int]:
+    """Covered length, longest gap, longest overlap, min and max band count on a circle of perimeter P.
+
+    centres, halves : (k,) float, band centres and half-widths along the perimeter (mm).
+    """
+    if centres.size == 0:
+        return 0.0, perimeter, 0.0, 0, 0
+    lo = np.mod(centres - halves, perimeter)
+    hi = lo + np.minimum(2.0 * halves, perimeter)
+    # Events on [0, 2P): each band is counted on its own stretch and on its copy shifted by -P,
+    # so that stretches wrapping past P are seen on [0, P).
+    pos = np.concatenate([lo, hi, lo - perimeter, hi - perimeter, [0.0, perimeter]])
+    delta = np.concatenate([np.ones_like(lo), -np.ones_like(hi), np.ones_like(lo), -np.ones_like(hi), [0, 0]])
+    order = np.lexsort((-delta, pos))
+    pos, delta = pos[order], delta[order]
+    count = np.cumsum(delta)
+    seg = np.diff(pos)
+    mid = count[:-1]
+    # A stretch shorter than EDGE_TOL is where two band edges meet (hoop turns abut exactly): whether
+    # round-off puts a sliver of overlap or of gap there must not change the counts.
+    inside = (pos[:-1] >= 0.0) & (pos[1:] <= perimeter) & (seg > EDGE_TOL)
+    seg, mid = seg[inside], mid[inside]
+    covered = float(np.sum(seg[mid > 0]))
+    return covered, _longest_run(seg, mid == 0, perimeter), _longest_run(seg, mid >= 2, perimeter), \
+        int(mid.min()), int(mid.max())
+
+
+def _longest_run(seg: np.ndarray, flag: np.ndarray, perimeter: float) -> float:
+    """Longest stretch of consecutive flagged segments around the circle."""
+    if not flag.any():
+        return 0.0
+    if flag.all():
+        return perimeter
+    # Rotate so the sequence starts on an unflagged segment: runs then never wrap.
+    start = int(np.argmin(flag))
+    seg, flag = np.roll(seg, -start), np.roll(flag, -start)
+    run = np.where(flag, seg, 0.0)
+    breaks = np.cumsum(~flag)
+    return float(np.max(np.bincount(breaks, weights=run)))
+
+
+def layer_coverage(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass], band_width: float,
+                   stations: np.ndarray) -> Coverage:
+    """Coverage of the passes' bands at the stations (the DWELL passes lay no band in the region)."""
+    # Each hoop traverse covers the region once on its own; helical passes cover it per direction.
+    groups = [[p for p in passes if p.kind is kind] for kind in (PassKind.FORWARD, PassKind.RETURN)]
+    groups += [[p] for p in passes if p.kind is PassKind.HOOP]
+    groups = [g for g in groups if g]
+    stations = np.asarray(stations, dtype=float)
+    perimeters = surface.perimeter(surface.s_of_t(stations))
+    hits = [[_crossings(surface, arcs, p, stations, band_width) for p in g] for g in groups]
+    worst_cov, worst_gap, worst_overlap = 1.0, 0.0, 0.0
+    min_layers, max_layers = None, 0
+    for k, perimeter in enumerate(perimeters):
+        all_c, all_h = [], []
+        for group in hits:
+            cs = np.concatenate([f[i == k] for i, f, _ in group]) * perimeter
+            hs = np.concatenate([h[i == k] for i, _, h in group]) * perimeter
+            covered, gap, overlap, _, _ = _union_stats(cs, hs, perimeter)
+            worst_cov = min(worst_cov, covered / perimeter)
+            worst_gap = max(worst_gap, gap)
+            worst_overlap = max(worst_overlap, overlap)
+            all_c.append(cs)
+            all_h.append(hs)
+        _, _, _, lo, hi = _union_stats(np.concatenate(all_c), np.concatenate(all_h), perimeter)
+        min_layers = lo if min_layers is None else min(min_layers, lo)
+        max_layers = max(max_layers, hi)
+    return Coverage(stations, worst_cov, worst_gap, worst_overlap, int(min_layers or 0), int(max_layers))

@@ -1,0 +1,181 @@
+"""Helical layers on open mandrels (tubes, cones, elbows, non-circular sections).
+
+Each circuit is a forward and a return pass, two-point (N-round) geodesics solved by the variational
+method between slot end points evenly spaced by arc length along the end sections; dwells at the
+ends close the pattern (MATH.md 5, paper 6.1). On a surface of revolution the circuits are rotated
+copies of the first; elsewhere every pass is solved on its own.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from winder.config.winding import LayerConfig
+from winder.winding.coverage import layer_coverage
+from winder.errors import SolverError
+from winder.winding.passes import (
+    COVERAGE_STATIONS,
+    PlanContext,
+    dwell_pass,
+    finish_layer,
+    make_pass,
+    reference_section,
+    solve_pass,
+    winding_region,
+)
+from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_open_pattern
+from winder.winding.results import FiberPass, LayerPlan, PassKind
+from winder.paths.shooting import trace
+from winder.geometry.surface import SweepSurface
+
+TRACE_RTOL = 1e-10
+
+
+def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float, s_target: float,
+           span: float) -> float:
+    """theta where the geodesic from start at heading_deg reaches station s_target."""
+    # 1e-10 is plenty for a pattern advance, and tight tolerances crawl on guides whose third
+    # derivative is only piecewise smooth (splines).
+    tr = trace(surface, start, heading_deg, span, rtol=TRACE_RTOL, atol=TRACE_RTOL)
+    ls = np.linspace(0.0, tr.length, 4001)
+    ss = tr.sol(ls)[0]
+    sign = 1.0 if s_target >= start[0] else -1.0
+    # The trace stops on the mandrel's end by an event located to ~1e-12: an end at the target counts.
+    reach = ss.max() if sign > 0 else ss.min()
+    if abs(reach - s_target) <= 1e-9 * (1.0 + abs(s_target)):
+        s_target = reach
+    hit = np.nonzero(sign * (ss - s_target) >= 0.0)[0]
+    if hit.size == 0:
+        turn = float(surface.t_of_s(np.array([ss.max() if sign > 0 else ss.min()]))[0])
+        raise SolverError(f"the geodesic at {heading_deg:.4g} deg turns around at t = {turn:.4g} mm before "
+                          f"reaching the end of the winding region (Clairaut: r sin(alpha) is constant, so "
+                          f"it cannot reach a smaller radius); lower the angle or shorten the region")
+    k = int(hit[0])
+    if k == 0:
+        return float(start[1])
+    if ss[k] == s_target:
+        return float(tr.sol(ls[k:k + 1])[1][0])
+    l_hit = brentq(lambda l: tr.sol(np.array([l]))[0][0] - s_target, ls[k - 1], ls[k], xtol=1e-12)
+    return float(tr.sol(np.array([l_hit]))[1][0])
+
+
+def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alpha_deg: float) -> float:
+    """Turns a forward pass advances when it holds the layer angle at the reference station.
+
+    The geodesic through the reference station at the layer angle, traced both ways to the region
+    ends. On a surface of revolution one start angle suffices; elsewhere the advance is averaged
+    over four start angles (the passes themselves are then solved between their slots).
+    """
+    surf = ctx.surface
+    span = 4.0 * (s_b - s_a) / max(math.cos(math.radians(alpha_deg)), 0.05) + 10.0
+    starts = [0.0] if surf.is_revolution else [0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi]
+    adv = []
+    for th0 in starts:
+        th_b = _reach(surf, (s_ref, th0), alpha_deg, s_b, span) if s_b > s_ref else th0
+        th_a = _reach(surf, (s_ref, th0), alpha_deg + 180.0, s_a, span) if s_a < s_ref else th0
+        adv.append(float(ctx.arcs.fraction(np.array([th_b]))[0] - ctx.arcs.fraction(np.array([th_a]))[0]))
+    return float(np.mean(adv))
+
+
+COVERED_TARGET = 0.999  # covered fraction a helical layer must reach
+GAP_TARGET = 0.02  # widest gap allowed, as a fraction of the band width
+MAX_CIRCUIT_FACTOR = 4  # at most this many times the closed-form circuit count
+
+
+def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: float, theta0: float,
+                 ends: tuple[float, float, float, float]) -> list[FiberPass]:
+    """The passes of an open-mandrel helical layer with the pattern `pat`, in winding order."""
+    surf = ctx.surface
+    t_a, t_b, s_a, s_b = ends
+    f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
+    passes: list[FiberPass] = []
+    number = 0
+    layer = index + 1
+    for j in range(pat.circuits):
+        f_start = f0 + j * pat.advance
+        f_fwd_end = f_start + natural_fwd
+        f_ret_start = f_fwd_end + pat.dwell_end
+        f_ret_end = f_ret_start + natural_fwd
+        th = ctx.arcs.theta(np.array([f_start, f_fwd_end, f_ret_start, f_ret_end, f0 + (j + 1) * pat.advance]))
+        if surf.is_revolution and j > 0:
+            # A surface of revolution: the circuit is the first one turned by the circuit advance.
+            shift = th[0] - passes[0].theta[0]
+            for p in passes[:4]:
+                number += 1
+                passes.append(make_pass(surf, layer, j + 1, number, p.kind, p.s, p.theta + shift,
+                                        _turned(p.direction, shift), p.length))
+            continue
+        # Cold starts: consecutive circuits lie k / N_c of a turn apart, where the geodesic can look
+        # nothing alike (inside vs outside of a bend); coarse-to-fine is robust and as fast.
+        fwd = solve_pass(ctx, (t_a, th[0]), (t_b, th[1]), None)
+        ret = solve_pass(ctx, (t_b, th[2]), (t_a, th[3]), None)
+        for kind, item in ((PassKind.FORWARD, fwd), (PassKind.DWELL, (s_b, th[1], th[2])),
+                           (PassKind.RETURN, ret), (PassKind.DWELL, (s_a, th[3], th[4]))):
+            number += 1
+            if kind is PassKind.DWELL:
+                passes.append(dwell_pass(ctx, layer, j + 1, number, *item))
+            else:
+                passes.append(make_pass(surf, layer, j + 1, number, kind, item.s, item.theta, item.direction,
+                                        item.length))
+    return passes
+
+
+def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
+    """Open mandrels. On a surface of revolution N_c = ceil(P cos(alpha) / B) covers by construction.
+    Elsewhere (bends, non-circular sections) geodesics between evenly spaced slots drift apart
+    (toward the inside of a bend, which is shorter); the circuit count is then raised until the
+    measured coverage is complete, and the note says by how much."""
+    surf, w = ctx.surface, ctx.winding
+    t_a, t_b = winding_region(ctx)
+    s_a, s_b = (float(v) for v in surf.s_of_t(np.array([t_a, t_b])))
+    s_ref, perimeter = reference_section(ctx, t_a, t_b)
+    alpha = cfg.angle_deg
+    n_c0 = n_c = circuits_for_coverage(perimeter, math.radians(alpha), w.band_width)
+    try:
+        natural_fwd = _natural_advance(ctx, s_ref, s_a, s_b, alpha)
+    except SolverError as exc:
+        raise SolverError(f"{ctx.key(index, 'angle')}: {exc}") from exc
+    stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
+    notes: list[str] = []
+    ends = (t_a, t_b, s_a, s_b)
+    last_cov = None
+    cov = None
+    while True:
+        pat = close_open_pattern(n_c, 2.0 * natural_fwd, w.dwell_start_deg / 360.0, w.dwell_end_deg / 360.0,
+                                 cfg.pattern, ctx.key(index, "pattern"))
+        passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends)
+        if surf.is_revolution or cfg.pattern is not None:
+            break
+        cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
+        if cov.covered_fraction >= COVERED_TARGET and cov.max_gap_mm <= GAP_TARGET * w.band_width:
+            break
+        grow = max(n_c + 1, math.ceil(n_c * min(2.0, 1.1 / max(cov.covered_fraction, 0.05))))
+        # Stop when more circuits no longer close the gaps: the passes bunch whatever their number.
+        stuck = last_cov is not None and 1.0 - cov.covered_fraction > 0.75 * (1.0 - last_cov)
+        last_cov = cov.covered_fraction
+        if grow > MAX_CIRCUIT_FACTOR * n_c0 or stuck:
+            notes.append(f"coverage stays incomplete ({cov.covered_fraction:.4f}, gap {cov.max_gap_mm:.3f} mm) "
+                         f"up to {n_c} circuits: the geodesic passes at {alpha:g} deg bunch on this mandrel "
+                         f"(toward the inside of a bend, the shorter way) and more circuits do not close the "
+                         f"gaps; a gentler bend, or friction-held non-geodesic winding, is needed")
+            break
+        n_c = grow
+    if n_c > n_c0:
+        notes.append(f"{n_c} circuits instead of {n_c0}: the geodesic passes between evenly spaced end slots "
+                     f"drift together on this mandrel, and the closed-form count would leave gaps")
+    if pat.dwell_start * 360.0 > w.dwell_start_deg + 1e-9 or pat.dwell_end * 360.0 > w.dwell_end_deg + 1e-9:
+        notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
+                     f"the pattern (k = {pat.pattern} of {n_c})")
+    return finish_layer(ctx, cfg, index, alpha, n_c, pat.pattern, pat.dwell_start * 360.0, pat.dwell_end * 360.0,
+                  None, passes, stations, notes, cov)
+
+
+def _turned(d: np.ndarray, shift: float) -> np.ndarray:
+    """Directions (m, 3) turned with a circuit by shift (rad) about the straight axis (+z)."""
+    c, s = math.cos(shift), math.sin(shift)
+    return np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1], d[:, 2]])
+
+

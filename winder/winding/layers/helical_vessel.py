@@ -1,0 +1,176 @@
+"""Helical layers on domed vessels: turnarounds on the domes (Clairaut), pattern closed by moving c.
+
+A geodesic on a surface of revolution keeps r sin(alpha) = c; it turns around on each dome where
+r = c, tangent to that parallel. The circuit advance is a function of c (by quadrature); c is moved
+slightly from R sin(alpha) so the pattern closes, and the angle change is reported (MATH.md 5).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from winder.config.winding import LayerConfig
+from winder.geometry.domes import VesselMeridian
+from winder.errors import SolverError
+from winder.winding.passes import (
+    COVERAGE_STATIONS,
+    PlanContext,
+    finish_layer,
+    make_pass,
+    solve_pass,
+)
+from winder.winding.pattern import circuits_for_coverage, close_vessel_pattern
+from winder.winding.results import FiberPass, LayerPlan, PassKind
+
+QUAD_NODES = 200  # Gauss-Legendre nodes per dome for the turnaround advance
+_GAUSS = np.polynomial.legendre.leggauss(QUAD_NODES)
+
+
+def turnaround_stations(prof: VesselMeridian, c: float) -> tuple[float, float]:
+    """Stations s where r = c on the first and the end dome."""
+    e1, e2 = prof.equator_s
+
+    def r_minus_c(s: float) -> float:
+        return float(prof.evaluate(np.array([s])).r[0]) - c
+
+    return brentq(r_minus_c, 0.0, e1, xtol=1e-13), brentq(r_minus_c, e2, prof.length, xtol=1e-13)
+
+
+def advances(prof: VesselMeridian, c: float) -> tuple[float, float, float]:
+    """theta advances (rad) of the geodesic of Clairaut constant c: over the first dome (turnaround
+    to equator), the cylinder, and the end dome (equator to turnaround).
+
+    dtheta/ds = c / (r sqrt(r^2 - c^2)), s the meridian arc length. On each dome the substitution
+    s = s_c + (s_eq - s_c)(1 - cos tau) removes the inverse-square-root singularity at the turnaround;
+    the cylinder is exact.
+    """
+    s1, s2 = turnaround_stations(prof, c)
+    e1, e2 = prof.equator_s
+    x, w = _GAUSS
+    tau = 0.25 * np.pi * (x + 1.0)  # [0, pi/2]
+    domes = []
+    for s_c, s_eq in ((s1, e1), (s2, e2)):
+        span = s_eq - s_c
+        s = s_c + span * (1.0 - np.cos(tau))
+        r = prof.evaluate(s).r
+        f = c / (r * np.sqrt(np.maximum(r * r - c * c, 1e-300))) * abs(span) * np.sin(tau)
+        domes.append(0.25 * np.pi * float(f @ w))
+    cylinder = c * prof.cylinder_length / (prof.radius * math.sqrt(prof.radius**2 - c * c))
+    return domes[0], cylinder, domes[1]
+
+
+def half_advance(prof: VesselMeridian, c: float) -> float:
+    """theta advance (rad) from one turnaround to the other."""
+    return float(sum(advances(prof, c)))
+
+
+def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool,
+                 theta0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """One pole-to-pole pass, solved piece by piece between the equators.
+
+    The meridian's curvature jumps where a dome meets the cylinder; a polyline vertex straddling
+    the jump carries an O(h^3) error that Richardson cannot remove and that tilts the whole helix on
+    the cylinder (1e-5 of the Clairaut constant at 200 points). The geodesic's equator crossings
+    are known by quadrature, so each smooth piece is solved on its own, with vertices on the joints.
+    Returns s, theta ((m,) float, laying order), the unit directions ((m, 3) float, from each piece's
+    own spline) and the length.
+    """
+    s1, s2 = turnaround_stations(prof, c)
+    e1, e2 = prof.equator_s
+    d1, cyl, d2 = advances(prof, c)
+    knots, steps = ([s1, e1, e2, s2], [d1, cyl, d2]) if forward else ([s2, e2, e1, s1], [d2, cyl, d1])
+    thetas = theta0 + np.concatenate([[0.0], np.cumsum(steps)])
+    guide_s, guide_th = clairaut_path(prof, c, knots[0], knots[-1], theta0, m=4001)
+    n_total = ctx.winding.points or 200
+    s_out, th_out, d_out, length = [], [], [], 0.0
+    for i in range(3):
+        lo, hi = sorted((knots[i], knots[i + 1]))
+        if hi - lo <= 1e-12:
+            continue  # no cylinder
+        inside = (guide_s >= lo) & (guide_s <= hi)
+        n_i = max(5, int(round(n_total * np.count_nonzero(inside) / guide_s.size)))
+        warm = (np.concatenate([[knots[i]], guide_s[inside], [knots[i + 1]]]),
+                np.concatenate([[thetas[i]], guide_th[inside], [thetas[i + 1]]]))
+        t_a, t_b = (float(v) for v in prof.t_of_s(np.array([knots[i], knots[i + 1]])))
+        s, th, d, ln, _ = solve_pass(ctx, (t_a, thetas[i]), (t_b, thetas[i + 1]), warm, n_i)
+        s_out.append(s if not s_out else s[1:])
+        th_out.append(th if not th_out else th[1:])
+        d_out.append(d if not d_out else d[1:])
+        length += ln
+    return np.concatenate(s_out), np.concatenate(th_out), np.concatenate(d_out), length
+
+
+def clairaut_path(prof: VesselMeridian, c: float, s_from: float, s_to: float, theta0: float,
+                    m: int = 401) -> tuple[np.ndarray, np.ndarray]:
+    """The geodesic of Clairaut constant c between two turnarounds, by quadrature: the Newton solve's
+    starting path (m points, equally spaced by arc length), so it needs one or two steps.
+
+    dtheta/ds = c / (r sqrt(r^2 - c^2)) and dl/ds = r / sqrt(r^2 - c^2) on a cosine grid in s that
+    clusters at both turnarounds, where both have an integrable inverse square root.
+    """
+    tau = np.linspace(0.0, 1.0, 4001)
+    s = s_from + (s_to - s_from) * 0.5 * (1.0 - np.cos(np.pi * tau))
+    ds_dtau = abs(s_to - s_from) * 0.5 * np.pi * np.sin(np.pi * tau)
+    r = prof.evaluate(s).r
+    root = np.sqrt(np.maximum(r * r - c * c, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dth = np.where(root > 0, c / (r * root) * ds_dtau, 0.0)
+        dl = np.where(root > 0, r / root * ds_dtau, 0.0)
+    # The integrands are finite in tau; at the two ends the limits are taken from the neighbours.
+    for arr in (dth, dl):
+        arr[0], arr[-1] = arr[1], arr[-2]
+    steps = np.diff(tau)
+    th = theta0 + np.concatenate([[0.0], np.cumsum(0.5 * (dth[1:] + dth[:-1]) * steps)])
+    ell = np.concatenate([[0.0], np.cumsum(0.5 * (dl[1:] + dl[:-1]) * steps)])
+    target = np.linspace(0.0, ell[-1], m)
+    return np.interp(target, ell, s), np.interp(target, ell, th)
+
+
+def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
+    surf, w = ctx.surface, ctx.winding
+    prof = surf.profile
+    big_r = prof.radius
+    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
+    c_min = r_open + 0.5 * w.band_width
+    c0 = big_r * math.sin(math.radians(cfg.angle_deg))
+    if c0 <= c_min:
+        least = math.degrees(math.asin(min(1.0, c_min / big_r)))
+        raise SolverError(f"{ctx.key(index, 'angle')}: {cfg.angle_deg:g} deg turns around at r = {c0:.3f} mm, "
+                          f"inside the polar opening ({r_open:.3f} mm) plus half a band ({c_min:.3f} mm); "
+                          f"the least angle on this vessel is {least:.3f} deg")
+    c_hi = big_r * math.sin(math.radians(89.0))
+    perimeter = 2.0 * math.pi * big_r
+
+    def advance(c: float) -> float:
+        return 2.0 * half_advance(prof, c) / (2.0 * math.pi)
+
+    n_c = circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
+    for _ in range(4):
+        k, c = close_vessel_pattern(advance, c0, c_min, c_hi, n_c, cfg.pattern, ctx.key(index, "pattern"))
+        need = circuits_for_coverage(perimeter, math.asin(c / big_r), w.band_width)
+        if need <= n_c:
+            break
+        n_c = need
+    alpha = math.degrees(math.asin(c / big_r))
+    half = half_advance(prof, c)
+    fwd = _vessel_pass(ctx, prof, c, True, theta0)
+    ret = _vessel_pass(ctx, prof, c, False, theta0 + half)
+    passes: list[FiberPass] = []
+    number = 0
+    for j in range(n_c):
+        shift = j * 2.0 * half
+        for kind, (s, th, d, ln) in ((PassKind.FORWARD, fwd), (PassKind.RETURN, ret)):
+            number += 1
+            # A rotated copy: the directions turn with it (about the straight axis, +z).
+            c_, s_ = math.cos(shift), math.sin(shift)
+            turned = np.column_stack([c_ * d[:, 0] - s_ * d[:, 1], s_ * d[:, 0] + c_ * d[:, 1], d[:, 2]])
+            passes.append(make_pass(surf, index + 1, j + 1, number, kind, s, th + shift, turned, ln))
+    notes = [f"turnaround radius c = {c:.4f} mm on the domes (polar opening {r_open:.4g} mm); angle moved "
+             f"{alpha - cfg.angle_deg:+.4f} deg to close the pattern (k = {k} of {n_c})"]
+    e1, e2 = prof.equator_t
+    stations = np.linspace(e1, e2, COVERAGE_STATIONS + 2)[1:-1]
+    return finish_layer(ctx, cfg, index, alpha, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+

@@ -1,0 +1,95 @@
+"""Hoop layers: constant-pitch turns over the cylindrical region, one band width of advance per turn.
+
+A constant-pitch path is a geodesic only where the mandrel is developable along it (straight tubes of
+any section); elsewhere it is held by friction alone, so it is refused where |k_g / k_n| > mu.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from winder.config.winding import LayerConfig
+from winder.geometry.domes import VesselMeridian
+from winder.errors import SolverError
+from winder.winding.passes import (
+    COVERAGE_STATIONS,
+    PlanContext,
+    finish_layer,
+    make_pass,
+    reference_section,
+    winding_region,
+)
+from winder.winding.results import FiberPass, LayerPlan, PassKind
+
+HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
+SLIP_SAMPLES_PER_TURN = 72
+
+
+def _cylinder_region(ctx: PlanContext) -> tuple[float, float]:
+    prof = ctx.surface.profile
+    if isinstance(prof, VesselMeridian):
+        return prof.equator_t
+    return winding_region(ctx)
+
+
+def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
+    surf, w = ctx.surface, ctx.winding
+    t_a, t_b = _cylinder_region(ctx)
+    s_ref, perimeter = reference_section(ctx, t_a, t_b)
+    if cfg.angle_deg is None:
+        if w.band_width >= perimeter:
+            raise SolverError(f"{ctx.key(index)}: the band ({w.band_width:g} mm) is wider than the perimeter "
+                              f"({perimeter:.3f} mm): a hoop layer cannot be laid")
+        alpha = math.degrees(math.acos(w.band_width / perimeter))
+    else:
+        alpha = cfg.angle_deg
+    pitch = perimeter / math.tan(math.radians(alpha))  # axial advance per turn
+    turns = (t_b - t_a) / pitch
+    m = max(3, int(math.ceil(turns * 360.0 / HOOP_STEP_DEG)) + 1)
+    f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
+    passes: list[FiberPass] = []
+    for k in range(cfg.passes):
+        frac = f0 + k * turns + np.linspace(0.0, turns, m)
+        t = np.linspace(t_a, t_b, m) if k % 2 == 0 else np.linspace(t_b, t_a, m)
+        s = surf.s_of_t(t)
+        th = ctx.arcs.theta(frac)
+        ev = surf.evaluate(s, th, order=1)
+        # Exact tangent of the constant-pitch path: d/dk Phi(s(t), theta(f)), both linear in k
+        # (s = t on the cylindrical region).
+        vel = ev.ps * (t[1] - t[0]) + ev.pt * (ctx.arcs.dtheta_dfrac(th) * (frac[1] - frac[0]))[:, None]
+        speed = np.linalg.norm(vel, axis=1)
+        direction = vel / speed[:, None]
+        length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
+        passes.append(make_pass(surf, index + 1, k + 1, k + 1, PassKind.HOOP, s, th, direction, length))
+    _check_slip(ctx, index, passes[0], turns)
+    stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
+    return finish_layer(ctx, cfg, index, alpha, cfg.passes, 1, 0.0, 0.0, None, passes, stations, [])
+
+
+def _check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None:
+    """Refuse a hoop path whose geodesic curvature friction cannot hold: |k_g / k_n| <= mu."""
+    surf = ctx.surface
+    m = max(50, int(turns * SLIP_SAMPLES_PER_TURN))
+    i = np.linspace(0.0, p.s.size - 1.0, m)
+    idx = np.arange(p.s.size, dtype=float)
+    s, th = np.interp(i, idx, p.s), np.interp(i, idx, p.theta)
+    ev = surf.evaluate(s, th, order=2)
+    ds, dth = np.gradient(s), np.gradient(th)
+    vel = ev.ps * ds[:, None] + ev.pt * dth[:, None]
+    acc = ev.pss * (ds * ds)[:, None] + 2.0 * ev.pst * (ds * dth)[:, None] + ev.ptt * (dth * dth)[:, None]
+    nrm = np.cross(ev.pt, ev.ps)
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    speed2 = np.einsum("ij,ij->i", vel, vel)
+    k_n = np.einsum("ij,ij->i", acc, nrm) / speed2
+    k_g = np.einsum("ij,ij->i", np.cross(vel, acc), nrm) / speed2**1.5
+    ratio = np.abs(k_g) / np.maximum(np.abs(k_n), 1e-300)
+    worst = int(np.argmax(ratio))
+    if ratio[worst] > ctx.winding.friction:
+        t = float(surf.t_of_s(s[worst:worst + 1])[0])
+        raise SolverError(f"{ctx.key(index)}: a hoop layer would slip here: |k_g / k_n| reaches "
+                          f"{ratio[worst]:.3g} at t = {t:.3f} mm, above the friction coefficient "
+                          f"{ctx.winding.friction:g} (winding.friction); hoop layers hold on cylindrical "
+                          f"regions")
+

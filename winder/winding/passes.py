@@ -1,0 +1,161 @@
+"""Shared pieces of layer planning: the planning context, fiber passes, dwells, layer assembly."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from scipy.interpolate import make_interp_spline
+
+from winder.config.mandrel import JobConfig
+from winder.config.winding import LayerConfig, WindingConfig
+from winder.winding.coverage import layer_coverage
+from winder.errors import SolverError
+from winder.paths.geodesic import GeodesicResult, geodesic
+from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_deg
+from winder.geometry.sections import ArcMap
+from winder.geometry.surface import SweepSurface
+
+COVERAGE_STATIONS = 21
+DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
+# A pass is re-solved on this many times finer segments (warm-started, Richardson-refined) for its
+# points and tangents: at 30 points per pass a spline through the vertices alone misses the tangent
+# by up to 1 deg next to a dome turnaround; 4x brings r sin(alpha) to 1e-6 of Clairaut there.
+TANGENT_REFINE = 4
+
+
+class SolvedPass(NamedTuple):
+    """A solved pass: s, theta (m,) float vertices; direction (m, 3) unit tangents; length (mm)."""
+
+    s: np.ndarray
+    theta: np.ndarray
+    direction: np.ndarray
+    length: float
+    result: GeodesicResult
+
+@dataclass(frozen=True)
+class PlanContext:
+    job: JobConfig
+    winding: WindingConfig
+    surface: SweepSurface
+    arcs: ArcMap
+    feed: float  # mm/min
+
+    def key(self, index: int, field: str | None = None) -> str:
+        base = f"{self.job.source}: winding.layers[{index}]"
+        return f"{base}.{field}" if field else base
+
+
+# -- passes ---------------------------------------------------------------------------------------
+def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Unit tangents (m, 3) of the smooth curve through the vertices, in laying order."""
+    i = np.arange(s.shape[0], dtype=float)
+    # Quintic: the cubic's end slopes are O(h^3) off, visible next to a turnaround.
+    k = min(5, s.shape[0] - 1 - (s.shape[0] % 2 == 1 and s.shape[0] < 7))
+    ds, dth = make_interp_spline(i, s, k=k)(i, 1), make_interp_spline(i, theta, k=k)(i, 1)
+    ev = surface.evaluate(s, theta, order=1)
+    v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
+    return v / np.linalg.norm(v, axis=1)[:, None]
+
+
+def make_pass(surface: SweepSurface, layer: int, circuit: int, number: int, kind: PassKind,
+               s: np.ndarray, theta: np.ndarray, direction: np.ndarray | None, length: float) -> FiberPass:
+    if direction is None:
+        direction = directions(surface, s, theta)
+    return FiberPass(layer, circuit, number, kind, surface.t_of_s(s), s, theta, surface.points(s, theta),
+                     direction, winding_angle_deg(surface, s, theta, direction), float(length))
+
+
+def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
+               warm: tuple[np.ndarray, np.ndarray] | None, n: int | None = None) -> SolvedPass:
+    """A two-point geodesic pass at n points (default: the config's), with exact-to-print tangents.
+
+    The pass is solved at n, then re-solved at TANGENT_REFINE times finer segments from it; the
+    returned vertices are the fine solution's (Richardson-refined) at the n + 2 shared fractions and
+    the directions the tangents of the smooth curve through all the fine vertices.
+    """
+    w = ctx.winding
+    n = n or w.points or 200
+    res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm)
+    for _ in range(2):
+        if res.converged:
+            break
+        # Too coarse for a sharp stretch (a turnaround close to a small dome's hook): halve the
+        # segments, warm-started from the path so far.
+        n = 2 * n + 1
+        res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=(res.s, res.theta))
+    _check_converged(ctx, a, b, res)
+    k = TANGENT_REFINE
+    fine = geodesic(ctx.surface, a, b, n=k * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))
+    _check_converged(ctx, a, b, fine)
+    d = directions(ctx.surface, fine.refined_s, fine.refined_theta)
+    return SolvedPass(fine.refined_s[::k], fine.refined_theta[::k], d[::k], fine.length, fine)
+
+
+def _check_converged(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
+                     res: GeodesicResult) -> None:
+    if not res.converged:
+        raise SolverError(f"{ctx.job.source}: a pass from t = {a[0]:.3f} to t = {b[0]:.3f} did not converge "
+                          f"({res.reason.value})")
+
+
+def dwell_pass(ctx: PlanContext, layer: int, circuit: int, number: int, s: float, th0: float,
+              th1: float) -> FiberPass:
+    """A dwell: the mandrel turns from th0 to th1 at a fixed station."""
+    m = max(2, int(math.ceil(abs(math.degrees(th1 - th0)) / DWELL_STEP_DEG)) + 1)
+    th = np.linspace(th0, th1, m)
+    ss = np.full(m, s)
+    pt = ctx.surface.evaluate(ss, th, order=1).pt
+    direction = pt / np.linalg.norm(pt, axis=1)[:, None]
+    pts = ctx.surface.points(ss, th)
+    length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+    return make_pass(ctx.surface, layer, circuit, number, PassKind.DWELL, ss, th, direction, length)
+
+
+def winding_region(ctx: PlanContext) -> tuple[float, float]:
+    if ctx.winding.region is not None:
+        return ctx.winding.region
+    return 0.0, ctx.surface.axial_length
+
+
+def reference_section(ctx: PlanContext, t_a: float, t_b: float) -> tuple[float, float]:
+    """Station (s) and perimeter of the largest section of the region: the reference section."""
+    ts = np.linspace(t_a, t_b, 41)
+    ss = ctx.surface.s_of_t(ts)
+    per = ctx.surface.perimeter(ss)
+    k = int(np.argmax(per))
+    return float(ss[k]), float(per[k])
+
+def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, circuits: int, pattern: int,
+           dwell_a: float, dwell_b: float, c: float | None, passes: list[FiberPass], stations: np.ndarray,
+           notes: list[str], coverage: Coverage | None = None) -> LayerPlan:
+    laid = [p for p in passes if p.kind is not PassKind.DWELL]
+    folded = np.concatenate([np.abs(p.alpha_deg[1:-1]) for p in laid]) if laid else np.zeros(1)
+    length = float(sum(p.length for p in passes))
+    if coverage is None:
+        coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)
+    for p in laid:
+        if p.kind is not PassKind.HOOP:
+            _bridging_note(ctx, p, notes)
+            break
+    return LayerPlan(index=index + 1, type=cfg.type, angle_deg=float(alpha),
+                     requested_angle_deg=float(cfg.angle_deg if cfg.angle_deg is not None else alpha),
+                     circuits=int(circuits), pattern=int(pattern), dwell_start_deg=float(dwell_a),
+                     dwell_end_deg=float(dwell_b), turnaround_radius=c, fiber_length_mm=length,
+                     alpha_min_deg=float(folded.min()), alpha_max_deg=float(folded.max()),
+                     time_s=length / ctx.feed * 60.0, passes=tuple(passes), coverage=coverage,
+                     notes=tuple(notes))
+
+
+def _bridging_note(ctx: PlanContext, p: FiberPass, notes: list[str]) -> None:
+    """A fiber under tension bridges where the surface is concave along it (k_n <= 0)."""
+    d2 = np.diff(p.points, 2, axis=0)
+    nrm = ctx.surface.normals(p.s[1:-1], p.theta[1:-1])
+    k_n = np.einsum("ij,ij->i", d2, nrm)
+    if np.any(k_n > 1e-12 * np.max(np.abs(k_n))):
+        where = float(p.t[1:-1][np.argmax(k_n)])
+        notes.append(f"the fiber bridges over a concave region near t = {where:.3f} mm (k_n <= 0): it will "
+                     f"not lie on the mandrel there")
+

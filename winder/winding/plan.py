@@ -1,0 +1,41 @@
+"""The winding planner: `plan(job) -> WindingPlan` (MATH.md 5; paper 6.1).
+
+Each layer is planned by its own module: helical layers on open mandrels (helical.py), on domed
+vessels (vessel.py), and hoop layers (hoop.py); passes.py holds what they share.
+"""
+
+from __future__ import annotations
+
+from winder.config.mandrel import JobConfig
+from winder.config.winding import LayerType
+from winder.geometry.domes import VesselMeridian
+from winder.errors import ConfigError
+from winder.winding.layers.helical_open import open_helical_layer
+from winder.winding.layers.hoop import hoop_layer
+from winder.winding.passes import PlanContext
+from winder.winding.results import WindingPlan
+from winder.geometry.sections import arc_map
+from winder.geometry.surface import build_surface
+from winder.winding.layers.helical_vessel import vessel_helical_layer
+
+
+def plan(job: JobConfig) -> WindingPlan:
+    """Plan every layer of a job; raises ConfigError for what the config cannot do, SolverError for
+    what cannot be computed (infeasible winding, no convergence)."""
+    if job.winding is None:
+        raise ConfigError(f"{job.source}: winding: missing; `winder run` needs the winding plan (band_width, "
+                          f"layers)")
+    surface = build_surface(job.mandrel, job.source, job.name)
+    ctx = PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed)
+    layers = []
+    theta0 = 0.0
+    for index, cfg in enumerate(job.winding.layers):
+        if cfg.type is LayerType.HOOP:
+            layer = hoop_layer(ctx, cfg, index, theta0)
+        elif isinstance(surface.profile, VesselMeridian):
+            layer = vessel_helical_layer(ctx, cfg, index, theta0)
+        else:
+            layer = open_helical_layer(ctx, cfg, index, theta0)
+        layers.append(layer)
+        theta0 = float(layer.passes[-1].theta[-1])
+    return WindingPlan(job.name, job.source, surface, tuple(layers))

@@ -1,0 +1,142 @@
+"""What the planner produces: fiber passes grouped in layers (the exporters' input).
+
+Every array is plain numpy; shapes in the docstrings. Angles are radians inside arrays named
+theta, degrees in fields named *_deg (the user-facing convention).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+
+from winder.config.winding import LayerType
+from winder.geometry.surface import SweepSurface
+
+
+class PassKind(Enum):
+    FORWARD = "forward"  # t increasing (+alpha band)
+    RETURN = "return"  # t decreasing (-alpha band)
+    DWELL = "dwell"  # at an end of an open mandrel: the mandrel turns, the carriage waits
+    HOOP = "hoop"  # a hoop traverse
+
+
+@dataclass(frozen=True)
+class FiberPass:
+    """One stretch of fiber, laid in winding order.
+
+    t, s, theta : (m,) float: axial station (mm), internal station, unwrapped angle (rad), continuous
+        from the previous pass of the same layer.
+    points : (m, 3) float, mandrel-frame xyz (mm).
+    direction : (m, 3) float, unit fiber direction in the laying order (toward the part not yet laid).
+    alpha_deg : (m,) float, signed winding angle from the meridian, (-90, 90]: +alpha on forward
+        passes, -alpha on return passes (see winding_angle_deg).
+    """
+
+    layer: int  # 1-based
+    circuit: int  # 1-based; hoop traverses count as circuits
+    number: int  # 1-based index of the pass within its layer, in winding order
+    kind: PassKind
+    t: np.ndarray
+    s: np.ndarray
+    theta: np.ndarray
+    points: np.ndarray
+    direction: np.ndarray
+    alpha_deg: np.ndarray
+    length: float  # mm
+
+
+@dataclass(frozen=True)
+class Coverage:
+    """Coverage of a layer at stations along its winding region (MATH.md 5).
+
+    stations : (k,) float, the t where it was measured.
+    covered_fraction : covered perimeter / perimeter, the least over the stations.
+    max_gap_mm, max_overlap_mm : the widest uncovered and doubly-covered stretch along the perimeter.
+    min_layers, max_layers : band layers over any perimeter point (a +-alpha layer is 2 where even).
+    """
+
+    stations: np.ndarray
+    covered_fraction: float
+    max_gap_mm: float
+    max_overlap_mm: float
+    min_layers: int
+    max_layers: int
+
+
+@dataclass(frozen=True)
+class LayerPlan:
+    """A planned layer.
+
+    angle_deg : the winding angle laid at the reference section (after any pattern adjustment);
+        requested_angle_deg the config's. circuits N_c, pattern k (circuit advance 2 pi k / N_c).
+    dwell_start_deg, dwell_end_deg : mandrel turn at each end of an open mandrel per circuit.
+    turnaround_radius : vessels: the Clairaut constant c where the fiber turns on the domes (mm).
+    alpha_min_deg, alpha_max_deg : range of the winding angle (folded to [0, 90]) over all passes.
+    time_s : estimated winding time at the machine feed.
+    """
+
+    index: int
+    type: LayerType
+    angle_deg: float
+    requested_angle_deg: float
+    circuits: int
+    pattern: int
+    dwell_start_deg: float
+    dwell_end_deg: float
+    turnaround_radius: float | None
+    fiber_length_mm: float
+    alpha_min_deg: float
+    alpha_max_deg: float
+    time_s: float
+    passes: tuple[FiberPass, ...]
+    coverage: Coverage
+    notes: tuple[str, ...] = ()
+
+    @property
+    def angle_change_deg(self) -> float:
+        return self.angle_deg - self.requested_angle_deg
+
+
+@dataclass(frozen=True)
+class WindingPlan:
+    """A whole job's plan: the mandrel surface and its layers in winding order."""
+
+    name: str
+    source: str
+    surface: SweepSurface
+    layers: tuple[LayerPlan, ...]
+
+    @property
+    def total_fiber_length_mm(self) -> float:
+        return float(sum(layer.fiber_length_mm for layer in self.layers))
+
+    @property
+    def total_time_s(self) -> float:
+        return float(sum(layer.time_s for layer in self.layers))
+
+
+HOOP_SLOPE = 1e-12  # |meridian component| / |circumferential| below this: the fiber runs on a parallel
+
+
+def winding_angle_deg(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
+                      direction: np.ndarray) -> np.ndarray:
+    """Signed winding angle (deg, (-90, 90]) of fiber directions (m, 3) from the meridian.
+
+    Magnitude: the angle between the fiber line and the meridian (direction of increasing t). Sign:
+    + where theta increases with t (a forward pass with the mandrel turning +), - where it decreases
+    (the return pass of the same circuit): the +alpha / -alpha of a winding engineer. A fiber along
+    a parallel (a dwell, the turn of a hoop, within HOOP_SLOPE) has no t direction to follow: its
+    sign is that of the mandrel's turn, and every plan turns the mandrel toward +theta, so it reads
+    +90 whatever the round-off in its meridian component.
+    """
+    ev = surface.evaluate(s, theta, order=1)
+    e_s = ev.ps / np.linalg.norm(ev.ps, axis=1)[:, None]
+    e_t = ev.pt - np.einsum("ij,ij->i", ev.pt, e_s)[:, None] * e_s
+    e_t /= np.linalg.norm(e_t, axis=1)[:, None]
+    v_s = np.einsum("ij,ij->i", direction, e_s)
+    v_t = np.einsum("ij,ij->i", direction, e_t)
+    magnitude = np.degrees(np.arctan2(np.abs(v_t), np.abs(v_s)))
+    alpha = np.where(v_s * v_t < 0.0, -magnitude, magnitude)
+    return np.where(np.abs(v_s) <= HOOP_SLOPE * np.abs(v_t), 90.0, alpha)
