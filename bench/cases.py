@@ -14,8 +14,8 @@ from typing import Callable
 import numpy as np
 from scipy.special import ellipe
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, LineAxis,
-                           MandrelConfig)
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
+                                   LineAxis, MandrelConfig)
 from winder.paths.shooting import shoot
 from winder.geometry.surface import SweepSurface, build_surface
 

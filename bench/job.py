@@ -62,7 +62,7 @@ def compare_job(settings: Settings, progress: Callable[[str], None]) -> dict[str
     except ImportError as exc:
         out["notes"].append(f"winder's planner or G-code exporter is missing ({exc}): whole-job comparison skipped")
         return out
-    from winder.config.mandrel import load_config  # noqa: PLC0415
+    from winder.config.job import load_config  # noqa: PLC0415
 
     with tempfile.TemporaryDirectory(prefix="winder-bench-") as tmp:
         tmpd = Path(tmp)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, LineAxis,
-                           MandrelConfig)
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
+                                   LineAxis, MandrelConfig)
 from winder.geometry.surface import SweepSurface, build_surface
 
 

@@ -9,32 +9,13 @@ from pathlib import Path
 
 import pytest
 
-from winder.config.mandrel import (
-    ArcAxis,
-    CircleSection,
-    ConeProfile,
-    ConstantProfile,
-    Dome,
-    DomeType,
-    EllipseSection,
-    JobConfig,
-    LayerConfig,
-    LayerType,
-    LineAxis,
-    MachineAxes,
-    MachineConfig,
-    MandrelConfig,
-    PathAxis,
-    RoundedRectangleSection,
-    SplineAxis,
-    SuperellipseSection,
-    TableProfile,
-    VesselProfile,
-    WindingConfig,
-    axis_length,
-    load_config,
-    parse_config,
-)
+from winder.config.job import JobConfig, load_config, parse_config
+from winder.config.machine import MachineAxes, MachineConfig
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, Dome, DomeType,
+                                   EllipseSection, LineAxis, MandrelConfig, PathAxis,
+                                   RoundedRectangleSection, SplineAxis, SuperellipseSection, TableProfile,
+                                   VesselProfile, axis_length)
+from winder.config.winding import LayerConfig, LayerType, WindingConfig
 from winder.errors import ConfigError, WinderError
 
 ROOT = Path(__file__).resolve().parent.parent

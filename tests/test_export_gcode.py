@@ -10,7 +10,7 @@ import pytest
 from conftest import surface_of
 from test_machine import cylinder_plan, geodesic_pass, make_layer
 from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
-from winder.config.winding import MachineAxes, MachineConfig, MachineLimits
+from winder.config.machine import MachineAxes, MachineConfig, MachineLimits
 from winder.errors import ExportError
 from winder.export.dialects.generic import gcode_text, program_moves, reduce_points
 from winder.winding.results import PassKind, WindingPlan

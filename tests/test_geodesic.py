@@ -196,7 +196,7 @@ def test_station_outside_mandrel_refused(straight_tube):
 
 
 def test_path_over_the_polar_opening_refused():
-    from winder.config.mandrel import parse_config  # noqa: PLC0415
+    from winder.config.job import parse_config  # noqa: PLC0415
     from winder.errors import SolverError  # noqa: PLC0415
     from winder.geometry.surface import build_surface  # noqa: PLC0415
 
@@ -212,7 +212,7 @@ def test_path_over_the_polar_opening_refused():
 
 def test_hemisphere_great_circle():
     """On a hemispherical dome geodesics are great circles: length = R * central angle."""
-    from winder.config.mandrel import parse_config  # noqa: PLC0415
+    from winder.config.job import parse_config  # noqa: PLC0415
     from winder.geometry.surface import build_surface  # noqa: PLC0415
 
     job = parse_config({"name": "v", "mandrel": {"profile": {

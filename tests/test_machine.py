@@ -12,7 +12,8 @@ from scipy.interpolate import CubicSpline
 
 from conftest import surface_of
 from winder.config.mandrel import ArcAxis, ConeProfile, ConstantProfile, EllipseSection, LineAxis
-from winder.config.winding import LayerType, MachineConfig, MachineLimits
+from winder.config.machine import MachineConfig, MachineLimits
+from winder.config.winding import LayerType
 from winder.errors import ExportError
 from winder.paths.geodesic import geodesic
 from winder.machine.kinematics import check_limits, eye_envelope, eye_path, robot_poses

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from winder.config.mandrel import parse_config
+from winder.config.job import parse_config
 from winder.errors import ConfigError, SolverError
 from winder.winding.results import PassKind
 from winder.winding.plan import plan

@@ -14,18 +14,8 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipeinc
 
-from winder.config.mandrel import (
-    ArcAxis,
-    CircleSection,
-    ConeProfile,
-    ConstantProfile,
-    Dome,
-    DomeType,
-    EllipseSection,
-    LineAxis,
-    MandrelConfig,
-    VesselProfile,
-)
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, Dome, DomeType,
+                                   EllipseSection, LineAxis, MandrelConfig, VesselProfile)
 from winder.errors import ConfigError, SolverError
 from winder.paths.geodesic import geodesic
 from winder.paths.shooting import clairaut_constant, shoot, trace, trace_fan

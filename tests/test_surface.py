@@ -13,9 +13,9 @@ import itertools
 import numpy as np
 import pytest
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, LineAxis,
-                           MandrelConfig, PathAxis, RoundedRectangleSection, SplineAxis, SuperellipseSection,
-                           TableProfile)
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
+                                   LineAxis, MandrelConfig, PathAxis, RoundedRectangleSection, SplineAxis,
+                                   SuperellipseSection, TableProfile)
 from winder.geometry.curves import make_curve
 from winder.errors import ConfigError
 from winder.geometry.profiles import make_profile

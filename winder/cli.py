@@ -16,7 +16,7 @@ import click
 import numpy as np
 
 from winder import __version__
-from winder.config.mandrel import load_config
+from winder.config.job import load_config
 from winder.errors import ConfigError, SolverError
 from winder.paths.geodesic import DEFAULT_POINTS, Method, geodesic
 from winder.app import regress as regress_mod

@@ -214,7 +214,7 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
     """
     import dataclasses  # noqa: PLC0415
 
-    from winder.config.mandrel import load_config  # noqa: PLC0415
+    from winder.config.job import load_config  # noqa: PLC0415
 
     config = os.fspath(config_path)
     shown = config

@@ -1,43 +1,24 @@
-"""Job file (YAML) -> validated, frozen dataclasses.
+"""The `mandrel:` section of a job file -> validated, frozen dataclasses.
 
-Everything a user can get wrong in a job file is refused here, before any computation, with one
-ConfigError reading `<file>: <key.path>: <what is wrong>, got <value>` (SPEC.md). Checks that need
-the built surface (a table's interpolation dipping, a spline bending too tightly, dome depths) are
-left to the modules that build it. The `winding:` and `machine:` sections live in
-winder.config.winding.
+Everything a user can get wrong in the mandrel is refused here, before any computation, with one
+ConfigError naming the file, the key path and the value (SPEC.md). Checks that need the built surface
+(a table's interpolation dipping, a spline bending too tightly, a bend folding the surface onto
+itself, dome fits) are left to winder.geometry.build, which knows the key paths as well.
 """
 
 from __future__ import annotations
 
-import bisect
 import math
-import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import Enum
-from pathlib import Path
 from typing import Any
 
-import yaml
-
-from winder.config.winding import (
-    LENGTH_SLACK,
-    LayerConfig,
-    LayerType,
-    MachineAxes,
-    MachineConfig,
-    MachineLimits,
-    WindingConfig,
-    parse_machine,
-    parse_winding,
-)
-from winder.errors import ConfigError
-from winder.config.reader import Reader, YamlLoader, show_value
+from winder.config.reader import LENGTH_SLACK, Reader, show_value
 
 __all__ = [
-    "ArcAxis", "CircleSection", "ConeProfile", "ConstantProfile", "Dome", "DomeType", "EllipseSection",
-    "JobConfig", "LayerConfig", "LayerType", "LineAxis", "MachineAxes", "MachineConfig", "MachineLimits",
-    "MandrelConfig", "PathAxis", "RoundedRectangleSection", "SplineAxis", "SuperellipseSection",
-    "TableProfile", "VesselProfile", "WindingConfig", "axis_length", "load_config", "parse_config",
+    "ArcAxis", "Axis", "CircleSection", "ConeProfile", "ConstantProfile", "Dome", "DomeType", "EllipseSection",
+    "LineAxis", "MandrelConfig", "PathAxis", "Profile", "RoundedRectangleSection", "Section", "SplineAxis",
+    "SuperellipseSection", "TableProfile", "VesselProfile", "axis_length", "parse_mandrel",
 ]
 
 
@@ -174,62 +155,6 @@ class MandrelConfig:
     section: Section = CircleSection()
 
 
-@dataclass(frozen=True)
-class JobConfig:
-    """A whole job file. source is the file name used in messages. winding is None when the file has
-    none (enough for `geodesic` and `check`); machine is the default MachineConfig when left out."""
-
-    name: str
-    source: str
-    mandrel: MandrelConfig
-    winding: WindingConfig | None = None
-    machine: MachineConfig | None = field(default_factory=MachineConfig)
-
-
-def load_config(path: str | Path) -> JobConfig:
-    """Read and validate a job file; every problem is a ConfigError starting with the path."""
-    source = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
-    try:
-        data = yaml.load(text, Loader=YamlLoader)  # noqa: S506 (a SafeLoader subclass)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
-        problem = exc.problem or exc.context or "unreadable"
-        raise ConfigError(f"{source}: {where}invalid YAML: {problem}") from exc
-    except (yaml.YAMLError, ValueError) as exc:  # ValueError: an explicitly tagged !!int "x"
-        raise ConfigError(f"{source}: invalid YAML: {exc}") from exc
-    return parse_config(data, source)
-
-
-# -- the job file ----------------------------------------------------------------------------------
-_NAME = re.compile(r"[A-Za-z0-9_.-]+")
-
-
-def parse_config(data: dict, source: str) -> JobConfig:
-    """Validate the loaded YAML of a job file; source is the file name used in messages."""
-    rd = Reader(source)
-    top = rd.mapping(data, "", ("name", "mandrel", "winding", "machine"), required=("name", "mandrel"))
-    name = rd.text(top["name"], "name")
-    if not _NAME.fullmatch(name):
-        raise rd.error("name", "must use only letters, digits, '_', '.' and '-' (it names the output "
-                       "files)", name)
-    mandrel = _parse_mandrel(rd, top["mandrel"], "mandrel")
-    vessel = isinstance(mandrel.profile, VesselProfile)
-    winding = None
-    if top.get("winding") is not None:  # an empty `winding:` counts as none
-        winding = parse_winding(rd, top["winding"], "winding", axis_length=axis_length(mandrel.axis),
-                                vessel=vessel)
-    machine = parse_machine(rd, top.get("machine"), "machine", bent=_is_bent(mandrel.axis),
-                            max_radius=_reach(mandrel, 0.0, math.inf, None))
-    return JobConfig(name, source, mandrel, winding, machine)
-
-
 def axis_length(axis: Axis | None) -> float | None:
     """T, the axis length in mm, when known without computation (not for a spline or None)."""
     if isinstance(axis, LineAxis):
@@ -241,7 +166,7 @@ def axis_length(axis: Axis | None) -> float | None:
     return None
 
 
-# -- the mandrel -----------------------------------------------------------------------------------
+# -- parsing --------------------------------------------------------------------------------------
 _AXIS_KINDS = {
     "line": (("length",), ()),
     "arc": (("radius", "angle"), ("toward",)),
@@ -268,7 +193,8 @@ _SECTION_KINDS = {
 }
 
 
-def _parse_mandrel(rd: Reader, value: Any, path: str) -> MandrelConfig:
+def parse_mandrel(rd: Reader, value: Any, path: str) -> MandrelConfig:
+    """The mandrel section at key path `path`."""
     m = rd.mapping(value, path, ("axis", "profile", "section"))
     axis_path, profile_path, section_path = (rd.at(path, key) for key in ("axis", "profile", "section"))
     # Each part on its own first, in the order of the file, so the first message is the topmost.
@@ -299,9 +225,7 @@ def _parse_mandrel(rd: Reader, value: Any, path: str) -> MandrelConfig:
         if profile.points[-1][0] < length - LENGTH_SLACK:
             raise rd.error(rd.at(profile_path, "points"), f"must cover the whole axis: the last t must "
                            f"be >= {length:g} (the axis length)", m["profile"]["points"][-1][0])
-    mandrel = MandrelConfig(axis, profile, section)
-    _check_bends(rd, mandrel, axis_path)
-    return mandrel
+    return MandrelConfig(axis, profile, section)
 
 
 def _parse_axis(rd: Reader, value: Any, path: str) -> Axis:
@@ -441,109 +365,3 @@ def _parse_section(rd: Reader, value: Any, path: str) -> Section:
     return RoundedRectangleSection(width, height, corner)
 
 
-# -- cross checks that need no computation ---------------------------------------------------------
-def _is_bent(axis: Axis | None) -> bool:
-    """True when a straight-axis winder cannot follow the axis."""
-    if axis is None or isinstance(axis, LineAxis):
-        return False
-    if isinstance(axis, PathAxis):
-        return any(isinstance(seg, ArcAxis) for seg in axis.segments)
-    if isinstance(axis, SplineAxis):  # straight only when every point lies on one line
-        p0, p1 = axis.points[0], axis.points[1]
-        d = [b - a for a, b in zip(p0, p1)]
-        scale = max(map(abs, d))
-        for p in axis.points[2:]:
-            e = [b - a for a, b in zip(p0, p)]
-            cross = (d[1] * e[2] - d[2] * e[1], d[2] * e[0] - d[0] * e[2], d[0] * e[1] - d[1] * e[0])
-            if max(map(abs, cross)) > 1e-9 * scale * max(1.0, max(map(abs, e))):
-                return True
-        return False
-    return True
-
-
-def _arcs(axis: Axis | None, path: str) -> list[tuple[ArcAxis, float, str]]:
-    """Every arc of the axis with its start station t and its key path."""
-    if isinstance(axis, ArcAxis):
-        return [(axis, 0.0, path)]
-    arcs = []
-    if isinstance(axis, PathAxis):
-        t = 0.0
-        for i, seg in enumerate(axis.segments):
-            if isinstance(seg, ArcAxis):
-                arcs.append((seg, t, Reader.at(Reader.at(Reader.at(path, "segments"), i), "arc")))
-            t += axis_length(seg) or 0.0
-    return arcs
-
-
-def _profile_max(profile: Profile, t0: float, t1: float, length: float | None) -> float:
-    """The largest profile radius on [t0, t1] (for a table: of its points and linear interpolation;
-    the smooth interpolation may overshoot slightly, which the surface module checks)."""
-    if isinstance(profile, ConstantProfile):
-        return profile.radius
-    if isinstance(profile, VesselProfile):
-        return profile.radius
-    if isinstance(profile, ConeProfile):
-        if length is None or length <= 0.0:
-            return max(profile.start_radius, profile.end_radius)
-        slope = (profile.end_radius - profile.start_radius) / length
-        return profile.start_radius + slope * (t0 if slope < 0.0 else min(t1, length))
-    ts = [t for t, _ in profile.points]
-    rs = [r for _, r in profile.points]
-
-    def interp(t: float) -> float:
-        k = min(max(bisect.bisect_right(ts, t), 1), len(ts) - 1)
-        w = min(max((t - ts[k - 1]) / (ts[k] - ts[k - 1]), 0.0), 1.0)
-        return rs[k - 1] + w * (rs[k] - rs[k - 1])
-
-    inside = [r for t, r in profile.points if t0 < t < t1]
-    return max([interp(t0), interp(t1), *inside])
-
-
-def _section_extent(section: Section, direction_deg: float | None) -> float:
-    """The section's extent from the axis in one direction (its support function: the outline is
-    convex), or its largest radius when direction_deg is None. 1 for the circle (unit radius)."""
-    if isinstance(section, CircleSection):
-        return 1.0
-    if direction_deg is None:
-        if isinstance(section, EllipseSection):
-            return max(section.a, section.b)
-        if isinstance(section, RoundedRectangleSection):
-            c = section.corner_radius
-            return math.hypot(section.width / 2 - c, section.height / 2 - c) + c
-        # Superellipse: the farthest point may lie between the semi-axes; sample the outline.
-        q = 2.0 / section.exponent
-        return max(math.hypot(section.a * math.cos(u) ** q, section.b * math.sin(u) ** q)
-                   for u in (0.5 * math.pi * k / 2000 for k in range(2001)))
-    cx, cy = abs(math.cos(math.radians(direction_deg))), abs(math.sin(math.radians(direction_deg)))
-    if isinstance(section, EllipseSection):
-        return math.hypot(section.a * cx, section.b * cy)
-    if isinstance(section, RoundedRectangleSection):
-        c = section.corner_radius
-        return (section.width / 2 - c) * cx + (section.height / 2 - c) * cy + c
-    dual = section.exponent / (section.exponent - 1.0)  # the support function is the dual norm
-    return ((section.a * cx) ** dual + (section.b * cy) ** dual) ** (1.0 / dual)
-
-
-def _reach(mandrel: MandrelConfig, t0: float, t1: float, direction_deg: float | None) -> float:
-    """How far the surface reaches from the axis on [t0, t1] (in one direction, or in any)."""
-    profile, section = mandrel.profile, mandrel.section
-    extent = _section_extent(section, direction_deg)
-    if profile is None:
-        return extent
-    rmax = _profile_max(profile, t0, t1, axis_length(mandrel.axis))
-    if isinstance(section, CircleSection):
-        return rmax
-    start = {ConstantProfile: lambda p: p.radius, ConeProfile: lambda p: p.start_radius,
-             TableProfile: lambda p: p.points[0][1]}[type(profile)](profile)
-    return extent * rmax / start  # a section with a profile is scaled by profile(t) / profile(0)
-
-
-def _check_bends(rd: Reader, mandrel: MandrelConfig, axis_path: str) -> None:
-    """SPEC: a section reaching the centre of a bend (the surface folds onto itself) is refused."""
-    for arc, t0, arc_path in _arcs(mandrel.axis, axis_path):
-        t1 = t0 + (axis_length(arc) or 0.0)
-        reach = _reach(mandrel, t0, t1, arc.toward_deg)
-        if reach >= arc.radius:
-            raise rd.error(rd.at(arc_path, "radius"), f"must be larger than the mandrel's reach toward "
-                           f"the inside of the bend ({reach:.6g} mm), or the surface folds onto itself",
-                           arc.radius)

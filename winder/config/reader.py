@@ -16,6 +16,9 @@ import yaml
 
 from winder.errors import ConfigError
 
+# Slack (mm) when comparing user-typed lengths with computed ones: an arc's length is irrational,
+# so a region end typed as 235.62 for a 150 mm x 90 deg bend must still count as "inside".
+LENGTH_SLACK = 1e-3
 MAX_SIZE = 1e6  # the largest length (mm), feed (mm/min) or other positive size a config may give
 
 

@@ -52,7 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from winder.config.winding import MachineConfig
+from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.geometry.surface import SweepSurface
 

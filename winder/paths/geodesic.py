@@ -24,7 +24,8 @@ from scipy.linalg import LinAlgError, solveh_banded
 from scipy.optimize import minimize
 
 from winder.errors import ConfigError, SolverError
-from winder.geometry.measure import geodesic_curvature, polyline_length, richardson, smooth_length, spacing_deviation
+from winder.geometry.measure import (geodesic_curvature, polyline_length, richardson, smooth_length,
+                                     spacing_deviation)
 from winder.geometry.surface import SweepSurface
 
 

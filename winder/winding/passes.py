@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.interpolate import make_interp_spline
 
-from winder.config.mandrel import JobConfig
+from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
 from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError

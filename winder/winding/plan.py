@@ -6,7 +6,7 @@ vessels (vessel.py), and hoop layers (hoop.py); passes.py holds what they share.
 
 from __future__ import annotations
 
-from winder.config.mandrel import JobConfig
+from winder.config.job import JobConfig
 from winder.config.winding import LayerType
 from winder.geometry.domes import VesselMeridian
 from winder.errors import ConfigError

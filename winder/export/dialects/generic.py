@@ -34,7 +34,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from winder.config.winding import MachineConfig
+from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.kinematics import (EyeEnvelope, RobotPoses, check_limits, eye_envelope, eye_path, make_guide,
                             robot_poses)

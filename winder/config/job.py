@@ -1,0 +1,80 @@
+"""A whole job file (YAML) -> one validated, frozen JobConfig.
+
+Reads the file, refuses bad YAML, and hands each section to its parser (winder.config.mandrel,
+.winding, .machine); every problem is a ConfigError naming the file and the key path (SPEC.md).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+
+from winder.config.extent import check_bends, is_bent, mandrel_reach
+from winder.config.machine import MachineConfig, parse_machine
+from winder.config.mandrel import MandrelConfig, VesselProfile, axis_length, parse_mandrel
+from winder.config.reader import Reader, YamlLoader
+from winder.config.winding import WindingConfig, parse_winding
+from winder.errors import ConfigError
+
+__all__ = ["JobConfig", "load_config", "parse_config"]
+
+
+@dataclass(frozen=True)
+class JobConfig:
+    """A whole job file. source is the file name used in messages. winding is None when the file has
+    none (enough for `geodesic` and `check`); machine is the default MachineConfig when left out."""
+
+    name: str
+    source: str
+    mandrel: MandrelConfig
+    winding: WindingConfig | None = None
+    machine: MachineConfig | None = field(default_factory=MachineConfig)
+
+
+def load_config(path: str | Path) -> JobConfig:
+    """Read and validate a job file; every problem is a ConfigError starting with the path."""
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
+    try:
+        data = yaml.load(text, Loader=YamlLoader)  # noqa: S506 (a SafeLoader subclass)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
+        problem = exc.problem or exc.context or "unreadable"
+        raise ConfigError(f"{source}: {where}invalid YAML: {problem}") from exc
+    except (yaml.YAMLError, ValueError) as exc:  # ValueError: an explicitly tagged !!int "x"
+        raise ConfigError(f"{source}: invalid YAML: {exc}") from exc
+    return parse_config(data, source)
+
+
+# -- the job file ----------------------------------------------------------------------------------
+_NAME = re.compile(r"[A-Za-z0-9_.-]+")
+
+
+def parse_config(data: dict, source: str) -> JobConfig:
+    """Validate the loaded YAML of a job file; source is the file name used in messages."""
+    rd = Reader(source)
+    top = rd.mapping(data, "", ("name", "mandrel", "winding", "machine"), required=("name", "mandrel"))
+    name = rd.text(top["name"], "name")
+    if not _NAME.fullmatch(name):
+        raise rd.error("name", "must use only letters, digits, '_', '.' and '-' (it names the output "
+                       "files)", name)
+    mandrel = parse_mandrel(rd, top["mandrel"], "mandrel")
+    check_bends(rd, mandrel, "mandrel.axis")
+    vessel = isinstance(mandrel.profile, VesselProfile)
+    winding = None
+    if top.get("winding") is not None:  # an empty `winding:` counts as none
+        winding = parse_winding(rd, top["winding"], "winding", axis_length=axis_length(mandrel.axis),
+                                vessel=vessel)
+    machine = parse_machine(rd, top.get("machine"), "machine", bent=is_bent(mandrel.axis),
+                            max_radius=mandrel_reach(mandrel, 0.0, math.inf, None))
+    return JobConfig(name, source, mandrel, winding, machine)

@@ -1,0 +1,170 @@
+"""The `machine:` section of a job file: the winder's axes, payout eye, feed, limits, robot mode.
+
+Every key has a default. The parser receives a `winder.config.reader.Reader` plus the facts about the
+mandrel it checks against (bent axis, largest radius); winder.config.job calls it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from winder.config.reader import Reader
+
+DEFAULT_EYE_CLEARANCE = 20.0
+DEFAULT_FEED = 3000.0
+DEFAULT_CHORD_TOLERANCE = 0.05
+MAX_EYE_CLEARANCE = 2000.0
+
+MACHINE_ROLES = ("carriage", "rotation", "cross_feed", "yaw")
+# Axis words of G-code (ISO 6983 / RS-274); any other letter (F, G, M, N, ...) would change the
+# meaning of a program line.
+AXIS_LETTERS = "XYZABCUVW"
+
+
+@dataclass(frozen=True)
+class MachineAxes:
+    """G-code letters of the machine axes (YAML `machine.axes`); distinct, from X Y Z A B C U V W.
+
+    carriage: carriage travel along the mandrel axis (mm). rotation: mandrel turn (deg, cumulative).
+    cross_feed: radial distance of the payout eye from the axis (mm). yaw: payout-eye yaw (deg).
+    """
+
+    carriage: str = "X"
+    rotation: str = "A"
+    cross_feed: str = "Z"
+    yaw: str = "B"
+
+
+@dataclass(frozen=True)
+class MachineLimits:
+    """Travel limits (YAML `machine.limits`), each (min, max) in the axis' unit, or None: unlimited."""
+
+    carriage: tuple[float, float] | None = None
+    rotation: tuple[float, float] | None = None
+    cross_feed: tuple[float, float] | None = None
+    yaw: tuple[float, float] | None = None
+
+    def get(self, role: str) -> tuple[float, float] | None:
+        """The limits of one axis by role name (carriage, rotation, cross_feed, yaw)."""
+        if role not in MACHINE_ROLES:
+            raise KeyError(role)
+        return getattr(self, role)
+
+    def items(self) -> tuple[tuple[str, tuple[float, float]], ...]:
+        """The (role, (min, max)) pairs of the limited axes."""
+        return tuple((role, lim) for role in MACHINE_ROLES if (lim := getattr(self, role)) is not None)
+
+
+@dataclass(frozen=True)
+class MachineConfig:
+    """The winder (YAML `machine:`). Every key has a default, so the section may be left out.
+
+    axes: the axis letters (see MachineAxes).
+    eye_radius, eye_clearance: the payout-eye envelope, exactly one is set. YAML `eye: {radius: Z}`:
+        the eye moves on a cylinder of radius Z (mm) around the axis (larger than the mandrel).
+        YAML `eye: {clearance: c}`: the eye keeps c mm beyond the local mandrel radius
+        (default: clearance 20).
+    feed: G-code feed rate F, mm/min, > 0 (default 3000).
+    chord_tolerance: largest deviation (mm) between the programmed straight moves and the exact
+        eye path, > 0 (default 0.05); the exporter drops points within it.
+    limits: axis travel limits (see MachineLimits); the exporter refuses a program exceeding them.
+    robot: true: write eye poses (position and fiber direction in the mandrel frame) for a robot
+        instead of G-code axes. Default: true exactly when the mandrel axis is bent, which a
+        straight-axis winder cannot follow (an explicit false is then refused).
+    """
+
+    axes: MachineAxes = field(default_factory=MachineAxes)
+    eye_radius: float | None = None
+    eye_clearance: float | None = DEFAULT_EYE_CLEARANCE
+    feed: float = DEFAULT_FEED
+    chord_tolerance: float = DEFAULT_CHORD_TOLERANCE
+    limits: MachineLimits = field(default_factory=MachineLimits)
+    robot: bool = False
+
+
+# -- machine ---------------------------------------------------------------------------------------
+_MACHINE_KEYS = ("axes", "eye", "feed", "chord_tolerance", "limits", "robot")
+
+
+def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
+                  max_radius: float | None) -> MachineConfig:
+    """The machine section (None: all defaults). bent: the mandrel axis is not straight;
+    max_radius: the mandrel's largest distance from its axis, when known without computation."""
+    if value is None:
+        return MachineConfig(robot=bent)
+    m = rd.mapping(value, path, _MACHINE_KEYS)
+    axes = _parse_axes(rd, m["axes"], rd.at(path, "axes")) if "axes" in m else MachineAxes()
+    limits = _parse_limits(rd, m["limits"], rd.at(path, "limits")) if "limits" in m else MachineLimits()
+    eye_radius, eye_clearance = None, DEFAULT_EYE_CLEARANCE
+    if "eye" in m:
+        eye_radius, eye_clearance = _parse_eye(rd, m["eye"], rd.at(path, "eye"), max_radius, limits)
+    feed = rd.positive(m.get("feed", DEFAULT_FEED), rd.at(path, "feed"))
+    chord_tolerance = rd.positive(m.get("chord_tolerance", DEFAULT_CHORD_TOLERANCE),
+                                  rd.at(path, "chord_tolerance"))
+    robot = bent
+    if "robot" in m:
+        robot = rd.boolean(m["robot"], rd.at(path, "robot"))
+        if bent and not robot:
+            raise rd.error(rd.at(path, "robot"), "must be true for a bent mandrel axis: a straight-axis "
+                           "winder cannot follow it, so winder writes eye poses for a robot", m["robot"])
+    return MachineConfig(axes, eye_radius, eye_clearance, feed, chord_tolerance, limits, robot)
+
+
+def _parse_axes(rd: Reader, value: Any, path: str) -> MachineAxes:
+    m = rd.mapping(value, path, MACHINE_ROLES)
+    letters = {}
+    owner: dict[str, str] = {}
+    for role in MACHINE_ROLES:
+        letter = m.get(role, getattr(MachineAxes, role))
+        where = rd.at(path, role)
+        if not isinstance(letter, str) or len(letter) != 1 or letter not in AXIS_LETTERS:
+            raise rd.error(where, f"must be one G-code axis letter ({', '.join(AXIS_LETTERS)})", letter)
+        if letter in owner:
+            # Defaults count too: moving yaw to Z needs cross_feed moved off Z as well.
+            raise rd.error(where, f"must differ from the other axes ({owner[letter]} is already "
+                           f"{letter})", letter)
+        owner[letter] = role
+        letters[role] = letter
+    return MachineAxes(**letters)
+
+
+def _parse_limits(rd: Reader, value: Any, path: str) -> MachineLimits:
+    m = rd.mapping(value, path, MACHINE_ROLES)
+    limits = {}
+    for role, pair in m.items():
+        where = rd.at(path, role)
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise rd.error(where, "must be a pair [min, max]", pair)
+        lo = rd.number(pair[0], where, "min")
+        hi = rd.number(pair[1], where, "max")
+        if not lo < hi:
+            raise rd.error(where, "min must be smaller than max", pair)
+        limits[role] = (lo, hi)
+    return MachineLimits(**limits)
+
+
+def _parse_eye(rd: Reader, value: Any, path: str, max_radius: float | None,
+               limits: MachineLimits) -> tuple[float | None, float | None]:
+    m = rd.mapping(value, path, ("radius", "clearance"))
+    if len(m) != 1:
+        raise rd.error(path, "give exactly one of radius (a cylinder around the axis) or clearance "
+                       "(a distance beyond the mandrel surface)", m)
+    if "clearance" in m:
+        clearance = rd.positive(m["clearance"], rd.at(path, "clearance"))
+        if clearance > MAX_EYE_CLEARANCE:
+            raise rd.error(rd.at(path, "clearance"), f"must be <= {MAX_EYE_CLEARANCE:g} mm (a payout eye "
+                           f"that far from the mandrel cannot guide the band)", m["clearance"])
+        return None, clearance
+    where = rd.at(path, "radius")
+    radius = rd.positive(m["radius"], where)
+    if max_radius is not None and radius <= max_radius:
+        raise rd.error(where, f"must be larger than the mandrel's largest radius ({max_radius:g} mm), "
+                       "or the eye would hit the mandrel", m["radius"])
+    cross = limits.cross_feed
+    if cross is not None and not cross[0] <= radius <= cross[1]:
+        limits_path = rd.at(rd.at(path.rpartition(".")[0], "limits"), "cross_feed")
+        raise rd.error(where, f"must lie within {limits_path} [{cross[0]:g}, {cross[1]:g}]",
+                       m["radius"])
+    return radius, None
