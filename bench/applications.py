@@ -14,7 +14,7 @@ from bench.timing import interleaved
 from winder.config.mandrel import ArcAxis, MandrelConfig
 from winder.paths.geodesic import geodesic
 from winder.paths.shooting import shoot
-from winder.geometry.surface import build_surface
+from winder.geometry.build import build_surface
 
 
 def helices(settings: Settings, progress: Callable[[str], None]) -> dict[str, Any]:

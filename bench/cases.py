@@ -17,7 +17,8 @@ from scipy.special import ellipe
 from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
                                    LineAxis, MandrelConfig)
 from winder.paths.shooting import shoot
-from winder.geometry.surface import SweepSurface, build_surface
+from winder.geometry.build import build_surface
+from winder.geometry.surface import SweepSurface
 
 TWO_PI = 2.0 * np.pi
 

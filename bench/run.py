@@ -40,7 +40,7 @@ def blas_check(progress: Progress) -> dict[str, Any]:
     alternated three times (the reason the bench limits BLAS to one thread)."""
     from bench.cases import bent_tube  # noqa: PLC0415
     from winder.paths.geodesic import _lbfgs, straight_path  # noqa: PLC0415
-    from winder.geometry.surface import build_surface  # noqa: PLC0415
+    from winder.geometry.build import build_surface  # noqa: PLC0415
 
     progress("BLAS threads: L-BFGS-B per iteration, default threads vs one")
     surface = build_surface(bent_tube(), "bench", "bend")

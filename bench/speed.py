@@ -18,7 +18,8 @@ import numpy as np
 from winder.config.mandrel import ArcAxis, CircleSection, ConstantProfile, MandrelConfig
 from winder.paths.geodesic import _lbfgs, solve_path, straight_path
 from winder.geometry.measure import polyline_length
-from winder.geometry.surface import SweepSurface, build_surface
+from winder.geometry.build import build_surface
+from winder.geometry.surface import SweepSurface
 
 LBFGS_TARGET = 1e-9  # relative length gap to Newton's at which the L-BFGS run counts as there
 CHECK_EVERY = 50  # L-BFGS iterations between length checks

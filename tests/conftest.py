@@ -7,7 +7,8 @@ import pytest
 
 from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
                                    LineAxis, MandrelConfig)
-from winder.geometry.surface import SweepSurface, build_surface
+from winder.geometry.build import build_surface
+from winder.geometry.surface import SweepSurface
 
 
 def surface_of(axis, profile=None, section=None) -> SweepSurface:

@@ -16,6 +16,7 @@ from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, Constant
                                    RoundedRectangleSection, SplineAxis, SuperellipseSection, TableProfile,
                                    VesselProfile, axis_length)
 from winder.config.winding import LayerConfig, LayerType, WindingConfig
+from winder.geometry.build import build_surface
 from winder.errors import ConfigError, WinderError
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -144,22 +145,27 @@ def test_non_circular_section_without_profile_is_absolute() -> None:
     assert m.profile is None and m.section == EllipseSection(60.0, 35.0)
 
 
+def built(mandrel: dict):
+    """The bend check needs the surface: it is the geometry's (winder.geometry.build)."""
+    return build_surface(mandrel_of(mandrel), "t.yaml")
+
+
 def test_bend_check_uses_the_section_extent_toward_the_inside() -> None:
     # An ellipse 60 x 20 bent toward e3 (toward 90) reaches only 20 mm toward the bend's centre.
     base = {"section": {"type": "ellipse", "a": 60, "b": 20}}
-    mandrel_of({**base, "axis": {"type": "arc", "radius": 25, "angle": 90, "toward": 90}})
+    built({**base, "axis": {"type": "arc", "radius": 25, "angle": 90, "toward": 90}})
     with pytest.raises(ConfigError, match=r"mandrel\.axis\.radius: must be larger than .*\(60 mm\)"):
-        mandrel_of({**base, "axis": {"type": "arc", "radius": 55, "angle": 90, "toward": 0}})
+        built({**base, "axis": {"type": "arc", "radius": 55, "angle": 90, "toward": 0}})
 
 
 def test_bend_check_follows_a_cone_along_the_path() -> None:
     # A cone 80 -> 20 over 100 + 100 + pi/2*50 mm: at the bend (t in [100, 178.5]) r <= 50.
     cone = {"type": "cone", "start_radius": 80, "end_radius": 20}
     segments = [{"line": 100}, {"arc": {"radius": 60, "angle": 90}}, {"line": 100}]
-    mandrel_of({"axis": {"type": "path", "segments": segments}, "profile": cone})
+    built({"axis": {"type": "path", "segments": segments}, "profile": cone})
     segments[1]["arc"]["radius"] = 40
     with pytest.raises(ConfigError, match=r"segments\[1\]\.arc\.radius"):
-        mandrel_of({"axis": {"type": "path", "segments": segments}, "profile": cone})
+        built({"axis": {"type": "path", "segments": segments}, "profile": cone})
 
 
 # -- winding ---------------------------------------------------------------------------------------
@@ -363,7 +369,9 @@ def test_enough_invalid_cases() -> None:
 def test_invalid_config_refused(path: Path) -> None:
     expected = _expected(path)
     with pytest.raises(ConfigError) as info:
-        load_config(path)
+        # What only the built surface shows (a bend folding it) is refused by the geometry stage.
+        job = load_config(path)
+        build_surface(job.mandrel, job.source, job.name)
     message = str(info.value)
     assert message.startswith(f"{path}: "), message
     assert expected in message, message

@@ -13,7 +13,7 @@ import pytest
 from scipy.optimize import minimize_scalar
 
 from winder.config.mandrel import ArcAxis, LineAxis, PathAxis, SplineAxis
-from winder.geometry.curves import make_curve
+from winder.geometry.build import make_curve
 from winder.geometry.frames import double_reflection
 
 EXACT_TOL = 1e-12  # closed-form geometry (mm, or dimensionless for unit vectors), scaled below

@@ -20,10 +20,12 @@ from scipy.optimize import brentq
 from scipy.special import ellipeinc
 
 from winder.config.mandrel import Dome, DomeType, VesselProfile
-from winder.geometry.domes import (ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING, ISOTENSOID_MIN_OPENING, DomeMeridian,
-                          VesselMeridian, make_dome, make_vessel)
+from winder.geometry.build import make_dome, make_vessel
+from winder.geometry.domes import (DomeMeridian, ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING,
+                                   ISOTENSOID_MIN_OPENING)
+from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError
-from winder.geometry.profiles import make_profile
+from winder.geometry.build import make_profile
 
 R = 100.0  # vessel radius used throughout, mm
 EPS = np.finfo(float).eps
@@ -377,24 +379,13 @@ def test_build_is_fast():
 # ------------------------------------------------------------------------------------------- refusals
 
 @pytest.mark.parametrize(("cfg", "key", "words"), [
-    (VesselProfile(R, 100.0, hemi(100.0), hemi(20.0)), "mandrel.profile.dome.polar_opening",
-     "must be smaller than mandrel.profile.radius (100), got 100"),
-    (VesselProfile(R, 100.0, hemi(20.0), ellip(120.0, 50.0)), "mandrel.profile.end_dome.polar_opening",
-     "must be smaller than mandrel.profile.radius"),
+    # Only what the geometry knows; signs, ranges and required keys are the config reader's (tests/config).
     (VesselProfile(R, 100.0, iso(80.0), hemi(20.0)), "mandrel.profile.dome.polar_opening",
      "sqrt(2/3)"),
     (VesselProfile(R, 100.0, hemi(20.0), iso(1.0)), "mandrel.profile.end_dome.polar_opening",
      "isotensoid"),
     (VesselProfile(R, 100.0, ellip(20.0, 2.0), hemi(20.0)), "mandrel.profile.dome.depth",
      "between"),
-    (VesselProfile(R, 100.0, Dome(DomeType.ELLIPSOID, 20.0), hemi(20.0)), "mandrel.profile.dome.depth",
-     "needs depth"),
-    (VesselProfile(R, 100.0, hemi(20.0), Dome(DomeType.HEMISPHERE, 20.0, 50.0)),
-     "mandrel.profile.end_dome.depth", "only an ellipsoid"),
-    (VesselProfile(R, 100.0, hemi(0.0), hemi(20.0)), "mandrel.profile.dome.polar_opening", "> 0"),
-    (VesselProfile(-5.0, 100.0, hemi(1.0), hemi(1.0)), "mandrel.profile.radius", "> 0, got -5"),
-    (VesselProfile(R, -1.0, hemi(1.0), hemi(1.0)), "mandrel.profile.cylinder_length", ">= 0"),
-    (VesselProfile(R, 100.0, hemi(float("nan")), hemi(1.0)), "mandrel.profile.dome.polar_opening", "nan"),
 ])
 def test_refusals(cfg, key, words):
     with pytest.raises(ConfigError) as err:

@@ -198,7 +198,7 @@ def test_station_outside_mandrel_refused(straight_tube):
 def test_path_over_the_polar_opening_refused():
     from winder.config.job import parse_config  # noqa: PLC0415
     from winder.errors import SolverError  # noqa: PLC0415
-    from winder.geometry.surface import build_surface  # noqa: PLC0415
+    from winder.geometry.build import build_surface  # noqa: PLC0415
 
     job = parse_config({"name": "v", "mandrel": {"profile": {
         "type": "vessel", "radius": 100, "cylinder_length": 300,
@@ -213,7 +213,7 @@ def test_path_over_the_polar_opening_refused():
 def test_hemisphere_great_circle():
     """On a hemispherical dome geodesics are great circles: length = R * central angle."""
     from winder.config.job import parse_config  # noqa: PLC0415
-    from winder.geometry.surface import build_surface  # noqa: PLC0415
+    from winder.geometry.build import build_surface  # noqa: PLC0415
 
     job = parse_config({"name": "v", "mandrel": {"profile": {
         "type": "vessel", "radius": 100, "cylinder_length": 300,

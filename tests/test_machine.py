@@ -296,7 +296,7 @@ def test_robot_poses_on_tangent_line_and_tube(bend, machine, radius):
 @pytest.fixture(scope="module")
 def vessel():
     from winder.config.mandrel import Dome, DomeType, MandrelConfig, VesselProfile  # noqa: PLC0415
-    from winder.geometry.surface import build_surface  # noqa: PLC0415
+    from winder.geometry.build import build_surface  # noqa: PLC0415
     dome = Dome(DomeType.HEMISPHERE, 30.0)
     return build_surface(MandrelConfig(None, VesselProfile(100.0, 300.0, dome, dome)), "v.yaml", "v")
 

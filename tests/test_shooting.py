@@ -19,7 +19,7 @@ from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, Constant
 from winder.errors import ConfigError, SolverError
 from winder.paths.geodesic import geodesic
 from winder.paths.shooting import clairaut_constant, shoot, trace, trace_fan
-from winder.geometry.surface import build_surface
+from winder.geometry.build import build_surface
 
 HELIX_TOL = 1e-9  # mm: traced helix vs closed form (s, and R * theta)
 SPEED_TOL = 1e-10  # | |J u'| - 1 |: the arc-length parametrization holds along a trace

@@ -22,7 +22,7 @@ from winder.paths.geodesic import DEFAULT_POINTS, Method, geodesic
 from winder.app import regress as regress_mod
 from winder.app.jobs import (FORMATS, JobReport, JobTask, default_workers, error_message, exit_code_of,
                          exit_status, run_jobs)
-from winder.geometry.surface import build_surface
+from winder.geometry.build import build_surface
 
 
 def _error(exc: BaseException, source: str | None = None) -> int:

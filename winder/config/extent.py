@@ -9,7 +9,6 @@ import math
 from winder.config.mandrel import (ArcAxis, Axis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
                                    LineAxis, MandrelConfig, PathAxis, Profile, RoundedRectangleSection,
                                    Section, SplineAxis, TableProfile, VesselProfile, axis_length)
-from winder.config.reader import Reader
 
 
 def is_bent(axis: Axis | None) -> bool:
@@ -29,20 +28,6 @@ def is_bent(axis: Axis | None) -> bool:
                 return True
         return False
     return True
-
-
-def arcs_of(axis: Axis | None, path: str) -> list[tuple[ArcAxis, float, str]]:
-    """Every arc of the axis with its start station t and its key path."""
-    if isinstance(axis, ArcAxis):
-        return [(axis, 0.0, path)]
-    arcs = []
-    if isinstance(axis, PathAxis):
-        t = 0.0
-        for i, seg in enumerate(axis.segments):
-            if isinstance(seg, ArcAxis):
-                arcs.append((seg, t, Reader.at(Reader.at(Reader.at(path, "segments"), i), "arc")))
-            t += axis_length(seg) or 0.0
-    return arcs
 
 
 def profile_max(profile: Profile, t0: float, t1: float, length: float | None) -> float:
@@ -106,14 +91,3 @@ def mandrel_reach(mandrel: MandrelConfig, t0: float, t1: float, direction_deg: f
     start = {ConstantProfile: lambda p: p.radius, ConeProfile: lambda p: p.start_radius,
              TableProfile: lambda p: p.points[0][1]}[type(profile)](profile)
     return extent * rmax / start  # a section with a profile is scaled by profile(t) / profile(0)
-
-
-def check_bends(rd: Reader, mandrel: MandrelConfig, axis_path: str) -> None:
-    """SPEC: a section reaching the centre of a bend (the surface folds onto itself) is refused."""
-    for arc, t0, arc_path in arcs_of(mandrel.axis, axis_path):
-        t1 = t0 + (axis_length(arc) or 0.0)
-        reach = mandrel_reach(mandrel, t0, t1, arc.toward_deg)
-        if reach >= arc.radius:
-            raise rd.error(rd.at(arc_path, "radius"), f"must be larger than the mandrel's reach toward "
-                           f"the inside of the bend ({reach:.6g} mm), or the surface folds onto itself",
-                           arc.radius)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import yaml
 
-from winder.config.extent import check_bends, is_bent, mandrel_reach
+from winder.config.extent import is_bent, mandrel_reach
 from winder.config.machine import MachineConfig, parse_machine
 from winder.config.mandrel import MandrelConfig, VesselProfile, axis_length, parse_mandrel
 from winder.config.reader import Reader, YamlLoader
@@ -69,7 +69,6 @@ def parse_config(data: dict, source: str) -> JobConfig:
         raise rd.error("name", "must use only letters, digits, '_', '.' and '-' (it names the output "
                        "files)", name)
     mandrel = parse_mandrel(rd, top["mandrel"], "mandrel")
-    check_bends(rd, mandrel, "mandrel.axis")
     vessel = isinstance(mandrel.profile, VesselProfile)
     winding = None
     if top.get("winding") is not None:  # an empty `winding:` counts as none

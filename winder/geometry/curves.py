@@ -12,7 +12,6 @@ from typing import NamedTuple, Protocol
 import numpy as np
 from scipy.interpolate import CubicSpline, make_interp_spline
 
-from winder.config.mandrel import ArcAxis, LineAxis, PathAxis, SplineAxis
 from winder.errors import ConfigError
 from winder.geometry.frames import double_reflection, orthonormalize
 
@@ -109,7 +108,16 @@ class Arc:
         return 1.0 / self.radius
 
 
-def _arc_from(origin: np.ndarray, tangent: np.ndarray, e2: np.ndarray, cfg: ArcAxis) -> Arc:
+class ArcSpec(NamedTuple):
+    """An arc of a chain: bend radius (mm), bend angle and the side it bends toward (deg, in the
+    frame at its start, measured like theta from e2 toward e3)."""
+
+    radius: float
+    angle_deg: float
+    toward_deg: float = 0.0
+
+
+def _arc_from(origin: np.ndarray, tangent: np.ndarray, e2: np.ndarray, cfg: ArcSpec) -> Arc:
     toward = np.radians(cfg.toward_deg)
     e3 = np.cross(tangent, e2)
     u = np.cos(toward) * e2 + np.sin(toward) * e3
@@ -168,15 +176,16 @@ class Path:
         return max(p.max_curvature() for p in self.pieces)
 
 
-def _chain(segments: tuple[LineAxis | ArcAxis, ...]) -> Path:
+def chain(segments: tuple[float | ArcSpec, ...]) -> Path:
+    """A tangent-continuous chain from +z at the origin: each segment a line length (mm) or an arc."""
     origin, tangent, e2 = np.zeros(3), Z_AXIS.copy(), X_AXIS.copy()
     pieces: list[Line | Arc] = []
     starts = []
     z0 = 0.0
     for seg in segments:
         piece: Line | Arc
-        if isinstance(seg, LineAxis):
-            piece = Line(seg.length, origin, tangent, e2)
+        if not isinstance(seg, ArcSpec):
+            piece = Line(float(seg), origin, tangent, e2)
         else:
             piece = _arc_from(origin, tangent, e2, seg)
         end = piece.evaluate(np.array([piece.length]))
@@ -215,8 +224,9 @@ class SplineCurve:
 SPLINE_GRID = 4097  # samples of the arc-length fit; the fit error is far below solver tolerances
 
 
-def _spline(cfg: SplineAxis, source: str) -> SplineCurve:
-    pts = np.asarray(cfg.points, dtype=float)
+def spline_curve(points: np.ndarray, source: str, key: str = "mandrel.axis.points") -> SplineCurve:
+    """The C2 arc-length spline through points (k, 3); `source: key` prefixes its refusal."""
+    pts = np.asarray(points, dtype=float)
     pts = pts - pts[0]
     chord = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     u = np.concatenate([[0.0], np.cumsum(chord)])
@@ -250,27 +260,5 @@ def _spline(cfg: SplineAxis, source: str) -> SplineCurve:
     e2 = double_reflection(xs(zgrid), tangent, e2_0)
     kappa = np.linalg.norm(xs(zgrid, 2), axis=1)
     if not np.all(np.isfinite(kappa)):
-        raise ConfigError(f"{source}: mandrel.axis.points: the spline through the points is not finite")
+        raise ConfigError(f"{source}: {key}: the spline through the points is not finite")
     return SplineCurve(xs, make_interp_spline(zgrid, e2, k=5, axis=0), length, float(kappa.max()))
-
-
-def make_curve(cfg: LineAxis | ArcAxis | PathAxis | SplineAxis, source: str) -> GuideCurve:
-    """The guide curve of an axis config."""
-    if isinstance(cfg, LineAxis):
-        return Line(cfg.length)
-    if isinstance(cfg, ArcAxis):
-        return _chain((cfg,))
-    if isinstance(cfg, PathAxis):
-        return _chain(cfg.segments)
-    if isinstance(cfg, SplineAxis):
-        return _spline(cfg, source)
-    raise ConfigError(f"{source}: mandrel.axis: unsupported axis {cfg!r}")
-
-
-def axis_length(cfg: LineAxis | ArcAxis | PathAxis) -> float:
-    """Length of an axis known without computation (not for splines)."""
-    if isinstance(cfg, LineAxis):
-        return cfg.length
-    if isinstance(cfg, ArcAxis):
-        return cfg.radius * np.radians(cfg.angle_deg)
-    return float(sum(axis_length(s) for s in cfg.segments))

@@ -13,7 +13,6 @@ from typing import NamedTuple, Protocol
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from winder.config.mandrel import ConeProfile, ConstantProfile, TableProfile, VesselProfile
 from winder.errors import ConfigError
 
 
@@ -80,39 +79,26 @@ class AxialProfile:
         return np.asarray(s, dtype=float)
 
 
-def _linear(length: float, r0: float, r1: float) -> CubicSpline:
+def linear(length: float, r0: float, r1: float) -> CubicSpline:
     # A straight piece as a degenerate cubic spline: exact, and shares the evaluation path.
     return CubicSpline([0.0, length], [r0, r1], bc_type="not-a-knot")
 
 
-def make_profile(cfg: object, axial_length: float | None, source: str) -> AxialProfile | Profile:
-    """Build the profile of a mandrel config.
-
-    axial_length : the guide curve's length T, or None when the axis is implied by the profile.
-    Vessels are built by winder.geometry.domes.
-    """
-    if isinstance(cfg, ConstantProfile):
-        return AxialProfile(_linear(axial_length, cfg.radius, cfg.radius), axial_length, cfg.radius)
-    if isinstance(cfg, ConeProfile):
-        return AxialProfile(_linear(axial_length, cfg.start_radius, cfg.end_radius), axial_length,
-                            cfg.start_radius)
-    if isinstance(cfg, TableProfile):
-        pts = np.asarray(cfg.points, dtype=float)
-        length = float(pts[-1, 0]) if axial_length is None else axial_length
-        if pts.shape[0] == 2:
-            spline = _linear(float(pts[1, 0]), float(pts[0, 1]), float(pts[1, 1]))
-        else:
-            spline = CubicSpline(pts[:, 0], pts[:, 1], bc_type="not-a-knot")
-        grid = np.linspace(0.0, length, 4001)
-        rmin = float(np.min(spline(grid)))
-        if not rmin > 0.0:
-            bad = float(grid[np.argmin(spline(grid))])
-            raise ConfigError(f"{source}: mandrel.profile.points: the smooth interpolation through the "
-                              f"points dips to radius {rmin:.4g} at t = {bad:.4g}; radius must be > 0 "
-                              f"everywhere (add points or soften the steps)")
-        return AxialProfile(spline, length, float(pts[0, 1]))
-    if isinstance(cfg, VesselProfile):
-        from winder.geometry.domes import make_vessel  # noqa: PLC0415  (domes is the heavier module)
-
-        return make_vessel(cfg, source)
-    raise ConfigError(f"{source}: mandrel.profile: unsupported profile {cfg!r}")
+def table_profile(points: np.ndarray, axial_length: float | None, source: str,
+                  key: str = "mandrel.profile.points") -> AxialProfile:
+    """r(t) through the (t, r) points (k, 2), C2 (a straight piece for two points); refused where the
+    smooth interpolation dips to r <= 0, which only the built curve shows."""
+    pts = np.asarray(points, dtype=float)
+    length = float(pts[-1, 0]) if axial_length is None else axial_length
+    if pts.shape[0] == 2:
+        spline = linear(float(pts[1, 0]), float(pts[0, 1]), float(pts[1, 1]))
+    else:
+        spline = CubicSpline(pts[:, 0], pts[:, 1], bc_type="not-a-knot")
+    grid = np.linspace(0.0, length, 4001)
+    rmin = float(np.min(spline(grid)))
+    if not rmin > 0.0:
+        bad = float(grid[np.argmin(spline(grid))])
+        raise ConfigError(f"{source}: {key}: the smooth interpolation through the "
+                          f"points dips to radius {rmin:.4g} at t = {bad:.4g}; radius must be > 0 "
+                          f"everywhere (add points or soften the steps)")
+    return AxialProfile(spline, length, float(pts[0, 1]))

@@ -11,7 +11,6 @@ from typing import Protocol
 
 import numpy as np
 
-from winder.config.mandrel import CircleSection, EllipseSection, RoundedRectangleSection, SuperellipseSection
 
 
 class Section(Protocol):
@@ -141,18 +140,6 @@ class RoundedRectangle:
     def perimeter(self) -> float:
         rc = self.corner_radius
         return 2.0 * (self.width + self.height) - 8.0 * rc + 2.0 * np.pi * rc
-
-
-def make_section(cfg: object) -> Circle | Ellipse | Superellipse | RoundedRectangle:
-    if isinstance(cfg, CircleSection):
-        return Circle()
-    if isinstance(cfg, EllipseSection):
-        return Ellipse(cfg.a, cfg.b)
-    if isinstance(cfg, SuperellipseSection):
-        return Superellipse(cfg.a, cfg.b, cfg.exponent)
-    if isinstance(cfg, RoundedRectangleSection):
-        return RoundedRectangle(cfg.width, cfg.height, cfg.corner_radius)
-    raise TypeError(f"unsupported section {cfg!r}")
 
 
 @dataclass(frozen=True)

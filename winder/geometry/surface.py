@@ -22,11 +22,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from winder.config.mandrel import LineAxis, MandrelConfig
-from winder.geometry.curves import SPLINE_GRID, GuideCurve, Path, SplineCurve, make_curve
-from winder.errors import ConfigError
-from winder.geometry.profiles import AxialProfile, Profile, make_profile
-from winder.geometry.sections import Circle, Section, make_section
+from winder.geometry.curves import SPLINE_GRID, GuideCurve, Path, SplineCurve
+from winder.geometry.profiles import AxialProfile, Profile
+from winder.geometry.sections import Section
 
 
 class SurfaceEval(NamedTuple):
@@ -168,12 +166,23 @@ def _check_stations(surface: SweepSurface) -> np.ndarray:
     return np.concatenate(s)
 
 
-def _check_regular(surface: SweepSurface, source: str) -> None:
-    """Refuse a sweep whose section reaches the centre of curvature of a bend (self-intersection):
-    1 - R(s, theta) (K . n(theta)) must stay positive. The worst theta of each station is found on a
+class Fold(NamedTuple):
+    """Where a sweep folds onto itself: station t (mm), section angle (deg), the section radius there,
+    the bend radius 1 / kappa, and the section's reach toward the bend's centre (mm)."""
+
+    t: float
+    theta_deg: float
+    radius: float
+    bend_radius: float
+    reach: float
+
+
+def find_fold(surface: SweepSurface) -> Fold | None:
+    """The worst place where a sweep's section reaches the centre of curvature of a bend
+    (self-intersection), or None: 1 - R(s, theta) (K . n(theta)) must stay positive. The worst theta of each station is found on a
     2.5 deg grid and refined by golden-section search (the inside of a bend need not be on the grid)."""
     if surface.curve.max_curvature() == 0.0:
-        return
+        return None
     s = _check_stations(surface)
     z = surface.t_of_s(s)
     cv = surface.curve.evaluate(z)
@@ -197,34 +206,8 @@ def _check_regular(surface: SweepSurface, source: str) -> None:
     tt = np.where(use_grid, th[np.argmax(grid, axis=1)], tt)
     r = np.maximum(r, grid.max(axis=1))
     worst = int(np.argmax(r))
-    if r[worst] >= 1.0 - SELF_INTERSECTION_MARGIN:
-        kappa = float(np.linalg.norm(cv.d2[worst]))
-        radius = surface.radius(s[worst:worst + 1], tt[worst:worst + 1])[0]
-        raise ConfigError(
-            f"{source}: mandrel: the section (radius {radius:.4g} at t = {z[worst]:.4g}, theta = "
-            f"{np.degrees(tt[worst]) % 360:.4g} deg) reaches the bend's centre of curvature (bend radius "
-            f"{1.0 / kappa:.4g}): the mandrel would self-intersect; the section radius on the inside of a "
-            f"bend must be smaller than the bend radius")
-
-
-def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
-    """The sweep surface of a validated mandrel config; geometric checks raise ConfigError."""
-    section = make_section(mandrel.section)
-    if mandrel.profile is None:
-        curve = make_curve(mandrel.axis, source)
-        surface = SweepSurface(curve, None, section, 1.0, curve.length, name)
-    else:
-        axis_cfg = mandrel.axis
-        if axis_cfg is None:
-            profile = make_profile(mandrel.profile, None, source)
-            curve = make_curve(LineAxis(profile.axial_length), source)
-        else:
-            curve = make_curve(axis_cfg, source)
-            profile = make_profile(mandrel.profile, curve.length, source)
-            if profile.axial_length > curve.length * (1.0 + 1e-9):
-                raise ConfigError(f"{source}: mandrel.axis: length {curve.length:.6g} is shorter than the "
-                                  f"profile ({profile.axial_length:.6g})")
-        scale = 1.0 if isinstance(section, Circle) else profile.reference_radius
-        surface = SweepSurface(curve, profile, section, scale, profile.length, name)
-    _check_regular(surface, source)
-    return surface
+    if r[worst] < 1.0 - SELF_INTERSECTION_MARGIN:
+        return None
+    kappa = float(np.linalg.norm(cv.d2[worst]))
+    radius = float(surface.radius(s[worst:worst + 1], tt[worst:worst + 1])[0])
+    return Fold(float(z[worst]), float(np.degrees(tt[worst]) % 360), radius, 1.0 / kappa, float(r[worst]) / kappa)

@@ -8,14 +8,14 @@ from __future__ import annotations
 
 from winder.config.job import JobConfig
 from winder.config.winding import LayerType
-from winder.geometry.domes import VesselMeridian
+from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError
 from winder.winding.layers.helical_open import open_helical_layer
 from winder.winding.layers.hoop import hoop_layer
 from winder.winding.passes import PlanContext
 from winder.winding.results import WindingPlan
 from winder.geometry.sections import arc_map
-from winder.geometry.surface import build_surface
+from winder.geometry.build import build_surface
 from winder.winding.layers.helical_vessel import vessel_helical_layer
 
 

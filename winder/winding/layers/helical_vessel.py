@@ -13,7 +13,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from winder.config.winding import LayerConfig
-from winder.geometry.domes import VesselMeridian
+from winder.geometry.vessel import VesselMeridian
 from winder.errors import SolverError
 from winder.winding.passes import (
     COVERAGE_STATIONS,

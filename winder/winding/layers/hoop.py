@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from winder.config.winding import LayerConfig
-from winder.geometry.domes import VesselMeridian
+from winder.geometry.vessel import VesselMeridian
 from winder.errors import SolverError
 from winder.winding.passes import (
     COVERAGE_STATIONS,

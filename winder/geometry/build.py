@@ -1,0 +1,153 @@
+"""The validated mandrel config -> the sweep surface: the one geometry module that reads config types.
+
+Every other geometry module takes plain numbers. Here each config part becomes its geometry (guide
+curve, profile or vessel meridian, section), and what only the built geometry can tell is refused with
+the file and the key path: a bend folding the surface onto itself, dome shapes outside their fits, a
+table interpolation dipping to r <= 0, a spline that is not finite. What the config reader checks
+(signs, ranges, required keys) is not checked again.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, Dome, DomeType,
+                                   EllipseSection, LineAxis, MandrelConfig, PathAxis, RoundedRectangleSection,
+                                   SplineAxis, SuperellipseSection, TableProfile, VesselProfile)
+from winder.config.reader import show_value
+from winder.errors import ConfigError
+from winder.geometry.curves import ArcSpec, GuideCurve, Line, Path, chain, spline_curve
+from winder.geometry.domes import (ELLIPSOID_MAX_DEPTH, ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING,
+                                   ISOTENSOID_MIN_OPENING, DomeMeridian, Ellipsoid, Hemisphere)
+from winder.geometry.isotensoid import Isotensoid
+from winder.geometry.profiles import AxialProfile, Profile, linear, table_profile
+from winder.geometry.sections import Circle, Ellipse, RoundedRectangle, Superellipse
+from winder.geometry.surface import Fold, SweepSurface, find_fold
+from winder.geometry.vessel import VesselMeridian
+
+__all__ = ["build_surface", "make_curve", "make_dome", "make_profile", "make_section", "make_vessel"]
+
+
+def make_curve(cfg: LineAxis | ArcAxis | PathAxis | SplineAxis, source: str) -> GuideCurve:
+    """The guide curve of an axis config."""
+    if isinstance(cfg, LineAxis):
+        return Line(cfg.length)
+    if isinstance(cfg, ArcAxis):
+        return chain((ArcSpec(cfg.radius, cfg.angle_deg, cfg.toward_deg),))
+    if isinstance(cfg, PathAxis):
+        return chain(tuple(ArcSpec(s.radius, s.angle_deg, s.toward_deg) if isinstance(s, ArcAxis) else s.length
+                           for s in cfg.segments))
+    if isinstance(cfg, SplineAxis):
+        return spline_curve(np.asarray(cfg.points, dtype=float), source, "mandrel.axis.points")
+    raise ConfigError(f"{source}: mandrel.axis: unsupported axis {cfg!r}")
+
+
+def make_profile(cfg: object, axial_length: float | None, source: str) -> AxialProfile | Profile:
+    """The profile of a profile config. axial_length : the guide curve's length T, or None when the
+    axis is implied by the profile."""
+    if isinstance(cfg, ConstantProfile):
+        return AxialProfile(linear(axial_length, cfg.radius, cfg.radius), axial_length, cfg.radius)
+    if isinstance(cfg, ConeProfile):
+        return AxialProfile(linear(axial_length, cfg.start_radius, cfg.end_radius), axial_length,
+                            cfg.start_radius)
+    if isinstance(cfg, TableProfile):
+        return table_profile(np.asarray(cfg.points, dtype=float), axial_length, source, "mandrel.profile.points")
+    if isinstance(cfg, VesselProfile):
+        return make_vessel(cfg, source)
+    raise ConfigError(f"{source}: mandrel.profile: unsupported profile {cfg!r}")
+
+
+def make_section(cfg: object) -> Circle | Ellipse | Superellipse | RoundedRectangle:
+    """The section shape of a section config."""
+    if isinstance(cfg, CircleSection):
+        return Circle()
+    if isinstance(cfg, EllipseSection):
+        return Ellipse(cfg.a, cfg.b)
+    if isinstance(cfg, SuperellipseSection):
+        return Superellipse(cfg.a, cfg.b, cfg.exponent)
+    if isinstance(cfg, RoundedRectangleSection):
+        return RoundedRectangle(cfg.width, cfg.height, cfg.corner_radius)
+    raise TypeError(f"unsupported section {cfg!r}")
+
+
+def make_dome(dome: Dome, radius: float, source: str, key: str) -> DomeMeridian:
+    """One dome's meridian (key: its key path, e.g. "mandrel.profile.dome"). Refuses what only the
+    geometry knows: an ellipsoid too flat or too deep to be a dome, an isotensoid opening outside what
+    netting theory can shape."""
+    R, r0 = float(radius), float(dome.polar_opening)
+    if dome.type is DomeType.HEMISPHERE:
+        return Hemisphere(R, r0)
+    if dome.type is DomeType.ELLIPSOID:
+        d = float(dome.depth)
+        if not ELLIPSOID_MIN_DEPTH * R <= d <= ELLIPSOID_MAX_DEPTH * R:
+            raise ConfigError(f"{source}: {key}.depth: must be between {ELLIPSOID_MIN_DEPTH:g} and "
+                              f"{ELLIPSOID_MAX_DEPTH:g} times mandrel.profile.radius "
+                              f"({ELLIPSOID_MIN_DEPTH * R:g} to {ELLIPSOID_MAX_DEPTH * R:g}), got {d:g}")
+        return Ellipsoid(R, r0, d)
+    lo, hi = ISOTENSOID_MIN_OPENING * R, ISOTENSOID_MAX_OPENING * R
+    if not lo <= r0 <= hi:
+        raise ConfigError(f"{source}: {key}.polar_opening: an isotensoid dome needs polar_opening "
+                          f"between {ISOTENSOID_MIN_OPENING:g} and {ISOTENSOID_MAX_OPENING:g} times "
+                          f"mandrel.profile.radius ({lo:g} to {hi:g}; netting theory has no dome at "
+                          f"or beyond sqrt(2/3) times the radius), got {r0:g}")
+    return Isotensoid(R, r0)
+
+
+def make_vessel(cfg: VesselProfile, source: str) -> VesselMeridian:
+    """The vessel meridian of a `vessel` profile config."""
+    R = float(cfg.radius)
+    d1 = make_dome(cfg.dome, R, source, "mandrel.profile.dome")
+    d2 = make_dome(cfg.end_dome, R, source, "mandrel.profile.end_dome")
+    return VesselMeridian(R, float(cfg.cylinder_length), d1, d2)
+
+
+def _fold_key(axis: ArcAxis | PathAxis | SplineAxis, curve: GuideCurve, fold: Fold) -> tuple[str, float] | None:
+    """(key path, bend radius as configured) of the arc where the surface folds; None off arcs."""
+    if isinstance(axis, ArcAxis):
+        return "mandrel.axis.radius", axis.radius
+    if isinstance(axis, PathAxis) and isinstance(curve, Path):
+        k = int(np.clip(np.searchsorted(curve.starts, fold.t, side="right") - 1, 0, len(curve.pieces) - 1))
+        seg = axis.segments[k]
+        if isinstance(seg, ArcAxis):
+            return f"mandrel.axis.segments[{k}].arc.radius", seg.radius
+    return None
+
+
+def _refuse_fold(surface: SweepSurface, axis: object, source: str) -> None:
+    """SPEC: a section reaching the centre of a bend (the surface folds onto itself) is refused."""
+    fold = find_fold(surface)
+    if fold is None:
+        return
+    where = _fold_key(axis, surface.curve, fold)
+    if where is not None:
+        key, radius = where
+        raise ConfigError(f"{source}: {key}: must be larger than the mandrel's reach toward the inside of the "
+                          f"bend ({fold.reach:.6g} mm), or the surface folds onto itself, got {show_value(radius)}")
+    raise ConfigError(
+        f"{source}: mandrel: the section (radius {fold.radius:.4g} at t = {fold.t:.4g}, theta = "
+        f"{fold.theta_deg:.4g} deg) reaches the bend's centre of curvature (bend radius "
+        f"{fold.bend_radius:.4g}): the mandrel would self-intersect; the section radius on the inside of a "
+        f"bend must be smaller than the bend radius")
+
+
+def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
+    """The sweep surface of a validated mandrel config; geometric refusals raise ConfigError."""
+    section = make_section(mandrel.section)
+    axis_cfg = mandrel.axis
+    if mandrel.profile is None:
+        curve = make_curve(axis_cfg, source)
+        surface = SweepSurface(curve, None, section, 1.0, curve.length, name)
+    else:
+        if axis_cfg is None:
+            profile = make_profile(mandrel.profile, None, source)
+            curve = make_curve(LineAxis(profile.axial_length), source)
+        else:
+            curve = make_curve(axis_cfg, source)
+            profile = make_profile(mandrel.profile, curve.length, source)
+            if profile.axial_length > curve.length * (1.0 + 1e-9):
+                raise ConfigError(f"{source}: mandrel.axis: length {curve.length:.6g} is shorter than the "
+                                  f"profile ({profile.axial_length:.6g})")
+        scale = 1.0 if isinstance(section, Circle) else profile.reference_radius
+        surface = SweepSurface(curve, profile, section, scale, profile.length, name)
+    _refuse_fold(surface, axis_cfg, source)
+    return surface
