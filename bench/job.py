@@ -57,7 +57,7 @@ def compare_job(settings: Settings, progress: Callable[[str], None]) -> dict[str
                                    "feed_mm_min": FEED},
                            "fiberpath_wind": WIND, "winder_yaml": JOB_YAML, "notes": []}
     try:
-        from winder.export.dialects.generic import gcode_text  # noqa: PLC0415 - the exporter may be missing
+        from winder.export.gcode import gcode_text  # noqa: PLC0415 - the exporter may be missing
         from winder.winding.plan import plan  # noqa: PLC0415
     except ImportError as exc:
         out["notes"].append(f"winder's planner or G-code exporter is missing ({exc}): whole-job comparison skipped")

@@ -12,7 +12,8 @@ from test_machine import cylinder_plan, geodesic_pass, make_layer
 from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
 from winder.config.machine import MachineAxes, MachineConfig, MachineLimits
 from winder.errors import ExportError
-from winder.export.dialects.generic import gcode_text, program_moves, reduce_points
+from winder.export.gcode import gcode_text, program_moves
+from winder.machine.program import reduce_points
 from winder.winding.results import PassKind, WindingPlan
 
 TANGENT_TOL = 0.01  # mm: a programmed eye from its contact point's tangent line (SPEC rounding: 3 decimals)

@@ -11,7 +11,7 @@ import pytest
 from click.testing import CliRunner
 
 import winder.export.atomic
-import winder.export.dialects.generic
+import winder.export.gcode
 import winder.export.ply
 from winder.cli import main
 from winder.errors import ExportError
@@ -161,7 +161,7 @@ def test_unexpected_exception_is_an_internal_error(tiny, tmp_path, monkeypatch):
     def buggy(plan, machine):
         raise ZeroDivisionError("float division by zero")
 
-    monkeypatch.setattr(winder.export.dialects.generic, "gcode_text", buggy)
+    monkeypatch.setattr(winder.export.gcode, "gcode_text", buggy)
     report = run_job(tiny, tmp_path / "out")
     assert not report.ok and report.exit_code == 1
     assert "internal error (ZeroDivisionError: float division by zero)" in report.message
@@ -173,7 +173,7 @@ def test_cli_failing_exporter_leaves_nothing(tiny, tmp_path, monkeypatch):
     def broken(plan, machine):
         raise ExportError(f"{plan.source}: machine.limits.carriage: exceeded")
 
-    monkeypatch.setattr(winder.export.dialects.generic, "gcode_text", broken)
+    monkeypatch.setattr(winder.export.gcode, "gcode_text", broken)
     out = tmp_path / "out"
     result = CliRunner().invoke(main, ["run", str(tiny), "-o", str(out)])
     assert result.exit_code == 1

@@ -16,7 +16,8 @@ from winder.config.machine import MachineConfig, MachineLimits
 from winder.config.winding import LayerType
 from winder.errors import ExportError
 from winder.paths.geodesic import geodesic
-from winder.machine.kinematics import check_limits, eye_envelope, eye_path, robot_poses
+from winder.machine.kinematics import eye_envelope, eye_path, robot_poses
+from winder.machine.limits import check_limits
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, WindingPlan, winding_angle_deg
 
 ON_LINE_TOL = 1e-9  # mm: the eye is constructed on the tangent line

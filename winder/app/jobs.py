@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from winder.errors import ConfigError, WinderError
+from winder.export import registry
 
 __all__ = [
     "ALL_FORMATS", "FORMATS", "JobReport", "JobTask", "error_message", "exit_status", "output_names",
@@ -27,10 +28,8 @@ __all__ = [
 ]
 
 # Optional outputs of `run`, in the order they are written; `<name>.summary.json` is always written.
-FORMATS = ("csv", "gcode", "ply")
+FORMATS = registry.SELECTABLE
 ALL_FORMATS = FORMATS
-SUMMARY_SUFFIX = ".summary.json"
-_SUFFIX = {"csv": ".csv", "gcode": ".gcode", "ply": ".ply"}
 
 
 @dataclass(frozen=True)
@@ -95,49 +94,12 @@ def exit_status(codes: Iterable[int]) -> int:
 
 def output_names(name: str, formats: Iterable[str]) -> list[str]:
     """File names of a job's outputs, in writing order: the requested formats, then the summary."""
-    wanted = set(formats)
-    unknown = wanted - set(FORMATS)
-    if unknown:
-        raise ConfigError(f"--format: unknown format {sorted(unknown)[0]!r}; allowed: {', '.join(FORMATS)}")
-    return [name + _SUFFIX[f] for f in FORMATS if f in wanted] + [name + SUMMARY_SUFFIX]
+    return [name + f.suffix for f in registry.chosen(formats)]
 
 
 def render_outputs(job, plan, formats: Iterable[str]) -> dict[str, bytes]:
     """Every requested output of a planned job, in memory: file name -> bytes (writing order)."""
-    import json  # noqa: PLC0415
-
-    from winder.export import summary  # noqa: PLC0415
-
-    wanted = set(formats)
-    rendered: dict[str, bytes] = {}
-    if "csv" in wanted:
-        from winder.export.job_csv import job_csv_text  # noqa: PLC0415
-
-        rendered[job.name + ".csv"] = _as_bytes(job_csv_text(plan))
-    if "gcode" in wanted:
-        from winder.export.dialects.generic import gcode_text  # noqa: PLC0415
-
-        rendered[job.name + ".gcode"] = _as_bytes(gcode_text(plan, job.machine))
-    if "ply" in wanted:
-        from winder.export.ply import ply_bytes  # noqa: PLC0415
-
-        rendered[job.name + ".ply"] = _as_bytes(ply_bytes(plan, job.winding.band_width))
-    text = summary.summary_text(plan)
-    # The summary must be JSON (regress and other tools read it); refuse anything else here rather
-    # than write a file nobody can read.
-    try:
-        json.loads(text)
-    except ValueError as exc:
-        raise WinderError(f"{job.source}: internal error: the summary is not valid JSON ({exc}); "
-                          "please report it") from exc
-    rendered[job.name + SUMMARY_SUFFIX] = _as_bytes(text)
-    expected = output_names(job.name, wanted)
-    assert list(rendered) == expected, (list(rendered), expected)  # noqa: S101 - an invariant
-    return rendered
-
-
-def _as_bytes(data: str | bytes) -> bytes:
-    return data.encode("utf-8") if isinstance(data, str) else bytes(data)
+    return {job.name + f.suffix: f.render(plan, job) for f in registry.chosen(formats)}
 
 
 def _plan(job):

@@ -37,6 +37,7 @@ from pathlib import Path
 from typing import Any
 
 from winder.errors import ConfigError
+from winder.export import registry
 from winder.export.job_csv import PERIODIC_COLUMNS
 from winder.export.summary import decimals_of
 from winder.app.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
@@ -55,7 +56,6 @@ REFERENCE = "reference"
 # The outputs stored as references; a PLY only where the reference folder already holds one.
 REFERENCE_FORMATS = ("csv", "gcode")
 MAX_SHOWN = 5  # differences listed per file
-OUTPUT_SUFFIXES = (".csv", ".gcode", ".ply", ".summary.json")
 
 
 # -- what is compared ------------------------------------------------------------------------------
@@ -384,7 +384,7 @@ def _reference_files(sample: Sample) -> dict[str, bytes]:
 
 def _formats_for(sample: Sample) -> tuple[str, ...]:
     formats = list(REFERENCE_FORMATS)
-    if sample.reference.is_dir() and any(sample.reference.glob("*.ply")):
+    if sample.reference.is_dir() and any(sample.reference.glob("*" + registry.suffix_of("ply"))):
         formats.append("ply")
     return tuple(formats)
 
@@ -428,7 +428,7 @@ def _update(sample: Sample, report: JobReport) -> tuple[FileCheck, ...]:
         status = "changed" if count else ("refreshed" if reference[file_name] != data else "same")
         checks.append(FileCheck(file_name, status, tuple(shown), count))
     for file_name in reference:
-        if file_name not in got and file_name.endswith(OUTPUT_SUFFIXES):
+        if file_name not in got and file_name.endswith(registry.suffixes()):
             (sample.reference / file_name).unlink()
             checks.append(FileCheck(file_name, "removed"))
     return tuple(checks)

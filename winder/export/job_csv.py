@@ -48,3 +48,8 @@ def job_csv_text(plan: WindingPlan) -> str:
             fmt = ",".join(["%d"] * 4 + [num] * 6) + "," + fp.kind.value.replace("%", "%%")
             np.savetxt(buf, table, fmt=fmt)
     return _NEG_ZERO.sub(r"\1", buf.getvalue())
+
+
+def export(plan: WindingPlan, job) -> str:
+    """The registry's entry (winder.export.registry)."""
+    return job_csv_text(plan)

@@ -114,3 +114,8 @@ def ply_bytes(plan: WindingPlan, band_width: float) -> bytes:
     """The binary PLY file's bytes."""
     return export_ply(ply_mesh(plan, band_width), encoding="binary", vertex_normal=False,
                       include_attributes=False)
+
+
+def export(plan: WindingPlan, job) -> bytes:
+    """The registry's entry (winder.export.registry)."""
+    return ply_bytes(plan, job.winding.band_width)

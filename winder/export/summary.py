@@ -18,6 +18,7 @@ import json
 import math
 from typing import Any
 
+from winder.errors import WinderError
 from winder.winding.results import LayerPlan, WindingPlan
 
 LENGTH_DECIMALS = 3
@@ -89,3 +90,15 @@ def summary_dict(plan: WindingPlan) -> dict[str, Any]:
 def summary_text(plan: WindingPlan) -> str:
     """The summary JSON text (sorted keys, indent 2, newline-terminated)."""
     return json.dumps(summary_dict(plan), sort_keys=True, indent=2, allow_nan=False) + "\n"
+
+
+def export(plan: WindingPlan, job) -> str:
+    """The registry's entry (winder.export.registry). The summary must be JSON (regress and other
+    tools read it): anything else is refused here rather than written to a file nobody can read."""
+    text = summary_text(plan)
+    try:
+        json.loads(text)
+    except ValueError as exc:
+        raise WinderError(f"{job.source}: internal error: the summary is not valid JSON ({exc}); "
+                          "please report it") from exc
+    return text

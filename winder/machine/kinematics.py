@@ -66,8 +66,6 @@ ENVELOPE_MAX_SAMPLES = 65537
 CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
 PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
 
-ROLE_UNITS = {"carriage": "mm", "rotation": "deg", "cross_feed": "mm", "yaw": "deg"}
-
 
 # -- results ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
@@ -291,23 +289,6 @@ def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, 
     b = np.unwrap(np.arctan2(sigma * d[:, 2], sigma * d_u))
     return EyePath(x=e[:, 2].copy(), a_deg=-np.degrees(phi), z=zr, b_deg=np.degrees(b), eye_xyz=e,
                    lead=lam, on_envelope=ok)
-
-
-def check_limits(path: EyePath, machine: MachineConfig, where: str) -> None:
-    """Refuse axis values outside machine.limits; the message names the axis, value, limit, where."""
-    letters = machine.axes
-    for role, (lo, hi) in machine.limits.items():
-        values = path.axes()[role]
-        if values.size == 0:
-            continue
-        bad = np.flatnonzero((values < lo) | (values > hi))
-        if bad.size:
-            k = int(bad[np.argmax(np.maximum(lo - values[bad], values[bad] - hi))])
-            unit = ROLE_UNITS[role]
-            raise ExportError(
-                f"{where}: machine.limits.{role}: axis {getattr(letters, role)} ({role.replace('_', '-')}) "
-                f"would reach {values[k]:.3f} {unit} (at point {k} of the pass, carriage at {path.x[k]:.3f} mm), "
-                f"outside the limits [{lo:g}, {hi:g}] {unit}")
 
 
 # -- robot mode ------------------------------------------------------------------------------------

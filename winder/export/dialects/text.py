@@ -1,0 +1,110 @@
+"""What every controller dialect writes the same way: the comment header, the layer, circuit and pass
+comments, the number format, and one line per move (consecutive identical lines dropped).
+
+A dialect (generic.py, robot.py) adds its machine description, the words of a move and its line prefix.
+The text is deterministic: no timestamps, no timings.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Protocol
+
+from winder.machine.program import MotionProgram
+from winder.winding.results import LayerPlan, PassKind
+
+DECIMALS = 3  # mm and deg
+PREAMBLE = ("G21", "G90", "G94")
+END = "M2"
+_NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
+
+
+@dataclass(frozen=True)
+class Move:
+    """One programmed line: the pass it comes from and the index of its contact point in the pass.
+
+    values : the line's numbers as written (rounded): (carriage, rotation, cross_feed, yaw) for a
+    winder, (x, y, z, i, j, k) for a robot pose.
+    """
+
+    layer: int
+    circuit: int
+    number: int
+    kind: PassKind
+    index: int
+    values: tuple[float, ...]
+
+
+class Dialect(Protocol):
+    """How one controller spells a program."""
+
+    prefix: str  # the word starting a move line
+
+    def describe(self, program: MotionProgram) -> list[str]: ...  # machine comment lines
+
+    def letters(self, program: MotionProgram) -> tuple[str, ...]: ...  # one per program axis
+
+    def decimals(self, program: MotionProgram) -> tuple[int, ...]: ...  # one per program axis
+
+
+def fmt(value: float, decimals: int = DECIMALS) -> str:
+    """A number as written: fixed decimals, never "-0.000"."""
+    return _NEG_ZERO.sub(r"\1", f"{value:.{decimals}f}")
+
+
+def clean(text: str) -> str:
+    """A comment's text on one line."""
+    return " ".join(str(text).split())
+
+
+def layer_line(layer: LayerPlan) -> str:
+    return (f"layer {layer.index}: {layer.type.value}, angle {fmt(layer.angle_deg)} deg (requested "
+            f"{fmt(layer.requested_angle_deg)}), circuits {layer.circuits}, pattern {layer.pattern}, "
+            f"passes {len(layer.passes)}, fiber {fmt(layer.fiber_length_mm)} mm")
+
+
+def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
+    lines = ["; winder filament-winding program", f"; job: {clean(program.name)}",
+             f"; source: {clean(program.source)}"]
+    lines += dialect.describe(program)
+    if program.envelope_radius is not None:
+        lines.append(f"; eye envelope: radius {fmt(program.envelope_radius)} mm around the axis")
+    else:
+        lines.append(f"; eye envelope: clearance {fmt(program.envelope_clearance)} mm from the mandrel")
+    machine = program.machine
+    lines.append(f"; feed {fmt(machine.feed)} mm/min, chord tolerance {fmt(machine.chord_tolerance)} mm")
+    lines.append(f"; layers: {len(program.layers)}, fiber {fmt(program.total_fiber_length_mm)} mm")
+    lines += [f"; {layer_line(layer)}" for layer in program.layers]
+    return lines
+
+
+def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list[Move]]:
+    """The program's lines (without newlines) and the moves they write, in order."""
+    letters, decimals = dialect.letters(program), dialect.decimals(program)
+    lines = _header(program, dialect) + list(PREAMBLE)
+    moves: list[Move] = []
+    last_words: str | None = None
+    for layer, segments in zip(program.layers, program.segments):
+        lines.append(f"; {layer_line(layer)}")
+        circuit = None
+        for seg in segments:
+            if seg.circuit != circuit:
+                circuit = seg.circuit
+                lines.append(f"; layer {layer.index} circuit {circuit}")
+            lines.append(f"; layer {layer.index} circuit {circuit} pass {seg.number} {seg.kind.value}")
+            if seg.capped:
+                lines.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is "
+                             f"held at the largest lead, {fmt(seg.max_lead)} mm, off the envelope")
+            for row in range(seg.start, seg.stop):
+                texts = [fmt(v, n) for v, n in zip(program.values[row], decimals)]
+                words = " ".join(f"{c}{v}" for c, v in zip(letters, texts))
+                if words == last_words:
+                    continue
+                last_words = words
+                lines.append(f"{dialect.prefix} {words} F{fmt(program.feed[row])}")
+                moves.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(program.index[row]),
+                                  tuple(float(v) for v in texts)))
+    lines.append(END)
+    return lines, moves
+

@@ -1,0 +1,58 @@
+"""Output formats: name -> file suffix and the module whose export(plan, job) renders it.
+
+The table is static, so that the formats are known (for `--format`, output names, regress) without
+importing an exporter; each exporter module defines export(plan, job) -> str | bytes and is imported
+only when its format is rendered. A new format is one row here and one module.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from winder.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class Format:
+    """One output: its name (as in `--format`), its file suffix, the module rendering it, and whether
+    every job writes it (the summary) or only when asked."""
+
+    name: str
+    suffix: str
+    module: str
+    always: bool = False
+
+    def render(self, plan, job) -> bytes:
+        data = importlib.import_module(self.module).export(plan, job)
+        return data.encode("utf-8") if isinstance(data, str) else bytes(data)
+
+
+FORMATS: tuple[Format, ...] = (  # in writing order
+    Format("csv", ".csv", "winder.export.job_csv"),
+    Format("gcode", ".gcode", "winder.export.gcode"),
+    Format("ply", ".ply", "winder.export.ply"),
+    Format("summary", ".summary.json", "winder.export.summary", always=True),
+)
+SELECTABLE = tuple(f.name for f in FORMATS if not f.always)  # the formats a job may leave out
+
+
+def suffixes() -> tuple[str, ...]:
+    """Every output file suffix."""
+    return tuple(f.suffix for f in FORMATS)
+
+
+def suffix_of(name: str) -> str:
+    """The file suffix of one format."""
+    return next(f.suffix for f in FORMATS if f.name == name)
+
+
+def chosen(names: Iterable[str]) -> tuple[Format, ...]:
+    """The formats a job writes for the selectable names given (plus those always written), in
+    writing order; an unknown name is a ConfigError."""
+    wanted = set(names)
+    unknown = wanted - set(SELECTABLE)
+    if unknown:
+        raise ConfigError(f"unknown output format {sorted(unknown)[0]!r}; allowed: {', '.join(SELECTABLE)}")
+    return tuple(f for f in FORMATS if f.always or f.name in wanted)

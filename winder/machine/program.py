@@ -1,0 +1,257 @@
+"""One motion program on logical axes: what the machine does to lay a winding plan (MATH.md 6).
+
+Straight-axis winder: per kept contact point the four logical axes carriage (mm), rotation (deg,
+cumulative over the whole program), cross_feed (mm) and yaw (deg, continuous), from
+winder.machine.kinematics.eye_path, with the feed on every move. Rotation continues from pass to pass
+and layer to layer: to reach a pass that starts elsewhere (a new layer) the mandrel turns on in its
+winding sense, less than a turn for the contact point and never back more than TURN_BACK_DEG for the
+eye; yaw keeps its turn count across passes. Every pass is checked against machine.limits.
+
+Robot mode (machine.robot, or a bent mandrel axis): instead of axis values, eye poses in the mandrel
+frame (position, and the unit fiber direction from the eye to its contact point;
+winder.machine.kinematics.robot_poses).
+
+Point reduction: of each pass's contact points, a point is dropped when its axis values lie within
+machine.chord_tolerance of the straight (axis-space) move between the kept neighbours, distances in
+the scaled axis space (carriage and cross-feed in mm, rotation as the arc at the largest eye radius,
+yaw as the arc that makes YAW_TOLERANCE_DEG count as one chord tolerance; robot poses: position in mm,
+direction as YAW_TOLERANCE_DEG): Douglas-Peucker, so every dropped point is within the tolerance of
+the move that replaces it. The first and last point of each pass are kept.
+
+A controller dialect (winder.export.dialects) only serializes the program: letters, number format,
+preamble, comments.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from winder.config.machine import MachineConfig
+from winder.errors import ExportError
+from winder.machine.kinematics import RobotPoses, eye_envelope, eye_path, make_guide, robot_poses
+from winder.machine.limits import check_limits
+from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
+
+YAW_TOLERANCE_DEG = 0.5  # a yaw (or fiber direction) deviation this large counts as chord_tolerance
+TURN_BACK_DEG = 1.0  # moving to a new layer, the mandrel may turn back this much, not more
+_CONTINUITY_TOL = 1e-9  # rad: two passes whose angles meet this closely are continuous
+_TWO_PI = 2.0 * np.pi
+_POINT_TOL = 1e-6  # mm: a pass starting this close to where the last one ended continues it
+
+AXES = ("carriage", "rotation", "cross_feed", "yaw")
+POSE_AXES = ("x", "y", "z", "i", "j", "k")
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One pass of the program: its moves are rows [start, stop) of the program's arrays.
+
+    capped : how many of the pass's contact points run so nearly along the axis that the eye is held
+    at the largest lead, max_lead (mm), off the envelope (0: none).
+    """
+
+    layer: int
+    circuit: int
+    number: int
+    kind: PassKind
+    start: int
+    stop: int
+    capped: int = 0
+    max_lead: float = 0.0
+
+
+@dataclass(frozen=True)
+class MotionProgram:
+    """The machine's moves for a whole plan, before any controller's text.
+
+    values : (m, 4) float, the logical axes AXES (carriage mm, rotation deg, cross_feed mm, yaw deg)
+        of each move; for a robot (m, 6), the eye pose POSE_AXES (position mm, unit direction).
+    feed : (m,) float, mm/min of each move. index : (m,) int, the move's contact point in its pass.
+    layers : the plan's layers (comments); segments : per layer, its passes in order (empty passes too).
+    envelope_radius / envelope_clearance : the eye envelope, one of them set.
+    """
+
+    name: str
+    source: str
+    robot: bool
+    machine: MachineConfig
+    layers: tuple[LayerPlan, ...]
+    total_fiber_length_mm: float
+    envelope_radius: float | None
+    envelope_clearance: float | None
+    values: np.ndarray
+    feed: np.ndarray
+    index: np.ndarray
+    segments: tuple[tuple[Segment, ...], ...]
+
+    @property
+    def axes(self) -> tuple[str, ...]:
+        return POSE_AXES if self.robot else AXES
+
+
+def is_robot(plan: WindingPlan, machine: MachineConfig) -> bool:
+    """Whether the program is made of robot poses (bent axis or machine.robot)."""
+    return bool(machine.robot or not plan.surface.curve.is_straight)
+
+
+def reduce_points(q: np.ndarray, tol: float) -> np.ndarray:
+    """Indices kept by Douglas-Peucker on the polyline q (m, k) with tolerance tol: every dropped
+    point lies within tol of the segment between its kept neighbours. First and last are kept."""
+    q = np.asarray(q, dtype=float)
+    m = q.shape[0]
+    if m <= 2:
+        return np.arange(m)
+    keep = np.zeros(m, dtype=bool)
+    keep[[0, -1]] = True
+    stack = [(0, m - 1)]
+    while stack:
+        i, k = stack.pop()
+        if k - i < 2:
+            continue
+        a = q[i]
+        seg = q[k] - a
+        rel = q[i + 1:k] - a
+        len2 = float(seg @ seg)
+        u = np.clip(rel @ seg / len2, 0.0, 1.0) if len2 > 0.0 else np.zeros(k - i - 1)
+        dist = np.linalg.norm(rel - u[:, None] * seg, axis=1)
+        j = int(np.argmax(dist))
+        if dist[j] > tol:
+            j += i + 1
+            keep[j] = True
+            stack.append((j, k))
+            stack.append((i, j))
+    return np.flatnonzero(keep)
+
+
+class _Turns:
+    """Carries the contact angle over the whole program: each pass's unwrapped theta plus whole
+    turns, so that A is cumulative. A pass continuing where the last one ended keeps its angles; a
+    pass starting elsewhere (a new layer) is reached by turning on in the winding sense (that of the
+    previous pass), less than a turn, never backwards."""
+
+    def __init__(self) -> None:
+        self.offset = 0.0
+        self.end: float | None = None
+        self.end_point: np.ndarray | None = None
+        self.sense = 1.0
+
+    def place(self, theta: np.ndarray, first: np.ndarray) -> tuple[np.ndarray, bool]:
+        """(the pass's program angles, whether it starts away from where the last pass ended);
+        first: the pass's first contact point."""
+        jumped = False
+        if self.end is not None:
+            self.offset += _TWO_PI * np.round((self.end - (theta[0] + self.offset)) / _TWO_PI)
+            gap = theta[0] + self.offset - self.end
+            jumped = abs(gap) > _CONTINUITY_TOL or float(np.linalg.norm(first - self.end_point)) > _POINT_TOL
+            if abs(gap) > _CONTINUITY_TOL and gap * self.sense < 0.0:
+                self.offset += _TWO_PI * self.sense
+        return theta + self.offset, jumped
+
+    def turn_on(self, theta: np.ndarray) -> np.ndarray:
+        """One more turn in the winding sense (the eye, not only the contact, must not turn back)."""
+        self.offset += _TWO_PI * self.sense
+        return theta + self.offset
+
+    def done(self, cum: np.ndarray, last: np.ndarray) -> None:
+        if cum[-1] != cum[0]:
+            self.sense = float(np.sign(cum[-1] - cum[0]))
+        self.end = float(cum[-1])
+        self.end_point = np.asarray(last, dtype=float)
+
+
+def pass_where(plan: WindingPlan, fp: FiberPass) -> str:
+    """How messages name a pass: file, layer, circuit, pass and kind."""
+    return f"{plan.source}: layer {fp.layer} circuit {fp.circuit} pass {fp.number} ({fp.kind.value})"
+
+
+def _all_poses(plan: WindingPlan, machine: MachineConfig, env, guide) -> list[RobotPoses]:
+    """Robot poses of every non-empty pass, solved in one batch (the solver's cost is per call)."""
+    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    if not passes:
+        return []
+    sizes = np.cumsum([len(fp.points) for fp in passes])[:-1]
+    try:
+        batch = robot_poses(np.concatenate([fp.points for fp in passes]),
+                            np.concatenate([fp.direction for fp in passes]), plan.surface, machine,
+                            envelope=env, guide=guide)
+    except ExportError:
+        for fp in passes:  # name the pass that fails
+            robot_poses(fp.points, fp.direction, plan.surface, machine, envelope=env, guide=guide,
+                        where=pass_where(plan, fp))
+        raise
+    parts = [np.split(np.asarray(getattr(batch, f)), sizes) for f in
+             ("position", "direction", "station", "lead", "on_envelope")]
+    return [RobotPoses(*fields) for fields in zip(*parts)]
+
+
+def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
+    """The motion program of a plan on a machine (module docstring); ExportError where the eye
+    cannot clear the mandrel or an axis would leave its limits."""
+    robot = is_robot(plan, machine)
+    surface = plan.surface
+    env = eye_envelope(surface, machine)
+    guide = make_guide(surface, env) if robot else None
+    tol = float(machine.chord_tolerance)
+    angle_scale = tol / np.radians(YAW_TOLERANCE_DEG)  # mm per radian of yaw / direction
+    arc_radius = env.max_radius  # the mandrel-turn arc of A, at the largest eye radius
+
+    rows: list[np.ndarray] = []
+    indices: list[np.ndarray] = []
+    layer_segments: list[tuple[Segment, ...]] = []
+    count = 0
+    b_end: float | None = None
+    a_end: float | None = None
+    turns = _Turns()
+    progress = sum(float(fp.theta[-1] - fp.theta[0]) for layer in plan.layers for fp in layer.passes
+                   if len(fp.theta))
+    sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
+    poses = iter(_all_poses(plan, machine, env, guide) if robot else ())
+    for layer in plan.layers:
+        segments: list[Segment] = []
+        for fp in layer.passes:
+            if len(fp.points) == 0:
+                segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count))
+                continue
+            where = pass_where(plan, fp)
+            theta, jumped = turns.place(np.asarray(fp.theta, dtype=float), np.asarray(fp.points[0], float))
+            if robot:
+                pose = next(poses)
+                on_envelope, lead = pose.on_envelope, pose.lead
+                q = np.column_stack([pose.position, angle_scale * pose.direction])
+                table = np.column_stack([pose.position, pose.direction])
+            else:
+                path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
+                                sense=sense, where=where)
+                if jumped and a_end is not None and (path.a_deg[0] - a_end) * turns.sense > TURN_BACK_DEG:
+                    # A runs against theta: the eye would turn back on the way to this pass.
+                    theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
+                    path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
+                                    sense=sense, where=where)
+                a_end = float(path.a_deg[-1])
+                if b_end is not None:
+                    path = replace(path, b_deg=path.b_deg + 360.0 * np.round((b_end - path.b_deg[0]) / 360.0))
+                b_end = float(path.b_deg[-1])
+                check_limits(path, machine, where)
+                on_envelope, lead = path.on_envelope, path.lead
+                q = np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
+                                     np.radians(path.b_deg) * angle_scale])
+                table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
+            turns.done(theta, fp.points[-1])
+            keep = reduce_points(q, tol)
+            rows.append(table[keep])
+            indices.append(keep)
+            capped = int(np.count_nonzero(~on_envelope))
+            segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count + keep.size, capped,
+                                    float(np.max(lead)) if capped else 0.0))
+            count += keep.size
+        layer_segments.append(tuple(segments))
+    width = len(POSE_AXES if robot else AXES)
+    values = np.concatenate(rows) if rows else np.zeros((0, width))
+    return MotionProgram(
+        name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
+        total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,
+        envelope_clearance=env.clearance, values=values, feed=np.full(count, float(machine.feed)),
+        index=np.concatenate(indices) if indices else np.zeros(0, dtype=int),
+        segments=tuple(layer_segments))
