@@ -48,6 +48,12 @@ def suffix_of(name: str) -> str:
     return next(f.suffix for f in FORMATS if f.name == name)
 
 
+def format_of(file_name: str) -> Format | None:
+    """The format of an output file by its suffix (the longest that matches), or None."""
+    hits = [f for f in FORMATS if file_name.endswith(f.suffix)]
+    return max(hits, key=lambda f: len(f.suffix)) if hits else None
+
+
 def chosen(names: Iterable[str]) -> tuple[Format, ...]:
     """The formats a job writes for the selectable names given (plus those always written), in
     writing order; an unknown name is a ConfigError."""

@@ -40,7 +40,6 @@ a cylinder in winder.geometry.vessel.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np

@@ -1,30 +1,11 @@
-"""Geodesic shooting: the geodesic ODE in the parameter domain (MATH.md 4).
+"""Two-point geodesic shooting (MATH.md 4): the paper's Runge-Kutta baseline and the independent
+check of the variational solver in winder.paths.geodesic.
 
-This is the paper's Runge-Kutta baseline ("one point, one direction") and an independent check of
-the variational solver in winder.paths.geodesic. A curve u(l) = (s(l), theta(l)) on the surface,
-parametrized by arc length l, is a geodesic when its acceleration is normal to the surface:
-
-    g u'' = -J^T (Phi_ss s'^2 + 2 Phi_st s' theta' + Phi_tt theta'^2),
-
-J = [Phi_s, Phi_theta] (3 x 2), g = J^T J (the metric). The state is y = (s, theta, s', theta'); the
-right-hand side (geodesic_rhs) works on a (4, k) array of k independent states at once, so that a fan
-of rays is integrated in one solve_ivp call (with one step sequence).
-
-Directions are given as the winding angle alpha (heading): the angle in the tangent plane from the
-direction of increasing s (the meridian, Phi_s) toward increasing theta. The orthonormal tangent
-basis is e1 = Phi_s / |Phi_s| and e2 = the unit part of Phi_theta orthogonal to e1.
-
-Stations are the surface's internal station s in [0, surface.length] (the axial station t for every
-mandrel except vessels; convert with surface.s_of_t / t_of_s).
-
-trace: integrate from one point in one direction (DOP853, dense output), stopping where s leaves
-    [0, surface.length].
 shoot: the two-point geodesic with N extra rounds by root finding on (heading, length). The Jacobian
     column in the length is the end velocity (exact); the column in the heading is a central
     difference of two neighbouring rays integrated together with the nominal ray in one system, so
     that all three share one step sequence and the difference carries no step-size noise (internal
-    numerical differentiation).
-clairaut_constant: r sin(alpha) on a surface of revolution, conserved along every geodesic.
+    numerical differentiation). The ODE and the ray tracing are winder.paths.ode.
 """
 
 from __future__ import annotations
@@ -39,9 +20,9 @@ from scipy.optimize import root
 
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
+from winder.paths.ode import check_start, fan_rhs, heading_of_velocity, tangent_basis, velocity_of_heading
 
 HEADING_STEP = 1e-6  # rad: half-width of the central difference in the heading (IND fan)
-STATION_TOL = 1e-9  # mm: a start station this far outside [0, length] is still on the mandrel
 CONVERGED_RESIDUAL = 1e-9  # a shot converges when its end misses by <= this times max(length, 1 mm)
 ON_MANDREL_SAMPLES = 2001  # dense samples checking that a shot path stays on the mandrel
 SHOT_SAMPLES = 201  # equally spaced arc-length samples returned by shoot
@@ -55,248 +36,6 @@ RESIDUAL_GOAL = 10.0  # the final level ends when the miss is below this times t
 STALL_RATIO = 0.5  # a Newton step reducing the miss by less than this factor ends a level ...
 FLOOR_FACTOR = 1e4  # ... once the miss is below this times its rtol times the length (its floor)
 LEAVE_TOL = 1e-6  # mm: a shot path this far past an end of the mandrel has left it
-
-
-# -- the ODE ---------------------------------------------------------------------------------------------
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("ij,ij->i", a, b)
-
-
-def geodesic_rhs(surface: SweepSurface, y: np.ndarray) -> np.ndarray:
-    """d/dl of the state y = (s, theta, s', theta'): (4,) or (4, k) float -> same shape.
-
-    Each column is an independent state; the 2x2 metric systems are solved in closed form.
-    """
-    y = np.asarray(y, dtype=float)
-    flat = y.ndim == 1
-    y2 = y[:, None] if flat else y
-    s, th, ds, dth = y2
-    ev = surface.evaluate(s, th, order=2)
-    acc = (ev.pss * (ds * ds)[:, None] + 2.0 * ev.pst * (ds * dth)[:, None]
-           + ev.ptt * (dth * dth)[:, None])
-    b0, b1 = -_dot(ev.ps, acc), -_dot(ev.pt, acc)
-    g00, g01, g11 = _dot(ev.ps, ev.ps), _dot(ev.ps, ev.pt), _dot(ev.pt, ev.pt)
-    det = g00 * g11 - g01 * g01
-    out = np.empty_like(y2)
-    out[0], out[1] = ds, dth
-    out[2] = (g11 * b0 - g01 * b1) / det
-    out[3] = (g00 * b1 - g01 * b0) / det
-    return out[:, 0] if flat else out
-
-
-def _tangent_basis(ps: np.ndarray, pt: np.ndarray):
-    """|Phi_s|, e1.Phi_theta and |w|, w = the part of Phi_theta orthogonal to e1; each (m,)."""
-    ns = np.linalg.norm(ps, axis=1)
-    e1 = ps / ns[:, None]
-    along = _dot(e1, pt)
-    w = np.linalg.norm(pt - along[:, None] * e1, axis=1)
-    return ns, along, w
-
-
-def velocity_of_heading(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
-                        heading_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Parameter velocity (s', theta') of the unit tangent vector at winding angle heading_rad.
-
-    The unit vector d = cos(a) e1 + sin(a) e2 written as d = s' Phi_s + theta' Phi_theta.
-    All arguments (m,) float (broadcast); returns two (m,) arrays.
-    """
-    s, theta, a = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
-                                        for v in (s, theta, heading_rad)))
-    ev = surface.evaluate(s, theta, order=1)
-    ns, along, w = _tangent_basis(ev.ps, ev.pt)
-    dth = np.sin(a) / w
-    ds = (np.cos(a) - dth * along) / ns
-    return ds, dth
-
-
-def heading_of_velocity(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ds: np.ndarray,
-                        dtheta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Winding angle (rad, from the meridian toward increasing theta) and speed |J u'| (mm per unit).
-
-    All arguments (m,) float (broadcast); returns two (m,) arrays.
-    """
-    s, theta, ds, dtheta = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
-                                                 for v in (s, theta, ds, dtheta)))
-    ev = surface.evaluate(s, theta, order=1)
-    ns, along, w = _tangent_basis(ev.ps, ev.pt)
-    c1 = ns * ds + along * dtheta  # component along e1
-    c2 = w * dtheta  # component along e2
-    return np.arctan2(c2, c1), np.hypot(c1, c2)
-
-
-def clairaut_constant(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ds: np.ndarray,
-                      dtheta: np.ndarray) -> np.ndarray:
-    """r sin(alpha) at points (s, theta) moving with parameter velocity (ds, dtheta): (m,) float, mm.
-
-    r is the distance from the axis, alpha the angle from the meridian (signed: positive toward
-    increasing theta). Constant along every geodesic of a surface of revolution (Clairaut).
-    Raises SolverError if the surface is not one of revolution.
-    """
-    if not surface.is_revolution:
-        raise SolverError(f"Clairaut's relation needs a surface of revolution (a straight axis and a "
-                          f"circular section); the mandrel {surface.name!r} is not one")
-    alpha, _ = heading_of_velocity(surface, s, theta, ds, dtheta)
-    s_b = np.broadcast_arrays(np.atleast_1d(np.asarray(s, dtype=float)), alpha)[0]
-    th_b = np.broadcast_arrays(np.atleast_1d(np.asarray(theta, dtype=float)), alpha)[0]
-    return surface.radius(s_b, th_b) * np.sin(alpha)
-
-
-# -- integration ------------------------------------------------------------------------------------------
-def _fan_fun(surface: SweepSurface, k: int) -> Callable[[float, np.ndarray], np.ndarray]:
-    """solve_ivp right-hand side of k rays stacked as y = (s_1..s_k, theta_1.., s'_1.., theta'_1..).
-
-    vectorized=True: y may also be (4k, j), j states of the whole fan (each column a fan).
-    """
-
-    def fun(_l: float, y: np.ndarray) -> np.ndarray:
-        if y.ndim == 1:
-            return geodesic_rhs(surface, y.reshape(4, k)).reshape(-1)
-        j = y.shape[1]
-        z = y.reshape(4, k * j)  # row-major: column c of fan state is spread over k*j entries
-        return geodesic_rhs(surface, z).reshape(4 * k, j)
-
-    return fun
-
-
-def _leave_events(surface: SweepSurface):
-    def below(_l, y):
-        return y[0]
-
-    def above(_l, y):
-        return y[0] - surface.length
-
-    for ev, direction in ((below, -1.0), (above, 1.0)):
-        ev.terminal = True
-        ev.direction = direction
-    return below, above
-
-
-@dataclass(frozen=True)
-class Trace:
-    """A geodesic traced from one point in one direction.
-
-    s, theta : (m,) float at the integrator's steps (theta unwrapped, radians); arc : (m,) their
-    arc lengths (mm) from the start. length : the arc length reached (mm; shorter than asked if the
-    path left the mandrel). sol : dense output, arc length (scalar or (k,)) -> array (2,) or (2, k)
-    of (s, theta); state(l) gives the whole (4,) / (4, k) state (s, theta, s', theta').
-    left_mandrel : the path reached s = 0 or s = surface.length before the asked length.
-    speed_error : max | |J u'| - 1 | over the steps (the arc-length parametrization's drift).
-    """
-
-    s: np.ndarray
-    theta: np.ndarray
-    arc: np.ndarray
-    length: float
-    sol: Callable[[np.ndarray], np.ndarray]
-    state: Callable[[np.ndarray], np.ndarray] = field(repr=False)
-    left_mandrel: bool
-    status: str
-    heading_deg: float
-    speed_error: float
-    nfev: int
-
-
-def _check_start(surface: SweepSurface, s: float, what: str) -> None:
-    if not (np.isfinite(s) and -STATION_TOL <= s <= surface.length + STATION_TOL):
-        raise ConfigError(f"{what}: the station s must lie on the mandrel, in [0, {surface.length:.6g}], "
-                          f"got {s:g}")
-
-
-def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float, length: float,
-          rtol: float = 1e-12, atol: float = 1e-12, *, stop_at_ends: bool = True) -> Trace:
-    """Trace the geodesic from start = (s, theta_rad) at winding angle heading_deg for length mm.
-
-    heading_deg : from the direction of increasing s (the meridian) toward increasing theta.
-    stop_at_ends : stop where s leaves [0, surface.length] (terminal events); otherwise the surface
-        formulas are continued past the ends.
-    """
-    s0, th0 = float(start[0]), float(start[1])
-    _check_start(surface, s0, "trace start")
-    if not (np.isfinite(length) and length > 0.0):
-        raise ConfigError(f"trace length: must be a number > 0 mm, got {length}")
-    ds, dth = velocity_of_heading(surface, s0, th0, np.radians(heading_deg))
-    y0 = np.array([s0, th0, ds[0], dth[0]])
-    events = _leave_events(surface) if stop_at_ends else None
-    res = solve_ivp(_fan_fun(surface, 1), (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol,
-                    dense_output=True, events=events, vectorized=True)
-    if res.status == -1:
-        raise SolverError(f"geodesic tracing failed: {res.message}")
-    left = res.status == 1
-    arc = res.t
-    s, th = res.y[0], res.y[1]
-    _, speed = heading_of_velocity(surface, s, th, res.y[2], res.y[3])
-    dense = res.sol
-    if left:
-        end = "t = 0" if s[-1] <= 0.5 * surface.length else f"s = {surface.length:.6g}"
-        status = f"left the mandrel at {end} after {arc[-1]:.6g} of {length:.6g} mm"
-    else:
-        status = f"traced {length:.6g} mm"
-
-    def sol(l):
-        return dense(l)[:2]
-
-    return Trace(s=s, theta=th, arc=arc, length=float(arc[-1]), sol=sol, state=dense, left_mandrel=left,
-                 status=status, heading_deg=float(heading_deg),
-                 speed_error=float(np.max(np.abs(speed - 1.0))),
-                 nfev=int(res.nfev))
-
-
-@dataclass(frozen=True)
-class Fan:
-    """k rays traced together from one start (one step sequence).
-
-    arc : (m,) sample arc lengths; s, theta : (k, m) float. left_at : (k,) arc length where each ray
-    first left [0, surface.length] (nan if it did not; its samples past that point are the
-    continuation of the surface formulas, not the mandrel).
-    """
-
-    headings_deg: np.ndarray
-    arc: np.ndarray
-    s: np.ndarray
-    theta: np.ndarray
-    left_at: np.ndarray
-    nfev: int
-
-
-def trace_fan(surface: SweepSurface, start: tuple[float, float], headings_deg: np.ndarray, length: float,
-              samples: int = 201, rtol: float = 1e-12, atol: float = 1e-12) -> Fan:
-    """Trace rays at several headings from one start in one integration (e.g. for a planner)."""
-    s0, th0 = float(start[0]), float(start[1])
-    _check_start(surface, s0, "trace start")
-    if not (np.isfinite(length) and length > 0.0):
-        raise ConfigError(f"trace length: must be a number > 0 mm, got {length}")
-    heads = np.atleast_1d(np.asarray(headings_deg, dtype=float))
-    k = heads.size
-    ds, dth = velocity_of_heading(surface, np.full(k, s0), np.full(k, th0), np.radians(heads))
-    y0 = np.concatenate([np.full(k, s0), np.full(k, th0), ds, dth])
-    res = solve_ivp(_fan_fun(surface, k), (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol,
-                    dense_output=True, vectorized=True)
-    if res.status == -1:
-        raise SolverError(f"geodesic tracing failed: {res.message}")
-    arc = np.linspace(0.0, float(length), samples)
-    y = res.sol(arc).reshape(4, k, samples)
-    left_at = np.full(k, np.nan)
-    steps = res.y[:k]  # s of every ray at the integrator's steps, (k, n_steps)
-    for i in range(k):
-        out = (steps[i] < -STATION_TOL) | (steps[i] > surface.length + STATION_TOL)
-        if np.any(out):
-            j = int(np.argmax(out))
-            left_at[i] = _exit_arc(surface, lambda l, i=i: res.sol(l)[i], res.t[j - 1], res.t[j])
-    return Fan(heads, arc, y[0], y[1], left_at, int(res.nfev))
-
-
-def _exit_arc(surface: SweepSurface, s_of: Callable[[float], float], lo: float, hi: float) -> float:
-    """Arc length in [lo, hi] where s crosses 0 or surface.length (bisection on the dense output)."""
-    side = 0.0 if s_of(hi) < 0.0 else surface.length
-    f_lo = s_of(lo) - side
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        f = s_of(mid) - side
-        if np.sign(f) == np.sign(f_lo):
-            lo, f_lo = mid, f
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
 
 
 # -- two-point shooting ---------------------------------------------------------------------------------
@@ -348,7 +87,7 @@ def initial_guess(surface: SweepSurface, start: tuple[float, float],
     f = ((np.arange(GUESS_PIECES)[:, None] + 0.5 + 0.5 * x[None, :]) / GUESS_PIECES).ravel()
     weights = np.tile(w, GUESS_PIECES) * 0.5 / GUESS_PIECES
     ev = surface.evaluate(s0 + f * du[0], th0 + f * du[1], order=1)
-    ns, along, width = _tangent_basis(ev.ps, ev.pt)
+    ns, along, width = tangent_basis(ev.ps, ev.pt)
     c1 = ns * du[0] + along * du[1]
     c2 = width * du[1]
     heading = np.arctan2(weights @ c2, weights @ c1)
@@ -376,8 +115,8 @@ def shoot(surface: SweepSurface, start: tuple[float, float], end: tuple[float, f
     t_start = time.perf_counter()
     s0, th0 = float(start[0]), float(start[1])
     s1, th1 = float(end[0]), float(end[1]) + 2.0 * np.pi * rounds
-    _check_start(surface, s0, "shoot start")
-    _check_start(surface, s1, "shoot end")
+    check_start(surface, s0, "shoot start")
+    check_start(surface, s1, "shoot end")
     if guess is None:
         guess = initial_guess(surface, (s0, th0), (s1, th1))
     if not (np.isfinite(guess[0]) and np.isfinite(guess[1]) and guess[1] > 0.0):
@@ -385,7 +124,7 @@ def shoot(surface: SweepSurface, start: tuple[float, float], end: tuple[float, f
     factor = _metric_factor(surface, s1, th1)
     target = np.array([s1, th1])
     scale = max(float(guess[1]), 1.0)  # mm: the length unknown is scaled to O(1)
-    fun3 = _fan_fun(surface, 3)
+    fun3 = fan_rhs(surface, 3)
     count = 0
 
     def evaluate(x: np.ndarray, rtol: float, dense: bool = False):

@@ -28,7 +28,7 @@ from winder.winding.passes import (
 )
 from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_open_pattern
 from winder.winding.results import FiberPass, LayerPlan, PassKind
-from winder.paths.shooting import trace
+from winder.paths.ode import trace
 from winder.geometry.surface import SweepSurface
 
 TRACE_RTOL = 1e-10
