@@ -191,7 +191,7 @@ def test_lbfgs_matches_newton(quarter_bend):
 
 
 def test_station_outside_mandrel_refused(straight_tube):
-    with pytest.raises(ConfigError, match=r"--end: t must lie on the mandrel, in \[0, 300\]"):
+    with pytest.raises(ConfigError, match=r"^end: t must lie on the mandrel, in \[0, 300\]"):
         geodesic(straight_tube, (0.0, 0.0), (301.0, 0.0))
 
 

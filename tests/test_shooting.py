@@ -221,7 +221,7 @@ def test_shoot_on_a_bent_tube_agrees_with_the_variational_solver(rounds):
     surf = bent_tube()
     big_t = surf.axial_length
     shot = shoot(surf, (0.0, 0.0), (big_t, np.pi / 2), rounds=rounds)
-    assert shot.converged and shot.residual < RESIDUAL_TOL * shot.length, shot.status
+    assert shot.converged and shot.residual < RESIDUAL_TOL * shot.length, shot.message
     assert shot.speed_error < SPEED_TOL
     dist = []
     for n in (200, 401):
@@ -275,7 +275,7 @@ def test_shoot_falls_back_to_minpack(monkeypatch):
 
     monkeypatch.setattr(shooting, "MAX_NEWTON", 0)
     r = shooting.shoot(tube(), (20.0, 0.0), (180.0, 3.0), guess=(60.0, 250.0))
-    assert "hybr" in r.status and r.converged, r.status
+    assert "hybr" in r.message and r.converged, r.message
     exact = np.hypot(160.0, R_TUBE * 3.0)
     assert abs(r.length / exact - 1.0) < LENGTH_TOL
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from winder import __version__
 from winder.config.job import load_config
-from winder.errors import ConfigError, SolverError
+from winder.errors import ConfigError, SolverError, WinderError
 from winder.paths.geodesic import DEFAULT_POINTS, Method, geodesic
 from winder.app import regress as regress_mod
 from winder.app.jobs import (FORMATS, JobReport, JobTask, default_workers, error_message, exit_code_of,
@@ -96,11 +96,15 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
     try:
         res = geodesic(surface, a, b, rounds=rounds, n=points or DEFAULT_POINTS, tolerance=tolerance,
                        method=Method(method))
-    except SolverError as exc:
-        raise SolverError(error_message(exc, config)) from exc  # names the file, once
-    if not res.converged:
-        raise SolverError(f"{config}: the {method} solver did not converge in {res.iterations} "
-                          f"iterations ({res.reason.value})")
+    except WinderError as exc:
+        if exc.key_path in ("start", "end", "points", "tolerance"):  # the library's names of the options
+            exc.key_path = f"--{exc.key_path}"
+        if isinstance(exc, SolverError) and exc.file is None:
+            exc.file = config  # names the file, once
+        raise
+    if not res.success:
+        raise SolverError(f"the {method} solver did not converge in {res.nit} iterations ({res.message})",
+                          file=config)
     if output:
         write_path_csv(output, res)
     if as_json:

@@ -1,12 +1,37 @@
-"""The one error hierarchy of winder. The CLI maps each class to an exit status."""
+"""The one error hierarchy of winder. Every error carries its exit status (SPEC.md), and where known
+the file and the key path it is about; the CLI prints format_message() and exits with exit_code."""
 
 from __future__ import annotations
 
 
+def _rebuild(cls: type, message: str, file: str | None, key_path: str | None) -> WinderError:
+    return cls(message, file=file, key_path=key_path)
+
+
 class WinderError(Exception):
-    """Base class of every error winder reports to a user."""
+    """Base class of every error winder reports to a user.
+
+    message : what is wrong (", got <value>" included where there is one). file : the job file or
+    folder it concerns; key_path : e.g. "mandrel.axis.radius" (a config key, or an input's name).
+    """
 
     exit_code = 1
+
+    def __init__(self, message: str, *, file: str | None = None, key_path: str | None = None) -> None:
+        super().__init__(message)
+        self.message = message
+        self.file = file
+        self.key_path = key_path
+
+    def format_message(self) -> str:
+        """`file: key.path: message`, leaving out what is not known."""
+        return ": ".join(part for part in (self.file, self.key_path, self.message) if part)
+
+    def __str__(self) -> str:
+        return self.format_message()
+
+    def __reduce__(self):  # keep file and key_path across process boundaries (batch jobs)
+        return (_rebuild, (type(self), self.message, self.file, self.key_path))
 
 
 class ConfigError(WinderError):

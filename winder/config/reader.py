@@ -117,9 +117,8 @@ class Reader:
         return f"{path}.{key}" if path else key
 
     def error(self, path: str, what: str, value: object = _NO_VALUE) -> ConfigError:
-        where = f"{self.source}: {path}: " if path else f"{self.source}: "
         got = "" if value is _NO_VALUE else f", got {show_value(value)}"
-        return ConfigError(f"{where}{what}{got}")
+        return ConfigError(f"{what}{got}", file=self.source, key_path=path or None)
 
     def mapping(self, value: Any, path: str, allowed: Sequence[str], required: Sequence[str] = (),
                 kind: str = "") -> dict[str, Any]:

@@ -23,6 +23,7 @@ from scipy.interpolate import CubicSpline
 from scipy.linalg import LinAlgError, solveh_banded
 from scipy.optimize import minimize
 
+from winder.config.winding import DEFAULT_POINTS
 from winder.errors import ConfigError, SolverError
 from winder.geometry.measure import (geodesic_curvature, polyline_length, richardson, smooth_length,
                                      spacing_deviation)
@@ -54,7 +55,6 @@ LBFGS_FTOL = 1e-15  # relative energy decrease per iteration at which L-BFGS-B s
 LBFGS_GTOL = 1e-9  # largest gradient component (mm) at which L-BFGS-B stops
 ARMIJO = 1e-4
 BOUNDARY_TOL = 1e-9  # a vertex this close (mm) to an end of the mandrel is on it
-DEFAULT_POINTS = 200
 
 
 @dataclass(frozen=True)
@@ -71,6 +71,7 @@ class PathSolve:
     converged: bool
     reason: StopReason
     history: np.ndarray
+    nfev: int = 0  # energy evaluations (with or without derivatives)
 
 
 @dataclass(frozen=True)
@@ -107,6 +108,25 @@ class GeodesicResult:
     history: np.ndarray
     refined_s: np.ndarray | None = None
     refined_theta: np.ndarray | None = None
+    nfev: int = 0
+
+    # scipy's result vocabulary (scipy.optimize.OptimizeResult)
+    @property
+    def success(self) -> bool:
+        return self.converged
+
+    @property
+    def status(self) -> int:
+        """0 converged, 1 the iteration limit was reached (scipy's codes)."""
+        return 1 if self.reason is StopReason.MAX_ITER else 0
+
+    @property
+    def message(self) -> str:
+        return self.reason.value
+
+    @property
+    def nit(self) -> int:
+        return self.iterations
 
 
 # -- energy, gradient, Hessian ---------------------------------------------------------------------
@@ -174,10 +194,11 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
     history = []
     reason = StopReason.MAX_ITER
     converged = False
-    it = 0
+    it = nfev = 0
     prev_disp = np.inf
     for it in range(1, max_iter + 1):
         e, grad, hd, ho, jac = energy_terms(surface, s, th)
+        nfev += 1
         history.append((e, float(np.linalg.norm(grad))))
         step = _direction(hd, ho, grad)
         newton = step is not None and np.sum(step * grad) < 0.0
@@ -204,6 +225,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
             s_try[1:-1] += alpha * step[:, 0]
             th_try[1:-1] += alpha * step[:, 1]
             e_try = _energy(surface, s_try, th_try)
+            nfev += 1
             if e_try <= e + ARMIJO * alpha * slope or alpha < 1e-12:
                 break
             alpha *= 0.5
@@ -228,7 +250,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
     interior = s[1:-1]
     if interior.size and (interior.min() <= BOUNDARY_TOL or interior.max() >= s_max - BOUNDARY_TOL):
         _raise_left(surface, s)
-    return PathSolve(s, th, it, converged, reason, np.array(history))
+    return PathSolve(s, th, it, converged, reason, np.array(history), nfev)
 
 
 def _raise_left(surface: SweepSurface, s: np.ndarray) -> None:
@@ -270,7 +292,7 @@ def _lbfgs(surface: SweepSurface, s: np.ndarray, th: np.ndarray, max_iter: int =
     s_out[1:-1], th_out[1:-1] = res.x[0::2], res.x[1::2]
     converged = bool(res.success)
     reason = StopReason.LBFGS if converged else StopReason.MAX_ITER
-    return PathSolve(s_out, th_out, int(res.nit), converged, reason, np.array(history))
+    return PathSolve(s_out, th_out, int(res.nit), converged, reason, np.array(history), int(res.nfev))
 
 
 # -- paths --------------------------------------------------------------------------------------------
@@ -311,15 +333,16 @@ def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
     rounds = abs(th[-1] - th[0]) / (2.0 * np.pi)
     coarsest = max(COARSEST, int(POINTS_PER_ROUND * rounds))
     levels = [n] if warm or s.shape[0] - 2 >= n else [k for k in _levels(n, coarsest) if k >= s.shape[0] - 2]
-    total = 0
+    total = nfev = 0
     sol = None
     for k, level in enumerate(levels):
         cur_s, cur_t = resample(s, th, level)
         last = k == len(levels) - 1
         sol = _newton(surface, cur_s, cur_t, STEP_TOL if last else LEVEL_STEP_TOL)
         total += sol.iterations
+        nfev += sol.nfev
         s, th = sol.s, sol.theta
-    return PathSolve(sol.s, sol.theta, total, sol.converged, sol.reason, sol.history)
+    return PathSolve(sol.s, sol.theta, total, sol.converged, sol.reason, sol.history, nfev)
 
 
 def extrapolate_vertices(coarse: PathSolve, fine: PathSolve) -> tuple[np.ndarray, np.ndarray]:
@@ -335,7 +358,8 @@ def extrapolate_vertices(coarse: PathSolve, fine: PathSolve) -> tuple[np.ndarray
 # -- the user-facing geodesic ---------------------------------------------------------------------------
 def _check_station(surface: SweepSurface, t: float, what: str) -> None:
     if not (np.isfinite(t) and -1e-9 <= t <= surface.axial_length + 1e-9):
-        raise ConfigError(f"{what}: t must lie on the mandrel, in [0, {surface.axial_length:.6g}] mm, got {t:g}")
+        raise ConfigError(f"t must lie on the mandrel, in [0, {surface.axial_length:.6g}] mm, got {t:g}",
+                          key_path=what)
 
 
 def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float, float], *,
@@ -348,10 +372,10 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
     init : a previous path (s, theta) to warm-start from (any number of points).
     estimate : also solve at 2n + 1 for Richardson's estimate (doubles the work).
     """
-    _check_station(surface, start[0], "--start")
-    _check_station(surface, end[0], "--end")
+    _check_station(surface, start[0], "start")
+    _check_station(surface, end[0], "end")
     if n < 1:
-        raise ConfigError(f"--points: must be >= 1, got {n}")
+        raise ConfigError(f"must be >= 1, got {n}", key_path="points")
     t0 = time.perf_counter()
     s0, s1 = (float(v) for v in surface.s_of_t(np.array([start[0], end[0]])))
     th0, th1 = float(start[1]), float(end[1]) + 2.0 * np.pi * rounds
@@ -362,19 +386,20 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
     else:
         s_init, th_init = straight_path(s0, th0, s1, th1, 1)
     sol = solve_path(surface, s_init, th_init, n, method, warm=init is not None)
-    iterations = sol.iterations
+    iterations, nfev = sol.iterations, sol.nfev
     fine = None
     while estimate or tolerance is not None:
         fine = solve_path(surface, sol.s, sol.theta, 2 * n + 1, method, warm=True)
         iterations += fine.iterations
+        nfev += fine.nfev
         pts_n = surface.points(sol.s, sol.theta)
         pts_2n = surface.points(fine.s, fine.theta)
         _, err = richardson(polyline_length(pts_n), polyline_length(pts_2n))
         if tolerance is None or err < tolerance:
             break
         if 2 * n + 1 > max_points:
-            raise SolverError(f"--tolerance {tolerance:g} mm not reached with {max_points} points "
-                              f"(estimated error {err:.3g} mm)")
+            raise SolverError(f"{tolerance:g} mm not reached with {max_points} points "
+                              f"(estimated error {err:.3g} mm)", key_path="tolerance")
         sol, n = fine, 2 * n + 1
     pts = surface.points(sol.s, sol.theta)
     length = smooth_length(surface, sol.s, sol.theta)
@@ -395,4 +420,5 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         smooth_error_estimate=smooth_err, n=n, iterations=iterations, converged=converged,
         reason=sol.reason, method=method, spacing_deviation=spacing_deviation(pts),
         max_geodesic_curvature=float(np.max(np.abs(kg))) if kg.size else 0.0,
-        seconds=time.perf_counter() - t0, history=sol.history, refined_s=refined[0], refined_theta=refined[1])
+        seconds=time.perf_counter() - t0, history=sol.history, refined_s=refined[0], refined_theta=refined[1],
+        nfev=nfev)

@@ -161,6 +161,7 @@ class Trace:
     path left the mandrel). sol : dense output, arc length (scalar or (k,)) -> array (2,) or (2, k)
     of (s, theta); state(l) gives the whole (4,) / (4, k) state (s, theta, s', theta').
     left_mandrel : the path reached s = 0 or s = surface.length before the asked length.
+    success, status, message, nfev : scipy's result vocabulary (nfev: right-hand side evaluations).
     speed_error : max | |J u'| - 1 | over the steps (the arc-length parametrization's drift).
     """
 
@@ -171,10 +172,20 @@ class Trace:
     sol: Callable[[np.ndarray], np.ndarray]
     state: Callable[[np.ndarray], np.ndarray] = field(repr=False)
     left_mandrel: bool
-    status: str
+    message: str
     heading_deg: float
     speed_error: float
     nfev: int
+
+    @property
+    def success(self) -> bool:
+        """The whole asked length was traced on the mandrel."""
+        return not self.left_mandrel
+
+    @property
+    def status(self) -> int:
+        """0 traced the asked length, 1 left the mandrel first (solve_ivp's event code)."""
+        return 1 if self.left_mandrel else 0
 
 
 def check_start(surface: SweepSurface, s: float, what: str) -> None:
@@ -209,15 +220,15 @@ def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float,
     dense = res.sol
     if left:
         end = "t = 0" if s[-1] <= 0.5 * surface.length else f"s = {surface.length:.6g}"
-        status = f"left the mandrel at {end} after {arc[-1]:.6g} of {length:.6g} mm"
+        message = f"left the mandrel at {end} after {arc[-1]:.6g} of {length:.6g} mm"
     else:
-        status = f"traced {length:.6g} mm"
+        message = f"traced {length:.6g} mm"
 
     def sol(l):
         return dense(l)[:2]
 
     return Trace(s=s, theta=th, arc=arc, length=float(arc[-1]), sol=sol, state=dense, left_mandrel=left,
-                 status=status, heading_deg=float(heading_deg),
+                 message=message, heading_deg=float(heading_deg),
                  speed_error=float(np.max(np.abs(speed - 1.0))),
                  nfev=int(res.nfev))
 

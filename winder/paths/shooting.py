@@ -51,6 +51,7 @@ class ShootResult:
         mandrel. left_mandrel : the path leaves s in [0, surface.length] by more than LEAVE_TOL (the
         surface formulas were continued past the ends while shooting).
     nfev : three-ray fan integrations (Newton and line search, or hybrj); seconds : wall time.
+    success, status, message : scipy's result vocabulary.
     speed_error : max | |J u'| - 1 | at the final trace's steps.
     """
 
@@ -65,9 +66,18 @@ class ShootResult:
     residual: float
     left_mandrel: bool
     nfev: int
-    status: str
+    message: str
     seconds: float
     speed_error: float
+
+    @property
+    def success(self) -> bool:
+        return self.converged
+
+    @property
+    def status(self) -> int:
+        """0 converged, 1 not converged, 2 the path leaves the mandrel."""
+        return 2 if self.left_mandrel else (0 if self.converged else 1)
 
 
 def initial_guess(surface: SweepSurface, start: tuple[float, float],
@@ -225,16 +235,16 @@ def shoot(surface: SweepSurface, start: tuple[float, float], end: tuple[float, f
     left = bool(s_check.min() < -LEAVE_TOL or s_check.max() > surface.length + LEAVE_TOL)
     converged = residual <= CONVERGED_RESIDUAL * max(length, 1.0) and not left
     if left:
-        status = "the geodesic through these points leaves the mandrel"
+        message = "the geodesic through these points leaves the mandrel"
     elif converged:
-        status = f"converged ({method}): the end is missed by {residual:.3g} mm"
+        message = f"converged ({method}): the end is missed by {residual:.3g} mm"
     else:
-        status = f"not converged ({method}): the end is missed by {residual:.3g} mm"
+        message = f"not converged ({method}): the end is missed by {residual:.3g} mm"
     arc = np.linspace(0.0, length, SHOT_SAMPLES)
     s_arc, th_arc = path(arc)
     st = dense(res.t)
     _, speed = heading_of_velocity(surface, st[0], st[3], st[6], st[9])
     return ShootResult(heading_deg=heading, length=length, arc=arc, s=s_arc, theta=th_arc, sol=path,
                        state=path_state,
-                       converged=converged, residual=residual, left_mandrel=left, nfev=count, status=status,
+                       converged=converged, residual=residual, left_mandrel=left, nfev=count, message=message,
                        seconds=time.perf_counter() - t_start, speed_error=float(np.max(np.abs(speed - 1.0))))
