@@ -20,7 +20,8 @@ import numpy as np
 from bench.baselines import length_and_gradient, length_optimization
 from bench.cases import Case
 from bench.sweeps import PAPER_STOP_MM
-from winder.paths.geodesic import STEP_TOL, _lbfgs, _newton, energy_terms, solve_path, straight_path
+from winder.paths.energy import energy_terms
+from winder.paths.geodesic import STEP_TOL, _lbfgs, _newton, solve_path, straight_path
 from winder.geometry.measure import polyline_length, spacing_deviation
 from winder.geometry.surface import SweepSurface
 

@@ -8,7 +8,8 @@ from scipy.interpolate import CubicSpline
 
 from conftest import ellipse_arc
 from winder.errors import ConfigError
-from winder.paths.geodesic import Method, energy_terms, geodesic, solve_path, straight_path
+from winder.paths.energy import energy_terms
+from winder.paths.geodesic import Method, geodesic, solve_path, straight_path
 
 SMOOTH_REL = 1e-9  # smooth-path length, n = 200, on developable tubes
 FD_REL = 1e-5  # finite-difference checks of gradient and Hessian

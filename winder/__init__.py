@@ -1,8 +1,9 @@
 """winder: filament-winding CAM on sweep-surface mandrels.
 
-Pipeline: config (YAML -> frozen dataclasses) -> surface (guide curve, rotation-minimizing
-frame, radius r(t, theta)) -> geodesic (variational fiber paths) -> pattern/coverage (winding
-plan) -> export (CSV, G-code, PLY).
+Stages, each a package that imports only from earlier ones: config (YAML -> frozen dataclasses)
+-> geometry (the sweep surface) -> paths (geodesics) -> winding (the plan) -> machine (one motion
+program) -> export (CSV, G-code, PLY, summary) -> app (jobs, regress) -> cli.py (the only module
+that talks to the user). errors.py is shared by all.
 """
 
 __version__ = "0.1.0"

@@ -28,6 +28,7 @@ from winder.errors import ConfigError, SolverError
 from winder.geometry.measure import (geodesic_curvature, polyline_length, richardson, smooth_length,
                                      spacing_deviation)
 from winder.geometry.surface import SweepSurface
+from winder.paths.energy import energy, energy_terms
 
 
 class Method(Enum):
@@ -129,36 +130,7 @@ class GeodesicResult:
         return self.iterations
 
 
-# -- energy, gradient, Hessian ---------------------------------------------------------------------
-def _energy(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> float:
-    y = surface.points(s, th)
-    return float(np.sum(np.diff(y, axis=0) ** 2))
-
-
-def energy_terms(surface: SweepSurface, s: np.ndarray, th: np.ndarray, full_hessian: bool = True):
-    """E, gradient (n, 2), Hessian diagonal blocks (n, 2, 2), off-diagonal blocks (n - 1, 2, 2).
-
-    s, th : (n + 2,) float with the fixed end points. H_ii = 4 J_i^T J_i + 2 sum_k a_ik Hess(Phi_k),
-    a_i = 2 y_i - y_{i-1} - y_{i+1}; H_{i,i+1} = -2 J_i^T J_{i+1}. Without full_hessian, Gauss-Newton.
-    """
-    ev = surface.evaluate(s[1:-1], th[1:-1], order=2 if full_hessian else 1)
-    ends = surface.points(s[[0, -1]], th[[0, -1]])
-    y = np.concatenate([ends[:1], ev.p, ends[1:]])
-    d = np.diff(y, axis=0)
-    a = d[:-1] - d[1:]
-    jac = np.stack([ev.ps, ev.pt], axis=2)  # (n, 3, 2)
-    grad = 2.0 * np.einsum("nki,nk->ni", jac, a)
-    hd = 4.0 * np.einsum("nki,nkj->nij", jac, jac)
-    if full_hessian:
-        hd[:, 0, 0] += 2.0 * np.einsum("nk,nk->n", a, ev.pss)
-        cross = 2.0 * np.einsum("nk,nk->n", a, ev.pst)
-        hd[:, 0, 1] += cross
-        hd[:, 1, 0] += cross
-        hd[:, 1, 1] += 2.0 * np.einsum("nk,nk->n", a, ev.ptt)
-    ho = -2.0 * np.einsum("nki,nkj->nij", jac[:-1], jac[1:])
-    return float(np.sum(d * d)), grad, hd, ho, jac
-
-
+# -- the Newton step ----------------------------------------------------------------------------------
 def _banded(hd: np.ndarray, ho: np.ndarray) -> np.ndarray:
     """Upper banded storage (4, 2n) of the interleaved (s_1, th_1, s_2, ...) block-tridiagonal H."""
     n = hd.shape[0]
@@ -224,7 +196,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
             th_try = th.copy()
             s_try[1:-1] += alpha * step[:, 0]
             th_try[1:-1] += alpha * step[:, 1]
-            e_try = _energy(surface, s_try, th_try)
+            e_try = energy(surface, s_try, th_try)
             nfev += 1
             if e_try <= e + ARMIJO * alpha * slope or alpha < 1e-12:
                 break

@@ -13,6 +13,7 @@ import numpy as np
 from winder.config.winding import LayerConfig
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import SolverError
+from winder.winding.slip import check_slip
 from winder.winding.passes import (
     COVERAGE_STATIONS,
     PlanContext,
@@ -24,7 +25,6 @@ from winder.winding.passes import (
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 
 HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
-SLIP_SAMPLES_PER_TURN = 72
 
 
 def _cylinder_region(ctx: PlanContext) -> tuple[float, float]:
@@ -63,33 +63,6 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         direction = vel / speed[:, None]
         length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
         passes.append(make_pass(surf, index + 1, k + 1, k + 1, PassKind.HOOP, s, th, direction, length))
-    _check_slip(ctx, index, passes[0], turns)
+    check_slip(ctx, index, passes[0], turns)
     stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     return finish_layer(ctx, cfg, index, alpha, cfg.passes, 1, 0.0, 0.0, None, passes, stations, [])
-
-
-def _check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None:
-    """Refuse a hoop path whose geodesic curvature friction cannot hold: |k_g / k_n| <= mu."""
-    surf = ctx.surface
-    m = max(50, int(turns * SLIP_SAMPLES_PER_TURN))
-    i = np.linspace(0.0, p.s.size - 1.0, m)
-    idx = np.arange(p.s.size, dtype=float)
-    s, th = np.interp(i, idx, p.s), np.interp(i, idx, p.theta)
-    ev = surf.evaluate(s, th, order=2)
-    ds, dth = np.gradient(s), np.gradient(th)
-    vel = ev.ps * ds[:, None] + ev.pt * dth[:, None]
-    acc = ev.pss * (ds * ds)[:, None] + 2.0 * ev.pst * (ds * dth)[:, None] + ev.ptt * (dth * dth)[:, None]
-    nrm = np.cross(ev.pt, ev.ps)
-    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
-    speed2 = np.einsum("ij,ij->i", vel, vel)
-    k_n = np.einsum("ij,ij->i", acc, nrm) / speed2
-    k_g = np.einsum("ij,ij->i", np.cross(vel, acc), nrm) / speed2**1.5
-    ratio = np.abs(k_g) / np.maximum(np.abs(k_n), 1e-300)
-    worst = int(np.argmax(ratio))
-    if ratio[worst] > ctx.winding.friction:
-        t = float(surf.t_of_s(s[worst:worst + 1])[0])
-        raise SolverError(f"{ctx.key(index)}: a hoop layer would slip here: |k_g / k_n| reaches "
-                          f"{ratio[worst]:.3g} at t = {t:.3f} mm, above the friction coefficient "
-                          f"{ctx.winding.friction:g} (winding.friction); hoop layers hold on cylindrical "
-                          f"regions")
-
