@@ -20,7 +20,7 @@ from winder.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
 SAMPLES = ROOT / "samples"
-INVALID = ROOT / "tests" / "invalid_configs"
+INVALID = ROOT / "tests" / "config" / "invalid"
 PIPE = SAMPLES / "pipe.yaml"
 ELBOW = SAMPLES / "elbow.yaml"
 

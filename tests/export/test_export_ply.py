@@ -9,7 +9,7 @@ import pytest
 import trimesh
 
 from conftest import surface_of
-from test_machine import cylinder_plan, geodesic_pass, make_layer
+from plans import cylinder_plan, geodesic_pass, make_layer
 from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
 from winder.errors import ExportError
 from winder.export.ply import MANDREL_COLOR, band_color, ply_bytes

@@ -17,7 +17,7 @@ from winder.cli import main
 from winder.errors import ExportError
 from winder.app.jobs import ALL_FORMATS, JobReport, JobTask, exit_status, output_names, run_job, run_jobs
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 SAMPLES = ROOT / "samples"
 CONFIGS = sorted(SAMPLES.glob("*.yaml"))
 ALL_FILES = {"pipe.csv", "pipe.gcode", "pipe.ply", "pipe.summary.json"}

@@ -19,8 +19,8 @@ from winder.config.winding import LayerConfig, LayerType, WindingConfig
 from winder.geometry.build import build_surface
 from winder.errors import ConfigError, WinderError
 
-ROOT = Path(__file__).resolve().parent.parent
-INVALID = Path(__file__).resolve().parent / "invalid_configs"
+ROOT = Path(__file__).resolve().parents[2]
+INVALID = Path(__file__).resolve().parent / "invalid"
 CONFIGS = ROOT / "configs"
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import surface_of
-from test_machine import cylinder_plan, geodesic_pass, make_layer
+from plans import cylinder_plan, geodesic_pass, make_layer
 from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
 from winder.config.machine import MachineAxes, MachineConfig, MachineLimits
 from winder.errors import ExportError

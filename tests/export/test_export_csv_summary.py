@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import surface_of
-from test_machine import cylinder_plan
+from plans import cylinder_plan
 from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.export.job_csv import job_csv_text
 from winder.export.summary import summary_dict, summary_text
