@@ -99,3 +99,19 @@ def test_no_import_circle():
 
     for module in graph:
         visit(module, [])
+
+
+def test_readme_table_lists_every_module():
+    """README's "How it works": each stage row names exactly the modules of its folder."""
+    readme = (PACKAGE.parent / "README.md").read_text(encoding="utf-8")
+    rows = {}
+    for line in readme.splitlines():
+        cells = line.split("|")
+        if len(cells) > 3 and cells[1].strip().startswith("`") and cells[1].strip().endswith("/`"):
+            folder = cells[1].strip().strip("`").rstrip("/")
+            rows[folder] = {name for name in cells[2].split("`") if name.endswith(".py")}
+    stages = {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").is_file()}
+    assert set(rows) == stages
+    for folder, named in rows.items():
+        files = {p.name for p in (PACKAGE / folder).rglob("*.py") if p.name != "__init__.py"}
+        assert named == files, folder
