@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from winder import geodesic as geodesic_module
+from winder.paths import geodesic as geodesic_module
 from winder.app.regress import format_result, regress
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SAMPLES = ROOT / "samples"
 VESSEL_SAMPLES = ("vessel_hemi", "vessel_isotensoid")
 FAST_SAMPLES = ("cone", "pipe", "vessel_hemi")  # the quick ones, for the perturbed runs
