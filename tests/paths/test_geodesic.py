@@ -7,14 +7,15 @@ import pytest
 from scipy.interpolate import CubicSpline
 
 from conftest import ellipse_arc
-from winder.errors import ConfigError
+from winder.errors import ConfigError, SolverError
 from winder.paths.energy import energy_terms
-from winder.paths.geodesic import Method, geodesic, solve_path, straight_path
+from winder.paths.geodesic import DEFAULT_PER_ROUND, Method, geodesic, solve_path, straight_path
 
 SMOOTH_REL = 1e-9  # smooth-path length, n = 200, on developable tubes
 FD_REL = 1e-5  # finite-difference checks of gradient and Hessian
 RATIO_TOL = 0.02  # (L* - L_n) / (L* - L_2n) against 4
 CLAIRAUT_REL = 1e-6
+BOUND_SLACK = 2.5  # the smooth error estimate bounds the error, and by no more than this factor
 
 
 def helix_length(dt: float, radius: float, dtheta: float) -> float:
@@ -146,14 +147,62 @@ def test_quadratic_convergence_ratio(quarter_bend, bend_truth):
     assert abs(ratio - 4.0) < 4.0 * RATIO_TOL
 
 
-def test_tolerance_refines_until_true_error_below(quarter_bend, bend_truth):
-    tol = 1e-4
-    res = geodesic(quarter_bend, (0.0, 0.0), (quarter_bend.axial_length, np.pi / 2), rounds=1, n=50,
-                   tolerance=tol)
-    assert res.error_estimate < tol
+def test_tolerance_stops_on_the_reported_lengths_bound(quarter_bend, bend_truth):
+    tol = 1e-8
+    a, b = (0.0, 0.0), (quarter_bend.axial_length, np.pi / 2)
+    res = geodesic(quarter_bend, a, b, rounds=1, tolerance=tol)
+    assert res.converged
+    assert res.smooth_error_estimate < tol
     assert abs(res.length - bend_truth) < tol
-    assert abs(res.length_extrapolated - bend_truth) < tol
-    assert res.n > 50
+    # n within 2x of the least n that meets the tolerance: half of it does not.
+    half = geodesic(quarter_bend, a, b, rounds=1, n=res.n // 2, estimate=False)
+    assert abs(half.length - bend_truth) > tol
+
+
+@pytest.mark.parametrize("name, n", [("elliptic", 50), ("elliptic", 200), ("elliptic", 1000), ("cone", 25),
+                                     ("cone", 400), ("bend", 25), ("bend", 200), ("straight", 200)])
+def test_smooth_error_estimate_bounds_the_true_error(name, n, elliptic_tube, cone, quarter_bend,
+                                                     straight_tube, bend_truth):
+    sin_b = 0.1 / np.sqrt(1.01)
+    rho = (60.0 - 0.1 * np.array([10.0, 290.0])) / sin_b
+    dth = np.radians(250.0) + 2 * np.pi
+    case = {
+        "elliptic": (elliptic_tube, (0.0, 0.0), (400.0, np.pi / 2), 2,
+                     np.hypot(400.0, ellipse_arc(60.0, 35.0, 0.0, np.pi / 2 + 4 * np.pi))),
+        "cone": (cone, (10.0, 0.0), (290.0, np.radians(250.0)), 1,
+                 np.sqrt(rho[0]**2 + rho[1]**2 - 2 * rho[0] * rho[1] * np.cos(dth * sin_b))),
+        "bend": (quarter_bend, (0.0, 0.0), (quarter_bend.axial_length, np.pi / 2), 1, bend_truth),
+        "straight": (straight_tube, (20.0, 0.0), (280.0, np.radians(100.0)), 5,
+                     helix_length(260.0, 40.0, np.radians(100.0) + 10 * np.pi)),
+    }[name]
+    surface, a, b, rounds, truth = case
+    res = geodesic(surface, a, b, rounds=rounds, n=n)
+    err = abs(res.length - truth)
+    assert err <= res.smooth_error_estimate
+    if name != "straight":  # developable tubes are exact but for roundoff
+        assert res.smooth_error_estimate <= BOUND_SLACK * err
+
+
+def test_many_round_helix_default_converges(quarter_bend):
+    a, b = (0.0, 0.0), (quarter_bend.axial_length, np.pi / 2)
+    res = geodesic(quarter_bend, a, b, rounds=50)
+    assert res.converged and res.n >= 50 * DEFAULT_PER_ROUND
+    assert res.smooth_error_estimate < 1e-5
+    # Too few points for the rounds: the message says why and what to do.
+    few = geodesic(quarter_bend, a, b, rounds=50, n=200, estimate=False)
+    assert few.converged or "per round" in few.message
+    # Every solve is reported with its iteration cap, the estimate's 2n + 1 solve last.
+    assert res.levels[-1].n == 2 * res.n + 1 and all(lv.iterations <= lv.max_iter for lv in res.levels)
+
+
+def test_tolerance_below_roundoff_and_too_many_points_refused(quarter_bend):
+    a, b = (0.0, 0.0), (quarter_bend.axial_length, np.pi / 2)
+    with pytest.raises(SolverError, match="below what double precision resolves"):
+        geodesic(quarter_bend, a, b, rounds=1, tolerance=1e-14)
+    with pytest.raises(SolverError, match="would need about"):
+        geodesic(quarter_bend, a, b, rounds=1, tolerance=1e-11, max_points=1000)
+    with pytest.raises(ConfigError, match="^points: at most 1000000"):
+        geodesic(quarter_bend, a, b, n=1_000_001)
 
 
 def test_equal_spacing_and_zero_geodesic_curvature(quarter_bend):
@@ -198,7 +247,6 @@ def test_station_outside_mandrel_refused(straight_tube):
 
 def test_path_over_the_polar_opening_refused():
     from winder.config.job import parse_config  # noqa: PLC0415
-    from winder.errors import SolverError  # noqa: PLC0415
     from winder.geometry.build import build_surface  # noqa: PLC0415
 
     job = parse_config({"name": "v", "mandrel": {"profile": {

@@ -5,30 +5,33 @@ end points; it minimizes E = sum |y_{i+1} - y_i|^2 with y_i = Phi(u_i). Minimize
 spaced and converge to the geodesic with an O(1/n^2) length error.
 
 Solvers:
-- newton (default): Newton on the block-tridiagonal Hessian (2x2 blocks, banded Cholesky, O(n) per
-  step), including the second-derivative term that carries the surface curvature; Armijo line
-  search; where the Hessian is indefinite or its direction is not downhill, the positive-definite
-  Gauss-Newton matrix. Coarse-to-fine: solve at ~31 points, resample, re-solve, up to n.
+- newton (default): Newton on the block-tridiagonal Hessian (winder.paths.newton), coarse-to-fine:
+  solve at ~31 points (24 per round of a helix), resample, re-solve, up to n, each level 8x finer.
 - lbfgs: the paper's method, scipy's L-BFGS-B with the same analytic gradient, from the straight path.
+
+The reported length is the smooth length through the vertices (O(h^4)); with the 2n + 1 solve its
+error bound, and --tolerance chooses n by that bound (the h^4 rate predicts the n that meets it).
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import Enum
 
 import numpy as np
-from scipy.interpolate import CubicSpline
-from scipy.linalg import LinAlgError, solveh_banded
-from scipy.optimize import minimize
 
 from winder.config.winding import DEFAULT_POINTS
 from winder.errors import ConfigError, SolverError
+from winder.geometry.index_spline import resample_index
 from winder.geometry.measure import (geodesic_curvature, polyline_length, richardson, smooth_length,
                                      spacing_deviation)
 from winder.geometry.surface import SweepSurface
-from winder.paths.energy import energy, energy_terms
+from winder.paths.energy import energy_terms
+from winder.paths.newton import (MAX_NEWTON, LEVEL_STEP_TOL, STEP_TOL, Level, PathSolve, StopReason, _newton)
+
+__all__ = ["DEFAULT_POINTS", "STEP_TOL", "GeodesicResult", "Level", "Method", "PathSolve", "StopReason",
+           "energy_terms", "geodesic", "solve_path", "straight_path", "_lbfgs", "_newton"]
 
 
 class Method(Enum):
@@ -36,43 +39,23 @@ class Method(Enum):
     LBFGS = "lbfgs"
 
 
-class StopReason(Enum):
-    STEP = "the Newton step fell below the step tolerance"
-    ROUNDOFF = "no further decrease of the energy at machine precision"
-    LBFGS = "L-BFGS-B stopped on its tolerances"
-    MAX_ITER = "the iteration limit was reached"
-
-
 COARSEST = 31  # interior points of the coarsest level
-LEVEL_FACTOR = 4  # segments multiply by this from one level to the next
+LEVEL_FACTOR = 8  # segments multiply by this from one level to the next (measured: 4 needs more levels, 16 is no faster)
 POINTS_PER_ROUND = 24  # the coarsest level keeps this many points per round of a helix
-STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
-POLISH_STEP = 1e-4  # a full Newton step this small (of the mean segment) is taken even on flat energy
-ENERGY_ROUNDOFF = 1e-12  # relative energy rise that is round-off, not a worse path
-LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
-MAX_NEWTON = 100
 LBFGS_MAX_ITER = 200_000
 LBFGS_FTOL = 1e-15  # relative energy decrease per iteration at which L-BFGS-B stops
 LBFGS_GTOL = 1e-9  # largest gradient component (mm) at which L-BFGS-B stops
-ARMIJO = 1e-4
-BOUNDARY_TOL = 1e-9  # a vertex this close (mm) to an end of the mandrel is on it
-
-
-@dataclass(frozen=True)
-class PathSolve:
-    """A solved polyline in the parameter domain.
-
-    s, theta : (n + 2,) float, end points included, theta unwrapped (radians).
-    history : (k, 2) float, energy and gradient norm per iteration (finest level).
-    """
-
-    s: np.ndarray
-    theta: np.ndarray
-    iterations: int
-    converged: bool
-    reason: StopReason
-    history: np.ndarray
-    nfev: int = 0  # energy evaluations (with or without derivatives)
+DEFAULT_PER_ROUND = 48  # the default n keeps at least this many points per round of a helix
+MAX_POINTS = 1_000_000  # the solver holds ~1 kB per point: beyond this, refuse instead of swapping
+# The smooth length's error at n is at most twice |L_n - L_2n+1| whenever halving the segments at
+# least halves the error (convergence rate >= 1; the theory and the measurements give 4, for which
+# the factor would be 16/15): so the reported estimate bounds the error, by about 1.9x asymptotically.
+SMOOTH_SAFETY = 2.0
+TOLERANCE_AIM = 0.5  # a refinement aims at this fraction of the tolerance
+MIN_GROWTH, MAX_GROWTH = 1.5, 16.0  # segment-count factor per refinement
+MAX_REFINE = 12
+ROUNDOFF_FLOOR = 1e-15  # relative: about 4 ulp, the roundoff of a length in double precision
+STALL_FLOOR = 1e3  # an error bound that stops falling this close to the roundoff floor is roundoff
 
 
 @dataclass(frozen=True)
@@ -83,10 +66,13 @@ class GeodesicResult:
     points : (n + 2, 3) float, xyz on the surface (mm).
     length : smooth-path length through the points (mm), the reported length.
     polyline_length, length_extrapolated (Richardson), error_estimate (|L_2n - L_n| / 3): mm.
-    smooth_error_estimate : |length at n - length at 2n+1| (mm), a bound on the reported length's error.
+    smooth_error_estimate : SMOOTH_SAFETY |length at n - length at 2n+1| + ROUNDOFF_FLOOR length (mm),
+        a bound on the reported length's error (nan without the 2n + 1 solve).
     spacing_deviation : max |segment / mean - 1|.  max_geodesic_curvature : 1/mm.
     refined_s, refined_theta : (n + 2,) float, Richardson-extrapolated vertices (O(h^4) from the
         geodesic instead of O(h^2)); None without the 2n + 1 solve.
+    levels : every solve made, coarse-to-fine ladders and refinements, with its iteration cap.
+    message : why the solve stopped (and which coarse levels stopped at their caps).
     """
 
     t: np.ndarray
@@ -110,8 +96,10 @@ class GeodesicResult:
     refined_s: np.ndarray | None = None
     refined_theta: np.ndarray | None = None
     nfev: int = 0
+    levels: tuple[Level, ...] = ()
+    message: str = ""
 
-    # scipy's result vocabulary (scipy.optimize.OptimizeResult)
+    # scipy's result vocabulary (scipy.optimize.OptimizeResult); message is a field, above
     @property
     def success(self) -> bool:
         return self.converged
@@ -122,116 +110,8 @@ class GeodesicResult:
         return 1 if self.reason is StopReason.MAX_ITER else 0
 
     @property
-    def message(self) -> str:
-        return self.reason.value
-
-    @property
     def nit(self) -> int:
         return self.iterations
-
-
-# -- the Newton step ----------------------------------------------------------------------------------
-def _banded(hd: np.ndarray, ho: np.ndarray) -> np.ndarray:
-    """Upper banded storage (4, 2n) of the interleaved (s_1, th_1, s_2, ...) block-tridiagonal H."""
-    n = hd.shape[0]
-    ab = np.zeros((4, 2 * n))
-    ab[3, 0::2], ab[3, 1::2] = hd[:, 0, 0], hd[:, 1, 1]
-    ab[2, 1::2] = hd[:, 0, 1]
-    ab[2, 2::2] = ho[:, 1, 0]
-    ab[1, 2::2] = ho[:, 0, 0]
-    ab[1, 3::2] = ho[:, 1, 1]
-    ab[0, 3::2] = ho[:, 0, 1]
-    return ab
-
-
-def _direction(hd: np.ndarray, ho: np.ndarray, grad: np.ndarray) -> np.ndarray | None:
-    try:
-        step = solveh_banded(_banded(hd, ho), -grad.ravel(), check_finite=False)
-    except (LinAlgError, ValueError):
-        return None
-    return step.reshape(-1, 2)
-
-
-def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float) -> float:
-    """Largest alpha <= 1 keeping every interior station inside [0, s_max]."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lim = np.where(ds < 0, -s / ds, np.where(ds > 0, (s_max - s) / ds, np.inf))
-    return float(min(1.0, np.min(lim))) if lim.size else 1.0
-
-
-def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: float,
-            max_iter: int = MAX_NEWTON) -> PathSolve:
-    s, th = s.copy(), th.copy()
-    s_max = surface.length
-    history = []
-    reason = StopReason.MAX_ITER
-    converged = False
-    it = nfev = 0
-    prev_disp = np.inf
-    for it in range(1, max_iter + 1):
-        e, grad, hd, ho, jac = energy_terms(surface, s, th)
-        nfev += 1
-        history.append((e, float(np.linalg.norm(grad))))
-        step = _direction(hd, ho, grad)
-        newton = step is not None and np.sum(step * grad) < 0.0
-        if not newton:
-            hd_gn = 4.0 * np.einsum("nki,nkj->nij", jac, jac)
-            step = _direction(hd_gn, ho, grad)
-            if step is None:
-                raise SolverError("the Gauss-Newton matrix is singular: the surface parametrization is "
-                                  "degenerate on the path")
-        slope = float(np.sum(step * grad))
-        disp = np.linalg.norm(jac[:, :, 0] * step[:, :1] + jac[:, :, 1] * step[:, 1:], axis=1).max()
-        h = np.sqrt(e / (s.shape[0] - 1))
-        if newton and disp <= step_tol * h:
-            # Already converged: this step is below the tolerance (and usually at roundoff).
-            converged, reason = True, StopReason.STEP
-            break
-        alpha = _max_step(s[1:-1], step[:, 0], s_max)
-        bounded = alpha < 1.0
-        if bounded:
-            alpha *= 0.999
-        while True:
-            s_try = s.copy()
-            th_try = th.copy()
-            s_try[1:-1] += alpha * step[:, 0]
-            th_try[1:-1] += alpha * step[:, 1]
-            e_try = energy(surface, s_try, th_try)
-            nfev += 1
-            if e_try <= e + ARMIJO * alpha * slope or alpha < 1e-12:
-                break
-            alpha *= 0.5
-        # The energy is flat to round-off this close to its minimum (it pins the vertices only to
-        # sqrt(eps) of a segment), but a small full Newton step is trusted: taking it makes the result
-        # independent of the BLAS and numpy build.
-        polish = newton and alpha == 1.0 and disp <= POLISH_STEP * h and e_try - e <= ENERGY_ROUNDOFF * e
-        if e_try >= e and not polish:
-            if -slope <= 1e-13 * e or disp * alpha <= step_tol * h:
-                converged, reason = True, StopReason.ROUNDOFF
-            elif bounded and alpha < 1e-9:
-                _raise_left(surface, s)
-            break
-        s, th = s_try, th_try
-        # Quadratic convergence predicts the next step as disp^3 / prev_disp^2: stop when that (or
-        # this step) is below the tolerance, which saves the last, roundoff-only iteration.
-        if alpha == 1.0 and (disp <= step_tol * h or (newton and disp < prev_disp < np.inf
-                                                       and disp**3 <= step_tol * h * prev_disp**2)):
-            converged, reason = True, StopReason.STEP
-            break
-        prev_disp = disp if alpha == 1.0 else np.inf
-    interior = s[1:-1]
-    if interior.size and (interior.min() <= BOUNDARY_TOL or interior.max() >= s_max - BOUNDARY_TOL):
-        _raise_left(surface, s)
-    return PathSolve(s, th, it, converged, reason, np.array(history), nfev)
-
-
-def _raise_left(surface: SweepSurface, s: np.ndarray) -> None:
-    low = s[1:-1].min() <= surface.length / 2
-    edge = "polar opening" if not surface.is_axial_parameter else "end"
-    where = f"t = 0 (the first {edge})" if low else f"t = {surface.axial_length:.6g} (the far {edge})"
-    raise SolverError(f"the shortest path between these points runs off the mandrel past {where}: no "
-                      f"geodesic on the surface joins them with this number of rounds; move the end "
-                      f"points away from the edge or change the number of rounds")
 
 
 def _lbfgs(surface: SweepSurface, s: np.ndarray, th: np.ndarray, max_iter: int = LBFGS_MAX_ITER,
@@ -254,6 +134,8 @@ def _lbfgs(surface: SweepSurface, s: np.ndarray, th: np.ndarray, max_iter: int =
         history.append((float(intermediate_result.fun), float(np.linalg.norm(g))))
         if callback is not None:
             callback(intermediate_result)
+
+    from scipy.optimize import minimize  # noqa: PLC0415 - heavy, and only this baseline needs it
 
     x0 = np.stack([s[1:-1], th[1:-1]], axis=1).ravel()
     bounds = [(0.0, surface.length), (None, None)] * n
@@ -280,11 +162,10 @@ def resample(s: np.ndarray, th: np.ndarray, n: int) -> tuple[np.ndarray, np.ndar
     Converged vertices are equally spaced in 3D, so the index is a good arc-length proxy; halving
     (n -> 2n + 1) keeps the old vertices and inserts spline midpoints.
     """
-    f_old = np.linspace(0.0, 1.0, s.shape[0])
-    f_new = np.linspace(0.0, 1.0, n + 2)
-    s_new, th_new = CubicSpline(f_old, s)(f_new), CubicSpline(f_old, th)(f_new)
-    s_new[[0, -1]], th_new[[0, -1]] = s[[0, -1]], th[[0, -1]]
-    return s_new, th_new
+    if s.shape[0] == n + 2:
+        return s.copy(), th.copy()
+    out = resample_index(np.stack([s, th], axis=1), n + 2)
+    return out[:, 0], out[:, 1]
 
 
 def _levels(n: int, coarsest: int) -> list[int]:
@@ -294,27 +175,49 @@ def _levels(n: int, coarsest: int) -> list[int]:
     return levels[::-1]
 
 
+def coarsest_points(rounds: float) -> int:
+    """Interior points of the coarsest level for a path sweeping this many rounds."""
+    return max(COARSEST, int(POINTS_PER_ROUND * rounds))
+
+
 def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
                method: Method = Method.NEWTON, warm: bool = False) -> PathSolve:
     """Minimize E from the path (s, th) (any number of points; end points fixed) at n interior points.
 
     warm : the given path is already near the solution; solve at n directly (no coarse levels).
+    Fewer than the coarsest level's points (a many-round path at a small n) are solved at the
+    coarsest level first and resampled down: from a straight start they would not converge.
     """
     if method is Method.LBFGS:
         return _lbfgs(surface, *resample(s, th, n))
-    rounds = abs(th[-1] - th[0]) / (2.0 * np.pi)
-    coarsest = max(COARSEST, int(POINTS_PER_ROUND * rounds))
-    levels = [n] if warm or s.shape[0] - 2 >= n else [k for k in _levels(n, coarsest) if k >= s.shape[0] - 2]
+    coarsest = coarsest_points(abs(th[-1] - th[0]) / (2.0 * np.pi))
+    if warm or s.shape[0] - 2 >= n:
+        levels = [n]
+    elif n < coarsest:
+        levels = [coarsest, n] if s.shape[0] - 2 < coarsest else [n]
+    else:
+        levels = [k for k in _levels(n, coarsest) if k >= s.shape[0] - 2]
     total = nfev = 0
     sol = None
+    report = []
+    ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)  # fixed: shared by every level
     for k, level in enumerate(levels):
         cur_s, cur_t = resample(s, th, level)
         last = k == len(levels) - 1
-        sol = _newton(surface, cur_s, cur_t, STEP_TOL if last else LEVEL_STEP_TOL)
+        sol = _newton(surface, cur_s, cur_t, STEP_TOL if last else LEVEL_STEP_TOL, ends=ends)
         total += sol.iterations
         nfev += sol.nfev
+        report.append(Level(level, sol.iterations, MAX_NEWTON, sol.converged))
         s, th = sol.s, sol.theta
-    return PathSolve(sol.s, sol.theta, total, sol.converged, sol.reason, sol.history, nfev)
+    return replace(sol, iterations=total, nfev=nfev, levels=tuple(report))
+
+
+def _with_eval(surface: SweepSurface, sol: PathSolve) -> PathSolve:
+    """The solve with its surface evaluation at the vertices (L-BFGS's solves come without)."""
+    if sol.ev is not None:
+        return sol
+    ends = surface.evaluate(sol.s[[0, -1]], sol.theta[[0, -1]], order=1)
+    return replace(sol, ev=surface.evaluate(sol.s[1:-1], sol.theta[1:-1], order=1), ends=ends)
 
 
 def extrapolate_vertices(coarse: PathSolve, fine: PathSolve) -> tuple[np.ndarray, np.ndarray]:
@@ -334,57 +237,121 @@ def _check_station(surface: SweepSurface, t: float, what: str) -> None:
                           key_path=what)
 
 
+def _lengths(surface: SweepSurface, sol: PathSolve) -> float:
+    return smooth_length(surface, sol.s, sol.theta, knots=sol.jacobians())
+
+
+def _refine(surface: SweepSurface, sol: PathSolve, n: int, tolerance: float | None, method: Method,
+            max_points: int) -> tuple[PathSolve, PathSolve, float, float, tuple[int, int], tuple[Level, ...]]:
+    """Solve at 2n + 1 beside n; with a tolerance, move n until the length's error bound is below it.
+
+    The smooth length converges like h^4, so from one pair (n, 2n + 1) the n that meets the tolerance
+    follows; a pair that misses it predicts the next n (aiming at half the tolerance), warm-started
+    from the finer solution. Returns (solve at n, solve at 2n + 1, length at n, error bound, (Newton
+    iterations, energy evaluations) of all solves, all levels solved).
+    """
+    tried: list[tuple[int, float]] = []
+    iterations, nfev, levels = sol.iterations, sol.nfev, list(sol.levels)
+    while True:
+        sol = _with_eval(surface, sol)
+        fine = _with_eval(surface, solve_path(surface, sol.s, sol.theta, 2 * n + 1, method, warm=True))
+        iterations += fine.iterations
+        nfev += fine.nfev
+        levels += fine.levels
+        length = _lengths(surface, sol)
+        # The floor: a length in double precision carries its last bits of roundoff whatever n.
+        bound = SMOOTH_SAFETY * abs(length - _lengths(surface, fine)) + ROUNDOFF_FLOOR * length
+        if tolerance is None or bound < tolerance:
+            return sol, fine, length, bound, (iterations, nfev), tuple(levels)
+        tried.append((n, bound))
+        floor = ROUNDOFF_FLOOR * length
+        stalled = len(tried) >= 2 and bound > tried[-2][1] * (tried[-2][0] + 1) / (n + 1)
+        if tolerance <= floor or (stalled and bound < STALL_FLOOR * floor):
+            raise SolverError(f"{tolerance:g} mm is below what double precision resolves on this path "
+                              f"({floor:.2g} mm for {length:.6g} mm): the length's error bound is {bound:.3g} mm "
+                              f"at n = {n}", key_path="tolerance")
+        if len(tried) > MAX_REFINE:
+            raise SolverError(f"{tolerance:g} mm not reached in {MAX_REFINE} refinements (error bound "
+                              f"{bound:.3g} mm at n = {n}): " + ", ".join(f"n = {k}: {b:.3g} mm" for k, b in tried),
+                              key_path="tolerance")
+        grow = min(MAX_GROWTH, max(MIN_GROWTH, (bound / (TOLERANCE_AIM * tolerance)) ** 0.25))
+        n_next = int(np.ceil((n + 1) * grow)) - 1
+        if n_next > max_points:
+            raise SolverError(f"{tolerance:g} mm would need about {n_next} points, more than the "
+                              f"{max_points} allowed (error bound {bound:.3g} mm at n = {n})", key_path="tolerance")
+        sol, n = solve_path(surface, fine.s, fine.theta, n_next, method, warm=True), n_next
+        iterations += sol.iterations
+        nfev += sol.nfev
+        levels += sol.levels
+
+
+def _message(sol: PathSolve, levels: tuple[Level, ...], rounds: float, n: int) -> str:
+    """Why the solve did (not) converge, with the coarse levels that stopped at their caps."""
+    capped = [lv for lv in levels if not lv.converged and lv.n != n]
+    text = sol.reason.value
+    if capped:
+        text += "; coarse levels stopped at their iteration caps: " + ", ".join(
+            f"n = {lv.n} after {lv.iterations} of {lv.max_iter}" for lv in capped)
+    if not sol.converged and n < POINTS_PER_ROUND * rounds:
+        text += (f"; {n} points are fewer than {POINTS_PER_ROUND} per round for {rounds:.3g} rounds: raise "
+                 f"--points to at least {int(np.ceil(POINTS_PER_ROUND * rounds))}")
+    return text
+
+
+def default_points(rounds: float) -> int:
+    """The default n: DEFAULT_POINTS, and at least DEFAULT_PER_ROUND per round swept."""
+    return max(DEFAULT_POINTS, int(np.ceil(DEFAULT_PER_ROUND * rounds)))
+
+
 def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float, float], *,
-             rounds: int = 0, n: int = DEFAULT_POINTS, tolerance: float | None = None,
+             rounds: int = 0, n: int | None = None, tolerance: float | None = None,
              method: Method = Method.NEWTON, init: tuple[np.ndarray, np.ndarray] | None = None,
-             estimate: bool = True, max_points: int = 2_000_000) -> GeodesicResult:
+             estimate: bool = True, max_points: int = MAX_POINTS) -> GeodesicResult:
     """The geodesic from start to end, each (t mm, theta rad), end angle + 2 pi rounds.
 
-    n : interior points; tolerance : refine (n -> 2n + 1, warm-started) until error_estimate < it.
-    init : a previous path (s, theta) to warm-start from (any number of points).
-    estimate : also solve at 2n + 1 for Richardson's estimate (doubles the work).
+    n : interior points (default: default_points(rounds)). tolerance : choose n so that the reported
+    length's error bound (smooth_error_estimate) is below it (mm), starting from min(n, the coarsest
+    level). init : a previous path (s, theta) to warm-start from (any number of points).
+    estimate : also solve at 2n + 1 for the error estimates (about doubles the work).
+    max_points : the largest n solved (memory and time grow linearly in n); beyond it, an error.
     """
     _check_station(surface, start[0], "start")
     _check_station(surface, end[0], "end")
+    th0, th1 = float(start[1]), float(end[1]) + 2.0 * np.pi * rounds
+    swept = abs(th1 - th0) / (2.0 * np.pi)
+    n = default_points(swept) if n is None else n
     if n < 1:
         raise ConfigError(f"must be >= 1, got {n}", key_path="points")
+    if n > max_points:
+        raise ConfigError(f"at most {max_points} (memory and time grow with n), got {n}", key_path="points")
     t0 = time.perf_counter()
     s0, s1 = (float(v) for v in surface.s_of_t(np.array([start[0], end[0]])))
-    th0, th1 = float(start[1]), float(end[1]) + 2.0 * np.pi * rounds
     if init is not None:
         s_init, th_init = (np.asarray(a, dtype=float) for a in init)
         s_init, th_init = s_init.copy(), th_init.copy()
         s_init[[0, -1]], th_init[[0, -1]] = (s0, s1), (th0, th1)
     else:
         s_init, th_init = straight_path(s0, th0, s1, th1, 1)
+        if tolerance is not None:
+            n = min(n, coarsest_points(swept))
     sol = solve_path(surface, s_init, th_init, n, method, warm=init is not None)
-    iterations, nfev = sol.iterations, sol.nfev
-    fine = None
-    while estimate or tolerance is not None:
-        fine = solve_path(surface, sol.s, sol.theta, 2 * n + 1, method, warm=True)
-        iterations += fine.iterations
-        nfev += fine.nfev
-        pts_n = surface.points(sol.s, sol.theta)
-        pts_2n = surface.points(fine.s, fine.theta)
-        _, err = richardson(polyline_length(pts_n), polyline_length(pts_2n))
-        if tolerance is None or err < tolerance:
-            break
-        if 2 * n + 1 > max_points:
-            raise SolverError(f"{tolerance:g} mm not reached with {max_points} points "
-                              f"(estimated error {err:.3g} mm)", key_path="tolerance")
-        sol, n = fine, 2 * n + 1
-    pts = surface.points(sol.s, sol.theta)
-    length = smooth_length(surface, sol.s, sol.theta)
+    if estimate or tolerance is not None:
+        sol, fine, length, smooth_err, (iterations, nfev), levels = _refine(surface, sol, n, tolerance, method,
+                                                                            max_points)
+        n = sol.s.shape[0] - 2
+    else:
+        sol, fine = _with_eval(surface, sol), None
+        length, smooth_err, levels = _lengths(surface, sol), float("nan"), sol.levels
+        iterations, nfev = sol.iterations, sol.nfev
+    pts = sol.points()
     poly = polyline_length(pts)
     refined = (None, None)
     if fine is not None:
         refined = extrapolate_vertices(sol, fine)
-        pts_2n = surface.points(fine.s, fine.theta)
-        extrapolated, err = richardson(poly, polyline_length(pts_2n))
-        smooth_err = abs(length - smooth_length(surface, fine.s, fine.theta))
+        extrapolated, err = richardson(poly, polyline_length(fine.points()))
     else:
-        extrapolated, err, smooth_err = float("nan"), float("nan"), float("nan")
-    kg = geodesic_curvature(surface, sol.s, sol.theta, pts)
+        extrapolated, err = float("nan"), float("nan")
+    kg = geodesic_curvature(surface, sol.s, sol.theta, pts, jac=(sol.ev.ps, sol.ev.pt))
     converged = sol.converged and (fine is None or fine.converged)
     return GeodesicResult(
         t=surface.t_of_s(sol.s), s=sol.s, theta=sol.theta, points=pts, length=length,
@@ -393,4 +360,4 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         reason=sol.reason, method=method, spacing_deviation=spacing_deviation(pts),
         max_geodesic_curvature=float(np.max(np.abs(kg))) if kg.size else 0.0,
         seconds=time.perf_counter() - t0, history=sol.history, refined_s=refined[0], refined_theta=refined[1],
-        nfev=nfev)
+        nfev=nfev, levels=levels, message=_message(sol, levels, swept, n))

@@ -1,0 +1,192 @@
+"""Newton on the chain energy's block-tridiagonal Hessian (MATH.md 3), one level of the solver.
+
+One surface evaluation per step: the accepted full step's evaluation (with second derivatives) serves
+the next iteration. A step below 1e-3 of a segment lets the next one reuse the Cholesky factor (a
+chord step: first derivatives and a back-substitution). Steps whose energy decrease is below E's
+roundoff cannot be judged by a line search: they are taken while they contract and end the solve
+when they stop. Where the Hessian is indefinite, or its direction is not downhill, the
+positive-definite Gauss-Newton matrix; Armijo backtracking otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+
+from winder.errors import SolverError
+from winder.geometry.surface import SurfaceEval, SweepSurface
+from winder.paths.energy import _dot, chain_energy, chain_terms, chord_direction, newton_direction
+
+STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
+LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
+MAX_NEWTON = 100
+ARMIJO = 1e-4
+PREDICTED_MARGIN = 1e-2  # a predicted next step counts as converged this far below the step tolerance
+CHORD_STEP = 1e-3  # a Newton step below this fraction of the segment: the next step reuses the factor
+ENERGY_NOISE = 1.4e-14  # E's relative roundoff per sqrt(point) (64 ulp): smaller decreases are noise
+BOUNDARY_TOL = 1e-9  # a vertex this close (mm) to an end of the mandrel is on it
+
+
+class StopReason(Enum):
+    STEP = "the Newton step fell below the step tolerance"
+    ROUNDOFF = "no further decrease of the energy at machine precision"
+    LBFGS = "L-BFGS-B stopped on its tolerances"
+    MAX_ITER = "the iteration limit was reached"
+
+
+@dataclass(frozen=True)
+class Level:
+    """One solve at n interior points: Newton iterations used of its cap, whether it converged."""
+
+    n: int
+    iterations: int
+    max_iter: int
+    converged: bool
+
+
+@dataclass(frozen=True)
+class PathSolve:
+    """A solved polyline in the parameter domain.
+
+    s, theta : (n + 2,) float, end points included, theta unwrapped (radians).
+    history : (k, 2) float, energy and gradient norm per iteration (finest level).
+    """
+
+    s: np.ndarray
+    theta: np.ndarray
+    iterations: int
+    converged: bool
+    reason: StopReason
+    history: np.ndarray
+    nfev: int = 0  # energy evaluations (with or without derivatives)
+    ev: SurfaceEval | None = None  # interior vertices, order >= 1
+    ends: SurfaceEval | None = None  # the two end points, order 1
+    levels: tuple[Level, ...] = ()
+
+    def jacobians(self) -> tuple[np.ndarray, np.ndarray]:
+        """(Phi_s, Phi_theta) at all n + 2 vertices, each (n + 2, 3), from the solver's last evaluation."""
+        return (np.concatenate([self.ends.ps[:1], self.ev.ps, self.ends.ps[1:]]),
+                np.concatenate([self.ends.pt[:1], self.ev.pt, self.ends.pt[1:]]))
+
+    def points(self) -> np.ndarray:
+        """The vertices on the surface, (n + 2, 3)."""
+        return np.concatenate([self.ends.p[:1], self.ev.p, self.ends.p[1:]])
+
+
+def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float) -> float:
+    """Largest alpha <= 1 keeping every interior station inside [0, s_max]."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lim = np.where(ds < 0, -s / ds, np.where(ds > 0, (s_max - s) / ds, np.inf))
+    return float(min(1.0, np.min(lim))) if lim.size else 1.0
+
+
+def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: float,
+            max_iter: int = MAX_NEWTON, ends: SurfaceEval | None = None) -> PathSolve:
+    s, th = s.copy(), th.copy()
+    s_max = surface.length
+    history = []
+    reason = StopReason.MAX_ITER
+    converged = False
+    it = 0
+    prev_disp = np.inf
+    factor = None  # the last Newton Hessian's Cholesky factor, while a chord step can reuse it
+    if ends is None:
+        ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)
+    ev = surface.evaluate(s[1:-1], th[1:-1], order=2)
+    nfev = 1
+    for it in range(1, max_iter + 1):
+        chord = factor is not None
+        if not chord and ev.pss is None:  # a damped trial point, evaluated for its energy only
+            ev = surface.evaluate(s[1:-1], th[1:-1], order=2)
+            nfev += 1
+        e, grad, gram, curv, off = chain_terms(ev, ends.p, full_hessian=None if chord else True)
+        history.append((e, float(np.linalg.norm(grad))))
+        if chord:
+            step, newton = chord_direction(factor, grad), True
+        else:
+            step, factor = newton_direction(gram + curv, off, grad)
+            newton = step is not None and np.sum(step * grad) < 0.0
+            if not newton:
+                step, factor = newton_direction(gram, off, grad)
+                if step is None:
+                    raise SolverError("the Gauss-Newton matrix is singular: the surface parametrization is "
+                                      "degenerate on the path")
+                factor = None
+        slope = float(np.sum(step * grad))
+        move = ev.ps * step[:, :1] + ev.pt * step[:, 1:]
+        disp = float(np.sqrt(_dot(move, move).max()))
+        h = np.sqrt(e / (s.shape[0] - 1))
+        if newton and disp <= step_tol * h:
+            # Already converged: this step is below the tolerance (and usually at roundoff).
+            converged, reason = True, StopReason.STEP
+            break
+        contracting = newton and disp < 0.5 * prev_disp < np.inf
+        # Newton's error squares per step (the next step is about disp^3 / prev_disp^2); a chord step's
+        # contracts by a factor of about disp / prev_disp. Stop after this step when the predicted next
+        # one is well below the tolerance (the prediction is rough), or this one is below it: that
+        # saves the last, roundoff-only iteration.
+        predicted = disp**2 / prev_disp if chord else disp**3 / prev_disp**2
+        last = disp <= step_tol * h or (contracting and predicted <= PREDICTED_MARGIN * step_tol * h)
+        # A step this small hardly changes the Hessian: the next iteration reuses its factor.
+        chord_next = newton and not last and disp <= CHORD_STEP * h
+        order = 1 if last or chord_next else 2
+        alpha = _max_step(s[1:-1], step[:, 0], s_max)
+        bounded = alpha < 1.0
+        if bounded:
+            alpha *= 0.999
+        if -slope <= ENERGY_NOISE * np.sqrt(s.shape[0]) * e and not bounded:
+            # The step's energy decrease is below E's roundoff, so a line search cannot judge it; the
+            # step itself still carries the gradient's information while it contracts, and is noise
+            # once it stops contracting.
+            if np.isfinite(prev_disp) and not contracting:
+                converged, reason = True, StopReason.ROUNDOFF
+                break
+            s[1:-1] += step[:, 0]
+            th[1:-1] += step[:, 1]
+            ev = surface.evaluate(s[1:-1], th[1:-1], order=order)
+            nfev += 1
+        else:
+            while True:
+                s_try = s.copy()
+                th_try = th.copy()
+                s_try[1:-1] += alpha * step[:, 0]
+                th_try[1:-1] += alpha * step[:, 1]
+                # A full step is the usual one and is usually accepted: its evaluation then serves the
+                # next iteration (with second derivatives unless that one is a chord step or none).
+                ev_try = surface.evaluate(s_try[1:-1], th_try[1:-1], order=order if alpha == 1.0 else 0)
+                e_try = chain_energy(ev_try.p, ends.p)
+                nfev += 1
+                if e_try <= e + ARMIJO * alpha * slope or alpha < 1e-12:
+                    break
+                alpha *= 0.5
+            if e_try >= e:
+                if -slope <= 1e-13 * e or disp * alpha <= step_tol * h:
+                    converged, reason = True, StopReason.ROUNDOFF
+                elif bounded and alpha < 1e-9:
+                    _raise_left(surface, s)
+                break
+            s, th, ev = s_try, th_try, ev_try
+        if alpha == 1.0 and last:
+            converged, reason = True, StopReason.STEP
+            break
+        prev_disp = disp if alpha == 1.0 else np.inf
+        factor = factor if chord_next and alpha == 1.0 else None
+    interior = s[1:-1]
+    if interior.size and (interior.min() <= BOUNDARY_TOL or interior.max() >= s_max - BOUNDARY_TOL):
+        _raise_left(surface, s)
+    if ev.ps is None:
+        ev = surface.evaluate(s[1:-1], th[1:-1], order=1)
+    return PathSolve(s, th, it, converged, reason, np.array(history), nfev, ev, ends)
+
+
+def _raise_left(surface: SweepSurface, s: np.ndarray) -> None:
+    low = s[1:-1].min() <= surface.length / 2
+    edge = "polar opening" if not surface.is_axial_parameter else "end"
+    where = f"t = 0 (the first {edge})" if low else f"t = {surface.axial_length:.6g} (the far {edge})"
+    raise SolverError(f"the shortest path between these points runs off the mandrel past {where}: no "
+                      f"geodesic on the surface joins them with this number of rounds; move the end "
+                      f"points away from the edge or change the number of rounds")
+
+
