@@ -45,7 +45,8 @@ class GuideCurve(Protocol):
 
 
 def _tile(v: np.ndarray, m: int) -> np.ndarray:
-    return np.broadcast_to(v, (m, 3)).copy()
+    """v repeated m times: (m, 3), a view of (3, m) storage like every curve's evaluation."""
+    return np.repeat(v[:, None], m, axis=1).T
 
 
 @dataclass(frozen=True)
@@ -61,9 +62,9 @@ class Line:
     def evaluate(self, z: np.ndarray) -> CurveEval:
         z = np.asarray(z, dtype=float)
         m = z.shape[0]
-        zero = np.zeros((m, 3))
+        zero = np.zeros((3, m)).T
         e3 = np.cross(self.tangent, self.e2)
-        return CurveEval(self.origin + z[:, None] * self.tangent, _tile(self.tangent, m), zero,
+        return CurveEval((self.origin[:, None] + z * self.tangent[:, None]).T, _tile(self.tangent, m), zero,
                          zero, _tile(self.e2, m), _tile(e3, m))
 
     def max_curvature(self) -> float:
@@ -156,21 +157,30 @@ class Path:
         z = np.asarray(z, dtype=float)
         if len(self.pieces) == 1:
             # One piece: its parameters broadcast as they are (no per-point gather).
-            origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = (a[0] for a in self._vec)
+            origin, t0, u, b = (a[0][:, None] for a in self._vec[:4])
+            kappa, e2u, e2b, e3u, e3b = (a[0] for a in self._vec[4:])
             zl = z
         else:
             k = np.clip(np.searchsorted(self.starts, z, side="right") - 1, 0, len(self.pieces) - 1)
-            origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = (
-                a[k] if a.ndim == 2 else a[k][:, None] for a in self._vec)
+            origin, t0, u, b = (a[k].T for a in self._vec[:4])
+            kappa, e2u, e2b, e3u, e3b = (a[k] for a in self._vec[4:])
             zl = z - self.starts[k]
-        phi = kappa * zl if np.ndim(kappa) == 0 else kappa[:, 0] * zl
-        along = (zl * np.sinc(phi / np.pi))[:, None]  # sin(phi) / kappa
-        across = (0.5 * zl * phi * np.sinc(phi / (2.0 * np.pi)) ** 2)[:, None]  # (1 - cos(phi)) / kappa
-        c, s = np.cos(phi)[:, None], np.sin(phi)[:, None]
+        # Component-major (3, m): the arithmetic runs along m. sin(phi) / kappa and
+        # (1 - cos(phi)) / kappa = 2 sin(phi / 2)^2 / kappa tend to z and 0 on lines (kappa = 0).
+        phi = kappa * zl
+        c, s = np.cos(phi), np.sin(phi)
+        if np.ndim(kappa) == 0:
+            along, across = (s / kappa, 2.0 * np.sin(0.5 * phi) ** 2 / kappa) if kappa > 0.0 else (zl, 0.0)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                inv = 1.0 / kappa
+                along = np.where(kappa > 0.0, s * inv, zl)
+                across = np.where(kappa > 0.0, 2.0 * np.sin(0.5 * phi) ** 2 * inv, 0.0)
         x = origin + along * t0 + across * u
         tan = c * t0 + s * u
-        nrm = -s * t0 + c * u
-        return CurveEval(x, tan, kappa * nrm, -(kappa * kappa) * tan, e2u * nrm + e2b * b, e3u * nrm + e3b * b)
+        nrm = c * u - s * t0
+        return CurveEval(x.T, tan.T, (kappa * nrm).T, (-(kappa * kappa) * tan).T, (e2u * nrm + e2b * b).T,
+                         (e3u * nrm + e3b * b).T)
 
     def max_curvature(self) -> float:
         return max(p.max_curvature() for p in self.pieces)
