@@ -124,7 +124,17 @@ def test_geodesic_tolerance_refines():
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)
     assert data["converged"] is True
-    assert data["error_estimate_mm"] < 0.01
+    assert data["smooth_error_estimate_mm"] < 0.01  # the bound on the reported length's error
+
+
+def test_cli_option_constants_match_the_library():
+    """cli.py writes them out so that --help imports no numpy; they must stay the library's."""
+    from winder import cli  # noqa: PLC0415
+    from winder.config.winding import DEFAULT_POINTS  # noqa: PLC0415
+    from winder.paths.geodesic import Method  # noqa: PLC0415
+
+    assert cli.DEFAULT_POINTS == DEFAULT_POINTS
+    assert cli.METHODS == tuple(m.value for m in Method)
 
 
 def test_geodesic_text_output():

@@ -8,26 +8,28 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 import sys
 from typing import Callable
 
 import click
-import numpy as np
 
 from winder import __version__
-from winder.config.job import load_config
 from winder.errors import ConfigError, SolverError, WinderError
-from winder.paths.geodesic import DEFAULT_POINTS, Method, geodesic
-from winder.app import regress as regress_mod
-from winder.app.jobs import (FORMATS, JobReport, JobTask, default_workers, error_message, exit_code_of,
-                         exit_status, run_jobs)
-from winder.geometry.build import build_surface
+
+# Each command imports the stages it needs when it runs: numpy, scipy and the pipeline take most of a
+# second to import, which `winder --help` and `winder check` should not pay. So the two values the
+# options show are written here (tests/test_cli.py keeps them equal to the library's).
+METHODS = ("newton", "lbfgs")  # winder.paths.geodesic.Method's values
+DEFAULT_POINTS = 200  # winder.config.winding.DEFAULT_POINTS
 
 
 def _error(exc: BaseException, source: str | None = None) -> int:
     """Print the one `Error: ...` line of exc (naming source if the message does not) and return
     its SPEC exit status: 2 for an invalid config or bad input, 1 for anything that could not be
     computed or written, 1 (with a please-report note) for an unexpected exception."""
+    from winder.app.jobs import error_message, exit_code_of  # noqa: PLC0415
+
     click.echo(f"Error: {error_message(exc, source)}", err=True)
     return exit_code_of(exc)
 
@@ -59,9 +61,9 @@ def _station(text: str, option: str) -> tuple[float, float]:
         t, deg = float(parts[0]), float(parts[1])
     except ValueError as exc:
         raise ConfigError(f"{option}: expected T,DEG (station in mm, angle in degrees), got {text!r}") from exc
-    if not (np.isfinite(t) and np.isfinite(deg)):
+    if not (math.isfinite(t) and math.isfinite(deg)):
         raise ConfigError(f"{option}: must be finite numbers, got {text!r}")
-    return t, float(np.radians(deg))
+    return t, math.radians(deg)
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -76,17 +78,20 @@ def main() -> None:
 @click.option("--end", required=True, metavar="T,DEG", help="End point: station t (mm), angle (deg).")
 @click.option("--rounds", type=int, default=0, show_default=True, help="Extra full turns: +360*N on the end angle.")
 @click.option("--points", "points", type=click.IntRange(min=1), default=None,
-              help=f"Intermediate points (default {DEFAULT_POINTS}).")
+              help=f"Intermediate points (default {DEFAULT_POINTS}, and at least 48 per round).")
 @click.option("--tolerance", type=click.FloatRange(min=0, min_open=True), default=None, metavar="MM",
-              help="Refine until the estimated length error is below MM.")
-@click.option("--method", type=click.Choice([m.value for m in Method]), default="newton", show_default=True)
+              help="Choose the points so that the length's error bound is below MM.")
+@click.option("--method", type=click.Choice(METHODS), default="newton", show_default=True)
 @click.option("-o", "--output", type=click.Path(dir_okay=False), default=None, help="Write the path CSV here.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
 @_guard
 def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | None,
                  tolerance: float | None, method: str, output: str | None, as_json: bool) -> None:
     """The geodesic on the mandrel of CONFIG from START to END."""
+    from winder.config.job import load_config  # noqa: PLC0415
     from winder.export.path_csv import write_path_csv  # noqa: PLC0415
+    from winder.geometry.build import build_surface  # noqa: PLC0415
+    from winder.paths.geodesic import Method, geodesic  # noqa: PLC0415
 
     if points is not None and tolerance is not None:
         raise ConfigError("--points and --tolerance: give one or the other, not both")
@@ -94,7 +99,7 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
     job = load_config(config)
     surface = build_surface(job.mandrel, job.source, job.name)
     try:
-        res = geodesic(surface, a, b, rounds=rounds, n=points or DEFAULT_POINTS, tolerance=tolerance,
+        res = geodesic(surface, a, b, rounds=rounds, n=points, tolerance=tolerance,
                        method=Method(method))
     except WinderError as exc:
         if exc.key_path in ("start", "end", "points", "tolerance"):  # the library's names of the options
@@ -139,6 +144,9 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
 @click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
 def check_cmd(configs: tuple[str, ...]) -> None:
     """Validate configs only (no path computation)."""
+    from winder.config.job import load_config  # noqa: PLC0415
+    from winder.geometry.build import build_surface  # noqa: PLC0415
+
     bad = 0
     for path in configs:
         try:
@@ -156,6 +164,8 @@ def check_cmd(configs: tuple[str, ...]) -> None:
 # -- run -------------------------------------------------------------------------------------------
 def _parse_formats(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
     """--format csv --format gcode, or --format csv,gcode; none given: all of them."""
+    from winder.app.jobs import FORMATS  # noqa: PLC0415
+
     if not values:
         return FORMATS
     chosen = set()
@@ -170,6 +180,8 @@ def _parse_formats(ctx: click.Context, param: click.Parameter, values: tuple[str
 
 
 def _workers(jobs: int, tasks: int) -> int:
+    from winder.app.jobs import default_workers  # noqa: PLC0415
+
     return max(1, min(jobs or default_workers(), tasks))
 
 
@@ -206,6 +218,10 @@ def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jo
     run. Exit status: 0 all ok, 2 if any config was invalid, else 1 if any job could not be
     computed or written.
     """
+    from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
+                                 run_jobs)
+    from winder.config.job import load_config  # noqa: PLC0415
+
     reports: list[JobReport | None] = [None] * len(configs)
     tasks: list[JobTask] = []
     index: list[int] = []
@@ -266,6 +282,8 @@ def regress_cmd(directory: str, update: bool, jobs: int) -> None:
 
     Exit status: 0 all match (or were updated), 1 a difference or a failed job, 2 an invalid sample.
     """
+    from winder.app import regress as regress_mod  # noqa: PLC0415
+
     samples = regress_mod.find_samples(directory)
     label = f"{'updating' if update else 'comparing'} {len(samples)} samples"
     with _progress(len(samples), label) as bar:

@@ -10,7 +10,6 @@ from dataclasses import dataclass, field
 from typing import NamedTuple, Protocol
 
 import numpy as np
-from scipy.interpolate import CubicSpline, make_interp_spline
 
 from winder.errors import ConfigError
 from winder.geometry.frames import double_reflection, orthonormalize
@@ -236,6 +235,8 @@ SPLINE_GRID = 4097  # samples of the arc-length fit; the fit error is far below 
 
 def spline_curve(points: np.ndarray, source: str, key: str = "mandrel.axis.points") -> SplineCurve:
     """The C2 arc-length spline through points (k, 3); `source: key` prefixes its refusal."""
+    from scipy.interpolate import CubicSpline, make_interp_spline  # noqa: PLC0415 - slow to import
+
     pts = np.asarray(points, dtype=float)
     pts = pts - pts[0]
     chord = np.linalg.norm(np.diff(pts, axis=0), axis=1)

@@ -43,7 +43,6 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy.interpolate import PPoly
 
 # Limits of what the dome geometry can represent (see the module docstring).
 ISOTENSOID_MAX_OPENING = 0.75  # polar_opening / radius; netting theory ends at sqrt(2/3) = 0.8165
@@ -65,7 +64,7 @@ class DomeEval(NamedTuple):
     r2: np.ndarray
 
 
-def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarray) -> PPoly:
+def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarray) -> "PPoly":  # noqa: F821
     """The C2 piecewise quintic through values, first and second derivatives at the knots x.
 
     Exact at the knots (value, slope and curvature), O(dx^6) between them; its derivatives are exactly
@@ -80,6 +79,8 @@ def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarra
     b4 = -15.0 * d0 + 7.0 * d1 - d2
     b5 = 6.0 * d0 - 3.0 * d1 + 0.5 * d2
     c = np.array([b5 / dx**5, b4 / dx**4, b3 / dx**3, a2, a1, a0])
+    from scipy.interpolate import PPoly  # noqa: PLC0415 - slow to import: only for vessels
+
     return PPoly(c, x, extrapolate=True)
 
 

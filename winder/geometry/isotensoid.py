@@ -31,7 +31,6 @@ ISOTENSOID_MIN_OPENING * R (a hook narrower than ~3e-9 R).
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from winder.geometry.domes import DomeMeridian, _quintic_hermite
 
@@ -96,6 +95,8 @@ class Isotensoid(DomeMeridian):
         reach_a.direction, reach_b.direction = -1, 1
         tiny = 1e-3 * min(dstar, 1.0)
         with np.errstate(invalid="ignore"):  # a rejected trial step may leave the domain
+            from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only for isotensoids
+
             sol_a = solve_ivp(rhs_a, (0.0, 10.0), [1.0, 0.0, 0.0], method="DOP853", rtol=3e-14,
                               atol=1e-15, events=reach_a, dense_output=True, first_step=1e-3)
             sol_b = solve_ivp(rhs_b, (0.0, 10.0), [0.0, 0.0, 0.0], method="DOP853", rtol=3e-14,

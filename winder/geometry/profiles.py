@@ -8,10 +8,12 @@ singular on the domes down to the polar opening; the user-facing station t = z(s
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple, Protocol
+from typing import TYPE_CHECKING, NamedTuple, Protocol
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+
+if TYPE_CHECKING:
+    from scipy.interpolate import CubicSpline
 
 from winder.errors import ConfigError
 
@@ -51,10 +53,11 @@ def _axial(s: np.ndarray, r: np.ndarray, r1: np.ndarray, r2: np.ndarray) -> Prof
 class AxialProfile:
     """A profile over the axial station itself (z(s) = s): constant, cone and table profiles.
 
-    r(t) is a cubic polynomial piece list (a scipy CubicSpline, C2), so all three share one path.
+    r(t) is a cubic polynomial piece list (a scipy CubicSpline, C2; one Cubic piece for a straight
+    profile), so all three share one path.
     """
 
-    spline: CubicSpline
+    spline: Cubic | CubicSpline
     length: float
     reference_radius: float
 
@@ -79,9 +82,25 @@ class AxialProfile:
         return np.asarray(s, dtype=float)
 
 
-def linear(length: float, r0: float, r1: float) -> CubicSpline:
-    # A straight piece as a degenerate cubic spline: exact, and shares the evaluation path.
-    return CubicSpline([0.0, length], [r0, r1], bc_type="not-a-knot")
+@dataclass(frozen=True)
+class Cubic:
+    """One cubic piece over [x[0], x[1]] in CubicSpline's layout (c (4, 1), highest power first; x (2,)),
+    callable like it (extrapolating): a straight profile needs no scipy, which is slow to import."""
+
+    c: np.ndarray
+    x: np.ndarray
+
+    def __call__(self, t: np.ndarray, nu: int = 0) -> np.ndarray:
+        c3, c2, c1, c0 = self.c[:, 0]
+        u = np.asarray(t, dtype=float) - self.x[0]
+        if nu == 0:
+            return ((c3 * u + c2) * u + c1) * u + c0
+        return (3.0 * c3 * u + 2.0 * c2) * u + c1 if nu == 1 else 6.0 * c3 * u + 2.0 * c2
+
+
+def linear(length: float, r0: float, r1: float) -> Cubic:
+    # A straight piece as a degenerate cubic: exact, and shares the evaluation path.
+    return Cubic(np.array([[0.0], [0.0], [(r1 - r0) / length], [r0]]), np.array([0.0, length]))
 
 
 def table_profile(points: np.ndarray, axial_length: float | None, source: str,
@@ -93,6 +112,8 @@ def table_profile(points: np.ndarray, axial_length: float | None, source: str,
     if pts.shape[0] == 2:
         spline = linear(float(pts[1, 0]), float(pts[0, 1]), float(pts[1, 1]))
     else:
+        from scipy.interpolate import CubicSpline  # noqa: PLC0415 - slow to import: only for tables
+
         spline = CubicSpline(pts[:, 0], pts[:, 1], bc_type="not-a-knot")
     grid = np.linspace(0.0, length, 4001)
     rmin = float(np.min(spline(grid)))
