@@ -13,17 +13,14 @@ Rows in winding order; numbers with 6 decimals, "-0.000000" written as "0.000000
 
 from __future__ import annotations
 
-import io
-import re
-
 import numpy as np
 
+from winder.export.fixed_text import table_text
 from winder.winding.results import WindingPlan
 
 HEADER = "layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind"
 DECIMALS = 6
 PERIODIC_COLUMNS = {"alpha_deg": 180.0}  # line angles: alpha and alpha + 180 are the same fiber line
-_NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
 
 
 def line_angle_deg(alpha_deg: np.ndarray, decimals: int) -> np.ndarray:
@@ -33,21 +30,28 @@ def line_angle_deg(alpha_deg: np.ndarray, decimals: int) -> np.ndarray:
 
 
 def job_csv_text(plan: WindingPlan) -> str:
-    """The CSV text: the header, then one row per point of every pass, in winding order."""
-    buf = io.StringIO()
-    buf.write(HEADER + "\n")
-    num = f"%.{DECIMALS}f"
-    for layer in plan.layers:
-        for fp in layer.passes:
-            m = len(fp.t)
-            if m == 0:
-                continue
-            table = np.column_stack([np.full(m, fp.layer), np.full(m, fp.circuit), np.full(m, fp.number),
-                                     np.arange(m), fp.t, np.degrees(fp.theta), fp.points,
-                                     line_angle_deg(fp.alpha_deg, DECIMALS)])
-            fmt = ",".join(["%d"] * 4 + [num] * 6) + "," + fp.kind.value.replace("%", "%%")
-            np.savetxt(buf, table, fmt=fmt)
-    return _NEG_ZERO.sub(r"\1", buf.getvalue())
+    """The CSV text: the header, then one row per point of every pass, in winding order.
+
+    All passes are formatted at once (winder.export.fixed_text: the same text as "%.6f" per value,
+    at a fraction of the cost of formatting two million numbers one by one)."""
+    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.t)]
+    if not passes:
+        return HEADER + "\n"
+    sizes = np.array([len(fp.t) for fp in passes])
+    kinds = sorted({fp.kind.value for fp in passes})
+    per_pass = lambda values: np.repeat(np.asarray(values), sizes)  # noqa: E731
+    points = np.concatenate([fp.points for fp in passes])
+    columns = [
+        (per_pass([fp.layer for fp in passes]), 0), (per_pass([fp.circuit for fp in passes]), 0),
+        (per_pass([fp.number for fp in passes]), 0),
+        (np.arange(sizes.sum()) - np.repeat(np.cumsum(sizes) - sizes, sizes), 0),
+        (np.concatenate([fp.t for fp in passes]), DECIMALS),
+        (np.degrees(np.concatenate([fp.theta for fp in passes])), DECIMALS),
+        (points[:, 0], DECIMALS), (points[:, 1], DECIMALS), (points[:, 2], DECIMALS),
+        (line_angle_deg(np.concatenate([fp.alpha_deg for fp in passes]), DECIMALS), DECIMALS),
+    ]
+    tail = per_pass([kinds.index(fp.kind.value) for fp in passes])
+    return HEADER + "\n" + table_text(columns, tail, kinds)
 
 
 def export(plan: WindingPlan, job) -> str:
