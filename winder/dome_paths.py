@@ -1,0 +1,149 @@
+"""Friction-held turnarounds on vessel domes (MATH.md 7): the turnaround radius a geodesic cannot reach.
+
+On a surface of revolution, with s the meridian arc length, r(s), z(s), and alpha the heading from
+the meridian (toward increasing theta), a fiber of slippage lambda obeys, per unit fiber length l,
+
+    ds/dl = cos(alpha),  dtheta/dl = sin(alpha) / r,  dalpha/dl = lambda k_n - r' sin(alpha) / r,
+    k_n = kappa_m cos^2(alpha) + z' sin^2(alpha) / r,  kappa_m = r' z'' - z' r'' (convex: > 0),
+
+(MATH.md 7's d(alpha)/dz per unit length; lambda = 0 keeps r sin(alpha), Clairaut). It is regular
+at the turnaround (cos(alpha) = 0), where it stops. The profile alone is evaluated, never the 3D
+surface, so a leg costs a few milliseconds. A leg runs from an equator toward the pole; the pass
+leaves the turnaround along its mirror image (the dome is symmetric about the turnaround meridian,
+and reflection with reversal keeps lambda), so the turnaround is a smooth, friction-held reversal.
+
+solve_slip: the constant lambda whose leg turns at radius c (brentq). close_leg: lambda(l) =
+lambda0 + lambda1 (l / l0 - 1/2) turning at c and advancing a given theta (Newton), so that a
+pattern closes with the cylinder angle and the turnaround radius both kept.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import root_scalar
+
+from winder.errors import SolverError
+
+RTOL = 1e-9
+SLIP_BOUND = 1.0  # the search for lambda stays within this (a friction coefficient)
+RADIUS_TOL = 1e-6  # mm: turnaround radius solves
+ADVANCE_TOL = 1e-8  # rad
+MAX_NEWTON = 20
+FD_STEP = 1e-4  # lambda step of the finite-difference Jacobian of close_leg
+
+
+@dataclass(frozen=True)
+class Leg:
+    """A fiber from an equator to its turnaround (or to the opening, if it does not turn).
+
+    turned : it reached alpha = 90 deg. radius : r there (mm). advance : theta gained (rad).
+    length : fiber length (mm). state : dense output l -> (s, theta, alpha). slip : lambda(l).
+    """
+
+    turned: bool
+    radius: float
+    advance: float
+    length: float
+    state: Callable[[np.ndarray], np.ndarray] = field(repr=False)
+    slip: Callable[[np.ndarray], np.ndarray] = field(repr=False)
+
+
+def trace_leg(profile, s_eq: float, heading: float, slip: Callable[[np.ndarray], np.ndarray]) -> Leg:
+    """Trace from the equator station s_eq at heading (rad; toward the pole: cos(heading) points there)."""
+    s_max = profile.length
+
+    def fun(l, y):
+        s = np.clip(y[0:1], 0.0, s_max)
+        pe = profile.evaluate(s)
+        r, r1, r2, z1, z2 = pe.r[0], pe.r1[0], pe.r2[0], pe.z1[0], pe.z2[0]
+        ca, sa = math.cos(y[2]), math.sin(y[2])
+        k_n = (r1 * z2 - z1 * r2) * ca * ca + z1 * sa * sa / r
+        return [ca, sa / r, float(slip(l)) * k_n - r1 * sa / r]
+
+    def turn(_l, y):
+        return math.cos(y[2])
+
+    def opening(_l, y):
+        return min(y[0], s_max - y[0])
+
+    turn.terminal = opening.terminal = True
+    turn.direction = -math.copysign(1.0, math.cos(heading))
+    opening.direction = -1.0
+    span = 4.0 * s_max
+    res = solve_ivp(fun, (0.0, span), [s_eq, 0.0, heading], method="DOP853", rtol=RTOL, atol=RTOL,
+                    dense_output=True, events=(turn, opening), first_step=1e-3)
+    # Turned the way it winds: a fiber pushed across the meridian (alpha through 0) turns the other way.
+    turned = bool(res.t_events[0].size) and math.sin(res.y[2, -1]) * math.sin(heading) > 0.0
+    s_end = float(np.clip(res.y[0, -1], 0.0, s_max))
+    radius = float(profile.evaluate(np.array([s_end])).r[0])
+    return Leg(turned, radius, float(res.y[1, -1]), float(res.t[-1]), res.sol, slip)
+
+
+def _constant(lam: float) -> Callable[[np.ndarray], np.ndarray]:
+    return lambda l: np.full(np.shape(l), lam) if np.ndim(l) else lam
+
+
+def _miss(profile, s_eq: float, heading: float, c: float, lam: float) -> float:
+    leg = trace_leg(profile, s_eq, heading, _constant(lam))
+    # A leg that does not turn (it reaches the opening, or is pushed across the meridian) counts as
+    # turning further in than any radius: the bracket then holds the root.
+    return leg.radius - c if leg.turned else -c - 1.0
+
+
+def solve_slip(profile, s_eq: float, heading: float, c: float) -> tuple[float, Leg]:
+    """The constant lambda (|lambda| <= SLIP_BOUND) whose leg turns at r = c, and that leg."""
+    f_lo = _miss(profile, s_eq, heading, c, -SLIP_BOUND)
+    f_hi = _miss(profile, s_eq, heading, c, SLIP_BOUND)
+    if f_lo * f_hi > 0.0:
+        raise SolverError(f"no slippage |k_g / k_n| <= {SLIP_BOUND:g} turns the fiber at r = {c:.4g} mm on this dome")
+    if abs(_miss(profile, s_eq, heading, c, 0.0)) < RADIUS_TOL:
+        lam = 0.0
+    else:
+        lam = root_scalar(lambda x: _miss(profile, s_eq, heading, c, x), bracket=(-SLIP_BOUND, SLIP_BOUND),
+                          method="toms748", xtol=1e-10, rtol=1e-12).root
+    return lam, trace_leg(profile, s_eq, heading, _constant(lam))
+
+
+def _linear(lam0: float, lam1: float, l0: float) -> Callable[[np.ndarray], np.ndarray]:
+    return lambda l: lam0 + lam1 * (np.asarray(l) / l0 - 0.5)
+
+
+def close_leg(profile, s_eq: float, heading: float, c: float, lam0: float, l0: float,
+              advance: float) -> tuple[float, float, Leg]:
+    """lambda0, lambda1 of lambda(l) = lambda0 + lambda1 (l / l0 - 1/2) whose leg turns at r = c after
+    advancing `advance` rad; Newton from (lam0, 0) with a finite-difference Jacobian."""
+    x = np.array([lam0, 0.0])
+
+    def res(v):
+        leg = trace_leg(profile, s_eq, heading, _linear(v[0], v[1], l0))
+        if not leg.turned:
+            return None, leg
+        return np.array([leg.radius - c, leg.advance - advance]), leg
+
+    f, leg = res(x)
+    if f is None:
+        raise SolverError("a dome leg stopped turning around while the pattern was closed")
+    jac = np.empty((2, 2))
+    for k in range(2):
+        step = np.zeros(2)
+        step[k] = FD_STEP
+        fk, _ = res(x + step)
+        if fk is None:
+            raise SolverError("a dome leg stopped turning around while the pattern was closed")
+        jac[:, k] = (fk - f) / FD_STEP
+    for _ in range(MAX_NEWTON):
+        if abs(f[0]) < RADIUS_TOL and abs(f[1]) < ADVANCE_TOL:
+            return float(x[0]), float(x[1]), leg
+        dx = np.linalg.solve(jac, -f)
+        f_new, leg = res(x + dx)
+        if f_new is None:
+            break
+        # Broyden's update: one trace per step after the first Jacobian.
+        jac += np.outer(f_new - f - jac @ dx, dx) / float(dx @ dx)
+        x, f = x + dx, f_new
+    raise SolverError(f"the dome turnaround at r = {c:.4g} mm could not be fitted to close the pattern")
