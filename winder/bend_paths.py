@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from winder.curvature import torus_constant_angle_slip, torus_least_pressing_angle
 from winder.curves import Arc, Path
@@ -88,7 +89,13 @@ def arc_slip(alpha: float, e: float) -> float:
     if alpha <= torus_least_pressing_angle(1.0, e):
         return math.inf
     phi = np.linspace(0.0, 2.0 * np.pi, SLIP_GRID)
-    return float(np.max(np.abs(torus_constant_angle_slip(alpha, phi, 1.0, e))))
+    slip = np.abs(torus_constant_angle_slip(alpha, phi, 1.0, e))
+    k = int(np.argmax(slip))
+    step = phi[1] - phi[0]
+    # Refine the grid's best by golden section: the design's bound must not be below the truth.
+    res = minimize_scalar(lambda x: -abs(float(torus_constant_angle_slip(alpha, x, 1.0, e))),
+                          bounds=(phi[k] - step, phi[k] + step), method="bounded", options={"xatol": 1e-12})
+    return max(float(slip[k]), -float(res.fun))
 
 
 def line_slip(alpha0: float, alpha1: float, a: float, length: float) -> float:

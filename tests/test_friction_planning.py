@@ -1,0 +1,121 @@
+"""The friction-held pieces of planning (bend_paths, dome_paths, slip) against independent truths.
+
+Truths: the torus closed forms of MATH.md 7 (constant angle, its lambda), the cylinder's
+sin(alpha(z)) closed form, the general friction ODE on the 3D surface (winder.friction) for the
+surface-of-revolution legs, and curvatures measured from the points with the exact normal.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from winder.bend_paths import arc_angle, design, line_slip, pass_curves, region_pieces
+from winder.config import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, LineAxis, MandrelConfig,
+                           PathAxis, VesselProfile)
+from winder.curvature import curve_curvatures, torus_constant_angle_slip
+from winder.dome_paths import close_leg, solve_slip, trace_leg
+from winder.errors import SolverError
+from winder.friction import trace_friction
+from winder.shooting import heading_of_velocity
+from winder.surface import build_surface
+
+A, RB = 40.0, 150.0
+ANGLE_TOL = 1e-9  # rad: constant-angle arcs, closed-form transitions
+SLIP_TOL = 1e-7  # measured lambda (exact derivatives) vs the closed forms
+PERIOD_TOL = 1e-9  # rad: an arc of m periods returns every entry angle + 2 pi m
+RADIUS_TOL = 1e-5  # mm: dome legs, profile ODE vs the general 3D friction ODE
+
+
+def elbow(leg=100.0):
+    axis = PathAxis((LineAxis(leg), ArcAxis(RB, 90.0), LineAxis(leg)))
+    return build_surface(MandrelConfig(axis, ConstantProfile(A), CircleSection()))
+
+
+def measured(surf, t, th, d1, d2):
+    k_n, k_g = curve_curvatures(surf, t, th, np.ones_like(t), d1, np.zeros_like(t), d2)
+    alpha, _ = heading_of_velocity(surf, t, th, np.ones_like(t), d1)
+    return k_n, k_g, alpha
+
+
+def test_elbow_passes_constant_angle_in_the_arc_and_whole_periods():
+    surf = elbow()
+    pieces, worst = design(region_pieces(surf, 0.0, surf.axial_length), math.radians(45.0), A, 0.2)
+    arc = pieces[1]
+    assert arc.rounds == 2 and arc.alpha0 == pytest.approx(arc_angle(2, A / RB, A, RB * math.pi / 2))
+    starts = np.linspace(0.0, 2 * np.pi, 13)[:-1]
+    t, th, d1, d2, adv = pass_curves(pieces, A, starts, 400, True)
+    k_n, k_g, alpha = (np.stack(x) for x in zip(*(measured(surf, t, th[j], d1[j], d2[j]) for j in range(12))))
+    inside = (t > 100.0 + 1e-6) & (t < 100.0 + RB * math.pi / 2 - 1e-6)
+    assert np.max(np.abs(alpha[:, inside] - arc.alpha0)) < ANGLE_TOL
+    # Every pass advances alike (the arc holds whole periods): the slots stay evenly spaced.
+    assert np.max(np.abs(th[:, -1] - th[:, 0] - adv)) < PERIOD_TOL
+    phi = th[:, inside] - arc.theta_in
+    closed = torus_constant_angle_slip(arc.alpha0, phi, RB, A)
+    assert np.max(np.abs(np.abs(k_g[:, inside] / k_n[:, inside]) - np.abs(closed))) < SLIP_TOL
+    # At a joint itself the curvature jumps (one side's surface, the other's curve): off the joints.
+    joint = np.isclose(t, 100.0) | np.isclose(t, 100.0 + RB * math.pi / 2)
+    assert np.max(np.abs(k_g / k_n)[:, ~joint]) <= worst + SLIP_TOL and worst <= 0.2
+    assert k_n.min() > 0.0
+
+
+def test_elbow_legs_follow_the_cylinder_closed_form():
+    surf = elbow()
+    a0 = math.radians(45.0)
+    pieces, _ = design(region_pieces(surf, 0.0, surf.axial_length), a0, A, 0.2)
+    lam = A * (1 / math.sin(a0) - 1 / math.sin(pieces[1].alpha0)) / 100.0
+    assert line_slip(a0, pieces[1].alpha0, A, 100.0) == pytest.approx(lam)
+    t, th, d1, d2, _ = pass_curves(pieces, A, np.array([0.3]), 400, True)
+    k_n, k_g, alpha = measured(surf, t, th[0], d1[0], d2[0])
+    leg = t < 100.0 - 1e-9
+    exact = np.sin(a0) / (1.0 - lam * t[leg] * np.sin(a0) / A)
+    assert np.max(np.abs(np.sin(alpha[leg]) - exact)) < ANGLE_TOL
+    assert np.max(np.abs(k_g[leg] / k_n[leg] - lam)) < SLIP_TOL
+
+
+def test_return_passes_mirror_the_forward_ones():
+    surf = elbow()
+    pieces, _ = design(region_pieces(surf, 0.0, surf.axial_length), math.radians(50.0), A, 0.2)
+    t, th, d1, _, adv = pass_curves(pieces, A, np.array([0.0, 1.0]), 300, False)
+    assert t[0] == pytest.approx(surf.axial_length) and t[-1] == pytest.approx(0.0)
+    assert np.all(np.diff(th, axis=1) > 0.0) and np.all(d1 < 0.0)
+    assert np.max(np.abs(th[:, -1] - th[:, 0] - adv)) < PERIOD_TOL
+
+
+def test_design_refuses_what_friction_cannot_hold():
+    surf = elbow(leg=20.0)  # a short leg: 45 deg cannot turn to a whole-period angle within 0.05
+    with pytest.raises(SolverError, match="least mu"):
+        design(region_pieces(surf, 0.0, surf.axial_length), math.radians(45.0), A, 0.05)
+
+
+# -- domes -------------------------------------------------------------------------------------------------
+def vessel():
+    return build_surface(MandrelConfig(None, VesselProfile(100.0, 200.0, Dome(DomeType.HEMISPHERE, 25.0),
+                                                           Dome(DomeType.HEMISPHERE, 30.0)), CircleSection()))
+
+
+def test_dome_leg_agrees_with_the_general_friction_ode():
+    surf = vessel()
+    prof = surf.profile
+    e2 = prof.equator_s[1]
+    leg = trace_leg(prof, e2, math.radians(12.0), lambda l: 0.15)
+    tr = trace_friction(surf, (e2, 0.0), 12.0, 0.15, 2000.0, stop_at_turnaround=True, rtol=1e-11, atol=1e-11)
+    assert leg.turned and tr.event == "turnaround"
+    assert leg.radius == pytest.approx(tr.turnaround_radius, abs=RADIUS_TOL)
+    assert leg.advance == pytest.approx(tr.theta[-1], abs=1e-6)
+
+
+@pytest.mark.parametrize("dome", [0, 1])
+def test_turnaround_radius_solved_and_pattern_term(dome):
+    surf = vessel()
+    prof = surf.profile
+    s_eq = prof.equator_s[dome]
+    heading = math.radians(12.0) if dome == 1 else math.pi - math.radians(12.0)
+    lam, leg = solve_slip(prof, s_eq, heading, 35.0)
+    assert leg.radius == pytest.approx(35.0, abs=1e-6) and abs(lam) < 0.2
+    assert math.copysign(1.0, lam) == (1.0 if dome == 1 else -1.0)  # the sign follows the direction
+    lam0, lam1, closed = close_leg(prof, s_eq, heading, 35.0, lam, leg.length, leg.advance + 0.01)
+    assert closed.radius == pytest.approx(35.0, abs=1e-6)
+    assert closed.advance == pytest.approx(leg.advance + 0.01, abs=1e-7)
