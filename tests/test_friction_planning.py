@@ -16,7 +16,7 @@ from winder.bend_paths import arc_angle, design, line_slip, pass_curves, region_
 from winder.config import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, LineAxis, MandrelConfig,
                            PathAxis, VesselProfile)
 from winder.curvature import curve_curvatures, torus_constant_angle_slip
-from winder.dome_paths import close_leg, solve_slip, trace_leg
+from winder.dome_paths import close_leg, dome_meridian, solve_slip, trace_leg
 from winder.errors import SolverError
 from winder.friction import trace_friction
 from winder.shooting import heading_of_velocity
@@ -100,7 +100,7 @@ def test_dome_leg_agrees_with_the_general_friction_ode():
     surf = vessel()
     prof = surf.profile
     e2 = prof.equator_s[1]
-    leg = trace_leg(prof, e2, math.radians(12.0), lambda l: 0.15)
+    leg = trace_leg(dome_meridian(prof, True), e2, math.radians(12.0), lambda l: 0.15)
     tr = trace_friction(surf, (e2, 0.0), 12.0, 0.15, 2000.0, stop_at_turnaround=True, rtol=1e-11, atol=1e-11)
     assert leg.turned and tr.event == "turnaround"
     assert leg.radius == pytest.approx(tr.turnaround_radius, abs=RADIUS_TOL)
@@ -113,9 +113,10 @@ def test_turnaround_radius_solved_and_pattern_term(dome):
     prof = surf.profile
     s_eq = prof.equator_s[dome]
     heading = math.radians(12.0) if dome == 1 else math.pi - math.radians(12.0)
-    lam, leg = solve_slip(prof, s_eq, heading, 35.0)
+    meridian = dome_meridian(prof, dome == 1)
+    lam, leg = solve_slip(meridian, s_eq, heading, 35.0)
     assert leg.radius == pytest.approx(35.0, abs=1e-6) and abs(lam) < 0.2
     assert math.copysign(1.0, lam) == (1.0 if dome == 1 else -1.0)  # the sign follows the direction
-    lam0, lam1, closed = close_leg(prof, s_eq, heading, 35.0, lam, leg.length, leg.advance + 0.01)
+    lam0, lam1, closed = close_leg(meridian, s_eq, heading, 35.0, lam, leg.length, leg.advance + 0.01)
     assert closed.radius == pytest.approx(35.0, abs=1e-6)
     assert closed.advance == pytest.approx(leg.advance + 0.01, abs=1e-7)

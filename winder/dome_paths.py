@@ -37,6 +37,35 @@ MAX_NEWTON = 20
 FD_STEP = 1e-4  # lambda step of the finite-difference Jacobian of close_leg
 
 
+MERIDIAN_SAMPLES = 1201  # per dome: the quintic table's error is far below the integrator's
+
+
+class DomeMeridian:
+    """One dome's meridian as a quintic spline table of (r, z) in s: a leg evaluates it thousands of
+    times, and the table costs a tenth of the profile's own evaluation. s in [lo, hi] (clipped)."""
+
+    def __init__(self, profile, lo: float, hi: float):
+        from scipy.interpolate import make_interp_spline  # noqa: PLC0415
+
+        s = np.linspace(lo, hi, MERIDIAN_SAMPLES)
+        pe = profile.evaluate(s)
+        spline = make_interp_spline(s, np.column_stack([pe.r, pe.z]), k=5)
+        self.lo, self.hi, self.length = lo, hi, profile.length
+        self._d = (spline, spline.derivative(1), spline.derivative(2))
+
+    def at(self, s: float) -> tuple[float, float, float, float, float]:
+        """r, r', r'', z', z'' at station s."""
+        s = min(max(s, self.lo), self.hi)
+        (r, _), (r1, z1), (r2, z2) = (d(s) for d in self._d)
+        return float(r), float(r1), float(r2), float(z1), float(z2)
+
+
+def dome_meridian(profile, end: bool) -> DomeMeridian:
+    """The table of the first dome (end False) or of the end dome."""
+    e1, e2 = profile.equator_s
+    return DomeMeridian(profile, e2, profile.length) if end else DomeMeridian(profile, 0.0, e1)
+
+
 @dataclass(frozen=True)
 class Leg:
     """A fiber from an equator to its turnaround (or to the opening, if it does not turn).
@@ -53,14 +82,12 @@ class Leg:
     slip: Callable[[np.ndarray], np.ndarray] = field(repr=False)
 
 
-def trace_leg(profile, s_eq: float, heading: float, slip: Callable[[np.ndarray], np.ndarray]) -> Leg:
+def trace_leg(meridian: DomeMeridian, s_eq: float, heading: float, slip: Callable[[np.ndarray], np.ndarray]) -> Leg:
     """Trace from the equator station s_eq at heading (rad; toward the pole: cos(heading) points there)."""
-    s_max = profile.length
+    s_max = meridian.length
 
     def fun(l, y):
-        s = np.clip(y[0:1], 0.0, s_max)
-        pe = profile.evaluate(s)
-        r, r1, r2, z1, z2 = pe.r[0], pe.r1[0], pe.r2[0], pe.z1[0], pe.z2[0]
+        r, r1, r2, z1, z2 = meridian.at(y[0])
         ca, sa = math.cos(y[2]), math.sin(y[2])
         k_n = (r1 * z2 - z1 * r2) * ca * ca + z1 * sa * sa / r
         return [ca, sa / r, float(slip(l)) * k_n - r1 * sa / r]
@@ -80,7 +107,7 @@ def trace_leg(profile, s_eq: float, heading: float, slip: Callable[[np.ndarray],
     # Turned the way it winds: a fiber pushed across the meridian (alpha through 0) turns the other way.
     turned = bool(res.t_events[0].size) and math.sin(res.y[2, -1]) * math.sin(heading) > 0.0
     s_end = float(np.clip(res.y[0, -1], 0.0, s_max))
-    radius = float(profile.evaluate(np.array([s_end])).r[0])
+    radius = meridian.at(s_end)[0]
     return Leg(turned, radius, float(res.y[1, -1]), float(res.t[-1]), res.sol, slip)
 
 
@@ -88,39 +115,39 @@ def _constant(lam: float) -> Callable[[np.ndarray], np.ndarray]:
     return lambda l: np.full(np.shape(l), lam) if np.ndim(l) else lam
 
 
-def _miss(profile, s_eq: float, heading: float, c: float, lam: float) -> float:
-    leg = trace_leg(profile, s_eq, heading, _constant(lam))
+def _miss(meridian: DomeMeridian, s_eq: float, heading: float, c: float, lam: float) -> float:
+    leg = trace_leg(meridian, s_eq, heading, _constant(lam))
     # A leg that does not turn (it reaches the opening, or is pushed across the meridian) counts as
     # turning further in than any radius: the bracket then holds the root.
     return leg.radius - c if leg.turned else -c - 1.0
 
 
-def solve_slip(profile, s_eq: float, heading: float, c: float) -> tuple[float, Leg]:
+def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) -> tuple[float, Leg]:
     """The constant lambda (|lambda| <= SLIP_BOUND) whose leg turns at r = c, and that leg."""
-    f_lo = _miss(profile, s_eq, heading, c, -SLIP_BOUND)
-    f_hi = _miss(profile, s_eq, heading, c, SLIP_BOUND)
+    f_lo = _miss(meridian, s_eq, heading, c, -SLIP_BOUND)
+    f_hi = _miss(meridian, s_eq, heading, c, SLIP_BOUND)
     if f_lo * f_hi > 0.0:
         raise SolverError(f"no slippage |k_g / k_n| <= {SLIP_BOUND:g} turns the fiber at r = {c:.4g} mm on this dome")
-    if abs(_miss(profile, s_eq, heading, c, 0.0)) < RADIUS_TOL:
+    if abs(_miss(meridian, s_eq, heading, c, 0.0)) < RADIUS_TOL:
         lam = 0.0
     else:
-        lam = root_scalar(lambda x: _miss(profile, s_eq, heading, c, x), bracket=(-SLIP_BOUND, SLIP_BOUND),
+        lam = root_scalar(lambda x: _miss(meridian, s_eq, heading, c, x), bracket=(-SLIP_BOUND, SLIP_BOUND),
                           method="toms748", xtol=1e-10, rtol=1e-12).root
-    return lam, trace_leg(profile, s_eq, heading, _constant(lam))
+    return lam, trace_leg(meridian, s_eq, heading, _constant(lam))
 
 
 def _linear(lam0: float, lam1: float, l0: float) -> Callable[[np.ndarray], np.ndarray]:
     return lambda l: lam0 + lam1 * (np.asarray(l) / l0 - 0.5)
 
 
-def close_leg(profile, s_eq: float, heading: float, c: float, lam0: float, l0: float,
+def close_leg(meridian: DomeMeridian, s_eq: float, heading: float, c: float, lam0: float, l0: float,
               advance: float) -> tuple[float, float, Leg]:
     """lambda0, lambda1 of lambda(l) = lambda0 + lambda1 (l / l0 - 1/2) whose leg turns at r = c after
     advancing `advance` rad; Newton from (lam0, 0) with a finite-difference Jacobian."""
     x = np.array([lam0, 0.0])
 
     def res(v):
-        leg = trace_leg(profile, s_eq, heading, _linear(v[0], v[1], l0))
+        leg = trace_leg(meridian, s_eq, heading, _linear(v[0], v[1], l0))
         if not leg.turned:
             return None, leg
         return np.array([leg.radius - c, leg.advance - advance]), leg

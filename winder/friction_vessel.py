@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from winder.config_job import LayerConfig
-from winder.dome_paths import Leg, close_leg, solve_slip, trace_leg
+from winder.dome_paths import Leg, close_leg, dome_meridian, solve_slip, trace_leg
 from winder.errors import SolverError
 from winder.passes import COVERAGE_STATIONS, PlanContext, finish_layer, make_pass
 from winder.pattern import circuits_for_coverage, coprime_skips
@@ -60,18 +60,19 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
     openings = (prof.dome.end_radius, prof.end_dome.end_radius)
     # The first dome is reached going toward s = 0 (heading pi - alpha), the end dome toward s = L.
     domes = ((e1, math.pi - alpha), (e2, alpha))
+    meridians = (dome_meridian(prof, False), dome_meridian(prof, True))
     legs, slips = [], []
     for d, (s_eq, heading) in enumerate(domes):
         where = f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome"
         if cfg.turnaround_radius is not None:
             c = cfg.turnaround_radius
             try:
-                lam, leg = solve_slip(prof, s_eq, heading, c)
+                lam, leg = solve_slip(meridians[d], s_eq, heading, c)
             except SolverError as exc:
                 raise SolverError(f"{where}: {exc}") from exc
         else:
             lam = slip if d == 1 else -slip  # the sign follows the pass direction
-            leg = trace_leg(prof, s_eq, heading, lambda l, lam=lam: lam)
+            leg = trace_leg(meridians[d], s_eq, heading, lambda l, lam=lam: lam)
             if not leg.turned:
                 raise SolverError(f"{where}: with slip {slip:g} the fiber at {cfg.angle_deg:g} deg does not turn "
                                   f"around before the polar opening ({openings[d]:.4g} mm); raise the slip or the angle")
@@ -94,7 +95,7 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         # Each dome is laid twice per circuit (in and out): a quarter of the change each.
         for d, (s_eq, heading) in enumerate(domes):
             leg = legs[d]
-            lam0, lam1, legs[d] = close_leg(prof, s_eq, heading, leg.radius, slips[d], leg.length,
+            lam0, lam1, legs[d] = close_leg(meridians[d], s_eq, heading, leg.radius, slips[d], leg.length,
                                             leg.advance + 0.25 * delta * 2.0 * math.pi)
             slips[d] = max(abs(lam0 - 0.5 * lam1), abs(lam0 + lam1 * (legs[d].length / leg.length - 0.5)))
     worst = max(abs(x) for x in slips)
