@@ -40,6 +40,13 @@ class ConfigError(WinderError):
     exit_code = 2
 
 
+class InfeasibleConfigError(ConfigError):
+    """A valid config whose winding no fiber can hold, refused from the config alone, before any
+    computation (SPEC.md "Winding with friction": exit 1)."""
+
+    exit_code = 1
+
+
 class SolverError(WinderError):
     """A computation that cannot be done: no convergence, a path leaving the mandrel, infeasible winding."""
 

@@ -158,15 +158,20 @@ def test_gentle_elbow_even_with_more_circuits():
     assert layer.circuits >= math.ceil(2 * math.pi * 40 * math.cos(math.radians(55)) / 10)
 
 
-def test_tight_elbow_reports_incomplete_coverage():
-    """Geodesics bunch toward the inside of a tight bend: the planner says so instead of hiding it."""
-    p = plan(job({"axis": {"type": "path", "segments": [{"line": 100}, {"arc": {"radius": 150, "angle": 90}},
-                                                         {"line": 100}]},
-                  "profile": {"type": "constant", "radius": 40}},
-                 {"band_width": 10, "points": 60, "layers": [{"type": "helical", "angle": 30}]}))
-    layer = p.layers[0]
-    assert layer.coverage.covered_fraction < COVERED
-    assert any("coverage stays incomplete" in note for note in layer.notes)
+ELBOW_AXIS = {"type": "path", "segments": [{"line": 100}, {"arc": {"radius": 150, "angle": 90}}, {"line": 100}]}
+
+
+def test_tight_elbow_geodesics_refused_friction_covers():
+    """Geodesics bunch toward the inside of a tight bend and bridge there: slip 0 is refused (the 30 deg
+    one from the config alone, MATH.md 7's 31.1 deg), slip auto covers evenly within the friction."""
+    tube = {"axis": ELBOW_AXIS, "profile": {"type": "constant", "radius": 40}}
+    with pytest.raises(ConfigError, match="below 31.1 deg on this bend no friction holds it"):
+        job(tube, {"band_width": 10, "points": 60, "layers": [{"type": "helical", "angle": 30}]})
+    with pytest.raises(SolverError, match="bridges"):
+        plan(job(tube, {"band_width": 10, "points": 16, "layers": [{"type": "helical", "angle": 45}]}))
+    layer = plan(job(tube, {"band_width": 10, "layers": [{"type": "helical", "angle": 45, "slip": "auto"}]})).layers[0]
+    assert layer.coverage.covered_fraction >= COVERED and 0.0 < layer.max_slip <= 0.2
+    assert layer.min_normal_curvature > 0.0
 
 
 def test_hoop_on_cone_slips():

@@ -17,6 +17,7 @@ from winder.config.extent import is_bent, mandrel_reach
 from winder.config.machine import MachineConfig, parse_machine
 from winder.config.mandrel import MandrelConfig, VesselProfile, axis_length, parse_mandrel
 from winder.config.reader import Reader, YamlLoader
+from winder.config.bends import check_bend_angles
 from winder.config.winding import WindingConfig, parse_winding
 from winder.errors import ConfigError
 
@@ -74,6 +75,7 @@ def parse_config(data: dict, source: str) -> JobConfig:
     if top.get("winding") is not None:  # an empty `winding:` counts as none
         winding = parse_winding(rd, top["winding"], "winding", axis_length=axis_length(mandrel.axis),
                                 vessel=vessel)
+    check_bend_angles(mandrel, winding, source)
     machine = parse_machine(rd, top.get("machine"), "machine", bent=is_bent(mandrel.axis),
                             max_radius=mandrel_reach(mandrel, 0.0, math.inf, None))
     return JobConfig(name, source, mandrel, winding, machine)

@@ -21,6 +21,7 @@ MAX_POINTS = 100_000
 DEFAULT_FRICTION = 0.2
 # Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
 MIN_HOOP_ANGLE = 70.0
+SLIP_AUTO = "auto"
 
 
 class LayerType(Enum):
@@ -45,12 +46,18 @@ class LayerConfig:
         planner refuses k sharing a factor with N_c).
     passes: hoop only (helical layers always 1): the number of traverses over the region; each
         traverse lays one ply, so 2 is there and back.
+    slip: helical only. 0 (geodesic, the default), a number lambda = k_g / k_n in [0, friction] (its
+        sign follows the pass direction), or SLIP_AUTO (friction-held where geodesics cannot cover).
+    turnaround_radius: helical on vessels only: turn around on the domes at this radius (mm), lambda
+        solved for (|lambda| <= friction); None: where the slip leads (Clairaut for slip 0).
     """
 
     type: LayerType
     angle_deg: float | None = None
     pattern: int | None = None
     passes: int = 1
+    slip: float | str = 0.0
+    turnaround_radius: float | None = None
 
 
 @dataclass(frozen=True)
@@ -85,7 +92,7 @@ class WindingConfig:
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction")
 _LAYER_KINDS = {
-    "helical": (("angle",), ("pattern",)),
+    "helical": (("angle",), ("pattern", "slip", "turnaround_radius")),
     "hoop": ((), ("angle", "passes")),
 }
 
@@ -128,7 +135,8 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
                            m["friction"])
 
     items = rd.listing(m["layers"], rd.at(path, "layers"), 1, "layer")
-    layers = tuple(_parse_layer(rd, item, rd.at(rd.at(path, "layers"), i)) for i, item in enumerate(items))
+    layers = tuple(_parse_layer(rd, item, rd.at(rd.at(path, "layers"), i), friction, vessel)
+                   for i, item in enumerate(items))
     return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers)
 
 
@@ -160,7 +168,30 @@ def _parse_dwell(rd: Reader, value: Any, path: str) -> tuple[float, float]:
     return (ends[0], ends[1])
 
 
-def _parse_layer(rd: Reader, value: Any, path: str) -> LayerConfig:
+def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -> tuple[float | str, float | None]:
+    """The helical layer's slip and turnaround_radius (SPEC.md "Winding with friction")."""
+    slip: float | str = 0.0
+    if "slip" in m and m["slip"] != SLIP_AUTO:
+        slip = rd.number(m["slip"], rd.at(path, "slip"))
+        if not 0.0 <= slip <= friction:
+            raise rd.error(rd.at(path, "slip"), f"must be auto or a number in [0, {friction:g}] (|k_g / k_n| "
+                           f"within winding.friction; its sign follows the pass direction)", m["slip"])
+    elif "slip" in m:
+        slip = SLIP_AUTO
+    radius = None
+    if "turnaround_radius" in m:
+        key = rd.at(path, "turnaround_radius")
+        if not vessel:
+            raise rd.error(key, "applies to vessels only (the fiber turns around on the domes)",
+                           m["turnaround_radius"])
+        if isinstance(slip, float) and slip > 0.0:
+            raise rd.error(key, "give slip or turnaround_radius, not both (the slip is solved for the radius)",
+                           m["turnaround_radius"])
+        radius = rd.positive(m["turnaround_radius"], key)
+    return slip, radius
+
+
+def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
     kind, m = rd.typed(value, path, "layer", _LAYER_KINDS)
     angle_path = rd.at(path, "angle")
     if kind == "helical":
@@ -172,7 +203,8 @@ def _parse_layer(rd: Reader, value: Any, path: str) -> LayerConfig:
         if "pattern" in m and m["pattern"] != "auto":
             pattern = rd.integer(m["pattern"], rd.at(path, "pattern"), minimum=1,
                                  what="must be auto or a whole number >= 1")
-        return LayerConfig(LayerType.HELICAL, angle, pattern, 1)
+        slip, radius = _parse_slip(rd, m, path, friction, vessel)
+        return LayerConfig(LayerType.HELICAL, angle, pattern, 1, slip, radius)
 
     angle_deg = None
     if "angle" in m:

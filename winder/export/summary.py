@@ -9,7 +9,8 @@ Keys: name, source, total_fiber_length_mm, estimated_time_s, layer_count, and la
 layer with index, type, angle_deg, requested_angle_deg, angle_change_deg, circuits, pattern (as planned),
 passes, fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
 when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
-{covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text).
+{covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text),
+max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from winder.winding.results import LayerPlan, WindingPlan
 LENGTH_DECIMALS = 3
 ANGLE_DECIMALS = 4
 FRACTION_DECIMALS = 6
+CURVATURE_DECIMALS = 8  # 1/mm
 TIME_DECIMALS = 2
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
 # at (one unit in the last place). A key matching none of these is compared relatively (1e-6).
@@ -62,6 +64,8 @@ def _layer(layer: LayerPlan) -> dict[str, Any]:
         "dwell_start_deg": _num(layer.dwell_start_deg, ANGLE_DECIMALS),
         "dwell_end_deg": _num(layer.dwell_end_deg, ANGLE_DECIMALS),
         "turnaround_radius_mm": _num(layer.turnaround_radius, LENGTH_DECIMALS),
+        "max_slip": _num(layer.max_slip, FRACTION_DECIMALS),
+        "min_normal_curvature_per_mm": _num(layer.min_normal_curvature, CURVATURE_DECIMALS),
         "alpha_range_deg": [_num(layer.alpha_min_deg, ANGLE_DECIMALS), _num(layer.alpha_max_deg, ANGLE_DECIMALS)],
         "time_s": _num(layer.time_s, TIME_DECIMALS),
         "coverage": {

@@ -15,6 +15,7 @@ from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError
 from winder.paths.geodesic import GeodesicResult, geodesic
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_deg
+from winder.winding.slip import check as check_held
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
 
@@ -136,26 +137,12 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
     length = float(sum(p.length for p in passes))
     if coverage is None:
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)
-    for p in laid:
-        if p.kind is not PassKind.HOOP:
-            _bridging_note(ctx, p, notes)
-            break
+    held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha))
     return LayerPlan(index=index + 1, type=cfg.type, angle_deg=float(alpha),
                      requested_angle_deg=float(cfg.angle_deg if cfg.angle_deg is not None else alpha),
                      circuits=int(circuits), pattern=int(pattern), dwell_start_deg=float(dwell_a),
                      dwell_end_deg=float(dwell_b), turnaround_radius=c, fiber_length_mm=length,
                      alpha_min_deg=float(folded.min()), alpha_max_deg=float(folded.max()),
                      time_s=length / ctx.feed * 60.0, passes=tuple(passes), coverage=coverage,
-                     notes=tuple(notes))
-
-
-def _bridging_note(ctx: PlanContext, p: FiberPass, notes: list[str]) -> None:
-    """A fiber under tension bridges where the surface is concave along it (k_n <= 0)."""
-    d2 = np.diff(p.points, 2, axis=0)
-    nrm = ctx.surface.normals(p.s[1:-1], p.theta[1:-1])
-    k_n = np.einsum("ij,ij->i", d2, nrm)
-    if np.any(k_n > 1e-12 * np.max(np.abs(k_n))):
-        where = float(p.t[1:-1][np.argmax(k_n)])
-        notes.append(f"the fiber bridges over a concave region near t = {where:.3f} mm (k_n <= 0): it will "
-                     f"not lie on the mandrel there")
+                     notes=tuple(notes), max_slip=held.max_slip, min_normal_curvature=held.min_normal_curvature)
 

@@ -10,6 +10,7 @@ from winder.config.job import JobConfig
 from winder.config.winding import LayerType
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError
+from winder.winding.layers.friction import friction_layer
 from winder.winding.layers.helical_open import open_helical_layer
 from winder.winding.layers.hoop import hoop_layer
 from winder.winding.passes import PlanContext
@@ -32,6 +33,8 @@ def plan(job: JobConfig) -> WindingPlan:
     for index, cfg in enumerate(job.winding.layers):
         if cfg.type is LayerType.HOOP:
             layer = hoop_layer(ctx, cfg, index, theta0)
+        elif (held := friction_layer(ctx, cfg, index, theta0)) is not None:
+            layer = held
         elif isinstance(surface.profile, VesselMeridian):
             layer = vessel_helical_layer(ctx, cfg, index, theta0)
         else:

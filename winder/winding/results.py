@@ -75,6 +75,8 @@ class LayerPlan:
     turnaround_radius : vessels: the Clairaut constant c where the fiber turns on the domes (mm).
     alpha_min_deg, alpha_max_deg : range of the winding angle (folded to [0, 90]) over all passes.
     time_s : estimated winding time at the machine feed.
+    max_slip : largest |k_g / k_n| the layer's fibers need; min_normal_curvature : least k_n (1/mm, > 0:
+        every fiber presses), both measured from the passes' points (winder.winding.slip).
     """
 
     index: int
@@ -93,6 +95,8 @@ class LayerPlan:
     passes: tuple[FiberPass, ...]
     coverage: Coverage
     notes: tuple[str, ...] = ()
+    max_slip: float = 0.0
+    min_normal_curvature: float = float("nan")
 
     @property
     def angle_change_deg(self) -> float:

@@ -1,18 +1,30 @@
-"""The slip check of non-geodesic paths: friction holds a fiber where |k_g / k_n| <= mu (MATH.md 7).
+"""The slip check: friction holds a fiber where |k_g / k_n| <= mu and it presses, k_n > 0 (MATH.md 7).
 
-Hoop layers use it today; friction-held paths will too.
+check_slip: a hoop path, densely resampled. measure / check: every laid pass of a layer, whatever
+planned it (geodesic, friction-held, hoop), from the pass's own points with the exact surface normal
+(the discrete curvature of the polyline, winder.geometry.curvature); a layer that bridges or slips
+is refused (SolverError, exit 1) naming the layer, the station and the least mu.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from winder.errors import SolverError
+from winder.geometry.curvature import polyline_curvatures
 from winder.geometry.surface import SweepSurface
-from winder.winding.passes import PlanContext
-from winder.winding.results import FiberPass
+from winder.winding.results import FiberPass, PassKind
+
+if TYPE_CHECKING:  # passes.py checks every layer with this module: no import cycle at run time
+    from winder.winding.passes import PlanContext
 
 SLIP_SAMPLES_PER_TURN = 72
+BRIDGE_TOL = 1e-6  # k_n below -this * the pass's largest k_n: the fiber bridges (flat faces have 0)
+PRESS_FLOOR = 1e-3  # slip is measured where k_n >= this * the pass's largest k_n (not on flat faces)
+SLIP_MARGIN = 1e-3  # measured slip may exceed mu by this (the polyline measurement's own error)
 
 
 def slip_ratio(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> np.ndarray:
@@ -45,3 +57,54 @@ def check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None
                           f"{ratio[worst]:.3g} at t = {t:.3f} mm, above the friction coefficient "
                           f"{ctx.winding.friction:g} (winding.friction); hoop layers hold on cylindrical "
                           f"regions")
+
+
+@dataclass(frozen=True)
+class LayerSlip:
+    """max_slip : largest |k_g / k_n| over the layer's passes; min_normal_curvature : least k_n (1/mm),
+    max_normal_curvature : largest |k_n| (its scale). slip_t, bridge_t : stations (mm) of the largest
+    slip and of the least k_n; pass numbers of both."""
+
+    max_slip: float
+    min_normal_curvature: float
+    max_normal_curvature: float
+    slip_t: float
+    slip_pass: int
+    bridge_t: float
+    bridge_pass: int
+
+
+def measure(surface: SweepSurface, passes: list[FiberPass] | tuple[FiberPass, ...]) -> LayerSlip:
+    """The layer's slip and bridging margin, from the points of every laid (non-dwell) pass."""
+    best = [0.0, 0.0, 0, np.inf, 0.0, 0]
+    scale = 0.0
+    for p in passes:
+        if p.kind is PassKind.DWELL or p.s.size < 3:
+            continue
+        k_n, k_g = polyline_curvatures(surface, p.s, p.theta, p.points)
+        top = float(np.max(np.abs(k_n)))
+        scale = max(scale, top)
+        i = int(np.argmin(k_n))
+        if k_n[i] < best[3]:
+            best[3:] = [float(k_n[i]), float(p.t[i + 1]), p.number]
+        pressing = k_n >= PRESS_FLOOR * top
+        if np.any(pressing):
+            ratio = np.where(pressing, np.abs(k_g) / np.where(pressing, k_n, 1.0), 0.0)
+            j = int(np.argmax(ratio))
+            if ratio[j] > best[0]:
+                best[:3] = [float(ratio[j]), float(p.t[j + 1]), p.number]
+    return LayerSlip(best[0], best[3], scale, best[1], best[2], best[4], best[5])
+
+
+def check(surface: SweepSurface, passes, mu: float, key: str, angle_deg: float) -> LayerSlip:
+    """measure, then refuse a layer whose fiber bridges or slips (SolverError naming key and station)."""
+    out = measure(surface, passes)
+    if out.min_normal_curvature < -BRIDGE_TOL * out.max_normal_curvature:
+        raise SolverError(f"{key}: the fiber bridges at t = {out.bridge_t:.1f} mm (pass {out.bridge_pass}, k_n = "
+                          f"{out.min_normal_curvature:.3g} /mm) at {angle_deg:g} deg: it does not press on the "
+                          f"mandrel there, whatever the friction")
+    if out.max_slip > mu + SLIP_MARGIN:
+        raise SolverError(f"{key}: the fiber would slip at t = {out.slip_t:.1f} mm (pass {out.slip_pass}): it needs "
+                          f"|k_g / k_n| = {out.max_slip:.3g}, above the friction {mu:g} (winding.friction); the "
+                          f"least mu that holds this layer is {out.max_slip:.3g}")
+    return out

@@ -28,6 +28,7 @@ from winder.winding.passes import (
 )
 from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_open_pattern
 from winder.winding.results import FiberPass, LayerPlan, PassKind
+from winder.winding.slip import check as check_held
 from winder.paths.ode import trace
 from winder.geometry.surface import SweepSurface
 
@@ -147,6 +148,8 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
         pat = close_open_pattern(n_c, 2.0 * natural_fwd, w.dwell_start_deg / 360.0, w.dwell_end_deg / 360.0,
                                  cfg.pattern, ctx.key(index, "pattern"))
         passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends)
+        # A fiber that bridges or slips is refused before more circuits are tried (they would too).
+        check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index), alpha)
         if surf.is_revolution or cfg.pattern is not None:
             break
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)

@@ -12,15 +12,15 @@ import math
 
 import numpy as np
 
-from winder.bend_paths import circuits_needed, design, pass_curves, region_pieces, tube_radius
-from winder.config_job import LayerConfig
-from winder.coverage import layer_coverage
+from winder.paths.bend_paths import circuits_needed, design, pass_curves, region_pieces, tube_radius
+from winder.config.winding import LayerConfig
+from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError
-from winder.passes import COVERAGE_STATIONS, PlanContext, dwell_pass, finish_layer, make_pass, winding_region
-from winder.pattern import close_open_pattern
-from winder.plan import FiberPass, LayerPlan, PassKind
+from winder.winding.passes import COVERAGE_STATIONS, PlanContext, dwell_pass, finish_layer, make_pass, winding_region
+from winder.winding.pattern import close_open_pattern
+from winder.winding.results import FiberPass, LayerPlan, PassKind
 
-MIN_POINTS = 400  # points per pass at the least: the slip is measured from them
+MIN_POINTS = 200  # points per pass at the least: the slip is measured from them
 COVERED_TARGET = 0.999
 GAP_TARGET = 0.02  # of the band width
 MAX_EXTRA_CIRCUITS = 8

@@ -1,4 +1,4 @@
-"""Friction-held paths (winder.friction, winder.friction_path, winder.curvature) against independent truths.
+"""Friction-held paths (paths.friction, paths.friction_path, geometry.curvature) against independent truths.
 
 Truths: the cylinder's closed form sin(alpha(z)) = sin(alpha0) / (1 - lambda z sin(alpha0) / R); the
 variational geodesic solver (a different method) for lambda = 0; on a hemispherical dome an independent
@@ -12,15 +12,15 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from winder.config import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, EllipseSection, LineAxis,
+from winder.config.mandrel import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, EllipseSection, LineAxis,
                            MandrelConfig, VesselProfile)
-from winder.curvature import (path_curvatures, polyline_curvatures, torus_constant_angle_slip,
+from winder.geometry.curvature import (path_curvatures, polyline_curvatures, torus_constant_angle_slip,
                               torus_least_pressing_angle, torus_normal_curvature)
-from winder.friction import trace_friction
-from winder.friction_path import Status, friction_path
-from winder.geodesic import geodesic
-from winder.shooting import heading_of_velocity, trace
-from winder.surface import build_surface
+from winder.paths.friction import trace_friction
+from winder.paths.friction_path import Status, friction_path
+from winder.paths.geodesic import geodesic
+from winder.paths.ode import heading_of_velocity, trace
+from winder.geometry.build import build_surface
 
 CLOSED_FORM_TOL = 1e-10  # sin(alpha) on the cylinder: traced vs closed form
 SPEED_TOL = 1e-10  # | |J u'| - 1 | along a trace: the forcing is normal to the fiber

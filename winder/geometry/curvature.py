@@ -7,7 +7,7 @@ nu = N x T is the tangent-plane normal to the fiber; k_g > 0 turns the fiber tow
 angle (from the meridian toward increasing theta, as shooting's heading).
 
 Everything here is computed from the path's points alone with the exact surface normal, so it is an
-independent check of what the friction ODE was told to do (winder.friction): the slip the path needs,
+independent check of what the friction ODE was told to do (winder.paths.friction): the slip the path needs,
 lambda = k_g / k_n, and its bridging margin, min k_n.
 """
 
@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import make_interp_spline
 
-from winder.surface import SweepSurface
+from winder.geometry.surface import SweepSurface
 
 SPLINE_DEGREE = 5  # interpolating spline through a sampled path: 2nd derivatives to O(h^4)
 

@@ -13,12 +13,12 @@ import math
 
 import numpy as np
 
-from winder.config_job import LayerConfig
-from winder.dome_paths import Leg, close_leg, dome_meridian, solve_slip, trace_leg
+from winder.config.winding import LayerConfig
+from winder.paths.dome_paths import Leg, close_leg, dome_meridian, solve_slip, trace_leg
 from winder.errors import SolverError
-from winder.passes import COVERAGE_STATIONS, PlanContext, finish_layer, make_pass
-from winder.pattern import circuits_for_coverage, coprime_skips
-from winder.plan import FiberPass, LayerPlan, PassKind
+from winder.winding.passes import COVERAGE_STATIONS, PlanContext, finish_layer, make_pass
+from winder.winding.pattern import circuits_for_coverage, coprime_skips
+from winder.winding.results import FiberPass, LayerPlan, PassKind
 
 LEG_POINTS = 120  # samples per dome leg (the turnaround is inside it)
 
@@ -51,8 +51,8 @@ def _directions(surface, s: np.ndarray, th: np.ndarray, alpha: np.ndarray) -> np
 
 
 def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, mu: float,
-                          slip: float | None) -> LayerPlan:
-    """turnaround_radius set: lambda solved per dome; else slip (a number): lambda = +-slip on the domes."""
+                          radius: float | None, slip: float | None) -> LayerPlan:
+    """radius set: turn around there, lambda solved per dome; else lambda = +-slip on the domes."""
     surf, w = ctx.surface, ctx.winding
     prof = surf.profile
     big_r, alpha = prof.radius, math.radians(cfg.angle_deg)
@@ -64,8 +64,8 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
     legs, slips = [], []
     for d, (s_eq, heading) in enumerate(domes):
         where = f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome"
-        if cfg.turnaround_radius is not None:
-            c = cfg.turnaround_radius
+        if radius is not None:
+            c = radius
             try:
                 lam, leg = solve_slip(meridians[d], s_eq, heading, c)
             except SolverError as exc:

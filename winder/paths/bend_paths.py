@@ -27,10 +27,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from winder.curvature import torus_constant_angle_slip, torus_least_pressing_angle
-from winder.curves import Arc, Path
+from winder.geometry.curvature import torus_constant_angle_slip, torus_least_pressing_angle
+from winder.geometry.curves import Arc, Path
 from winder.errors import SolverError
-from winder.surface import SweepSurface
+from winder.geometry.surface import SweepSurface
 
 MAX_ARC_ANGLE = math.radians(85.0)  # alpha_m above this is a hoop, not a helical layer
 SLIP_GRID = 721  # phi samples for the largest |lambda| of a constant-angle arc

@@ -1,7 +1,7 @@
 """The friction-held pieces of planning (bend_paths, dome_paths, slip) against independent truths.
 
 Truths: the torus closed forms of MATH.md 7 (constant angle, its lambda), the cylinder's
-sin(alpha(z)) closed form, the general friction ODE on the 3D surface (winder.friction) for the
+sin(alpha(z)) closed form, the general friction ODE on the 3D surface (winder.paths.friction) for the
 surface-of-revolution legs, and curvatures measured from the points with the exact normal.
 """
 
@@ -12,15 +12,15 @@ import math
 import numpy as np
 import pytest
 
-from winder.bend_paths import arc_angle, design, line_slip, pass_curves, region_pieces
-from winder.config import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, LineAxis, MandrelConfig,
+from winder.paths.bend_paths import arc_angle, design, line_slip, pass_curves, region_pieces
+from winder.config.mandrel import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, LineAxis, MandrelConfig,
                            PathAxis, VesselProfile)
-from winder.curvature import curve_curvatures, torus_constant_angle_slip
-from winder.dome_paths import close_leg, dome_meridian, solve_slip, trace_leg
+from winder.geometry.curvature import curve_curvatures, torus_constant_angle_slip
+from winder.paths.dome_paths import close_leg, dome_meridian, solve_slip, trace_leg
 from winder.errors import SolverError
-from winder.friction import trace_friction
-from winder.shooting import heading_of_velocity
-from winder.surface import build_surface
+from winder.paths.friction import trace_friction
+from winder.paths.ode import heading_of_velocity
+from winder.geometry.build import build_surface
 
 A, RB = 40.0, 150.0
 ANGLE_TOL = 1e-9  # rad: constant-angle arcs, closed-form transitions

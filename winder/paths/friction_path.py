@@ -1,4 +1,4 @@
-"""Two-point, N-round friction-held paths (MATH.md 7) by shooting the friction ODE (winder.friction).
+"""Two-point, N-round friction-held paths (MATH.md 7) by shooting the friction ODE (winder.paths.friction).
 
 Formulation (and why). A geodesic between two points (with N rounds) is isolated: its ODE has two
 free start data (heading, length) for two end conditions. A prescribed lambda(l) keeps that count,
@@ -16,7 +16,7 @@ means); among the paths that hit the end point we take the one of least mean lam
   layer's angle) or a prescribed constant slip makes the problem square, unknowns (length, lambda)
   or (heading, length); the lambda found is then the least mu holding that path, the only one.
 The result reports max |k_g / k_n| and min k_n measured from the sampled path itself
-(winder.curvature, exact surface normal), not the lambda the ODE was given.
+(winder.geometry.curvature, exact surface normal), not the lambda the ODE was given.
 
 Jacobians: every unknown's column is a central difference of two neighbouring rays integrated with
 the nominal ray in one system over the normalized arc sigma = l / L in [0, 1] (each ray its own
@@ -32,11 +32,12 @@ import numpy as np
 from numpy.polynomial import legendre
 from scipy.integrate import solve_ivp
 
-from winder.curvature import path_curvatures, slip_and_margin
+from winder.geometry.curvature import path_curvatures, slip_and_margin
 from winder.errors import ConfigError
-from winder.friction import friction_rhs
-from winder.shooting import heading_of_velocity, initial_guess, velocity_of_heading
-from winder.surface import SweepSurface
+from winder.paths.friction import friction_rhs
+from winder.paths.ode import heading_of_velocity, velocity_of_heading
+from winder.paths.shooting import initial_guess
+from winder.geometry.surface import SweepSurface
 
 DIFF_STEP = 1e-6  # central-difference half-step of every unknown (rad, length / scale, lambda)
 RTOL_LEVELS = (1e-8,)  # coarse integrator tolerances used first, while the miss is large
@@ -73,7 +74,7 @@ class FrictionResult:
     slip : (m,) float, the lambda the ODE used there; slip_coefficients : its Legendre coefficients
         in 2 l / L - 1. length : mm; heading_deg, end_heading_deg : winding angles at both ends.
     max_slip : max |k_g / k_n| and min_normal_curvature : min k_n (1/mm), both measured from the
-        sampled path (winder.curvature), inf / <= 0 where the fiber bridges.
+        sampled path (winder.geometry.curvature), inf / <= 0 where the fiber bridges.
     residual : mm, distance of the traced end from the target. geodesic : lambda = 0 throughout.
     status : Status code; success : status == Status.OK (on the mandrel, pressing, |lambda| <= mu).
     """

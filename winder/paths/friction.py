@@ -14,9 +14,9 @@ In the form shooting uses (g the metric, J = [Phi_s, Phi_theta], a = Phi_ij u'^i
 because J^T (N x J u') = sqrt(det g) (-theta', s'). The forcing is normal to T, so the unit speed is
 kept. One code path serves every axis, profile and section; nothing assumes a surface of revolution.
 
-The two-point friction path, and the formulation chosen for it, are in winder.friction_path.
+The two-point friction path, and the formulation chosen for it, are in winder.paths.friction_path.
 
-Stations here are the internal station s (the axial t except on vessels), as in winder.shooting.
+Stations here are the internal station s (the axial t except on vessels), as in winder.paths.shooting.
 """
 
 from __future__ import annotations
@@ -28,8 +28,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from winder.errors import ConfigError, SolverError
-from winder.shooting import heading_of_velocity, velocity_of_heading
-from winder.surface import SweepSurface
+from winder.paths.ode import heading_of_velocity, velocity_of_heading
+from winder.geometry.surface import SweepSurface
 
 Slip = float | Callable[[float], float]
 STATION_TOL = 1e-9  # mm: a start this far outside [0, length] is still on the mandrel

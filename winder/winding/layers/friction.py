@@ -1,0 +1,44 @@
+"""Which helical layers are friction-held (SPEC.md "Winding with friction"): `slip` and
+`turnaround_radius` choose between the geodesic planners and the friction-held ones."""
+
+from __future__ import annotations
+
+import math
+
+from winder.config.winding import SLIP_AUTO, LayerConfig
+from winder.errors import ConfigError
+from winder.geometry.vessel import VesselMeridian
+from winder.winding.layers.friction_open import bend_helical_layer, is_bent_tube
+from winder.winding.layers.friction_vessel import friction_vessel_layer
+from winder.winding.passes import PlanContext
+from winder.winding.results import LayerPlan
+
+
+def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan | None:
+    """The friction-held plan of a helical layer, or None where the geodesic planner serves.
+
+    Vessels: a turnaround_radius, or a slip number, or auto where the geodesic's turnaround
+    R sin(alpha) falls inside a polar opening plus half a band (auto then turns just outside it).
+    Bent tubes: auto or a number (the largest |lambda| the bends may use). Elsewhere geodesics
+    cover evenly; a slip number there is refused.
+    """
+    mu, slip = ctx.winding.friction, cfg.slip
+    surf = ctx.surface
+    if isinstance(surf.profile, VesselMeridian):
+        prof = surf.profile
+        c_min = max(prof.dome.end_radius, prof.end_dome.end_radius) + 0.5 * ctx.winding.band_width
+        if cfg.turnaround_radius is not None:
+            return friction_vessel_layer(ctx, cfg, index, theta0, mu, cfg.turnaround_radius, None)
+        if slip == SLIP_AUTO:
+            if prof.radius * math.sin(math.radians(cfg.angle_deg)) > c_min:
+                return None
+            return friction_vessel_layer(ctx, cfg, index, theta0, mu, c_min, None)
+        return friction_vessel_layer(ctx, cfg, index, theta0, mu, None, slip) if slip > 0.0 else None
+    if slip == 0.0:
+        return None
+    if is_bent_tube(ctx):
+        return bend_helical_layer(ctx, cfg, index, theta0, mu if slip == SLIP_AUTO else float(slip))
+    if slip != SLIP_AUTO:
+        raise ConfigError(f"{ctx.key(index, 'slip')}: a number applies to vessels and to bent tubes of lines and "
+                          f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
+    return None
