@@ -120,3 +120,44 @@ def test_turnaround_radius_solved_and_pattern_term(dome):
     lam0, lam1, closed = close_leg(meridian, s_eq, heading, 35.0, lam, leg.length, leg.advance + 0.01)
     assert closed.radius == pytest.approx(35.0, abs=1e-6)
     assert closed.advance == pytest.approx(leg.advance + 0.01, abs=1e-7)
+
+
+# -- vessel layers through the planner ---------------------------------------------------------------------
+def vessel_job(opening_a: float, opening_b: float, layer: dict):
+    from winder.config.job import parse_config  # noqa: PLC0415
+
+    mandrel = {"profile": {"type": "vessel", "radius": 100, "cylinder_length": 200,
+                           "dome": {"type": "hemisphere", "polar_opening": opening_a},
+                           "end_dome": {"type": "hemisphere", "polar_opening": opening_b}}}
+    return parse_config({"name": "v", "mandrel": mandrel,
+                         "winding": {"band_width": 8, "friction": 0.2, "layers": [layer]}}, "v.yaml")
+
+
+def test_vessel_slip_number_turns_where_the_3d_ode_does():
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    p = plan(vessel_job(20.0, 20.0, {"type": "helical", "angle": 12, "slip": 0.1}))
+    layer = p.layers[0]
+    e2 = p.surface.profile.equator_s[1]
+    tr = trace_friction(p.surface, (e2, 0.0), 12.0, 0.1, 2000.0, stop_at_turnaround=True, rtol=1e-11, atol=1e-11)
+    forward = layer.passes[0]
+    r_end = float(np.hypot(*forward.points[-1, :2]))
+    assert r_end == pytest.approx(tr.turnaround_radius, abs=1e-4)
+    assert layer.coverage.covered_fraction >= 0.999 and layer.angle_deg == pytest.approx(12.0)
+    assert layer.min_normal_curvature > 0.0 and layer.max_slip <= 0.2
+
+
+def test_vessel_auto_turns_just_outside_the_larger_opening():
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    layer = plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "slip": "auto"})).layers[0]
+    radii = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1)]
+    assert np.allclose(radii, 30.0 + 4.0, atol=1e-4)  # the opening plus half a band
+    assert layer.max_slip <= 0.2
+
+
+def test_vessel_radius_beyond_the_friction_refused_with_the_least_mu():
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    with pytest.raises(SolverError, match=r"winding.layers\[0\]: on the first dome: .*the least mu is 0\.23"):
+        plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "turnaround_radius": 42}))
