@@ -161,3 +161,35 @@ def test_vessel_radius_beyond_the_friction_refused_with_the_least_mu():
 
     with pytest.raises(SolverError, match=r"winding.layers\[0\]: on the first dome: .*the least mu is 0\.23"):
         plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "turnaround_radius": 42}))
+
+
+def open_job(axis: dict, layer: dict, **winding):
+    from winder.config.job import parse_config  # noqa: PLC0415
+
+    mandrel = {"axis": axis, "profile": {"type": "constant", "radius": A}}
+    return parse_config({"name": "b", "mandrel": mandrel,
+                         "winding": {"band_width": 8, "layers": [layer], **winding}}, "b.yaml")
+
+
+def test_s_bend_even_and_held():
+    """Two bends turning opposite ways with a straight piece between: each at its whole-period angle."""
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    axis = {"type": "path", "segments": [{"line": 80}, {"arc": {"radius": 200, "angle": 60, "toward": 0}},
+                                         {"line": 120}, {"arc": {"radius": 200, "angle": 60, "toward": 180}},
+                                         {"line": 80}]}
+    layer = plan(open_job(axis, {"type": "helical", "angle": 50, "slip": "auto"})).layers[0]
+    assert layer.coverage.covered_fraction >= 0.999 and layer.coverage.max_gap_mm <= 0.02 * 8
+    assert layer.max_slip <= 0.2 and layer.min_normal_curvature > 0.0
+    assert layer.alpha_min_deg == pytest.approx(50.0, abs=0.5)
+
+
+def test_bend_at_the_end_of_the_region_reports_its_angle():
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    layer = plan(open_job({"type": "arc", "radius": RB, "angle": 90},
+                          {"type": "helical", "angle": 50, "slip": "auto"})).layers[0]
+    alpha_m = math.degrees(arc_angle(2, A / RB, A, RB * math.pi / 2))
+    assert layer.angle_deg == pytest.approx(alpha_m) and layer.requested_angle_deg == 50.0
+    assert layer.alpha_min_deg == pytest.approx(alpha_m, abs=1e-6)
+    assert any("the angle there is the bend's" in n for n in layer.notes)

@@ -219,7 +219,11 @@ def pass_curves(pieces: list[Piece], a: float, theta0: np.ndarray, points: int, 
             p = Piece(p.t0, p.length, p.e, p.theta_in, p.alpha1, p.alpha0, p.rounds)
         th, d1, d2 = (_arc if p.is_arc else _line)(p, a, tau, start)
         t = p.t0 + tau if forward else p.t0 + p.length - tau
-        keep = slice(None) if not ts else slice(1, None)
+        if ts and forward:
+            # A joint belongs to the piece starting there (the surface is evaluated so): its
+            # derivatives are this piece's, not the previous piece's.
+            ts[-1], ths[-1], d1s[-1], d2s[-1] = ts[-1][:-1], ths[-1][:, :-1], d1s[-1][:, :-1], d2s[-1][:, :-1]
+        keep = slice(1, None) if ts and not forward else slice(None)
         ts.append(t[keep])
         ths.append(th[:, keep])
         d1s.append(d1[:, keep])

@@ -57,7 +57,9 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
         raise SolverError(f"{ctx.key(index)}: {exc}") from exc
     points = max(MIN_POINTS, (w.points or 0) + 2)
     perimeter = 2.0 * math.pi * a
-    n_c = circuits_needed(pieces, perimeter, alpha, w.band_width)
+    # The angle at the end sections: the layer's, unless a bend reaches an end (then the bend's).
+    ends = (pieces[0].alpha0, pieces[-1].alpha1)
+    n_c = circuits_needed(pieces, perimeter, min(ends), w.band_width)
     stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     # The advance is the same for every pass: one reference pass gives it.
     adv_f = pass_curves(pieces, a, np.zeros(1), 8, True)[4]
@@ -78,7 +80,10 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     if pat.dwell_start * 360.0 > w.dwell_start_deg + 1e-9 or pat.dwell_end * 360.0 > w.dwell_end_deg + 1e-9:
         notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
                      f"the pattern (k = {pat.pattern} of {n_c})")
-    return finish_layer(ctx, cfg, index, cfg.angle_deg, n_c, pat.pattern, pat.dwell_start * 360.0,
+    if abs(ends[0] - alpha) > 1e-12:
+        notes.append(f"the bend reaches the end of the winding region: the angle there is the bend's, "
+                     f"{math.degrees(ends[0]):.4f} deg instead of {cfg.angle_deg:g}")
+    return finish_layer(ctx, cfg, index, math.degrees(ends[0]), n_c, pat.pattern, pat.dwell_start * 360.0,
                         pat.dwell_end * 360.0, None, passes, stations, notes, cov)
 
 
