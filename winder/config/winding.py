@@ -47,7 +47,9 @@ class LayerConfig:
     passes: hoop only (helical layers always 1): the number of traverses over the region; each
         traverse lays one ply, so 2 is there and back.
     slip: helical only. 0 (geodesic, the default), a number lambda = k_g / k_n in [0, friction] (its
-        sign follows the pass direction), or SLIP_AUTO (friction-held where geodesics cannot cover).
+        sign follows the pass direction; on vessels the domes' lambda, on bent tubes the largest
+        |lambda| the passes through the bends may use), or SLIP_AUTO (friction-held where geodesics
+        cannot cover or turn: bent tubes, vessels whose Clairaut turnaround is inside an opening).
     turnaround_radius: helical on vessels only: turn around on the domes at this radius (mm), lambda
         solved for (|lambda| <= friction); None: where the slip leads (Clairaut for slip 0).
     """
