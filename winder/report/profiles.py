@@ -102,10 +102,10 @@ def profiles_figure(plan: WindingPlan, maps: tuple[LayerCoverageMap, ...], title
         data.append(_line(x, mean, "|α| mean over passes", color, "x", "y", group,
                           hovertemplate="t %{x} mm: |α| %{y} deg<extra>layer " + str(layer.index) + "</extra>"))
         data.append(_line(x, np.interp(t, m.t, m.count.mean(axis=1)), "band layers", color, "x2", "y2", group,
-                          stackgroup="plies", hovertemplate="t %{x} mm: %{y} band layers of this layer"
+                          stackgroup="plies", showlegend=False, hovertemplate="t %{x} mm: %{y} band layers of this layer"
                           "<extra>layer " + str(layer.index) + "</extra>"))
         if th is not None:
             data.append(_line(x, np.interp(t, th[0], th[1], left=0.0, right=0.0), "thickness", color, "x3", "y3",
-                              group, stackgroup="mm", hovertemplate="t %{x} mm: %{y} mm of this layer"
+                              group, stackgroup="mm", showlegend=False, hovertemplate="t %{x} mm: %{y} mm of this layer"
                               "<extra>layer " + str(layer.index) + "</extra>"))
     return {"data": data, "layout": layout}
