@@ -8,11 +8,11 @@ date or random id, so the same plan gives the same bytes.
 from __future__ import annotations
 
 import html
-from collections.abc import Callable
 from typing import Any
 
 from winder import __version__
 from winder.plan import LayerPlan, WindingPlan
+from winder.progress import Progress
 from winder.report.coverage_map import LayerCoverageMap, coverage_figure, layer_coverage_map
 from winder.report.plotting import figure_html, require_plotly
 from winder.report.profiles import profiles_figure
@@ -21,7 +21,6 @@ from winder.report.unrolled import unrolled_figure
 from winder.report.view3d import view3d_figure
 from winder.sections import arc_map
 
-Progress = Callable[[int, int, str], None]  # (steps done, steps in all, what is being done)
 
 STYLE = """
 body{font-family:"Segoe UI",Helvetica,Arial,sans-serif;margin:0;color:#222;background:#fafbfc}
@@ -84,7 +83,7 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float,
     ----------
     plan : the job's plan. summary : its summary dict (winder.export.summary.summary_dict(plan)).
     band_width : the band width the plan was made with (mm; the coverage map's bands).
-    progress : called as progress(done, total, label) after each step; the library never prints.
+    progress : called as progress(fraction done, label) after each step (winder.progress).
 
     Raises ConfigError (exit 2) when plotly, the `plot` extra, is not installed.
     """
@@ -96,7 +95,7 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float,
         nonlocal done
         done += 1
         if progress is not None:
-            progress(done, steps, label)
+            progress(done / steps, label)
 
     arcs = arc_map(plan.surface.section)
     titles = [layer_title(layer) for layer in plan.layers]
