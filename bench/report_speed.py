@@ -16,9 +16,9 @@ REPEATS = 5
 
 
 def main(paths: list[str]) -> None:
-    from winder.config import load_config
+    from winder.config.job import load_config
     from winder.export.summary import summary_dict
-    from winder.planner import plan as plan_job
+    from winder.winding.plan import plan as plan_job
 
     t0 = time.perf_counter()
     import plotly.io  # noqa: F401 - the one-off import, counted on its own line

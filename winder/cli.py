@@ -10,6 +10,7 @@ import functools
 import json
 import math
 import sys
+import time
 from typing import Callable
 
 import click
@@ -163,11 +164,11 @@ def check_cmd(configs: tuple[str, ...]) -> None:
 
 # -- run -------------------------------------------------------------------------------------------
 def _parse_formats(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
-    """--format csv --format gcode, or --format csv,gcode; none given: all of them."""
-    from winder.app.jobs import FORMATS  # noqa: PLC0415
+    """--format csv --format gcode, or --format csv,gcode; none given: csv, gcode, ply."""
+    from winder.app.jobs import ALL_FORMATS, FORMATS  # noqa: PLC0415
 
     if not values:
-        return FORMATS
+        return ALL_FORMATS
     chosen = set()
     for value in values:
         for part in value.split(","):
@@ -201,25 +202,45 @@ def _table(rows: list[tuple[str, ...]], right: set[int]) -> list[str]:
                       for j, (cell, w) in enumerate(zip(row, widths))).rstrip() for row in rows]
 
 
-@main.command("run", short_help="Plan and export whole jobs (CSV, G-code, PLY, summary).")
-@click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
-@click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default=".",
-              show_default=True, help="Folder for the output files (created if missing).")
-@click.option("--format", "formats", multiple=True, callback=_parse_formats, metavar="csv|gcode|ply",
-              help="Outputs to write besides <name>.summary.json; repeat or comma-separate "
-                   "(default: all).")
-@click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
-              help="Worker processes for a batch; 0: one per CPU. The outputs do not depend on it.")
-@_guard
-def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jobs: int) -> None:
-    """Plan and export the whole job of each CONFIG: <name>.csv, .gcode, .ply and .summary.json.
+SHOW_AFTER_S = 1.0  # a single job's own bar appears once it has run this long
+BAR_STEPS = 1000
 
-    A batch runs on --jobs worker processes; a config that fails is reported and the others still
-    run. Exit status: 0 all ok, 2 if any config was invalid, else 1 if any job could not be
-    computed or written.
-    """
+
+class _JobBar:
+    """The progress bar of a single job (per layer, per circuit, then each output) on stderr: drawn
+    only on a terminal and only once the job has run SHOW_AFTER_S, so quick jobs and pipes stay quiet.
+    The library reports through this callback (winder.progress); only this draws."""
+
+    def __init__(self, stream=None) -> None:
+        self.stream = stream if stream is not None else sys.stderr
+        self.started = time.monotonic()
+        self.bar = None
+        self.at = 0
+
+    def __call__(self, fraction: float, label: str) -> None:
+        if self.bar is None:
+            tty = getattr(self.stream, "isatty", None)
+            if not (tty and tty()) or time.monotonic() - self.started < SHOW_AFTER_S:
+                return
+            self.bar = click.progressbar(length=BAR_STEPS, label=label, file=self.stream, show_eta=False)
+            self.bar.__enter__()
+        self.bar.label = label
+        step = int(min(max(fraction, 0.0), 1.0) * BAR_STEPS) - self.at
+        self.at += max(step, 0)
+        self.bar.update(max(step, 0))
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.__exit__(None, None, None)
+            self.bar = None
+
+
+def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jobs: int,
+           summary: bool = True) -> None:
+    """Run each config as a job (see run_cmd) and report: one Error line per failure, a table, a
+    tally; exit with the batch's SPEC status."""
     from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
-                                 run_jobs)
+                                 run_job, run_jobs)
     from winder.config.job import load_config  # noqa: PLC0415
 
     reports: list[JobReport | None] = [None] * len(configs)
@@ -242,14 +263,20 @@ def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jo
             continue
         if key is not None:
             owner[key] = path
-        tasks.append(JobTask(path, out_dir, formats))
+        tasks.append(JobTask(path, out_dir, formats, summary=summary))
         index.append(i)
 
-    with _progress(len(configs), f"winding {len(configs)} jobs") as bar:
-        bar.update(len(configs) - len(tasks))
-        for k, report in run_jobs(tasks, _workers(jobs, len(tasks))):
-            reports[index[k]] = report
-            bar.update(1)
+    single = _JobBar() if len(tasks) == 1 else None
+    job = functools.partial(run_job, progress=single) if single is not None else run_job
+    try:
+        with _progress(len(configs), f"winding {len(configs)} jobs") as bar:
+            bar.update(len(configs) - len(tasks))
+            for k, report in run_jobs(tasks, _workers(jobs, len(tasks)), job=job):
+                reports[index[k]] = report
+                bar.update(1)
+    finally:
+        if single is not None:
+            single.close()
 
     done = [r for r in reports if r is not None]
     for report in done:
@@ -267,6 +294,63 @@ def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jo
     status = exit_status(r.exit_code for r in done)
     if status:
         sys.exit(status)
+
+
+def _needs_plot_extra() -> None:
+    """Refuse a report before any job runs when plotly (the plot extra) is missing: exit 2."""
+    from winder.report.plotting import require_plotly  # noqa: PLC0415
+
+    require_plotly()
+
+
+_OUT_DIR = click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default=".",
+                        show_default=True, help="Folder for the output files (created if missing).")
+_JOBS = click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
+                     help="Worker processes for a batch; 0: one per CPU. The outputs do not depend on it.")
+
+
+@main.command("run", short_help="Plan and export whole jobs (CSV, G-code, PLY, summary, report).")
+@click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@_OUT_DIR
+@click.option("--format", "formats", multiple=True, callback=_parse_formats, metavar="csv|gcode|ply|report",
+              help="Outputs to write besides <name>.summary.json; repeat or comma-separate "
+                   "(default: csv, gcode, ply).")
+@click.option("--report", "with_report", is_flag=True,
+              help="Also write <name>.html, the report page (needs the plot extra).")
+@_JOBS
+@_guard
+def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], with_report: bool,
+            jobs: int) -> None:
+    """Plan and export the whole job of each CONFIG: <name>.csv, .gcode, .ply and .summary.json
+    (and <name>.html with --report).
+
+    A batch runs on --jobs worker processes; a config that fails is reported and the others still
+    run. Exit status: 0 all ok, 2 if any config was invalid, else 1 if any job could not be
+    computed or written.
+    """
+    from winder.app.jobs import FORMATS  # noqa: PLC0415
+
+    if with_report and "report" not in formats:
+        formats = tuple(f for f in FORMATS if f in formats or f == "report")
+    if "report" in formats:
+        _needs_plot_extra()
+    _batch(configs, out_dir, formats, jobs)
+
+
+@main.command("report", short_help="Plan jobs and write one self-contained HTML report each.")
+@click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@_OUT_DIR
+@_JOBS
+@_guard
+def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int) -> None:
+    """Plan each CONFIG and write <name>.html: the summary and layer tables, the unrolled pattern,
+    the coverage map, winding angle and band layers along the mandrel, and a 3D view, in one page
+    that opens offline in any browser. Needs the plot extra: pip install "winder[plot]".
+
+    Exit status as for run: 0 all ok, 2 if any config was invalid (or plotly is missing), else 1.
+    """
+    _needs_plot_extra()
+    _batch(configs, out_dir, ("report",), jobs, summary=False)
 
 
 # -- regress ---------------------------------------------------------------------------------------

@@ -12,6 +12,20 @@ from collections.abc import Callable
 Progress = Callable[[float, str], None]
 
 
+def monotone(progress: Progress | None) -> Progress | None:
+    """The callback with its fraction never stepping back (a layer planned again with more circuits
+    starts its circuits over; the bar holds still instead)."""
+    if progress is None:
+        return None
+    best = [0.0]
+
+    def report(fraction: float, label: str) -> None:
+        best[0] = max(best[0], float(fraction))
+        progress(best[0], label)
+
+    return report
+
+
 def part(progress: Progress | None, start: float, end: float) -> Progress | None:
     """The callback of a sub-task that spans [start, end] of the whole: its own 0..1 mapped there."""
     if progress is None:

@@ -1,4 +1,4 @@
-"""Stage 7, app: what the CLI runs, as library calls.
+"""Stage 8, app: what the CLI runs, as library calls.
 
 jobs (one job and batches in processes, atomic outputs), regress (samples against references),
 compare (output comparison within tolerances).

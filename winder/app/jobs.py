@@ -21,6 +21,9 @@ from pathlib import Path
 
 from winder.errors import ConfigError, WinderError
 from winder.export import registry
+from winder.progress import Progress, part
+
+PLANNING_SHARE = 0.85  # of a job's progress bar: the planning; the rest renders the outputs
 
 __all__ = [
     "ALL_FORMATS", "FORMATS", "JobReport", "JobTask", "error_message", "exit_status", "output_names",
@@ -29,7 +32,7 @@ __all__ = [
 
 # Optional outputs of `run`, in the order they are written; `<name>.summary.json` is always written.
 FORMATS = registry.SELECTABLE
-ALL_FORMATS = FORMATS
+ALL_FORMATS = registry.DEFAULT  # what a job writes when no format is named (the report only on request)
 
 
 @dataclass(frozen=True)
@@ -92,23 +95,31 @@ def exit_status(codes: Iterable[int]) -> int:
     return 0
 
 
-def output_names(name: str, formats: Iterable[str]) -> list[str]:
-    """File names of a job's outputs, in writing order: the requested formats, then the summary."""
-    return [name + f.suffix for f in registry.chosen(formats)]
+def output_names(name: str, formats: Iterable[str], summary: bool = True) -> list[str]:
+    """File names of a job's outputs, in writing order: the requested formats, then the summary
+    (unless summary is False: `winder report` writes the page alone)."""
+    return [name + f.suffix for f in registry.chosen(formats, always=summary)]
 
 
-def render_outputs(job, plan, formats: Iterable[str]) -> dict[str, bytes]:
+def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
+                   progress: Progress | None = None) -> dict[str, bytes]:
     """Every requested output of a planned job, in memory: file name -> bytes (writing order)."""
-    return {job.name + f.suffix: f.render(plan, job) for f in registry.chosen(formats)}
+    chosen = registry.chosen(formats, always=summary)
+    rendered = {}
+    for i, fmt in enumerate(chosen):
+        if progress is not None:
+            progress(i / len(chosen), f"rendering {job.name}{fmt.suffix}")
+        rendered[job.name + fmt.suffix] = fmt.render(plan, job)
+    return rendered
 
 
-def _plan(job):
+def _plan(job, progress: Progress | None = None):
     from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
 
     if job.winding is None:
         raise ConfigError(f"{job.source}: winding: required key missing; `run` needs a winding plan "
                           "(band_width and layers)")
-    return plan(job)
+    return plan(job, progress)
 
 
 def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
@@ -165,14 +176,17 @@ def _keep_old(path: Path) -> Path | None:
 
 
 def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
-            formats: Sequence[str] = ALL_FORMATS, source: str | None = None) -> JobReport:
+            formats: Sequence[str] = ALL_FORMATS, source: str | None = None, summary: bool = True,
+            progress: Progress | None = None) -> JobReport:
     """Run one job: load, plan, render in memory, then write. Never raises for a failing job (the
     failure is in the report); only KeyboardInterrupt / SystemExit pass through. A top-level
     function with picklable arguments and result, so it runs on a process pool.
 
     source: the config's name in messages and in the outputs (which may record it) once the file
     is read; default the path as given. `regress` passes the bare file name, so that outputs do not
-    depend on the folder the samples were run from.
+    depend on the folder the samples were run from. summary: write `<name>.summary.json` as well (the
+    default). progress: told the fraction of the job done (planning per layer and circuit, then each
+    output); None in worker processes.
     """
     import dataclasses  # noqa: PLC0415
 
@@ -185,15 +199,17 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
     plan = None
     try:
         formats = tuple(formats)
-        output_names("x", formats)  # refuses an unknown format before any work
+        output_names("x", formats, summary)  # refuses an unknown format before any work
         job = load_config(config)
         if source is not None:
             job = dataclasses.replace(job, source=source)
             shown = source
         name = job.name
-        plan = _plan(job)
-        rendered = render_outputs(job, plan, formats)
+        plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
+        rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0))
         outputs = write_outputs(out_dir, rendered)
+        if progress is not None:
+            progress(1.0, f"{name}: written")
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback
         return JobReport(config, name, False, exit_code_of(exc), error_message(exc, shown),
                          (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
@@ -218,15 +234,19 @@ def _layer_count(plan) -> int:
 # -- batches ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class JobTask:
-    """One job of a batch: run_job(config, out_dir, formats[, source])."""
+    """One job of a batch: run_job(config, out_dir, formats[, source][, summary])."""
 
     config: str
     out_dir: str
     formats: tuple[str, ...] = ALL_FORMATS
     source: str | None = None  # see run_job
+    summary: bool = True
 
     def submit_args(self) -> tuple[tuple, dict]:
-        return (self.config, self.out_dir, self.formats), ({"source": self.source} if self.source else {})
+        kwargs: dict = {"source": self.source} if self.source else {}
+        if not self.summary:
+            kwargs["summary"] = False
+        return (self.config, self.out_dir, self.formats), kwargs
 
 
 def default_workers() -> int:

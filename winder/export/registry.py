@@ -2,7 +2,9 @@
 
 The table is static, so that the formats are known (for `--format`, output names, regress) without
 importing an exporter; each exporter module defines export(plan, job) -> str | bytes and is imported
-only when its format is rendered. A new format is one row here and one module.
+only when its format is rendered. A new format is one row here and one module. The report (`winder.report.export`) is a row too:
+its module lives in the later report stage and is found by name only when a report is asked for,
+so `run` without `--report` never needs plotly.
 """
 
 from __future__ import annotations
@@ -16,13 +18,15 @@ from winder.errors import ConfigError
 
 @dataclass(frozen=True)
 class Format:
-    """One output: its name (as in `--format`), its file suffix, the module rendering it, and whether
-    every job writes it (the summary) or only when asked."""
+    """One output: its name (as in `--format`), its file suffix, the module rendering it, whether
+    every job writes it (the summary), and whether `run` writes it when no format is named (not the
+    report: it needs the plot extra)."""
 
     name: str
     suffix: str
     module: str
     always: bool = False
+    default: bool = True
 
     def render(self, plan, job) -> bytes:
         data = importlib.import_module(self.module).export(plan, job)
@@ -33,9 +37,11 @@ FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
     Format("gcode", ".gcode", "winder.export.gcode"),
     Format("ply", ".ply", "winder.export.ply"),
+    Format("report", ".html", "winder.report.export", default=False),
     Format("summary", ".summary.json", "winder.export.summary", always=True),
 )
 SELECTABLE = tuple(f.name for f in FORMATS if not f.always)  # the formats a job may leave out
+DEFAULT = tuple(f.name for f in FORMATS if not f.always and f.default)  # written when none is named
 
 
 def suffixes() -> tuple[str, ...]:
@@ -54,11 +60,11 @@ def format_of(file_name: str) -> Format | None:
     return max(hits, key=lambda f: len(f.suffix)) if hits else None
 
 
-def chosen(names: Iterable[str]) -> tuple[Format, ...]:
-    """The formats a job writes for the selectable names given (plus those always written), in
-    writing order; an unknown name is a ConfigError."""
+def chosen(names: Iterable[str], always: bool = True) -> tuple[Format, ...]:
+    """The formats a job writes for the selectable names given (plus those always written, unless
+    always is False), in writing order; an unknown name is a ConfigError."""
     wanted = set(names)
     unknown = wanted - set(SELECTABLE)
     if unknown:
         raise ConfigError(f"unknown output format {sorted(unknown)[0]!r}; allowed: {', '.join(SELECTABLE)}")
-    return tuple(f for f in FORMATS if f.always or f.name in wanted)
+    return tuple(f for f in FORMATS if (f.always and always) or f.name in wanted)

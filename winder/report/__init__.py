@@ -1,4 +1,4 @@
-"""The report stage: one self-contained HTML page per job, to check a program by looking at it.
+"""Stage 7, report: one self-contained HTML page per job, to check a program by looking at it.
 
 Reads a planned job (a WindingPlan, the band width it was planned with) and its summary dict
 (winder.export.summary.summary_dict) and nothing else; it never plans, never writes files and never
@@ -10,7 +10,10 @@ prints. Pictures (plotly, the optional `plot` extra, imported lazily on first us
   planner's coverage stations (it equals 1 - covered_fraction of the summary);
 - profiles.py: winding angle, band layers and (when the plan carries it) thickness along the mandrel;
 - view3d.py: an interactive 3D view of the mandrel and the bands, decimated to stay small;
-- tables.py / html.py: the summary and per-layer tables, and the page that holds everything.
+- tables.py / html.py: the summary and per-layer tables, and the page that holds everything;
+- export.py: the `report` row of winder.export.registry (`<name>.html`).
+
+May import: every earlier stage (errors, progress, config, geometry, paths, winding, machine, export).
 """
 
 from __future__ import annotations

@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from winder.plan import FiberPass, PassKind
-from winder.sections import ArcMap
-from winder.surface import SweepSurface
+from winder.winding.results import FiberPass, PassKind
+from winder.geometry.sections import ArcMap
+from winder.geometry.surface import SweepSurface
 
 MIN_SIN_BETA = 1e-12  # a fiber along the section curve (a turnaround) covers the whole perimeter
 

@@ -18,10 +18,10 @@ from typing import Any
 
 import numpy as np
 
-from winder.plan import LayerPlan, WindingPlan
+from winder.winding.results import LayerPlan, WindingPlan
 from winder.report.bands import band_counts, coverage_groups, covered_fraction, crossings
 from winder.report.plotting import GAP_COLOR, axis, axis_key, base_layout, ramp, rounded, subplot_domains
-from winder.sections import ArcMap
+from winder.geometry.sections import ArcMap
 
 MAP_ROWS = 300  # stations along the mandrel
 MAP_COLUMNS = 240  # cells around it: 1.5 deg of arc each

@@ -11,7 +11,7 @@ import html
 from typing import Any
 
 from winder import __version__
-from winder.plan import LayerPlan, WindingPlan
+from winder.winding.results import LayerPlan, WindingPlan
 from winder.progress import Progress
 from winder.report.coverage_map import LayerCoverageMap, coverage_figure, layer_coverage_map
 from winder.report.plotting import figure_html, require_plotly
@@ -19,7 +19,7 @@ from winder.report.profiles import profiles_figure
 from winder.report.tables import job_table, layer_table
 from winder.report.unrolled import unrolled_figure
 from winder.report.view3d import view3d_figure
-from winder.sections import arc_map
+from winder.geometry.sections import arc_map
 
 
 STYLE = """

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from winder.plan import LayerPlan, PassKind, WindingPlan
+from winder.winding.results import LayerPlan, PassKind, WindingPlan
 from winder.report.coverage_map import LayerCoverageMap
 from winder.report.plotting import axis, axis_key, base_layout, colors, rounded, subplot_domains
 

@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from winder.plan import FiberPass, LayerPlan, PassKind, WindingPlan
+from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 from winder.report.plotting import axis, axis_key, base_layout, pass_style, rounded, style_groups, subplot_domains
-from winder.sections import ArcMap
+from winder.geometry.sections import ArcMap
 
 LINE_WIDTH = 1.6
 FIRST_CIRCUIT_COLOR = "#111111"

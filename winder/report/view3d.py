@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from winder.plan import FiberPass, LayerPlan, WindingPlan
+from winder.winding.results import FiberPass, LayerPlan, WindingPlan
 from winder.report.plotting import MANDREL_COLOR, base_layout, pass_style, rounded, style_groups
 
 MANDREL_STATIONS = 90

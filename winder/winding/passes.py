@@ -13,6 +13,7 @@ from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
 from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError
+from winder.progress import Progress
 from winder.paths.geodesic import GeodesicResult, geodesic
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_deg
 from winder.winding.slip import check as check_held
@@ -43,10 +44,19 @@ class PlanContext:
     surface: SweepSurface
     arcs: ArcMap
     feed: float  # mm/min
+    progress: Progress | None = None  # (fraction of the whole job, label); see winder.progress
 
     def key(self, index: int, field: str | None = None) -> str:
         base = f"{self.job.source}: winding.layers[{index}]"
         return f"{base}.{field}" if field else base
+
+    def report(self, index: int, done: float, what: str = "") -> None:
+        """Progress of layer index (0-based): done in [0, 1] of it, what it is doing now."""
+        if self.progress is None:
+            return
+        n = max(len(self.winding.layers), 1)
+        label = f"layer {index + 1} of {n}" + (f": {what}" if what else "")
+        self.progress((index + min(max(done, 0.0), 1.0)) / n, label)
 
 
 # -- passes ---------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@ from winder.config.job import JobConfig
 from winder.config.winding import LayerType
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError
+from winder.progress import Progress, monotone
 from winder.winding.layers.friction import friction_layer
 from winder.winding.layers.helical_open import open_helical_layer
 from winder.winding.layers.hoop import hoop_layer
@@ -20,14 +21,15 @@ from winder.geometry.build import build_surface
 from winder.winding.layers.helical_vessel import vessel_helical_layer
 
 
-def plan(job: JobConfig) -> WindingPlan:
+def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
     """Plan every layer of a job; raises ConfigError for what the config cannot do, SolverError for
-    what cannot be computed (infeasible winding, no convergence)."""
+    what cannot be computed (infeasible winding, no convergence). progress, if given, is told the
+    fraction of the job done, per layer and per circuit (winder.progress)."""
     if job.winding is None:
         raise ConfigError(f"{job.source}: winding: missing; `winder run` needs the winding plan (band_width, "
                           f"layers)")
     surface = build_surface(job.mandrel, job.source, job.name)
-    ctx = PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed)
+    ctx = PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed, monotone(progress))
     layers = []
     theta0 = 0.0
     for index, cfg in enumerate(job.winding.layers):
@@ -40,5 +42,6 @@ def plan(job: JobConfig) -> WindingPlan:
         else:
             layer = open_helical_layer(ctx, cfg, index, theta0)
         layers.append(layer)
+        ctx.report(index, 1.0, "planned")
         theta0 = float(layer.passes[-1].theta[-1])
     return WindingPlan(job.name, job.source, surface, tuple(layers))

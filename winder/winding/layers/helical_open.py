@@ -96,6 +96,7 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
     number = 0
     layer = index + 1
     for j in range(pat.circuits):
+        ctx.report(index, j / pat.circuits, f"circuit {j + 1} of {pat.circuits}")
         f_start = f0 + j * pat.advance
         f_fwd_end = f_start + natural_fwd
         f_ret_start = f_fwd_end + pat.dwell_end

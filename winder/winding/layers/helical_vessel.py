@@ -156,7 +156,9 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
         n_c = need
     alpha = math.degrees(math.asin(c / big_r))
     half = half_advance(prof, c)
+    ctx.report(index, 0.0, "the forward pass")
     fwd = _vessel_pass(ctx, prof, c, True, theta0)
+    ctx.report(index, 0.5, "the return pass")
     ret = _vessel_pass(ctx, prof, c, False, theta0 + half)
     passes: list[FiberPass] = []
     number = 0

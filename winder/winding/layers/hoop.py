@@ -51,6 +51,7 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
     f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
     passes: list[FiberPass] = []
     for k in range(cfg.passes):
+        ctx.report(index, k / cfg.passes, f"hoop traverse {k + 1} of {cfg.passes}")
         frac = f0 + k * turns + np.linspace(0.0, turns, m)
         t = np.linspace(t_a, t_b, m) if k % 2 == 0 else np.linspace(t_b, t_a, m)
         s = surf.s_of_t(t)

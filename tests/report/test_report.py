@@ -19,20 +19,20 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from winder.config import load_config
+from winder.config.job import load_config
 from winder.errors import ConfigError
 from winder.export.summary import summary_dict
-from winder.plan import LayerPlan, PassKind
-from winder.planner import plan as plan_job
+from winder.winding.results import LayerPlan, PassKind
+from winder.winding.plan import plan as plan_job
 from winder.report.bands import Crossings, band_counts, covered_fraction
 from winder.report.coverage_map import layer_coverage_map
 from winder.report.html import report_html
 from winder.report.profiles import angle_profile, profiles_figure
 from winder.report.tables import layer_table
 from winder.report.unrolled import unrolled_bands, unrolled_figure, wrapped
-from winder.sections import arc_map
+from winder.geometry.sections import arc_map
 
-SAMPLES = sorted((Path(__file__).resolve().parents[1] / "samples").glob("*.yaml"))
+SAMPLES = sorted((Path(__file__).resolve().parents[2] / "samples").glob("*.yaml"))
 BARE_TOL = 1e-3  # the agreement between the map and the summary
 MAX_REPORT_BYTES = 10_000_000
 UNION_TOL = 1e-12  # exact unions: rounding only

@@ -1,0 +1,126 @@
+"""`winder report` and `winder run --report` (SPEC.md "Command line"), and a single job's progress bar.
+
+Same conventions as `run`: one `Error:` line per problem, exit 2 for an invalid config (or the plot
+extra missing), 1 for a job that cannot be computed; a failing config does not stop the others; a
+failed job leaves no file behind.
+"""
+
+from __future__ import annotations
+
+import io
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import winder.cli as cli
+from winder.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+PIPE = ROOT / "samples" / "pipe.yaml"
+INVALID = ROOT / "tests" / "config" / "invalid" / "bad_radius.yaml"
+
+VESSEL = ROOT / "samples" / "vessel_hemi.yaml"
+
+
+def _infeasible(folder: Path) -> Path:
+    """The hemispherical sample at 10 deg: its turnaround (100 sin 10 = 17 mm) lies inside the 30 mm
+    polar opening, a valid config no winding exists for (exit 1)."""
+    text = VESSEL.read_text(encoding="utf-8").replace("{type: helical, angle: 22}", "{type: helical, angle: 10}")
+    assert "angle: 10" in text
+    path = folder / "infeasible.yaml"
+    path.write_text(text.replace("name: vessel_hemi", "name: infeasible"), encoding="utf-8")
+    return path
+
+
+def _run(*args: str):
+    return CliRunner().invoke(main, list(args))
+
+
+def _errors(text: str) -> list[str]:
+    return [line for line in text.splitlines() if line.startswith("Error:")]
+
+
+def test_report_writes_one_page_and_nothing_else(tmp_path):
+    res = _run("report", str(PIPE), "-o", str(tmp_path))
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.html"]
+    text = (tmp_path / "pipe.html").read_text(encoding="utf-8")
+    assert text.startswith("<!DOCTYPE html>") and "pipe: winding report" in text
+
+
+def test_report_batch_goes_on_past_bad_configs(tmp_path):
+    bad = _infeasible(tmp_path)
+    out = tmp_path / "out"
+    res = _run("report", str(INVALID), str(bad), str(PIPE), "-o", str(out))
+    assert res.exit_code == 2, res.output  # an invalid config outranks a failed job
+    errors = _errors(res.stderr)
+    assert len(errors) == 2 and str(INVALID) in errors[0] and str(bad) in errors[1]
+    assert sorted(p.name for p in out.iterdir()) == ["pipe.html"]  # the failed jobs left nothing
+    res = _run("report", str(bad), "-o", str(out))
+    assert res.exit_code == 1 and len(_errors(res.stderr)) == 1
+
+
+def test_run_report_writes_the_page_beside_the_other_outputs(tmp_path):
+    res = _run("run", str(PIPE), "--report", "--format", "csv", "-o", str(tmp_path))
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.csv", "pipe.html", "pipe.summary.json"]
+    res = _run("run", str(PIPE), "-o", str(tmp_path / "plain"))
+    assert "pipe.html" not in {p.name for p in (tmp_path / "plain").iterdir()}  # only on request
+
+
+def test_without_plotly_report_says_how_to_install_it_and_run_is_unaffected(tmp_path, monkeypatch):
+    for mod in [m for m in sys.modules if m == "plotly" or m.startswith("plotly.")]:
+        monkeypatch.delitem(sys.modules, mod)
+    monkeypatch.setitem(sys.modules, "plotly", None)  # import plotly -> ImportError
+    for args in (["report", str(PIPE)], ["run", str(PIPE), "--report"]):
+        res = _run(*args, "-o", str(tmp_path / "r"))
+        assert res.exit_code == 2, res.output
+        assert _errors(res.stderr) == [line for line in res.stderr.splitlines() if line]
+        assert 'pip install "winder[plot]"' in res.stderr
+        assert not (tmp_path / "r").exists()  # refused before any work
+    res = _run("run", str(PIPE), "-o", str(tmp_path / "plain"))
+    assert res.exit_code == 0 and (tmp_path / "plain" / "pipe.gcode").is_file()
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_a_single_job_bar_draws_only_on_a_terminal_and_only_after_a_second(monkeypatch):
+    quiet = io.StringIO()
+    bar = cli._JobBar(quiet)
+    monkeypatch.setattr(cli, "SHOW_AFTER_S", 0.0)
+    bar(0.5, "pipe: layer 1 of 2: circuit 3 of 19")
+    bar.close()
+    assert quiet.getvalue() == ""  # not a terminal: nothing
+    term = _Terminal()
+    bar = cli._JobBar(term)
+    monkeypatch.setattr(cli, "SHOW_AFTER_S", 3600.0)
+    bar(0.2, "early")
+    assert term.getvalue() == ""  # a job shorter than the delay shows nothing
+    monkeypatch.setattr(cli, "SHOW_AFTER_S", 0.0)
+    bar(0.25, "layer 1 of 2: circuit 5 of 19")
+    bar(0.75, "layer 2 of 2: hoop traverse 1 of 2")
+    bar.close()
+    drawn = term.getvalue()
+    assert "layer 2 of 2: hoop traverse 1 of 2" in drawn and "75%" in drawn
+
+
+def test_run_of_one_job_reports_progress_to_its_bar(tmp_path, monkeypatch):
+    seen = []
+
+    class Recorder(cli._JobBar):
+        def __call__(self, fraction, label):
+            seen.append((fraction, label))
+
+    monkeypatch.setattr(cli, "_JobBar", Recorder)
+    res = _run("run", str(PIPE), "-o", str(tmp_path))
+    assert res.exit_code == 0, res.output
+    fractions = [f for f, _ in seen]
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0
+    assert any("circuit 19 of 19" in label for _, label in seen)  # per circuit
+    assert any("hoop traverse 2 of 2" in label for _, label in seen)  # per layer
+    assert "%" not in res.stderr  # CliRunner's stderr is no terminal: no bar drawn
