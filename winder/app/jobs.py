@@ -205,16 +205,23 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             job = dataclasses.replace(job, source=source)
             shown = source
         name = job.name
+        if progress is not None:
+            progress = _named(progress, name)
         plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
         rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0))
         outputs = write_outputs(out_dir, rendered)
         if progress is not None:
-            progress(1.0, f"{name}: written")
+            progress(1.0, "written")
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback
         return JobReport(config, name, False, exit_code_of(exc), error_message(exc, shown),
                          (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
     return JobReport(config, name, True, 0, "", tuple(outputs), _fiber_length(plan), _layer_count(plan),
                      time.perf_counter() - started)
+
+
+def _named(progress: Progress, name: str) -> Progress:
+    """The callback with the job's name in front of every label."""
+    return lambda fraction, label: progress(fraction, f"{name}: {label}")
 
 
 def _fiber_length(plan) -> float | None:
