@@ -22,6 +22,8 @@ MANDREL_ANGLES = 73  # 5 deg steps, first = last (closed)
 MAX_BAND_POINTS = 60000
 STEP_DEG = 6.0  # turn per drawn chord: the chord sinks r (1 - cos 3 deg) = 0.14 % of r, under the lift
 LIFT = 0.02  # of the largest mandrel radius, per layer
+# From above (x is up), the side (+y) and the start (t = 0), far enough for the longest extent (1).
+EYE = {"x": 0.52, "y": 1.4, "z": 0.52}
 
 
 def _mandrel(plan: WindingPlan) -> dict[str, Any]:
@@ -36,6 +38,14 @@ def _mandrel(plan: WindingPlan) -> dict[str, Any]:
             "showlegend": True, "hoverinfo": "skip", "opacity": 1.0,
             "lighting": {"ambient": 0.55, "diffuse": 0.7, "specular": 0.15, "roughness": 0.6},
             "contours": {"x": {"highlight": False}, "y": {"highlight": False}, "z": {"highlight": False}}}
+
+
+def _aspect(mandrel: dict[str, Any]) -> dict[str, float]:
+    """True proportions with the longest extent 1, so that every part, long or compact, fills the
+    view the same way from the same eye."""
+    ext = np.array([np.ptp(np.asarray(mandrel[k], dtype=float)) for k in ("x", "y", "z")])
+    ext = np.maximum(ext, 1e-6 * ext.max())
+    return dict(zip("xyz", (float(v) for v in ext / ext.max())))
 
 
 def _largest_radius(plan: WindingPlan) -> float:
@@ -88,7 +98,8 @@ def _band_traces(plan: WindingPlan, layer: LayerPlan, budget: int, lift: float, 
 def view3d_figure(plan: WindingPlan, titles: list[str]) -> dict[str, Any]:
     """The mandrel surface and the band centre lines of every layer, in the mandrel frame (mm)."""
     radius = _largest_radius(plan)
-    data = [_mandrel(plan)]
+    mandrel = _mandrel(plan)
+    data = [mandrel]
     total = sum(len(layer.passes) for layer in plan.layers) or 1
     for layer, title in zip(plan.layers, titles):
         budget = MAX_BAND_POINTS * len(layer.passes) // total
@@ -97,9 +108,9 @@ def view3d_figure(plan: WindingPlan, titles: list[str]) -> dict[str, Any]:
     layout = base_layout("3D view: mandrel and bands (drag to rotate, scroll to zoom)", 760,
                          margin={"l": 0, "r": 0, "t": 60, "b": 0},
                          legend={"groupclick": "toggleitem", "tracegroupgap": 12},
-                         scene={"aspectmode": "data",
+                         scene={"aspectmode": "manual", "aspectratio": _aspect(mandrel),
                                 "xaxis": dict(scene_axis, title={"text": "x (mm)"}),
                                 "yaxis": dict(scene_axis, title={"text": "y (mm)"}),
                                 "zaxis": dict(scene_axis, title={"text": "z (mm), along the axis at t = 0"}),
-                                "camera": {"up": {"x": 1, "y": 0, "z": 0}, "eye": {"x": 1.0, "y": 2.7, "z": 1.0}}})
+                                "camera": {"up": {"x": 1, "y": 0, "z": 0}, "eye": EYE}})
     return {"data": data, "layout": layout}
