@@ -127,10 +127,11 @@ class Browser:
                 raise TimeoutError(f"{path}: not ready after {self.timeout:g} s ({ready})")
             time.sleep(0.1)
         time.sleep(settle)
-        self.evaluate("1")  # collect the events that arrived meanwhile
-        return self._page_load()
+        return self.seen()
 
-    def _page_load(self) -> PageLoad:
+    def seen(self) -> PageLoad:
+        """What the console and the network saw since the page was opened."""
+        self.evaluate("1")  # collect the events that arrived meanwhile
         out = PageLoad()
         for ev in self._events:
             method, p = ev.get("method"), ev.get("params", {})

@@ -12,6 +12,7 @@ import html.parser
 import os
 import re
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -268,10 +269,12 @@ READY = ("document.querySelectorAll('.js-plotly-plot').length === 4 && "
 MIN_3D_COLORS = 200  # a WebGL view that did not draw shows the page background and a few text pixels
 MIN_BAND_PIXELS = 200  # pixels of the first layer's +alpha color in the 3D view
 COLOR_NEAR = 60  # RGB distance counted as the band's color (antialiasing, depth shading)
+SETTLE_S = 0.3
+DRAW_ATTEMPTS = 20
 
 
 def test_every_sample_report_loads_in_a_headless_browser_and_the_3d_view_draws(planned, tmp_path):
-    import report_browser as rb  # noqa: PLC0415 - tests/ is on the path (rootdir conftest)
+    import report_browser as rb  # noqa: PLC0415 - beside this file (pytest puts the folder on the path)
 
     exe = rb.find_browser()
     if exe is None:
@@ -281,15 +284,26 @@ def test_every_sample_report_loads_in_a_headless_browser_and_the_3d_view_draws(p
         for name, (plan, summary, band_width) in planned.items():
             page = tmp_path / f"{name}.html"
             page.write_text(report_html(plan, summary, band_width), encoding="utf-8")
-            load = browser.load(page, READY)
+            load = browser.load(page, READY, settle=SETTLE_S)
             assert load.errors == [], (name, load.errors)
             assert load.requests == [], (name, load.requests)
-            png = browser.screenshot(browser.rect("#winder-view3d"))
+            for _ in range(DRAW_ATTEMPTS):  # software WebGL may still be drawing: look again
+                png = browser.screenshot(browser.rect("#winder-view3d"))
+                colors, band = _drawn(rb, png)
+                if colors >= MIN_3D_COLORS and band >= MIN_BAND_PIXELS:
+                    break
+                time.sleep(SETTLE_S)
             if keep:
                 Path(keep).mkdir(parents=True, exist_ok=True)
                 (Path(keep) / f"{name}.view3d.png").write_bytes(png)
-            pixels = rb.png_pixels(png)[..., :3].astype(int)
-            assert rb.distinct_colors(pixels) >= MIN_3D_COLORS, name
-            plus = np.array([int("1f77b4"[i:i + 2], 16) for i in (0, 2, 4)])
-            near = np.linalg.norm(pixels - plus, axis=2) < COLOR_NEAR
-            assert near.sum() >= MIN_BAND_PIXELS, (name, int(near.sum()))
+            assert colors >= MIN_3D_COLORS, (name, colors)
+            assert band >= MIN_BAND_PIXELS, (name, band)
+            late = browser.seen()  # everything since the page was opened, the drawing included
+            assert late.errors == [] and late.requests == [], (name, late)
+
+
+def _drawn(rb, png: bytes) -> tuple[int, int]:
+    """Distinct colors in the 3D view's screenshot, and pixels of the first layer's +alpha color."""
+    pixels = rb.png_pixels(png)[..., :3].astype(int)
+    plus = np.array([int("1f77b4"[i:i + 2], 16) for i in (0, 2, 4)])
+    return rb.distinct_colors(pixels), int((np.linalg.norm(pixels - plus, axis=2) < COLOR_NEAR).sum())
