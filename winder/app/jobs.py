@@ -108,7 +108,7 @@ def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
     rendered = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
-            progress(i / len(chosen), f"rendering {job.name}{fmt.suffix}")
+            progress(i / len(chosen), f"rendering the {fmt.name}")
         rendered[job.name + fmt.suffix] = fmt.render(plan, job)
     return rendered
 

@@ -2,9 +2,9 @@
 
 The table is static, so that the formats are known (for `--format`, output names, regress) without
 importing an exporter; each exporter module defines export(plan, job) -> str | bytes and is imported
-only when its format is rendered. A new format is one row here and one module. The report (`winder.report.export`) is a row too:
-its module lives in the later report stage and is found by name only when a report is asked for,
-so `run` without `--report` never needs plotly.
+only when its format is rendered. A new format is one row here and one module. The report
+(`winder.report.export`) is a row too: its module lives in the later report stage and is found by
+name only when a report is asked for, so `run` without `--report` never needs plotly.
 """
 
 from __future__ import annotations
