@@ -241,7 +241,8 @@ def test_the_page_is_valid_self_contained_html_under_the_size_limit(planned):
     assert text.count("plotly.js v") == 1 or text.count("* plotly.js") == 1  # the bundle, once
     assert text.count("Plotly.newPlot(") == 4  # four figures
     assert len(text.encode("utf-8")) < MAX_REPORT_BYTES
-    assert report_html(plan, summary, band_width) == text  # same plan, same bytes
+    assert plan.band_width == band_width  # the plan carries the band it was laid with
+    assert report_html(plan, summary) == text  # same plan, same bytes
 
 
 def test_progress_is_reported_through_the_callback_only(planned, capsys):

@@ -1,7 +1,7 @@
 """Stage 7, report: one self-contained HTML page per job, to check a program by looking at it.
 
-Reads a planned job (a WindingPlan, the band width it was planned with) and its summary dict
-(winder.export.summary.summary_dict) and nothing else; it never plans, never writes files and never
+Reads a planned job (a WindingPlan, which carries the band width it was laid with) and its summary
+dict (winder.export.summary.summary_dict) and nothing else; it never plans, never writes files and never
 prints. Pictures (plotly, the optional `plot` extra, imported lazily on first use):
 
 - unrolled.py: every layer's band centre lines on the unrolled surface (t, position around the

@@ -9,5 +9,5 @@ from winder.winding.results import WindingPlan
 
 
 def export(plan: WindingPlan, job, progress: Progress | None = None) -> str:
-    """The page of plan, planned from job (its band width draws the coverage map)."""
-    return report_html(plan, summary_dict(plan), job.winding.band_width, progress)
+    """The page of plan (job is the registry's second argument; the plan carries all it needs)."""
+    return report_html(plan, summary_dict(plan), progress=progress)

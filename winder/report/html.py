@@ -75,19 +75,22 @@ def _agreement(maps: tuple[LayerCoverageMap, ...], summary: dict[str, Any]) -> s
             + "".join(rows) + "</table>")
 
 
-def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float,
+def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | None = None,
                 progress: Progress | None = None) -> str:
     """The whole report page of a planned job.
 
     Parameters
     ----------
     plan : the job's plan. summary : its summary dict (winder.export.summary.summary_dict(plan)).
-    band_width : the band width the plan was made with (mm; the coverage map's bands).
+    band_width : the band width (mm) the coverage map draws; default the plan's own.
     progress : called as progress(fraction done, label) after each step (winder.progress).
 
     Raises ConfigError (exit 2) when plotly, the `plot` extra, is not installed.
     """
     require_plotly()
+    band_width = plan.band_width if band_width is None else band_width
+    if band_width is None:
+        raise ValueError("report_html: the plan carries no band width; pass band_width")
     steps = len(plan.layers) + 4
     done = 0
 

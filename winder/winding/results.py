@@ -105,12 +105,14 @@ class LayerPlan:
 
 @dataclass(frozen=True)
 class WindingPlan:
-    """A whole job's plan: the mandrel surface and its layers in winding order."""
+    """A whole job's plan: the mandrel surface and its layers in winding order, and the band width
+    (mm) they were laid with (None for a plan built by hand without one)."""
 
     name: str
     source: str
     surface: SweepSurface
     layers: tuple[LayerPlan, ...]
+    band_width: float | None = None
 
     @property
     def total_fiber_length_mm(self) -> float:
