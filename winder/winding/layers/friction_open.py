@@ -99,6 +99,7 @@ def _passes(ctx: PlanContext, index: int, pieces, a: float, pat, theta0: float, 
     passes: list[FiberPass] = []
     number, layer = 0, index + 1
     for j in range(n_c):
+        ctx.report(index, j / n_c, f"circuit {j + 1} of {n_c}")
         next_start = theta0 + 2.0 * math.pi * pat.advance * (j + 1)
         for kind, t, th, d1 in ((PassKind.FORWARD, t_f, th_f[j], d1_f[j]), (PassKind.RETURN, t_r, th_r[j], d1_r[j])):
             number += 1
