@@ -1,0 +1,204 @@
+"""The grown mandrel: a sweep surface offset along its normal by a laminate thickness h(s).
+
+The next layer is planned on the mandrel grown by the layers below (MATH.md 8), so the grown mandrel
+must be a sweep surface of the same kind, with exact, consistent derivatives:
+
+- Axial profiles (constant, cone, table; s = t): the radius grows by g(t) = h(t) sqrt(1 + r'(t)^2),
+  the radial rise that puts the surface h away along the normal (exact on cylinders and cones). The
+  sum is a new C2 cubic spline, so the grown profile is an AxialProfile again.
+- Vessels: each dome meridian (h(sigma), r(sigma)) is offset along its outward normal
+  N = (-r', h'): P = B + g N. With the signed curvature k = psi' of the base (psi the tangent angle)
+  P' = (1 - g k) T + g' N, so the offset's tangent angle is psi + atan2(g', 1 - g k), its speed
+  sqrt((1 - g k)^2 + g'^2), and its curvature the derivative of that angle over the speed. The
+  offset is re-parametrized by its own arc length (Gauss-Legendre of the speed) and stored as C2
+  quintic Hermite pieces through exact values, unit tangents and curvatures at the knots (as the
+  isotensoid is), so it is a DomeMeridian and the grown vessel a VesselMeridian: the planner, Clairaut
+  turnarounds and advances work on it unchanged. A constant g on a hemisphere gives the sphere of
+  radius R + g. The offset passes the polar-opening plane outward (the normal there points away from
+  the equator), so it is trimmed at that plane: the grown vessel keeps the axial frame (t = 0 at the
+  first opening, the equators at the same t), hence the same machine coordinates.
+- Non-circular sections scale with the profile (R = p(s) q(theta)), so their mean radius grows by g;
+  a uniform offset of a flat side is then approximate, exact on circles.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from winder.geometry.domes import DomeMeridian, _quintic_hermite
+from winder.geometry.profiles import AxialProfile
+from winder.geometry.surface import SweepSurface
+from winder.geometry.vessel import VesselMeridian
+
+# A growth: base station -> (g, g', g''), each (m,) float (mm, per mm, per mm^2).
+Growth = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+FOLD_MARGIN = 0.05  # 1 - g k must stay above this: a layer thicker than a concave radius folds
+KNOT_SPACING = 0.25  # mm, the offset dome's knot spacing (plus the base dome's own knots)
+AFFINE_TOL = 1e-12  # mm: a growth this close to affine keeps a one-piece profile (Horner path)
+
+
+class OffsetError(ValueError):
+    """The offset is not a regular surface (the laminate folds over a concave region)."""
+
+
+def grow_axial(profile: AxialProfile, s: np.ndarray, h: np.ndarray) -> AxialProfile:
+    """An axial profile grown by the normal thickness h at stations s ((m,) float, covering [0, T]).
+
+    The radius rises by h sqrt(1 + r'^2); the result is the cubic spline through r + rise at s (one
+    piece again where the base and the rise are both affine, keeping the fast evaluation path).
+    """
+    s = np.asarray(s, dtype=float)
+    ev = profile.evaluate(s)
+    r_new = ev.r + np.asarray(h, float) * np.sqrt(1.0 + ev.r1 * ev.r1)
+    fit = np.polyfit(s, r_new, 1)
+    if np.max(np.abs(np.polyval(fit, s) - r_new)) <= AFFINE_TOL:
+        x = np.array([0.0, profile.length])
+        spline = CubicSpline(x, np.polyval(fit, x), bc_type="not-a-knot")
+    else:
+        spline = CubicSpline(s, r_new, bc_type="not-a-knot")
+    return AxialProfile(spline, profile.length, profile.reference_radius)
+
+
+class OffsetDome(DomeMeridian):
+    """A dome meridian offset along its normal by g(sigma) (sigma the base arc length from the
+    equator), re-parametrized by its own arc length and trimmed at the base's opening plane."""
+
+    def __init__(self, base: DomeMeridian, growth: Growth):
+        L = base.length
+        grid = np.union1d(np.linspace(0.0, L, max(65, int(np.ceil(L / KNOT_SPACING)) + 1)),
+                          np.clip(base._tab_sigma, 0.0, L))
+        # trim where the offset crosses the opening plane first (an end hook beyond it is cut off)
+        H = self._position(base, growth, grid)[0]
+        if np.any(H[:-1] > base.depth):
+            i = int(np.argmax(H > base.depth))
+            lo, hi = grid[i - 1], grid[i]
+            for _ in range(60):  # bisection on the exact offset
+                mid = 0.5 * (lo + hi)
+                below = self._position(base, growth, np.array([mid]))[0][0] < base.depth
+                lo, hi = (mid, hi) if below else (lo, mid)
+            grid = np.append(grid[:i], 0.5 * (lo + hi))
+        H, R, psi, kap, speed = self._offset(base, growth, grid)
+        H[-1] = base.depth
+        sig = self._arc_length(base, growth, grid)
+        self.kind = base.kind
+        self.radius = float(R[0])
+        self.semi_axis = None
+        self.length = float(sig[-1])
+        self.depth = float(base.depth)
+        self.end_radius = float(R[-1])
+        self.polar_opening = self.end_radius
+        k = kap / speed  # curvature in the offset's own arc length
+        c, s = np.cos(psi), np.sin(psi)
+        hh = _quintic_hermite(sig, H, c, -s * k)
+        rr = _quintic_hermite(sig, R, s, c * k)
+        # both pieces share the knots: one coefficient table (6, n, 2), evaluated by Horner with one
+        # search (the planner evaluates domes at single points inside root finders)
+        self._knots = hh.x
+        self._coef = np.stack([hh.c, rr.c], axis=-1)
+        self._tab_sigma, self._tab_h = sig, H
+
+    @staticmethod
+    def _position(base: DomeMeridian, growth: Growth, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Offset point (H, R) at base sigma."""
+        ev = base.evaluate(sigma)
+        g = growth(sigma)[0]
+        return ev.h - g * ev.r1, ev.r + g * ev.h1
+
+    @staticmethod
+    def _offset(base: DomeMeridian, growth: Growth, sigma: np.ndarray):
+        """Offset point (H, R), tangent angle psi, d psi / d sigma and speed at base sigma."""
+        ev = base.evaluate(sigma)
+        g, g1, g2 = growth(sigma)
+        psi0 = np.arctan2(ev.r1, ev.h1)
+        k = ev.h1 * ev.r2 - ev.r1 * ev.h2  # signed curvature psi0'
+        k1 = np.gradient(k, sigma) if sigma.size > 2 else np.zeros_like(k)
+        a = 1.0 - g * k
+        if np.any(a < FOLD_MARGIN):
+            worst = int(np.argmin(a))
+            raise OffsetError(f"a laminate {g[worst]:.4g} mm thick folds over the dome's concave radius "
+                              f"{1.0 / abs(k[worst]):.4g} mm there (r = {ev.r[worst]:.4g} mm)")
+        a1 = -(g1 * k + g * k1)
+        psi = psi0 + np.arctan2(g1, a)
+        dpsi = k + (a * g2 - g1 * a1) / (a * a + g1 * g1)
+        if np.any(np.cos(psi) <= 0.0):
+            worst = int(np.argmin(np.cos(psi)))
+            raise OffsetError(f"the laminate's edge (slope {g1[worst]:.3g}) turns the grown dome back "
+                              f"toward the equator at r = {ev.r[worst]:.4g} mm")
+        return ev.h - g * ev.r1, ev.r + g * ev.h1, psi, dpsi, np.hypot(a, g1)
+
+    @classmethod
+    def _arc_length(cls, base: DomeMeridian, growth: Growth, grid: np.ndarray, order: int = 8) -> np.ndarray:
+        xg, wg = np.polynomial.legendre.leggauss(order)
+        half = 0.5 * np.diff(grid)
+        pts = (grid[:-1, None] + half[:, None] * (xg + 1.0)).ravel()
+        ev = base.evaluate(pts)
+        g, g1, _ = growth(pts)
+        k = ev.h1 * ev.r2 - ev.r1 * ev.h2
+        v = np.hypot(1.0 - g * k, g1).reshape(-1, order)
+        return np.concatenate([[0.0], np.cumsum((v * wg).sum(axis=1) * half)])
+
+    def _eval2(self, sigma: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, ...]:
+        x = np.asarray(sigma, dtype=float)
+        i = np.clip(np.searchsorted(self._knots, x, side="right") - 1, 0, self._knots.size - 2)
+        d = (x - self._knots[i])[:, None]
+        c = self._coef[:, i]  # (6, m, 2), highest power first
+        v = c[0] * d + c[1]
+        d1 = 5.0 * c[0] * d + 4.0 * c[1]
+        d2 = 20.0 * c[0] * d + 12.0 * c[1]
+        v = ((v * d + c[2]) * d + c[3]) * d + c[4]
+        d1 = ((d1 * d + 3.0 * c[2]) * d + 2.0 * c[3]) * d + c[4]
+        d2 = (d2 * d + 6.0 * c[2]) * d + 2.0 * c[3]
+        v = v * d + c[5]
+        return (self.depth - v[:, 0], v[:, 0], d1[:, 0], d2[:, 0], v[:, 1], d1[:, 1], d2[:, 1])
+
+
+def vessel_growths(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> tuple[float, Growth, Growth]:
+    """The cylinder's constant growth and each dome's C2 growth in its own sigma (from its equator),
+    from thicknesses h at vessel stations s ((m,) float each).
+
+    Each dome's spline ends at its equator on the cylinder's value with zero slope (clamped), so the
+    grown meridian meets the grown cylinder tangentially.
+    """
+    a, b = vessel.equator_s
+    s, h = np.asarray(s, float), np.asarray(h, float)
+    on_cyl = (s > a) & (s < b)
+    g_cyl = float(np.mean(h[on_cyl])) if np.any(on_cyl) else float(np.interp(a, s, h))
+
+    def dome(sigma: np.ndarray, length: float) -> Growth:
+        keep = (sigma > 0.0) & (sigma <= length)
+        x = np.concatenate([[0.0], sigma[keep]])
+        y = np.concatenate([[g_cyl], h[keep]])
+        order = np.argsort(x)
+        spline = CubicSpline(x[order], y[order], bc_type=((1, 0.0), "not-a-knot"))
+        return lambda q: (spline(q), spline(q, 1), spline(q, 2))
+
+    return g_cyl, dome(a - s, vessel.dome.length), dome(s - b, vessel.end_dome.length)
+
+
+def grow_vessel(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> VesselMeridian:
+    """A vessel meridian offset by the thickness h at vessel stations s ((m,) float each)."""
+    g_cyl, first, end = vessel_growths(vessel, s, h)
+    return VesselMeridian(vessel.radius + g_cyl, vessel.cylinder_length,
+                          OffsetDome(vessel.dome, first), OffsetDome(vessel.end_dome, end))
+
+
+def grow_surface(surface: SweepSurface, s: np.ndarray, h: np.ndarray) -> SweepSurface:
+    """The mandrel grown by the mean normal thickness h at stations s ((m,) float, covering the
+    station range [0, surface.length]; h smooth; on a vessel its mean over the cylinder is used there).
+    """
+    s, h = np.asarray(s, float), np.asarray(h, float)
+    prof = surface.profile
+    if isinstance(prof, VesselMeridian):
+        grown = grow_vessel(prof, s, h)
+        return replace(surface, profile=grown, length=grown.length)
+    # mean section radius per unit profile: a circle grows by h, other sections scale to grow by h
+    per_unit = 2.0 * np.pi / surface._unit_perimeter
+    if prof is None:
+        base = AxialProfile(CubicSpline([0.0, surface.length], [1.0, 1.0]), surface.length, 1.0)
+        return replace(surface, profile=grow_axial(base, s, h * per_unit))
+    return replace(surface, profile=grow_axial(prof, s, h * per_unit))

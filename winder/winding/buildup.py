@@ -1,0 +1,184 @@
+"""A layer's thickness from the bands actually laid, and the mandrel grown by it (MATH.md 8).
+
+The station range is cut into cells (uniform within each smooth piece: a vessel's first dome,
+cylinder and end dome, so no cell straddles an equator). Each pass puts the composite volume of its
+fiber length inside a cell into that cell: with the pass's station S(i) and length l(i) as C2
+splines over the vertex index, a cell [e0, e1] holds a (l(i(e1)) - l(i(e0))) exactly (to spline
+accuracy). That is the fiber-count law wherever the fiber crosses the cell, finite at a turnaround,
+and conserves the volume by construction. A dwell lays its band around the section it stays at:
+its volume is spread over one band width of stations there. At a vessel turnaround the volume is
+spread over the band the turning fiber makes (laminate.turnaround_zone). Mean thickness per station:
+V' / A', A'(s) the surface area per unit station (a periodic quadrature in theta).
+
+The shape the next layer winds on (smoothed, grown) is growth.py's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from winder.geometry.surface import SweepSurface
+from winder.geometry.vessel import VesselMeridian
+from winder.winding.laminate import turnaround_zone
+from winder.winding.results import FiberPass, PassKind
+
+CELLS_PER_BAND = 16  # station cells per band width (the law's cell averages, the zone edges)
+MAX_CELLS = 4000  # over the whole station range
+AREA_THETA_NODES = 96  # periodic rule for A'(s) on non-circular sections
+NEWTON_STEPS = 4  # index of a station along a pass (from a linear first guess; quadratic)
+
+
+@dataclass(frozen=True)
+class StationCells:
+    """Cells along the station range: edges (k + 1,) and centres (k,) of the internal station s,
+    and the pieces (index ranges into the cells) of the smooth parts: one for open mandrels, three
+    (first dome, cylinder, end dome) for vessels."""
+
+    edges: np.ndarray
+    centres: np.ndarray
+    pieces: tuple[tuple[int, int], ...]
+
+    @property
+    def widths(self) -> np.ndarray:
+        return np.diff(self.edges)
+
+
+def station_cells(surface: SweepSurface, band_width: float) -> StationCells:
+    """Cells about band_width / CELLS_PER_BAND wide, uniform within each smooth piece."""
+    prof = surface.profile
+    bounds = [0.0, surface.length]
+    if isinstance(prof, VesselMeridian):
+        a, b = prof.equator_s
+        bounds = [0.0, a, b, surface.length] if b > a else [0.0, a, surface.length]
+    step = max(band_width / CELLS_PER_BAND, surface.length / MAX_CELLS)
+    edges, pieces, start = [np.array([0.0])], [], 0
+    for lo, hi in zip(bounds[:-1], bounds[1:]):
+        n = max(2, int(np.ceil((hi - lo) / step)))
+        edges.append(np.linspace(lo, hi, n + 1)[1:])
+        pieces.append((start, start + n))
+        start += n
+    e = np.concatenate(edges)
+    return StationCells(e, 0.5 * (e[1:] + e[:-1]), tuple(pieces))
+
+
+def index_of(spline: CubicSpline, s_vert: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """Fractional vertex index where the pass's station spline reaches each target (s monotone)."""
+    idx = np.arange(s_vert.size, dtype=float)
+    rising = s_vert[-1] >= s_vert[0]
+    sv, iv = (s_vert, idx) if rising else (s_vert[::-1], idx[::-1])
+    x = np.interp(targets, sv, iv)
+    d1 = spline.derivative()
+    for _ in range(NEWTON_STEPS):
+        slope = d1(x)
+        ok = np.abs(slope) > 1e-12 * (abs(s_vert[-1] - s_vert[0]) / s_vert.size + 1e-300)
+        x = np.where(ok, x - (spline(x) - targets) / np.where(ok, slope, 1.0), x)
+        x = np.clip(x, 0.0, idx[-1])
+    return x
+
+
+def pass_volumes(cells: StationCells, p: FiberPass, area: float) -> np.ndarray:
+    """Composite volume (mm^3) of one pass in each cell, (k,) float."""
+    out = np.zeros(cells.centres.size)
+    if p.kind is PassKind.DWELL or np.ptp(p.s) <= 0.0:
+        return out
+    seg = np.linalg.norm(np.diff(p.points, axis=0), axis=1)
+    ell = np.concatenate([[0.0], np.cumsum(seg)])
+    ell *= p.length / ell[-1] if ell[-1] > 0.0 else 0.0
+    idx = np.arange(p.s.size, dtype=float)
+    s_spline, l_spline = CubicSpline(idx, p.s), CubicSpline(idx, ell)
+    lo, hi = min(p.s[0], p.s[-1]), max(p.s[0], p.s[-1])
+    e = np.clip(cells.edges, lo, hi)
+    at = l_spline(index_of(s_spline, p.s, e))
+    return area * np.abs(np.diff(at))
+
+
+def ring_volumes(cells: StationCells, s0: float, volume: float, band_width: float) -> np.ndarray:
+    """A band laid around one section (a dwell): volume spread over [s0 - B/2, s0 + B/2] (clipped)."""
+    lo = max(s0 - 0.5 * band_width, cells.edges[0])
+    hi = min(s0 + 0.5 * band_width, cells.edges[-1])
+    frac = np.clip(np.minimum(cells.edges[1:], hi) - np.maximum(cells.edges[:-1], lo), 0.0, None)
+    return volume * frac / frac.sum()
+
+
+def layer_density(cells: StationCells, passes: tuple[FiberPass, ...], area: float, band_width: float,
+                  turnarounds: tuple[float, ...] = (), dwells: bool = True) -> np.ndarray:
+    """V'(s) (mm^3 per mm of station) of a layer's passes in each cell, (k,) float.
+
+    turnarounds : stations where the passes turn tangent to a parallel (vessel domes); the volume
+    within B/2 of each is spread over the band's width there. dwells : whether the rings the dwells
+    lay at an open mandrel's ends count.
+    """
+    vol = np.zeros(cells.centres.size)
+    seen: dict[tuple[bytes, float], np.ndarray] = {}
+    for p in passes:
+        if p.kind is PassKind.DWELL:
+            if dwells:
+                vol += ring_volumes(cells, float(p.s[0]), area * p.length, band_width)
+            continue
+        # circuits on a surface of revolution are rotated copies: the same stations, the same volumes
+        key = (p.s.tobytes(), p.length)
+        if key not in seen:
+            seen[key] = pass_volumes(cells, p, area)
+        vol += seen[key]
+    density = vol / cells.widths
+    for s_c in turnarounds:
+        k = int(np.clip(np.searchsorted(cells.edges, s_c) - 1, 0, cells.centres.size - 1))
+        i0, i1 = next((a, b) for a, b in cells.pieces if a <= k < b)
+        s, d, w = cells.centres[i0:i1], density[i0:i1], cells.widths[i0:i1]
+        near = np.clip(np.minimum(s + 0.5 * w, s_c + 0.5 * band_width)
+                       - np.maximum(s - 0.5 * w, s_c - 0.5 * band_width), 0.0, None)
+        density[i0:i1] = turnaround_zone(s, d, s_c, band_width, float(np.sum(d * near)))
+    return density
+
+
+def area_rate(surface: SweepSurface, s: np.ndarray) -> np.ndarray:
+    """A'(s) = integral |Phi_s x Phi_theta| dtheta (mm^2 per mm of station), (k,) float."""
+    s = np.asarray(s, dtype=float)
+    if surface.is_revolution:
+        ev = surface.evaluate(s, np.zeros_like(s), order=1)
+        return 2.0 * np.pi * np.linalg.norm(np.cross(ev.ps, ev.pt), axis=1)
+    th = (np.arange(AREA_THETA_NODES) + 0.5) * 2.0 * np.pi / AREA_THETA_NODES
+    ss, tt = np.repeat(s, th.size), np.tile(th, s.size)
+    ev = surface.evaluate(ss, tt, order=1)
+    da = np.linalg.norm(np.cross(ev.ps, ev.pt), axis=1).reshape(s.size, th.size)
+    return da.sum(axis=1) * 2.0 * np.pi / AREA_THETA_NODES
+
+
+def share_around(surface: SweepSurface, passes: tuple[FiberPass, ...], band_width: float, s: np.ndarray,
+                 theta: np.ndarray) -> np.ndarray:
+    """How a layer's thickness varies around each section: (k, J) float, the band count over each
+    angle theta (J,) at stations s (k,), divided by its mean around the section (arc-length
+    weighted), so that thickness(s, theta) = mean thickness(s) x share. 1 where no band crosses.
+
+    A pass crossing a station covers B / sin(beta) of the section (beta between fiber and section
+    curve), B / (2 sin(beta) |Phi_theta|) of angle on either side of its crossing (MATH.md 5).
+    """
+    s, theta = np.asarray(s, float), np.asarray(theta, float)
+    count = np.zeros((s.size, theta.size))
+    for p in passes:
+        if p.kind is PassKind.DWELL or np.ptp(p.s) <= 0.0:
+            continue
+        lo, hi = min(p.s[0], p.s[-1]), max(p.s[0], p.s[-1])
+        k = np.nonzero((s >= lo) & (s <= hi))[0]
+        if k.size == 0:
+            continue
+        idx = np.arange(p.s.size, dtype=float)
+        s_spline, th_spline = CubicSpline(idx, p.s), CubicSpline(idx, p.theta)
+        at = index_of(s_spline, p.s, s[k])
+        th_x = th_spline(at)
+        ev = surface.evaluate(s[k], th_x, order=1)
+        d = ev.ps * s_spline(at, 1)[:, None] + ev.pt * th_spline(at, 1)[:, None]
+        d /= np.linalg.norm(d, axis=1)[:, None]
+        speed_th = np.linalg.norm(ev.pt, axis=1)
+        sin_beta = np.linalg.norm(np.cross(d, ev.pt / speed_th[:, None]), axis=1)
+        half = 0.5 * band_width / (np.maximum(sin_beta, 1e-6) * speed_th)
+        off = np.angle(np.exp(1j * (theta[None, :] - th_x[:, None])))  # (-pi, pi]
+        count[k] += np.abs(off) <= np.minimum(half, np.pi)[:, None]
+    ss, tt = np.repeat(s, theta.size), np.tile(theta, s.size)
+    weight = np.linalg.norm(surface.evaluate(ss, tt, order=1).pt, axis=1).reshape(count.shape)
+    mean = np.sum(count * weight, axis=1) / np.sum(weight, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(mean[:, None] > 0.0, count / mean[:, None], 1.0)
