@@ -295,4 +295,4 @@ def compare_file(file_name: str, expected: bytes, got: bytes,
     return compare(a, b, limit=limit)
 
 
-_TEXT_COMPARE = {"summary": compare_json, "csv": compare_csv, "gcode": compare_lines}
+_TEXT_COMPARE = {"summary": compare_json, "csv": compare_csv, "layup": compare_csv, "gcode": compare_lines}

@@ -4,7 +4,7 @@ Layout of a sample folder DIR:
 
     DIR/<sample>.yaml                 a job file
     DIR/reference/<sample>/           the outputs of `winder run DIR/<sample>.yaml`:
-        <name>.csv, <name>.gcode, <name>.summary.json   (and <name>.ply, only if stored)
+        <name>.csv, <name>.gcode, <name>.summary.json   (and <name>.ply, <name>.layup.csv, only if stored)
 
 Comparison within tolerances (a unit in the last printed place): winder.app.compare.
 
@@ -100,8 +100,9 @@ def _reference_files(sample: Sample) -> dict[str, bytes]:
 
 def _formats_for(sample: Sample) -> tuple[str, ...]:
     formats = list(REFERENCE_FORMATS)
-    if sample.reference.is_dir() and any(sample.reference.glob("*" + registry.suffix_of("ply"))):
-        formats.append("ply")
+    for extra in ("ply", "layup"):  # compared where the reference holds one
+        if sample.reference.is_dir() and any(sample.reference.glob("*" + registry.suffix_of(extra))):
+            formats.append(extra)
     return tuple(formats)
 
 

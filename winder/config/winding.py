@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from winder.config.reader import Reader
 
+from winder.config.material import MaterialConfig, parse_materials
 from winder.config.reader import LENGTH_SLACK
 
 DEFAULT_POINTS = 200
@@ -60,6 +61,7 @@ class LayerConfig:
     passes: int = 1
     slip: float | str = 0.0
     turnaround_radius: float | None = None
+    material: MaterialConfig | None = None  # this layer's own (config.material), else the job's
 
 
 @dataclass(frozen=True)
@@ -89,13 +91,23 @@ class WindingConfig:
     dwell_end_deg: float = 0.0
     friction: float = DEFAULT_FRICTION
     layers: tuple[LayerConfig, ...] = ()
+    material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
+
+    @property
+    def has_laminate(self) -> bool:
+        """Whether the layers build a laminate (a material is given): build-up, thickness, masses."""
+        return self.material is not None or any(layer.material is not None for layer in self.layers)
+
+    def material_of(self, index: int) -> MaterialConfig | None:
+        """The material of layer `index` (0-based): its own, else the job's."""
+        return self.layers[index].material or self.material
 
 
 # -- winding ---------------------------------------------------------------------------------------
-_WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction")
+_WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material")
 _LAYER_KINDS = {
-    "helical": (("angle",), ("pattern", "slip", "turnaround_radius")),
-    "hoop": ((), ("angle", "passes")),
+    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material")),
+    "hoop": ((), ("angle", "passes", "material")),
 }
 
 
@@ -139,7 +151,8 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
     items = rd.listing(m["layers"], rd.at(path, "layers"), 1, "layer")
     layers = tuple(_parse_layer(rd, item, rd.at(rd.at(path, "layers"), i), friction, vessel)
                    for i, item in enumerate(items))
-    return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers)
+    material, layers = parse_materials(rd, m.get("material"), items, layers, path, band_width)
+    return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material)
 
 
 def _parse_region(rd: Reader, value: Any, path: str, axis_length: float | None) -> tuple[float, float]:

@@ -73,7 +73,7 @@ def _ribbon(plan: WindingPlan, fp: FiberPass, band_width: float) -> tuple[np.nda
     m = len(fp.points)
     if m < 2:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
-    nrm = plan.surface.normals(np.asarray(fp.s, float), np.asarray(fp.theta, float))
+    nrm = plan.surface_of(fp.layer).normals(np.asarray(fp.s, float), np.asarray(fp.theta, float))
     d = np.asarray(fp.direction, dtype=float)
     side = np.cross(nrm, d)
     side /= np.linalg.norm(side, axis=1)[:, None]

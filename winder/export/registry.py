@@ -37,6 +37,7 @@ FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
     Format("gcode", ".gcode", "winder.export.gcode"),
     Format("ply", ".ply", "winder.export.ply"),
+    Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
     Format("report", ".html", "winder.report.export", default=False),
     Format("summary", ".summary.json", "winder.export.summary", always=True),
 )

@@ -11,6 +11,10 @@ passes, fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (n
 when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
 {covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text),
 max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0).
+With a material (a laminate), each layer also has thickness_mm (mean, at the reference section),
+max_thickness_mm, ply_thickness_mm, volume_mm3, fiber_mass_kg, resin_mass_kg, material_length_mm
+and outer_radius_mm (after the layer), and the job fiber_mass_kg, resin_mass_kg, mass_kg and
+outer_radius_mm; without one these keys are absent.
 """
 
 from __future__ import annotations
@@ -27,10 +31,11 @@ ANGLE_DECIMALS = 4
 FRACTION_DECIMALS = 6
 CURVATURE_DECIMALS = 8  # 1/mm
 TIME_DECIMALS = 2
+MASS_DECIMALS = 6  # kg: to the milligram
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
 # at (one unit in the last place). A key matching none of these is compared relatively (1e-6).
 DECIMALS_BY_SUFFIX = (("_mm", LENGTH_DECIMALS), ("_deg", ANGLE_DECIMALS), ("_fraction", FRACTION_DECIMALS),
-                      ("_s", TIME_DECIMALS))
+                      ("_s", TIME_DECIMALS), ("_kg", MASS_DECIMALS), ("_mm3", LENGTH_DECIMALS))
 
 
 def decimals_of(key: str) -> int | None:
@@ -76,7 +81,37 @@ def _layer(layer: LayerPlan) -> dict[str, Any]:
             "max_layers": int(cov.max_layers),
         },
         "notes": [str(n) for n in layer.notes],
+        **_laminate(layer),
     }
+
+
+def _laminate(layer: LayerPlan) -> dict[str, Any]:
+    """A layer's wall keys (SPEC.md "Laminate"); none without a material, so such summaries stay as
+    they were."""
+    lam = layer.laminate
+    if lam is None:
+        return {}
+    return {
+        "thickness_mm": _num(lam.thickness_mm, LENGTH_DECIMALS + 1),
+        "max_thickness_mm": _num(lam.max_thickness_mm, LENGTH_DECIMALS + 1),
+        "ply_thickness_mm": _num(lam.ply_mm, LENGTH_DECIMALS + 1),
+        "volume_mm3": _num(lam.volume_mm3, LENGTH_DECIMALS),
+        "fiber_mass_kg": _num(lam.fiber_mass_kg, MASS_DECIMALS),
+        "resin_mass_kg": _num(lam.resin_mass_kg, MASS_DECIMALS),
+        "material_length_mm": _num(lam.material_length_mm, LENGTH_DECIMALS),
+        "outer_radius_mm": _num(lam.outer_radius_mm, LENGTH_DECIMALS + 1),
+    }
+
+
+def _totals(plan: WindingPlan) -> dict[str, Any]:
+    walls = [layer.laminate for layer in plan.layers if layer.laminate is not None]
+    if not walls:
+        return {}
+    fiber = sum(w.fiber_mass_kg for w in walls)
+    resin = sum(w.resin_mass_kg for w in walls)
+    return {"fiber_mass_kg": _num(fiber, MASS_DECIMALS), "resin_mass_kg": _num(resin, MASS_DECIMALS),
+            "mass_kg": _num(fiber + resin, MASS_DECIMALS),
+            "outer_radius_mm": _num(walls[-1].outer_radius_mm, LENGTH_DECIMALS + 1)}
 
 
 def summary_dict(plan: WindingPlan) -> dict[str, Any]:
@@ -88,6 +123,7 @@ def summary_dict(plan: WindingPlan) -> dict[str, Any]:
         "estimated_time_s": _num(plan.total_time_s, TIME_DECIMALS),
         "layer_count": len(plan.layers),
         "layers": [_layer(layer) for layer in plan.layers],
+        **_totals(plan),
     }
 
 

@@ -6,6 +6,8 @@ vessels (vessel.py), and hoop layers (hoop.py); passes.py holds what they share.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from winder.config.job import JobConfig
 from winder.config.winding import LayerType
 from winder.geometry.vessel import VesselMeridian
@@ -19,6 +21,7 @@ from winder.winding.results import WindingPlan
 from winder.geometry.sections import arc_map
 from winder.geometry.build import build_surface
 from winder.winding.layers.helical_vessel import vessel_helical_layer
+from winder.winding.wall import material_of, start_buildup
 
 
 def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
@@ -32,6 +35,7 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
     ctx = PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed, monotone(progress))
     layers = []
     theta0 = 0.0
+    build = start_buildup(ctx) if job.winding.has_laminate else None
     for index, cfg in enumerate(job.winding.layers):
         if cfg.type is LayerType.HOOP:
             layer = hoop_layer(ctx, cfg, index, theta0)
@@ -41,6 +45,9 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
             layer = vessel_helical_layer(ctx, cfg, index, theta0)
         else:
             layer = open_helical_layer(ctx, cfg, index, theta0)
+        if build is not None:  # the next layer winds on the mandrel grown by this one
+            layer, build = build.add(layer, material_of(job.winding.material_of(index)), ctx.key(index))
+            ctx = replace(ctx, surface=build.surface)
         layers.append(layer)
         ctx.report(index, 1.0, "planned")
         theta0 = float(layer.passes[-1].theta[-1])

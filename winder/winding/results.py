@@ -8,11 +8,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import Enum
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from winder.config.winding import LayerType
 from winder.geometry.surface import SweepSurface
+
+if TYPE_CHECKING:  # the laminate record builds on this module
+    from winder.winding.wall import LayerLaminate
 
 
 class PassKind(Enum):
@@ -97,6 +101,8 @@ class LayerPlan:
     notes: tuple[str, ...] = ()
     max_slip: float = 0.0
     min_normal_curvature: float = float("nan")
+    surface: SweepSurface | None = None  # the (grown) mandrel it was wound on; None: the plan's
+    laminate: LayerLaminate | None = None  # what it adds to the wall (a job with a material)
 
     @property
     def angle_change_deg(self) -> float:
@@ -121,6 +127,11 @@ class WindingPlan:
     @property
     def total_time_s(self) -> float:
         return float(sum(layer.time_s for layer in self.layers))
+
+    def surface_of(self, layer: int) -> SweepSurface:
+        """The surface layer `layer` (1-based) was wound on: the mandrel grown by the layers below."""
+        own = self.layers[layer - 1].surface
+        return own if own is not None else self.surface
 
 
 HOOP_SLOPE = 1e-12  # |meridian component| / |circumferential| below this: the fiber runs on a parallel
