@@ -10,7 +10,7 @@ from winder.config.job import parse_config
 from winder.geometry.sections import arc_map
 from winder.winding.buildup import area_rate, layer_density, station_cells
 from winder.winding.growth import grown, smooth_thickness
-from winder.winding.laminate import Material, clairaut_density, helical_mean_thickness
+from winder.winding.laminate import Material, clairaut_density, clairaut_zone_volume, helical_mean_thickness
 from winder.winding.layers.helical_vessel import turnaround_stations, vessel_helical_layer
 from winder.winding.passes import PlanContext
 from winder.winding.plan import plan
@@ -122,3 +122,17 @@ def test_second_layer_turns_where_clairaut_says_on_the_grown_dome(vessel):
         s_base = surf.length - s_base
     grown_there = float(np.interp(s_base, cells.centres, smooth))
     assert math.hypot(r[k], axial) - 100.0 == pytest.approx(grown_there, rel=GROWTH_RTOL)
+
+
+def test_vessel_volume_against_the_clairaut_law_integrated(vessel):
+    # independent of the cell volumes: the law n a r / sqrt(r^2 - c^2) integrated pole to pole by
+    # quadrature (singular ends by substitution) against the solved passes' fiber length x area
+    _, pl = vessel
+    surf, layer = pl.surface, pl.layers[0]
+    c, n = layer.turnaround_radius, 2 * layer.circuits
+    s1, s2 = turnaround_stations(surf.profile, c)
+    a, b = surf.profile.equator_s
+    r_of = lambda s: surf.profile.evaluate(np.asarray(s)).r  # noqa: E731
+    vol = sum(clairaut_zone_volume(r_of, x, y, c, n, AREA, nodes=400) for x, y in ((s1, a), (s2, b)))
+    vol += n * AREA * 100.0 / math.sqrt(100.0**2 - c**2) * (b - a)
+    assert vol == pytest.approx(layer.fiber_length_mm * AREA, rel=VOLUME_RTOL)

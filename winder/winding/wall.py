@@ -84,16 +84,9 @@ def layer_angles(cells: StationCells, layer: LayerPlan) -> np.ndarray:
 
 
 def _fill(angle: np.ndarray, laid: np.ndarray) -> np.ndarray:
-    """Angles where fiber lies but no pass crosses (a turnaround's band beyond its centre line, a
-    dwell's ring): the nearest crossing's."""
-    known = ~np.isnan(angle)
-    if not np.any(known):
-        return angle
-    idx = np.arange(angle.size)
-    near = idx[known][np.clip(np.searchsorted(idx[known], idx), 0, known.sum() - 1)]
-    prev = idx[known][np.clip(np.searchsorted(idx[known], idx) - 1, 0, known.sum() - 1)]
-    pick = np.where(np.abs(prev - idx) < np.abs(near - idx), prev, near)
-    return np.where(laid & ~known, angle[pick], angle)
+    """Angles where fiber lies but no pass crosses: a vessel turnaround's band beyond its centre line
+    and a dwell's ring both run along the parallel there, at 90 deg."""
+    return np.where(laid & np.isnan(angle), 90.0, angle)
 
 
 def reference_station(surface: SweepSurface, region: tuple[float, float], band_width: float) -> float:
