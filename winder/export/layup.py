@@ -19,17 +19,19 @@ only where the layer lays fiber; LAYUP_ANGLES angles around. Numbers with 6 deci
 from __future__ import annotations
 
 import io
+import re
 
 import numpy as np
 
 from winder.errors import ConfigError
-from winder.export.job_csv import DECIMALS, _NEG_ZERO
+from winder.export.job_csv import DECIMALS
 from winder.winding.buildup import share_around
 from winder.winding.results import WindingPlan
 
 HEADER = "layer,t,theta_deg,x,y,z,angle_deg,thickness_mm"
 LAYUP_ANGLES = 24  # 15 deg apart
 LAYUP_STEP_BANDS = 0.5  # station spacing, in band widths
+_NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")  # "-0.000000" is written "0.000000"
 
 
 def layup_csv_text(plan: WindingPlan, band_width: float) -> str:
