@@ -12,6 +12,7 @@ import pytest
 
 from winder.config.job import parse_config
 from winder.errors import ConfigError
+from winder.machine.program import build_program
 from winder.export.layup import HEADER, layup_csv_text
 from winder.export.summary import summary_dict
 from winder.winding.buildup import share_around
@@ -159,3 +160,15 @@ def test_share_around_keeps_the_section_mean(pipe_plan):
     np.testing.assert_allclose(share.mean(axis=1), 1.0, rtol=1e-12)
     counts = share * (2 * layer.circuits * 10.0 / (2 * np.pi * 50.0 * math.cos(math.radians(layer.angle_deg))))
     assert np.median(np.round(counts)) == 2
+
+
+def test_the_eye_clears_the_finished_part():
+    job = parse_config({"name": "w", "mandrel": PIPE, "machine": {"eye": {"clearance": 20}, "feed": 3000},
+                        "winding": {"band_width": 10, "points": 40, "material": TEX, "region": {"start": 20, "end": 480},
+                                    "layers": [{"type": "helical", "angle": 55}, {"type": "hoop", "passes": 3}]}},
+                       "w.yaml")
+    pl = plan(job)
+    outer = pl.layers[-1].laminate.outer_radius_mm
+    assert pl.outer_surface.radius(np.array([250.0]), np.zeros(1))[0] == pytest.approx(outer, rel=1e-9)
+    program = build_program(pl, job.machine)
+    assert program.values[:, 2].min() >= outer + 20.0 - 1e-6  # the clearance holds over the laminate

@@ -190,7 +190,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
     robot = is_robot(plan, machine)
-    surface = plan.surface
+    surface = plan.outer_surface  # the eye clears the finished part, laminate included
     env = eye_envelope(surface, machine)
     guide = make_guide(surface, env) if robot else None
     tol = float(machine.chord_tolerance)

@@ -51,4 +51,5 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
         layers.append(layer)
         ctx.report(index, 1.0, "planned")
         theta0 = float(layer.passes[-1].theta[-1])
-    return WindingPlan(job.name, job.source, surface, tuple(layers), float(job.winding.band_width))
+    return WindingPlan(job.name, job.source, surface, tuple(layers), float(job.winding.band_width),
+                       outer=build.surface if build is not None else None)

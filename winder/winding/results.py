@@ -119,6 +119,7 @@ class WindingPlan:
     surface: SweepSurface
     layers: tuple[LayerPlan, ...]
     band_width: float | None = None
+    outer: SweepSurface | None = None  # the mandrel grown by every layer (a laminate); None: surface
 
     @property
     def total_fiber_length_mm(self) -> float:
@@ -127,6 +128,11 @@ class WindingPlan:
     @property
     def total_time_s(self) -> float:
         return float(sum(layer.time_s for layer in self.layers))
+
+    @property
+    def outer_surface(self) -> SweepSurface:
+        """The finished part's surface: what the payout eye must clear."""
+        return self.outer if self.outer is not None else self.surface
 
     def surface_of(self, layer: int) -> SweepSurface:
         """The surface layer `layer` (1-based) was wound on: the mandrel grown by the layers below."""
