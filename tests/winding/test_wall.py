@@ -172,3 +172,25 @@ def test_the_eye_clears_the_finished_part():
     assert pl.outer_surface.radius(np.array([250.0]), np.zeros(1))[0] == pytest.approx(outer, rel=1e-9)
     program = build_program(pl, job.machine)
     assert program.values[:, 2].min() >= outer + 20.0 - 1e-6  # the clearance holds over the laminate
+
+
+@pytest.mark.parametrize("mandrel, angle", [
+    (VESSEL, 22),
+    ({"profile": {"type": "vessel", "radius": 80, "cylinder_length": 250,
+                  "dome": {"type": "isotensoid", "polar_opening": 20},
+                  "end_dome": {"type": "isotensoid", "polar_opening": 30}}}, 28),
+])
+def test_a_second_layer_at_the_same_angle_turns_on_the_first_ones_pile_up(mandrel, angle):
+    # next to a small opening the first layer's pile-up cannot be followed along the normal (its edge
+    # would turn the meridian back); the grown shape fills it, lowered near the opening so that the
+    # same angle still turns around there, on top of the pile-up
+    pl = plan(_job(mandrel, [{"type": "helical", "angle": angle}, {"type": "helical", "angle": angle}],
+                   material={"ply_thickness": 0.3}, points=30))
+    first, second = pl.layers
+    # on the pile-up: within its band (each layer's pattern moves its own c a little)
+    assert abs(second.turnaround_radius - first.turnaround_radius) < 0.5 * 10.0
+    grown = pl.surface_of(2)
+    ends = (grown.profile.dome.end_radius, grown.profile.end_dome.end_radius)
+    assert max(ends) + 5.0 < second.turnaround_radius  # the band still clears the grown opening
+    p = second.passes[0]
+    assert np.hypot(p.points[:, 0], p.points[:, 1]).min() == pytest.approx(second.turnaround_radius, rel=CLAIRAUT_RTOL)

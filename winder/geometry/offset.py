@@ -162,7 +162,8 @@ def vessel_growths(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> tupl
     from thicknesses h at vessel stations s ((m,) float each).
 
     Each dome's spline ends at its equator on the cylinder's value with zero slope (clamped), so the
-    grown meridian meets the grown cylinder tangentially.
+    grown meridian meets the grown cylinder tangentially, and at its polar opening with zero slope
+    (a dome's end hook, microns wide, is then offset by about the thickness given at the opening).
     """
     a, b = vessel.equator_s
     s, h = np.asarray(s, float), np.asarray(h, float)
@@ -174,7 +175,7 @@ def vessel_growths(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> tupl
         x = np.concatenate([[0.0], sigma[keep]])
         y = np.concatenate([[g_cyl], h[keep]])
         order = np.argsort(x)
-        spline = CubicSpline(x[order], y[order], bc_type=((1, 0.0), "not-a-knot"))
+        spline = CubicSpline(x[order], y[order], bc_type=((1, 0.0), (1, 0.0)))
         return lambda q: (spline(q), spline(q, 1), spline(q, 2))
 
     return g_cyl, dome(a - s, vessel.dome.length), dome(s - b, vessel.end_dome.length)

@@ -24,7 +24,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.buildup import StationCells, area_rate
 from winder.winding.laminate import smooth_density
 
-POLE_SLOPE_SHARE = 0.85  # share of the meridian's angle to the radial a falling laminate edge may use
+POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling laminate edge may use
 
 
 def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.ndarray,
@@ -43,9 +43,9 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
         mirror = (False, True) if j == 0 else (True, False)
         s = cells.centres[i0:i1]
         sm = smooth_density(s, density[i0:i1], 0.5 * band_width, mirror) / rate[i0:i1]
-        sm = _limit_pole_slope(surface, s, sm, toward_pole=-1.0 if j == 0 else 1.0)
+        sm = _limit_pole_slope(surface, s, sm, -1.0 if j == 0 else 1.0, 0.5 * band_width)
         sm = _below_concave_radius(surface, s, sm)
-        sm = _below_concave_radius(surface, s, smooth_density(s, sm, 0.5 * band_width, (True, True)))
+        sm = _below_concave_radius(surface, s, smooth_density(s, sm, 0.5 * band_width, mirror))
         if cyl is None:
             out[i0:i1] = sm
             continue
@@ -78,30 +78,45 @@ def _below_concave_radius(surface: SweepSurface, s: np.ndarray, t: np.ndarray) -
     return np.minimum(t, cap)
 
 
-def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, toward_pole: float) -> np.ndarray:
+def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, toward_pole: float,
+                      window: float) -> np.ndarray:
     """Raise the thickness where it falls toward the pole faster than the dome can carry it.
 
     Where a layer piles up at its turnaround its edge drops toward the polar opening; offset along
     the normal of a steep dome, that edge would turn the grown meridian back toward the equator (no
     longer a vessel). The next layer cannot follow such an edge anyway (its fiber bridges it), so the
-    grown shape fills it: the thickness may fall toward the pole at most at the slope that uses half
-    of the angle the dome's meridian has left to the radial direction (the least dilation of t by a
-    cone of that slope). Only the shape the next layer winds on changes, never a reported thickness.
+    grown shape fills it: the thickness may fall toward the pole at most at the slope that uses
+    POLE_SLOPE_SHARE of the angle the dome's meridian has left to the radial direction (the least
+    dilation of t by a cone of that slope). Filled all the way, a pile-up next to a small opening
+    would reach past the opening's plane and hide it (the next layer could not turn around there), so
+    the growth is also held under the same cone rising from zero at the opening: a pile-up closer to
+    the opening than its height allows is lowered. The slope limit at each station is the least
+    over +-window around it, so that the smoothing after it (that half-width), which averages slopes
+    there, keeps within it. Only the shape the next layer winds on changes, never a reported
+    thickness.
     """
     ev = surface.profile.evaluate(s)
     left = 0.5 * np.pi - np.arctan2(np.abs(ev.r1), np.abs(ev.z1))  # meridian angle to the radial
     slope = np.tan(np.clip(POLE_SLOPE_SHARE * left, 0.0, None))
+    k = int(np.ceil(window / max(s[1] - s[0], 1e-12))) if s.size > 1 else 0
+    if k:
+        padded = np.pad(slope, k, mode="edge")
+        slope = np.lib.stride_tricks.sliding_window_view(padded, 2 * k + 1).min(axis=1)
     order = np.argsort(toward_pole * s)  # from the equator toward the pole
     x, y, m = s[order], t[order], slope[order]
     run = np.concatenate([[0.0], np.cumsum(0.5 * (m[1:] + m[:-1]) * np.abs(np.diff(x)))])
     out = np.empty_like(t)
-    out[order] = np.maximum.accumulate(y + run) - run
+    out[order] = np.minimum(np.maximum.accumulate(y + run) - run, run[-1] - run)
     return out
 
 
 def grown(surface: SweepSurface, cells: StationCells, thickness: np.ndarray) -> SweepSurface:
     """The mandrel grown by a smooth mean thickness given at the cell centres ((k,) float), extended
-    to the range ends by its end values so the growth covers [0, length]."""
+    to the range ends so the growth covers [0, length]: by its end values on open mandrels, by zero
+    at a vessel's polar openings (the laminate ends at the boss; _limit_pole_slope brought it down
+    there already)."""
+    vessel = isinstance(surface.profile, VesselMeridian)
+    ends = (0.0, 0.0) if vessel else (thickness[0], thickness[-1])
     s = np.concatenate([[cells.edges[0]], cells.centres, [cells.edges[-1]]])
-    h = np.concatenate([[thickness[0]], thickness, [thickness[-1]]])
+    h = np.concatenate([[ends[0]], thickness, [ends[1]]])
     return grow_surface(surface, s, h)
