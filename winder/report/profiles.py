@@ -5,8 +5,8 @@
   and their mean.
 - Band layers: each layer's band count averaged around the perimeter (coverage_map.py), stacked: the
   plies the laminate builds up, 2 per even +-alpha layer, piling up toward vessel turnarounds.
-- Thickness (mm), stacked, for layers that carry one (layer_thickness): a laminate-aware planner adds a
-  `thickness` to its layers; plans without it simply have no thickness panel.
+- Thickness (mm), stacked, for layers that carry a laminate record (a job with a material); plans
+  without one simply have no thickness panel.
 """
 
 from __future__ import annotations
@@ -45,19 +45,15 @@ def angle_profile(layer: LayerPlan, t: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def layer_thickness(layer: Any) -> tuple[np.ndarray, np.ndarray] | None:
-    """(t (k,) mm, thickness (k,) mm) of a layer that carries a thickness, else None.
+    """(t (k,) mm, thickness (k,) mm) of a layer that carries a wall, else None.
 
-    Read from a `thickness` attribute holding `t` and `thickness_mm` arrays ((k,), or (k, m) at m
-    angles around the mandrel: averaged around), or a (t, thickness_mm) pair.
+    Read from the layer's laminate record (`laminate.t`, `laminate.thickness`: the mean thickness per
+    station the build-up computed), present when the job gives a material.
     """
-    th = getattr(layer, "thickness", None)
-    if th is None:
+    lam = getattr(layer, "laminate", None)
+    if lam is None:
         return None
-    t, mm = (th[0], th[1]) if isinstance(th, tuple) else (getattr(th, "t", None), getattr(th, "thickness_mm", None))
-    if t is None or mm is None:
-        return None
-    t, mm = np.asarray(t, dtype=float), np.asarray(mm, dtype=float)
-    return t, mm.mean(axis=1) if mm.ndim == 2 else mm
+    return np.asarray(lam.t, dtype=float), np.asarray(lam.thickness, dtype=float)
 
 
 def _line(x: list, y: np.ndarray, name: str, color: str, xa: str, ya: str, group: str, **extra: Any) -> dict:
