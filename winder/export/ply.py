@@ -1,4 +1,4 @@
-"""The 3D view `<name>.ply` (SPEC.md "Output files"): binary little-endian PLY, written by trimesh.
+"""The 3D view `<name>.ply` (SPEC.md "Output files"): binary little-endian PLY (trimesh's layout).
 
 One triangle mesh with per-vertex RGBA colors (readable by trimesh and MeshLab):
 - the mandrel surface: a grid over the internal station s in [0, length] and theta in [0, 2 pi),
@@ -8,7 +8,9 @@ One triangle mesh with per-vertex RGBA colors (readable by trimesh and MeshLab):
   LAYER_OFFSET * layer index along N so each layer shows above the mandrel and the layers below.
   Color: the hue names the layer, the shade names the pass kind (KIND_SHADE: forward bright, return
   dark, hoop pale, dwell grayish); every band color is saturated, so no band has the mandrel's gray.
-The mesh is not processed (no vertex merging), so the bytes are deterministic.
+The mesh is not processed (no vertex merging), so the bytes are deterministic. The file is written
+with numpy record arrays, in the layout trimesh writes (float32 xyz, uchar RGBA, faces as uchar 3 +
+int32 indices): importing trimesh costs a whole job's worth of time on a small mandrel.
 """
 
 from __future__ import annotations
@@ -17,8 +19,6 @@ import colorsys
 import math
 
 import numpy as np
-import trimesh
-from trimesh.exchange.ply import export_ply
 
 from winder.errors import ExportError
 from winder.winding.results import FiberPass, PassKind, WindingPlan
@@ -89,8 +89,9 @@ def _ribbon(plan: WindingPlan, fp: FiberPass, band_width: float) -> tuple[np.nda
     return verts, faces
 
 
-def ply_mesh(plan: WindingPlan, band_width: float) -> trimesh.Trimesh:
-    """The colored mesh of ply_bytes (mandrel first, then the bands in winding order)."""
+def ply_arrays(plan: WindingPlan, band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The colored mesh of ply_bytes (mandrel first, then the bands in winding order): vertices (v, 3)
+    float, faces (f, 3) int, vertex colors (v, 4) uint8 RGBA."""
     if not (math.isfinite(band_width) and band_width > 0.0):
         raise ExportError(f"{plan.source}: winding.band_width: must be > 0 for the PLY bands, got {band_width!r}")
     verts, faces = _mandrel(plan)
@@ -106,14 +107,22 @@ def ply_mesh(plan: WindingPlan, band_width: float) -> trimesh.Trimesh:
             all_f.append(f + base)
             colors.append(np.tile(np.array(band_color(fp.layer, fp.kind), dtype=np.uint8), (len(v), 1)))
             base += len(v)
-    return trimesh.Trimesh(vertices=np.concatenate(all_v), faces=np.concatenate(all_f),
-                           vertex_colors=np.concatenate(colors), process=False, validate=False)
+    return np.concatenate(all_v), np.concatenate(all_f), np.concatenate(colors)
+
+
+_HEADER = ("ply\nformat binary_little_endian 1.0\ncomment winder\nelement vertex {v}\nproperty float x\n"
+           "property float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+           "property uchar alpha\nelement face {f}\nproperty list uchar int vertex_indices\nend_header\n")
 
 
 def ply_bytes(plan: WindingPlan, band_width: float) -> bytes:
     """The binary PLY file's bytes."""
-    return export_ply(ply_mesh(plan, band_width), encoding="binary", vertex_normal=False,
-                      include_attributes=False)
+    verts, faces, colors = ply_arrays(plan, band_width)
+    vertex = np.empty(len(verts), dtype=[("xyz", "<f4", (3,)), ("rgba", "u1", (4,))])
+    vertex["xyz"], vertex["rgba"] = verts, colors
+    face = np.empty(len(faces), dtype=[("count", "u1"), ("index", "<i4", (3,))])
+    face["count"], face["index"] = 3, faces
+    return _HEADER.format(v=len(verts), f=len(faces)).encode("ascii") + vertex.tobytes() + face.tobytes()
 
 
 def export(plan: WindingPlan, job) -> bytes:

@@ -13,7 +13,6 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import brentq
 
 from winder.errors import ConfigError, SolverError
 
@@ -87,6 +86,8 @@ def close_vessel_pattern(advance: Callable[[float], float], c0: float, c_lo: flo
     """
     a_lo, a_hi = advance(c_lo), advance(c_hi)
     a0 = advance(c0)
+    from scipy.optimize import brentq  # noqa: PLC0415 - slow to import: only vessels need it
+
     # Every skip offers the targets just above and below a0; advance(c) is smooth and increasing, so
     # the few targets nearest a0 hold the least |c - c0|: solve those alone.
     candidates = []

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from winder.config.winding import LayerConfig
 from winder.winding.coverage import layer_coverage
@@ -31,6 +30,7 @@ from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.slip import check as check_held
 from winder.paths.ode import trace
 from winder.geometry.surface import SweepSurface
+from winder.winding.roots import bracketed_root
 
 TRACE_RTOL = 1e-10
 
@@ -59,7 +59,7 @@ def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float
         return float(start[1])
     if ss[k] == s_target:
         return float(tr.sol(ls[k:k + 1])[1][0])
-    l_hit = brentq(lambda l: tr.sol(np.array([l]))[0][0] - s_target, ls[k - 1], ls[k], xtol=1e-12)
+    l_hit = bracketed_root(lambda l: tr.sol(np.array([l]))[0][0] - s_target, ls[k - 1], ls[k], xtol=1e-12)
     return float(tr.sol(np.array([l_hit]))[1][0])
 
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from winder.config.winding import LayerConfig
 from winder.geometry.vessel import VesselMeridian
@@ -35,6 +34,8 @@ def turnaround_stations(prof: VesselMeridian, c: float) -> tuple[float, float]:
 
     def r_minus_c(s: float) -> float:
         return float(prof.evaluate(np.array([s])).r[0]) - c
+
+    from scipy.optimize import brentq  # noqa: PLC0415 - slow to import: only vessels need it
 
     return brentq(r_minus_c, 0.0, e1, xtol=1e-13), brentq(r_minus_c, e2, prof.length, xtol=1e-13)
 
