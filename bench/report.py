@@ -438,7 +438,19 @@ def _errors(r: dict[str, Any]) -> list[str]:
         f"- {err['experiment']}: `{err['traceback'].strip().splitlines()[-1]}`" for err in r["errors"]] + [""]
 
 
+def _speed(r: dict[str, Any]) -> list[str]:
+    """Issue 14's figures, each beside its baseline and target (bench.solver_speed, bench.fiberpath_jobs)."""
+    from bench import fiberpath_jobs, solver_speed  # noqa: PLC0415
+
+    lines: list[str] = []
+    if r.get("solver_speed"):
+        lines += solver_speed.markdown(r["solver_speed"])
+    if r.get("fiberpath_jobs"):
+        lines += fiberpath_jobs.markdown(r["fiberpath_jobs"])
+    return lines
+
+
 def markdown(r: dict[str, Any]) -> str:
     parts = (_header(r) + _summary(r) + _cases(r) + _frontier(r) + _table1(r) + _figure7(r) + _figure8(r)
-             + _helix(r) + _evolution(r) + _job(r) + _errors(r) + _notes(r))
+             + _helix(r) + _evolution(r) + _job(r) + _speed(r) + _errors(r) + _notes(r))
     return "\n".join(parts).rstrip() + "\n"

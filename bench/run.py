@@ -123,6 +123,18 @@ def run_bench(settings: Settings = FULL, progress: Progress | None = None) -> di
             from bench.job import compare_job  # noqa: PLC0415
 
             results["job"] = _guarded(results, "the whole-job comparison", lambda: compare_job(settings, say))
+        if settings.speed:
+            from bench import solver_speed  # noqa: PLC0415
+
+            results["solver_speed"] = _guarded(results, "the solver speed figures",
+                                               lambda: solver_speed.measure(settings.speed_repeats, say))
+    if settings.speed:
+        from bench import fiberpath_jobs  # noqa: PLC0415
+
+        say("whole jobs against fiberpath, start-up" if settings.fiberpath_jobs else "start-up")
+        results["fiberpath_jobs"] = _guarded(
+            results, "the whole jobs against fiberpath",
+            lambda: fiberpath_jobs.measure(settings.speed_repeats, jobs=settings.fiberpath_jobs))
     if settings.blas_check:
         results["blas_check"] = _guarded(results, "the BLAS-thread check", lambda: blas_check(say))
     results["meta"]["total_seconds"] = time.perf_counter() - t_start

@@ -53,6 +53,9 @@ class Settings:
     min_repeats: int = 3
     budget: float = 1.5
     job: bool = True
+    speed: bool = True  # issue 14's figures: the solver against solve_bvp (analytic Jacobians), start-up
+    fiberpath_jobs: bool = True  # every fiberpath example as a whole job, both tools as command lines
+    speed_repeats: int = 5
     blas_check: bool = True
     blas_threads: int | None = 1
 
@@ -87,6 +90,8 @@ QUICK = Settings(
     repeats=3,
     min_repeats=1,
     budget=0.3,
+    fiberpath_jobs=False,
+    speed_repeats=3,
     blas_check=False,
 )
 
@@ -97,5 +102,5 @@ def tiny(**changes) -> Settings:
         name="tiny", cases=("bend",), newton_n=(30, 50), table_n=(50,), large_n=(200,), shoot_tols=(1e-8,),
         bvp_tols=(1e-3,), mesh_triangles=(2_000,), lbfgs_n=(30,), lbfgs_cap=20, fig8_n=30, fig8_cap=20,
         helix_rounds=(2,), helix_n=60, frames=3, evolution_n=(30,), truth_tol=1e-10, repeats=1,
-        min_repeats=1, budget=0.05, job=False, blas_check=False)
+        min_repeats=1, budget=0.05, job=False, speed=False, fiberpath_jobs=False, blas_check=False)
     return replace(base, **changes)

@@ -1,0 +1,130 @@
+"""Whole jobs against fiberpath on its own examples, and start-up (issue 14).
+
+Each example of shared/bench/fiberpath is a pair NAME.wind (fiberpath) and NAME.yaml (winder, the
+same job). Per repeat the two tools run back to back as a user runs them (a fresh process, each its
+own console script, all of winder's output files written), alternating who goes first so that the
+machine's noise falls on both; figures are medians over the repeats. fiberpath is AGPL and is only
+ever run as a separate program; without it (or without the examples) the section is skipped with a
+note. Start-up: `winder --help` and `winder check` against `fiberpath --help` and a bare interpreter,
+and the slowest imports of `import winder.cli` (`python -X importtime`).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = Path(os.environ.get("WINDER_FIBERPATH_EXAMPLES", ROOT.parent / "shared" / "bench" / "fiberpath"))
+FIBERPATH = Path(os.environ.get("WINDER_FIBERPATH", "/work/venv-fp/bin/fiberpath"))
+WINDER = Path(sys.executable).parent / "winder"
+CHECK_SAMPLE = ROOT / "samples" / "pipe.yaml"
+TARGETS = {"motor_tube": 5.0, "avbay_triple": 5.0, "main_chute": 5.0, "avbay_single": 3.0,
+           "simple_cylinder": 1.5, "multi_layer": 1.5}  # fiberpath time / winder time, issue 14
+STARTUP_TARGETS = {"winder --help": 0.25, "winder check": 0.35}  # seconds
+
+
+def _timed(argv: list[str]) -> tuple[float, str]:
+    t0 = time.perf_counter()
+    proc = subprocess.run(argv, capture_output=True, text=True)
+    seconds = time.perf_counter() - t0
+    if proc.returncode != 0:
+        raise RuntimeError(f"{' '.join(argv)} exited {proc.returncode}: {proc.stderr.strip()[-300:]}")
+    return seconds, proc.stdout
+
+
+def _job(name: str, repeats: int) -> dict[str, Any]:
+    wind, config = EXAMPLES / f"{name}.wind", EXAMPLES / f"{name}.yaml"
+    fp, wi = [], []
+    with tempfile.TemporaryDirectory(prefix=f"winder-fp-{name}-") as tmp:
+        out = Path(tmp)
+        for k in range(repeats):
+            for tool in (("fp", "w") if k % 2 == 0 else ("w", "fp")):
+                if tool == "fp":
+                    sec, _ = _timed([str(FIBERPATH), "plan", str(wind), "-o", str(out / f"{name}.gcode"), "--json"])
+                    fp.append(sec)
+                else:
+                    shutil.rmtree(out / "w", ignore_errors=True)
+                    sec, _ = _timed([str(WINDER), "run", str(config), "-o", str(out / "w")])
+                    wi.append(sec)
+    f, w = statistics.median(fp), statistics.median(wi)
+    return {"name": name, "fiberpath_s": f, "winder_s": w, "ratio": f / w, "target": TARGETS.get(name),
+            "fiberpath_runs_s": fp, "winder_runs_s": wi}
+
+
+def startup(repeats: int) -> dict[str, float]:
+    python = str(Path(sys.executable))
+    runs = {"winder --help": [str(WINDER), "--help"], "winder check": [str(WINDER), "check", str(CHECK_SAMPLE)],
+            "python -c pass": [python, "-c", "pass"], "python -c 'import numpy'": [python, "-c", "import numpy"]}
+    if FIBERPATH.exists():
+        runs["fiberpath --help"] = [str(FIBERPATH), "--help"]
+    times: dict[str, list[float]] = {k: [] for k in runs}
+    for _ in range(repeats):
+        for key, argv in runs.items():
+            times[key].append(_timed(argv)[0])
+    return {k: statistics.median(v) for k, v in times.items()}
+
+
+def import_profile(module: str = "winder.cli", top: int = 12) -> list[dict[str, Any]]:
+    """The slowest imports of `module` by cumulative time: name, cumulative and self seconds."""
+    proc = subprocess.run([sys.executable, "-X", "importtime", "-c", f"import {module}"], capture_output=True,
+                          text=True)
+    rows = []
+    for line in proc.stderr.splitlines():
+        if line.startswith("import time:") and "self [us]" not in line:
+            own, cum, name = (part.strip() for part in line[len("import time:"):].split("|"))
+            rows.append({"module": name, "cumulative_s": int(cum) / 1e6, "self_s": int(own) / 1e6})
+    rows.sort(key=lambda r: -r["cumulative_s"])
+    return rows[:top]
+
+
+def measure(repeats: int = 5, names: list[str] | None = None, jobs: bool = True) -> dict[str, Any]:
+    """Everything of this section, for results.json (jobs False: start-up and imports only)."""
+    out: dict[str, Any] = {"startup_s": startup(repeats), "startup_targets_s": STARTUP_TARGETS,
+                           "imports": import_profile()}
+    if not jobs:
+        out["note"] = "whole jobs against fiberpath: not in this run's settings"
+        return out
+    if not (FIBERPATH.exists() and EXAMPLES.is_dir()):
+        out["note"] = f"fiberpath ({FIBERPATH}) or its examples ({EXAMPLES}) not found: whole jobs skipped"
+        return out
+    names = names or sorted(p.stem for p in EXAMPLES.glob("*.wind") if p.with_suffix(".yaml").exists())
+    out["jobs"] = [_job(name, repeats) for name in names]
+    return out
+
+
+def markdown(data: dict[str, Any]) -> list[str]:
+    """The section of RESULTS.md."""
+    lines = ["## Whole jobs against fiberpath, and start-up", "",
+             "Each example run as a user runs it (a fresh process, all output files written), fiberpath and "
+             "winder alternating; medians of the repeats. Ratio: fiberpath's time over winder's (> 1: winder "
+             "is faster); target: issue 14's.", ""]
+    if "jobs" in data:
+        lines += ["| example | fiberpath | winder | fiberpath / winder | target |", "|---|---:|---:|---:|---:|"]
+        for j in data["jobs"]:
+            tgt = f">= {j['target']:g}x" if j.get("target") else "-"
+            lines.append(f"| {j['name']} | {j['fiberpath_s']:.3f} s | {j['winder_s']:.3f} s | {j['ratio']:.2f}x | {tgt} |")
+        lines.append("")
+    else:
+        lines += [data.get("note", ""), ""]
+    lines += ["| start-up | median | target |", "|---|---:|---:|"]
+    for k, v in data["startup_s"].items():
+        tgt = data["startup_targets_s"].get(k)
+        lines.append(f"| `{k}` | {v:.3f} s | {'<= %.2f s' % tgt if tgt else '-'} |")
+    lines += ["", "`python -X importtime -c 'import winder.cli'`, slowest by cumulative time:", "",
+              "| module | cumulative | self |", "|---|---:|---:|"]
+    lines += [f"| {r['module']} | {r['cumulative_s'] * 1e3:.1f} ms | {r['self_s'] * 1e3:.1f} ms |"
+              for r in data["imports"]]
+    return lines + [""]
+
+
+if __name__ == "__main__":
+    print("\n".join(markdown(measure(int(sys.argv[1]) if len(sys.argv) > 1 else 3))))
