@@ -259,21 +259,32 @@ def _lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
     return _first_crossing(f, m, lmax)
 
 
+def eye_leads(points: np.ndarray, directions: np.ndarray, envelope: EyeEnvelope,
+              where: str = "eye path") -> tuple[np.ndarray, np.ndarray]:
+    """The lead lambda (m,) of every contact point (m, 3) along its fiber direction (m, 3) to the
+    eye's envelope, and whether it reaches it (m,) bool: pointwise, so a whole plan's points can go in
+    one call (eye_path's lead argument) instead of one scan per pass."""
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    return _lead_straight(p, _unit(np.asarray(directions, dtype=float).reshape(-1, 3)), envelope, where)
+
+
 def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, machine: MachineConfig,
              *, theta: np.ndarray | None = None, envelope: EyeEnvelope | None = None,
-             sense: float | None = None, where: str = "eye path") -> EyePath:
+             sense: float | None = None, where: str = "eye path",
+             lead: tuple[np.ndarray, np.ndarray] | None = None) -> EyePath:
     """Axis values of a straight-axis winder laying the fiber through contact points (m, 3) with unit
     fiber directions (m, 3) (toward the part not yet laid). theta : (m,) the contact angles, unwrapped
     (default: the polar angles of the points, unwrapped); they fix A's turn count. envelope : from
     eye_envelope (computed here when left out). sense : the winding sense sigma of B (> 0: theta
-    increasing; default: the sense the fiber runs in here). `where` prefixes error messages."""
+    increasing; default: the sense the fiber runs in here). `where` prefixes error messages. lead :
+    eye_leads of these points, when the caller computed them for many passes at once."""
     if not surface.curve.is_straight:
         raise ExportError(f"{where}: the mandrel axis is bent: a straight-axis winder cannot follow it; "
                           "use robot poses (machine.robot)")
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     d = _unit(np.asarray(directions, dtype=float).reshape(-1, 3))
     env = envelope if envelope is not None else eye_envelope(surface, machine)
-    lam, ok = _lead_straight(p, d, env, where)
+    lam, ok = lead if lead is not None else _lead_straight(p, d, env, where)
     e = p + lam[:, None] * d
     phi_raw = np.arctan2(e[:, 1], e[:, 0])
     if theta is None:

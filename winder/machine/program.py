@@ -30,7 +30,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
-from winder.machine.kinematics import RobotPoses, eye_envelope, eye_path, make_guide, robot_poses
+from winder.machine.kinematics import RobotPoses, eye_envelope, eye_leads, eye_path, make_guide, robot_poses
 from winder.machine.limits import check_limits
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 
@@ -186,6 +186,22 @@ def _all_poses(plan: WindingPlan, machine: MachineConfig, env, guide) -> list[Ro
     return [RobotPoses(*fields) for fields in zip(*parts)]
 
 
+def _all_leads(plan: WindingPlan, env) -> list[tuple[np.ndarray, np.ndarray] | None]:
+    """eye_leads of every non-empty pass in plan order, from one call over all their points (the lead
+    is pointwise, so the values are the same as pass by pass). Where the eye cannot clear the mandrel,
+    None for every pass: eye_path then finds it pass by pass and names the pass in its refusal."""
+    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    if not passes:
+        return []
+    try:
+        lam, ok = eye_leads(np.concatenate([fp.points for fp in passes]),
+                            np.concatenate([fp.direction for fp in passes]), env)
+    except ExportError:
+        return [None] * len(passes)
+    cuts = np.cumsum([len(fp.points) for fp in passes])[:-1]
+    return list(zip(np.split(lam, cuts), np.split(ok, cuts)))
+
+
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
@@ -208,6 +224,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                    if len(fp.theta))
     sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
     poses = iter(_all_poses(plan, machine, env, guide) if robot else ())
+    leads = iter(() if robot else _all_leads(plan, env))
     for layer in plan.layers:
         segments: list[Segment] = []
         for fp in layer.passes:
@@ -222,13 +239,14 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                 q = np.column_stack([pose.position, angle_scale * pose.direction])
                 table = np.column_stack([pose.position, pose.direction])
             else:
+                lead = next(leads)
                 path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
-                                sense=sense, where=where)
+                                sense=sense, where=where, lead=lead)
                 if jumped and a_end is not None and (path.a_deg[0] - a_end) * turns.sense > TURN_BACK_DEG:
                     # A runs against theta: the eye would turn back on the way to this pass.
                     theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
                     path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
-                                    sense=sense, where=where)
+                                    sense=sense, where=where, lead=lead)
                 a_end = float(path.a_deg[-1])
                 if b_end is not None:
                     path = replace(path, b_deg=path.b_deg + 360.0 * np.round((b_end - path.b_deg[0]) / 360.0))
