@@ -158,7 +158,7 @@ def test_interrupt_while_writing_removes_what_was_renamed(tiny, tmp_path, monkey
 
 
 def test_unexpected_exception_is_an_internal_error(tiny, tmp_path, monkeypatch):
-    def buggy(plan, machine):
+    def buggy(plan, machine, *rest):
         raise ZeroDivisionError("float division by zero")
 
     monkeypatch.setattr(winder.export.gcode, "gcode_text", buggy)
@@ -170,7 +170,7 @@ def test_unexpected_exception_is_an_internal_error(tiny, tmp_path, monkeypatch):
 
 
 def test_cli_failing_exporter_leaves_nothing(tiny, tmp_path, monkeypatch):
-    def broken(plan, machine):
+    def broken(plan, machine, *rest):
         raise ExportError(f"{plan.source}: machine.limits.carriage: exceeded")
 
     monkeypatch.setattr(winder.export.gcode, "gcode_text", broken)

@@ -18,6 +18,10 @@ DEFAULT_CHORD_TOLERANCE = 0.05
 MAX_EYE_CLEARANCE = 2000.0
 
 MACHINE_ROLES = ("carriage", "rotation", "cross_feed", "yaw")
+DIALECTS = ("generic", "marlin", "linuxcnc", "robot")
+# A shop winder's axes (speed in mm/min or deg/min, acceleration in mm/s^2 or deg/s^2): SPEC.md's example.
+DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0),
+                    "cross_feed": (10000.0, 1000.0), "yaw": (20000.0, 3000.0)}
 # Axis words of G-code (ISO 6983 / RS-274); any other letter (F, G, M, N, ...) would change the
 # meaning of a program line.
 AXIS_LETTERS = "XYZABCUVW"
@@ -58,6 +62,33 @@ class MachineLimits:
 
 
 @dataclass(frozen=True)
+class AxisDynamics:
+    """One axis' top speed (mm/min or deg/min) and acceleration (mm/s^2 or deg/s^2), both > 0."""
+
+    speed: float
+    acceleration: float
+
+
+def _default_dynamics(role: str) -> AxisDynamics:
+    return AxisDynamics(*DEFAULT_DYNAMICS[role])
+
+
+@dataclass(frozen=True)
+class MachineDynamics:
+    """Per logical axis top speed and acceleration (YAML `machine.dynamics`); defaults DEFAULT_DYNAMICS."""
+
+    carriage: AxisDynamics = field(default_factory=lambda: _default_dynamics("carriage"))
+    rotation: AxisDynamics = field(default_factory=lambda: _default_dynamics("rotation"))
+    cross_feed: AxisDynamics = field(default_factory=lambda: _default_dynamics("cross_feed"))
+    yaw: AxisDynamics = field(default_factory=lambda: _default_dynamics("yaw"))
+
+    def get(self, role: str) -> AxisDynamics:
+        if role not in MACHINE_ROLES:
+            raise KeyError(role)
+        return getattr(self, role)
+
+
+@dataclass(frozen=True)
 class MachineConfig:
     """The winder (YAML `machine:`). Every key has a default, so the section may be left out.
 
@@ -73,6 +104,10 @@ class MachineConfig:
     robot: true: write eye poses (position and fiber direction in the mandrel frame) for a robot
         instead of G-code axes. Default: true exactly when the mandrel axis is bent, which a
         straight-axis winder cannot follow (an explicit false is then refused).
+    dialect: how the program is written (DIALECTS): generic G-code, marlin (fiberpath's X A B
+        machines), linuxcnc (inverse-time feed), robot (eye poses). Default: robot for a robot,
+        else generic; `robot` and the robot mode imply each other.
+    dynamics: per-axis top speed and acceleration (see MachineDynamics).
     """
 
     axes: MachineAxes = field(default_factory=MachineAxes)
@@ -82,10 +117,12 @@ class MachineConfig:
     chord_tolerance: float = DEFAULT_CHORD_TOLERANCE
     limits: MachineLimits = field(default_factory=MachineLimits)
     robot: bool = False
+    dialect: str = "generic"
+    dynamics: MachineDynamics = field(default_factory=MachineDynamics)
 
 
 # -- machine ---------------------------------------------------------------------------------------
-_MACHINE_KEYS = ("axes", "eye", "feed", "chord_tolerance", "limits", "robot")
+_MACHINE_KEYS = ("axes", "eye", "feed", "chord_tolerance", "limits", "robot", "dialect", "dynamics")
 
 
 def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
@@ -93,7 +130,7 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
     """The machine section (None: all defaults). bent: the mandrel axis is not straight;
     max_radius: the mandrel's largest distance from its axis, when known without computation."""
     if value is None:
-        return MachineConfig(robot=bent)
+        return MachineConfig(robot=bent, dialect="robot" if bent else "generic")
     m = rd.mapping(value, path, _MACHINE_KEYS)
     axes = _parse_axes(rd, m["axes"], rd.at(path, "axes")) if "axes" in m else MachineAxes()
     limits = _parse_limits(rd, m["limits"], rd.at(path, "limits")) if "limits" in m else MachineLimits()
@@ -109,7 +146,41 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
         if bent and not robot:
             raise rd.error(rd.at(path, "robot"), "must be true for a bent mandrel axis: a straight-axis "
                            "winder cannot follow it, so winder writes eye poses for a robot", m["robot"])
-    return MachineConfig(axes, eye_radius, eye_clearance, feed, chord_tolerance, limits, robot)
+    robot, dialect = _parse_dialect(rd, m, path, robot, bent)
+    dynamics = _parse_dynamics(rd, m["dynamics"], rd.at(path, "dynamics")) if "dynamics" in m else MachineDynamics()
+    return MachineConfig(axes, eye_radius, eye_clearance, feed, chord_tolerance, limits, robot, dialect, dynamics)
+
+
+def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool) -> tuple[bool, str]:
+    """(robot, dialect): `dialect: robot` turns robot mode on; a G-code dialect needs a straight axis."""
+    if "dialect" not in m:
+        return robot, "robot" if robot else "generic"
+    where = rd.at(path, "dialect")
+    dialect = m["dialect"]
+    if not isinstance(dialect, str) or dialect not in DIALECTS:
+        raise rd.error(where, f"must be one of {', '.join(DIALECTS)}", dialect)
+    if dialect == "robot":
+        if "robot" in m and not robot:
+            raise rd.error(where, "robot needs robot poses, but machine.robot is false", dialect)
+        return True, dialect
+    if robot:
+        why = "the mandrel axis is bent" if bent else "machine.robot is true"
+        raise rd.error(where, f"must be robot: {why}, so winder writes eye poses, not {dialect} G-code",
+                       dialect)
+    return robot, dialect
+
+
+def _parse_dynamics(rd: Reader, value: Any, path: str) -> MachineDynamics:
+    m = rd.mapping(value, path, MACHINE_ROLES)
+    axes = {}
+    for role, spec in m.items():
+        where = rd.at(path, role)
+        d = rd.mapping(spec, where, ("speed", "acceleration"))
+        default = _default_dynamics(role)
+        axes[role] = AxisDynamics(
+            rd.positive(d.get("speed", default.speed), rd.at(where, "speed")),
+            rd.positive(d.get("acceleration", default.acceleration), rd.at(where, "acceleration")))
+    return MachineDynamics(**axes)
 
 
 def _parse_axes(rd: Reader, value: Any, path: str) -> MachineAxes:

@@ -15,6 +15,9 @@ With a material (a laminate), each layer also has thickness_mm (mean, at the ref
 max_thickness_mm, ply_thickness_mm, volume_mm3, fiber_mass_kg, resin_mass_kg, material_length_mm
 and outer_radius_mm (after the layer), and the job fiber_mass_kg, resin_mass_kg, mass_kg and
 outer_radius_mm; without one these keys are absent.
+With the machine: winding_time_s in total and per layer, the machine's time over the motion program
+from machine.dynamics, acceleration and deceleration included (winder.machine.dynamics); null when
+no program can be built (an axis limit). estimated_time_s / time_s stay the fiber length at the feed.
 """
 
 from __future__ import annotations
@@ -23,7 +26,8 @@ import json
 import math
 from typing import Any
 
-from winder.errors import WinderError
+from winder.errors import ExportError, WinderError
+from winder.machine.program import build_program
 from winder.winding.results import LayerPlan, WindingPlan
 
 LENGTH_DECIMALS = 3
@@ -114,9 +118,20 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
             "outer_radius_mm": _num(walls[-1].outer_radius_mm, LENGTH_DECIMALS + 1)}
 
 
-def summary_dict(plan: WindingPlan) -> dict[str, Any]:
-    """The summary as plain Python data (what summary_text serializes)."""
-    return {
+def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None]]:
+    """(total, per layer) machine time from the dynamics; None where no program can be built."""
+    try:
+        program = build_program(plan, machine)
+    except ExportError:
+        return None, [None] * len(plan.layers)
+    layers = list(program.layer_times_s)
+    return program.times.total_s, layers
+
+
+def summary_dict(plan: WindingPlan, machine=None) -> dict[str, Any]:
+    """The summary as plain Python data (what summary_text serializes); machine: a MachineConfig
+    for the winding times (left out: no winding_time_s keys)."""
+    out = {
         "name": plan.name,
         "source": plan.source,
         "total_fiber_length_mm": _num(plan.total_fiber_length_mm, LENGTH_DECIMALS),
@@ -125,17 +140,23 @@ def summary_dict(plan: WindingPlan) -> dict[str, Any]:
         "layers": [_layer(layer) for layer in plan.layers],
         **_totals(plan),
     }
+    if machine is not None:
+        total, layers = _winding_times(plan, machine)
+        out["winding_time_s"] = _num(total, TIME_DECIMALS)
+        for entry, seconds in zip(out["layers"], layers):
+            entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
+    return out
 
 
-def summary_text(plan: WindingPlan) -> str:
+def summary_text(plan: WindingPlan, machine=None) -> str:
     """The summary JSON text (sorted keys, indent 2, newline-terminated)."""
-    return json.dumps(summary_dict(plan), sort_keys=True, indent=2, allow_nan=False) + "\n"
+    return json.dumps(summary_dict(plan, machine), sort_keys=True, indent=2, allow_nan=False) + "\n"
 
 
 def export(plan: WindingPlan, job) -> str:
     """The registry's entry (winder.export.registry). The summary must be JSON (regress and other
     tools read it): anything else is refused here rather than written to a file nobody can read."""
-    text = summary_text(plan)
+    text = summary_text(plan, job.machine)
     try:
         json.loads(text)
     except ValueError as exc:

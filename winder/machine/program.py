@@ -30,6 +30,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
+from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.kinematics import RobotPoses, eye_envelope, eye_leads, eye_path, make_guide, robot_poses
 from winder.machine.limits import check_limits
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
@@ -68,7 +69,10 @@ class MotionProgram:
 
     values : (m, 4) float, the logical axes AXES (carriage mm, rotation deg, cross_feed mm, yaw deg)
         of each move; for a robot (m, 6), the eye pose POSE_AXES (position mm, unit direction).
-    feed : (m,) float, mm/min of each move. index : (m,) int, the move's contact point in its pass.
+    feed : (m,) float, fiber feed of each move (mm/min; machine.feed unless an axis' top speed limits
+        it). index : (m,) int, the move's contact point in its pass. fiber : (m,) float, the fiber the
+        move to the row lays (mm, along the pass's points; 0 for the first row of a pass).
+    times : the moves' cruise and profiled times from machine.dynamics (winder.machine.dynamics).
     layers : the plan's layers (comments); segments : per layer, its passes in order (empty passes too).
     envelope_radius / envelope_clearance : the eye envelope, one of them set.
     """
@@ -85,6 +89,19 @@ class MotionProgram:
     feed: np.ndarray
     index: np.ndarray
     segments: tuple[tuple[Segment, ...], ...]
+    fiber: np.ndarray
+    times: MoveTimes
+    mandrel_radius: float = 0.0  # the mandrel's largest section radius (mm)
+    axial_length: float = 0.0  # the mandrel's length along its axis (mm)
+
+    @property
+    def layer_times_s(self) -> tuple[float, ...]:
+        """Profiled time of each layer: the moves ending on its rows."""
+        out = []
+        for segs in self.segments:
+            lo, hi = (segs[0].start, segs[-1].stop) if segs else (0, 0)
+            out.append(float(np.sum(self.times.time_s[lo:hi])))
+        return tuple(out)
 
     @property
     def axes(self) -> tuple[str, ...]:
@@ -215,6 +232,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
 
     rows: list[np.ndarray] = []
     indices: list[np.ndarray] = []
+    fibers: list[np.ndarray] = []
     layer_segments: list[tuple[Segment, ...]] = []
     count = 0
     b_end: float | None = None
@@ -260,6 +278,8 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
             keep = reduce_points(q, tol)
             rows.append(table[keep])
             indices.append(keep)
+            along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(fp.points, axis=0), axis=1))])
+            fibers.append(np.diff(along[keep], prepend=along[keep[0]]))
             capped = int(np.count_nonzero(~on_envelope))
             segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count + keep.size, capped,
                                     float(np.max(lead)) if capped else 0.0))
@@ -267,9 +287,12 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
         layer_segments.append(tuple(segments))
     width = len(POSE_AXES if robot else AXES)
     values = np.concatenate(rows) if rows else np.zeros((0, width))
+    fiber = np.concatenate(fibers) if fibers else np.zeros(0)
+    times = move_times(values[:, :3] if robot else values, fiber, machine, robot)
     return MotionProgram(
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
         total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,
-        envelope_clearance=env.clearance, values=values, feed=np.full(count, float(machine.feed)),
+        envelope_clearance=env.clearance, values=values, feed=times.feed,
         index=np.concatenate(indices) if indices else np.zeros(0, dtype=int),
-        segments=tuple(layer_segments))
+        segments=tuple(layer_segments), fiber=fiber, times=times,
+        mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(surface.axial_length))

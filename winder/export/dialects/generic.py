@@ -8,13 +8,13 @@ docstring and winder.machine.kinematics define them.
 
 from __future__ import annotations
 
-from winder.export.dialects.text import DECIMALS
+from winder.export.dialects.text import DECIMALS, BaseDialect
 from winder.machine.program import MotionProgram
 
 PREFIX = "G1"
 
 
-class GenericGcode:
+class GenericGcode(BaseDialect):
     """A straight-axis winder's G-code."""
 
     prefix = PREFIX

@@ -11,7 +11,7 @@ of the G-code dialect.
 
 from __future__ import annotations
 
-from winder.export.dialects.text import DECIMALS
+from winder.export.dialects.text import DECIMALS, BaseDialect
 from winder.machine.program import MotionProgram
 
 DIRECTION_DECIMALS = 6  # unit vectors of robot poses
@@ -19,7 +19,7 @@ PREFIX = "POSE"
 LETTERS = ("X", "Y", "Z", "I", "J", "K")
 
 
-class RobotPoses:
+class RobotPoses(BaseDialect):
     """Eye poses for a robot."""
 
     prefix = PREFIX

@@ -11,6 +11,8 @@ import re
 from dataclasses import dataclass
 from typing import Protocol
 
+import numpy as np
+
 from winder.machine.program import MotionProgram
 from winder.winding.results import LayerPlan, PassKind
 
@@ -43,9 +45,50 @@ class Dialect(Protocol):
 
     def describe(self, program: MotionProgram) -> list[str]: ...  # machine comment lines
 
-    def letters(self, program: MotionProgram) -> tuple[str, ...]: ...  # one per program axis
+    def letters(self, program: MotionProgram) -> tuple[str, ...]: ...  # one per written column
 
-    def decimals(self, program: MotionProgram) -> tuple[int, ...]: ...  # one per program axis
+    def decimals(self, program: MotionProgram) -> tuple[int, ...]: ...  # one per written column
+
+    def first_lines(self, program: MotionProgram) -> list[str]: ...  # before the comment header
+
+    def preamble(self, program: MotionProgram) -> list[str]: ...
+
+    def end(self, program: MotionProgram) -> list[str]: ...
+
+    def columns(self, program: MotionProgram) -> np.ndarray: ...  # (m, k) the values written
+
+    def move_lines(self, program: MotionProgram, row: int, words: str,
+                   prev: tuple[float, ...] | None, cur: tuple[float, ...]) -> list[str]: ...
+
+
+class BaseDialect:
+    """What a dialect does unless it says otherwise: the generic G-code's preamble, end, columns
+    and `PREFIX words F<feed>` move lines."""
+
+    prefix = "G1"
+
+    def first_lines(self, program: MotionProgram) -> list[str]:
+        return []
+
+    def preamble(self, program: MotionProgram) -> list[str]:
+        return list(PREAMBLE)
+
+    def end(self, program: MotionProgram) -> list[str]:
+        return [END]
+
+    def columns(self, program: MotionProgram) -> np.ndarray:
+        return program.values
+
+    def move_lines(self, program: MotionProgram, row: int, words: str,
+                   prev: tuple[float, ...] | None, cur: tuple[float, ...]) -> list[str]:
+        return [f"{self.prefix} {words} F{fmt(program.feed[row])}"]
+
+
+def fmt_significant(value: float, digits: int = 6) -> str:
+    """A positive number with about `digits` significant digits, fixed-point (no exponent), at
+    least DECIMALS decimals."""
+    decimals = max(DECIMALS, digits - 1 - int(np.floor(np.log10(max(abs(value), 1e-12)))))
+    return fmt(value, min(decimals, 12))
 
 
 def fmt(value: float, decimals: int = DECIMALS) -> str:
@@ -82,9 +125,11 @@ def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
 def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list[Move]]:
     """The program's lines (without newlines) and the moves they write, in order."""
     letters, decimals = dialect.letters(program), dialect.decimals(program)
-    lines = _header(program, dialect) + list(PREAMBLE)
+    columns = dialect.columns(program)
+    lines = dialect.first_lines(program) + _header(program, dialect) + dialect.preamble(program)
     moves: list[Move] = []
     last_words: str | None = None
+    last: tuple[float, ...] | None = None
     for layer, segments in zip(program.layers, program.segments):
         lines.append(f"; {layer_line(layer)}")
         circuit = None
@@ -97,14 +142,15 @@ def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list
                 lines.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is "
                              f"held at the largest lead, {fmt(seg.max_lead)} mm, off the envelope")
             for row in range(seg.start, seg.stop):
-                texts = [fmt(v, n) for v, n in zip(program.values[row], decimals)]
+                texts = [fmt(v, n) for v, n in zip(columns[row], decimals)]
                 words = " ".join(f"{c}{v}" for c, v in zip(letters, texts))
                 if words == last_words:
                     continue
                 last_words = words
-                lines.append(f"{dialect.prefix} {words} F{fmt(program.feed[row])}")
-                moves.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(program.index[row]),
-                                  tuple(float(v) for v in texts)))
-    lines.append(END)
+                cur = tuple(float(v) for v in texts)
+                lines += dialect.move_lines(program, row, words, last, cur)
+                last = cur
+                moves.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(program.index[row]), cur))
+    lines += dialect.end(program)
     return lines, moves
 
