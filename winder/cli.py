@@ -354,6 +354,35 @@ def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int) -> None:
 
 
 # -- regress ---------------------------------------------------------------------------------------
+@main.command("simulate", short_help="Read a winding program back: what it lays, its time.")
+@click.argument("config", type=click.Path(dir_okay=False))
+@click.argument("program", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), default=None, help="Write the laid path CSV here.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
+@_guard
+def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -> None:
+    """Reconstruct what PROGRAM (written by `winder run` for CONFIG, any dialect) lays."""
+    from winder.app.simulate import simulate, simulation_csv  # noqa: PLC0415
+    from winder.export.atomic import write_atomic  # noqa: PLC0415
+    from winder.winding.plan import plan as plan_job  # noqa: PLC0415
+
+    job = load_config(config)
+    try:
+        with open(program, encoding="utf-8") as fh:
+            text = fh.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{program}: cannot read the program ({exc})") from exc
+    sim = simulate(job.machine, plan_job(job), text, program)
+    if output:
+        write_atomic(output, simulation_csv(sim))
+    if as_json:
+        click.echo(json.dumps(sim.summary()))
+    else:
+        click.echo(f"{job.name}: {sim.moves} moves ({sim.dialect}), {sim.time_s:.1f} s, fiber "
+                   f"{sim.fiber_length_mm:.3f} mm (planned {sim.planned_fiber_length_mm:.3f} mm), largest "
+                   f"deviation {sim.max_deviation_mm:.4f} mm")
+
+
 @main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")
 @click.argument("directory", type=click.Path(file_okay=False))
 @click.option("--update", is_flag=True, help="Rewrite the references with the current outputs.")

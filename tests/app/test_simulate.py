@@ -1,0 +1,103 @@
+"""winder.app.simulate: programs of every dialect read back through the kinematics reproduce the
+plan: eyes on the planned tangent lines, the fiber length, the machine time."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import surface_of
+from plans import cylinder_plan
+from winder.config.job import load_config
+from winder.config.machine import MachineConfig
+from winder.config.mandrel import ConstantProfile, LineAxis
+from winder.errors import ConfigError
+from winder.app.simulate import simulate, simulation_csv
+from winder.export.gcode import gcode_text
+from winder.machine.program import build_program
+from winder.winding.plan import plan as plan_job
+
+TANGENT_TOL = 0.01  # mm: a programmed eye from the exact tangent line (3-decimal axes)
+LENGTH_TOL = 1e-6  # relative: laid fiber against the plan's
+TIME_TOL = 1e-3  # relative: the program's time read back (rounded axes) against the plan's program
+SAMPLES = Path(__file__).resolve().parents[2] / "samples"
+MACHINE = MachineConfig(eye_radius=60.0, eye_clearance=None, chord_tolerance=0.05)
+
+
+@pytest.fixture(scope="module")
+def plan():
+    return cylinder_plan(surface_of(LineAxis(300.0), ConstantProfile(40.0)))
+
+
+@pytest.mark.parametrize("dialect", ["generic", "marlin", "linuxcnc"])
+def test_round_trip_every_dialect(plan, dialect):
+    machine = replace(MACHINE, dialect=dialect)
+    sim = simulate(machine, plan, gcode_text(plan, machine, 10.0))
+    assert sim.dialect == dialect
+    assert sim.max_point_deviation_mm < TANGENT_TOL
+    assert sim.max_deviation_mm < machine.chord_tolerance
+    assert sim.fiber_length_mm == pytest.approx(plan.total_fiber_length_mm, rel=LENGTH_TOL)
+    assert sim.time_s == pytest.approx(build_program(plan, machine).times.total_s, rel=TIME_TOL)
+    lines = simulation_csv(sim).splitlines()
+    assert lines[0].startswith("layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind")
+    assert len(lines) == 1 + len(sim.samples["t"])
+
+
+def test_contact_angle_on_the_cylinder(plan):
+    """The laid fiber's winding angle is the helix angle the plan lays (55 deg, 86 deg hoop)."""
+    sim = simulate(MACHINE, plan, gcode_text(plan, MACHINE))
+    kinds = np.array(sim.samples["kind"])
+    alpha = np.abs(sim.samples["alpha_deg"])
+    assert np.allclose(alpha[kinds == "forward"], 55.0, atol=1e-3)
+    assert np.allclose(alpha[kinds == "hoop"], 86.0, atol=1e-3)
+
+
+def test_a_shifted_eye_is_seen(plan):
+    """Moving every eye 0.3 mm along the axis puts it off the tangent lines: simulate reports it."""
+    text = gcode_text(plan, MACHINE)
+    shifted = "\n".join(
+        " ".join(f"X{float(w[1:]) + 0.3:.3f}" if w.startswith("X") else w for w in line.split())
+        if line.startswith("G1 ") else line for line in text.splitlines())
+    sim = simulate(MACHINE, plan, shifted)
+    assert 0.05 < sim.max_point_deviation_mm < 0.3 + TANGENT_TOL
+
+
+def test_program_of_another_job_is_refused(plan):
+    text = gcode_text(plan, MACHINE).replace("pass 3 return", "pass 99 return")
+    with pytest.raises(ConfigError, match="pass 99 is not in the plan"):
+        simulate(MACHINE, plan, text)
+
+
+@pytest.mark.parametrize("name", ["pipe", "vessel_hemi"])
+def test_samples_eyes_on_tangent_lines(name):
+    """The shipped references: every programmed eye within TANGENT_TOL of its exact tangent line."""
+    job = load_config(SAMPLES / f"{name}.yaml")
+    plan = plan_job(job)
+    text = (SAMPLES / "reference" / name / f"{name}.gcode").read_text()
+    sim = simulate(job.machine, plan, text)
+    assert sim.max_point_deviation_mm < TANGENT_TOL
+    assert sim.fiber_length_mm == pytest.approx(plan.total_fiber_length_mm, rel=1e-5)
+
+
+def test_cli_simulate_json_and_csv(tmp_path):
+    import json
+
+    from click.testing import CliRunner
+
+    from winder.cli import main
+
+    config = SAMPLES / "pipe.yaml"
+    program = SAMPLES / "reference" / "pipe" / "pipe.gcode"
+    out = tmp_path / "laid.csv"
+    result = CliRunner().invoke(main, ["simulate", str(config), str(program), "--json", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout)
+    assert {"moves", "time_s", "fiber_length_mm", "max_deviation_mm"} <= set(data)
+    assert data["max_deviation_mm"] < 0.05 and out.read_text().startswith("layer,circuit,pass,i,")
+    bad = tmp_path / "bad.gcode"
+    bad.write_text("G21\nG1 X1 A2 Q3 F100\n")
+    result = CliRunner().invoke(main, ["simulate", str(config), str(bad)])
+    assert result.exit_code == 2 and result.stderr.startswith("Error: ")

@@ -1,0 +1,174 @@
+"""`winder simulate CONFIG PROGRAM`: what a winding program lays, read back from its text.
+
+The program (any dialect winder writes, winder.export.dialects.parse) gives the eye at every
+programmed point through the forward kinematics (SPEC.md: with the mandrel turned by A the eye is
+at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free fiber runs from the
+eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
+point p(u) of the planned pass (the smooth path through its points: a cubic spline in (s, theta)
+over the point index, MATH.md 2) whose tangent ray p + lambda d, lambda > 0, passes closest to E;
+the plan's nearest point is the initial guess, golden-section search on u refines it. Its
+distance from that ray is the deviation: an eye off every tangent line of the planned path by e
+lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
+Samples: every programmed point and the midpoint of every move within a pass (the eye the
+controller interpolates in axis space). Moves between passes (the stop-and-go of a turnaround, the
+way to a new layer) are counted, not sampled: no planned tangent describes them.
+
+The laid fiber's length is the arc length of the planned path between consecutive contact points;
+the time comes from machine.dynamics (winder.machine.dynamics) over the program's rows.
+"""
+
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass
+
+import numpy as np
+
+from winder.config.machine import MachineConfig
+from winder.errors import ConfigError
+from winder.export.dialects.parse import ParsedProgram, parse_program
+from winder.machine.dynamics import move_times
+from winder.machine.smooth import SmoothPaths
+from winder.winding.results import WindingPlan, winding_angle_deg
+
+GOLDEN_STEPS = 48  # the bracket of two point intervals shrinks by 0.618^48 ~ 1e-10
+_INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """What a program lays.
+
+    moves : programmed points. transitions : moves between passes (not sampled).
+    time_s : machine time from the dynamics. fiber_length_mm : laid along the contact points.
+    max_deviation_mm : largest distance of an eye (programmed point or move midpoint) from the planned
+        tangent line at its contact point. max_point_deviation_mm : the same over programmed points.
+    samples : per sample (n,) arrays: layer, circuit, pass, i (row), kind, t, theta_deg, xyz (n, 3),
+        alpha_deg, eye (n, 3), deviation_mm, mid (bool: a move midpoint).
+    """
+
+    dialect: str
+    moves: int
+    transitions: int
+    time_s: float
+    fiber_length_mm: float
+    planned_fiber_length_mm: float
+    max_deviation_mm: float
+    max_point_deviation_mm: float
+    samples: dict
+
+    def summary(self) -> dict:
+        return {"dialect": self.dialect, "moves": self.moves, "transitions": self.transitions,
+                "time_s": round(self.time_s, 2), "fiber_length_mm": round(self.fiber_length_mm, 3),
+                "planned_fiber_length_mm": round(self.planned_fiber_length_mm, 3),
+                "max_deviation_mm": round(self.max_deviation_mm, 6),
+                "max_point_deviation_mm": round(self.max_point_deviation_mm, 6)}
+
+
+def _ray_distance(e: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray:
+    rel = e - p
+    along = np.einsum("ij,ij->i", rel, d)
+    off = np.linalg.norm(rel - along[:, None] * d, axis=1)
+    return np.where(along > 0.0, off, np.linalg.norm(rel, axis=1))
+
+
+def eye_positions(parsed: ParsedProgram) -> np.ndarray:
+    """The eye in the mandrel frame for each row (SPEC.md forward kinematics; robot: the position)."""
+    v = parsed.values
+    if parsed.robot:
+        return v[:, :3].copy()
+    a = np.radians(v[:, 1])
+    return np.column_stack([v[:, 2] * np.cos(-a), v[:, 2] * np.sin(-a), v[:, 0]])
+
+
+def _contacts(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Golden-section search of u in [lo, hi] for the tangent ray closest to each eye."""
+    def f(u):
+        _, _, p, d = paths.point(u)
+        return _ray_distance(eye, p, d)
+
+    a, b = lo.astype(float), hi.astype(float)
+    c, d = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(GOLDEN_STEPS):
+        left = fc < fd
+        b = np.where(left, d, b)
+        a = np.where(left, a, c)
+        c_new, d_new = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
+        # One of the two interior points carries over; evaluate both for simplicity of the batch.
+        c, d = c_new, d_new
+        fc, fd = f(c), f(d)
+    return 0.5 * (a + b)
+
+
+def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str = "program") -> Simulation:
+    """Read the program `text` written for a job planned as `plan` on `machine` and reconstruct
+    what it lays (module docstring)."""
+    parsed = parse_program(text, machine, source)
+    by_key = {(fp.layer, fp.circuit, fp.number): fp for layer in plan.layers for fp in layer.passes}
+    order = {key: j for j, key in enumerate(by_key)}
+    passes = list(by_key.values())
+    m = parsed.values.shape[0]
+    if m == 0:
+        raise ConfigError(f"{source}: the program has no moves")
+    unknown = [tuple(k) for k in parsed.keys if tuple(k) not in order]
+    if unknown:
+        raise ConfigError(f"{source}: layer {unknown[0][0]} circuit {unknown[0][1]} pass {unknown[0][2]} "
+                          f"is not in the plan of {plan.source}: the program was written for another job")
+    paths = SmoothPaths(plan.surface, passes)
+    eye = eye_positions(parsed)
+    pass_of = np.array([order[tuple(k)] for k in parsed.keys])
+    same = np.concatenate([[False], pass_of[1:] == pass_of[:-1]])
+    mid_rows = np.flatnonzero(same)
+    # Samples: the rows, then the midpoints of the moves within a pass.
+    mid_values = 0.5 * (parsed.values[mid_rows - 1] + parsed.values[mid_rows])
+    mid_eye = eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0)))
+    all_eye = np.vstack([eye, mid_eye])
+    all_pass = np.concatenate([pass_of, pass_of[mid_rows]])
+    # Initial guess: the planned point whose tangent ray passes closest, in the sample's pass.
+    guess = np.zeros(all_eye.shape[0], dtype=int)
+    for j in np.unique(all_pass):
+        rows = np.flatnonzero(all_pass == j)
+        fp = passes[j]
+        dist = np.stack([_ray_distance(np.tile(e, (len(fp.points), 1)), fp.points, fp.direction)
+                         for e in all_eye[rows]])
+        guess[rows] = np.argmin(dist, axis=1)
+    first, last = paths.offset[all_pass], paths.last[all_pass]
+    lo = np.clip(first + guess - 1, first, last)
+    hi = np.clip(first + guess + 1, first, last)
+    u = _contacts(paths, all_eye, lo, hi)
+    s, th, p, d = paths.point(u)
+    dev = _ray_distance(all_eye, p, d)
+    toward = all_eye - p
+    toward /= np.maximum(np.linalg.norm(toward, axis=1), 1e-300)[:, None]
+    alpha = winding_angle_deg(plan.surface, s, th, toward)
+    arc = paths.arc_at(u[:m])
+    fiber = np.where(same, np.abs(np.diff(arc, prepend=arc[0])), 0.0)
+    times = move_times(parsed.values[:, :3] if parsed.robot else parsed.values, fiber, machine,
+                       parsed.robot)
+    keys = np.vstack([parsed.keys, parsed.keys[mid_rows]])
+    rows_i = np.concatenate([np.arange(m), mid_rows])
+    kinds = list(parsed.kinds) + [parsed.kinds[r] for r in mid_rows]
+    samples = {"layer": keys[:, 0], "circuit": keys[:, 1], "pass": keys[:, 2], "i": rows_i, "kind": kinds,
+               "t": plan.surface.t_of_s(s), "theta_deg": np.degrees(th), "xyz": p, "alpha_deg": alpha,
+               "eye": all_eye, "deviation_mm": dev, "mid": np.arange(len(u)) >= m}
+    return Simulation(dialect=parsed.dialect, moves=m, transitions=int(m - 1 - mid_rows.size),
+                      time_s=times.total_s, fiber_length_mm=float(np.sum(fiber)),
+                      planned_fiber_length_mm=plan.total_fiber_length_mm,
+                      max_deviation_mm=float(np.max(dev)), max_point_deviation_mm=float(np.max(dev[:m])),
+                      samples=samples)
+
+
+def simulation_csv(sim: Simulation) -> str:
+    """The laid path as a job CSV (the `run` columns, then kind, sample, eye_x/y/z, deviation_mm)."""
+    sm = sim.samples
+    order = np.lexsort((sm["mid"], sm["i"]))
+    buf = io.StringIO()
+    buf.write("layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind,sample,eye_x,eye_y,eye_z,deviation_mm\n")
+    for k in order:
+        x, y, z = sm["xyz"][k]
+        ex, ey, ez = sm["eye"][k]
+        buf.write(f"{sm['layer'][k]},{sm['circuit'][k]},{sm['pass'][k]},{sm['i'][k]},{sm['t'][k]:.6f},"
+                  f"{sm['theta_deg'][k]:.6f},{x:.6f},{y:.6f},{z:.6f},{sm['alpha_deg'][k]:.6f},{sm['kind'][k]},"
+                  f"{'mid' if sm['mid'][k] else 'move'},{ex:.6f},{ey:.6f},{ez:.6f},{sm['deviation_mm'][k]:.6f}\n")
+    return buf.getvalue()

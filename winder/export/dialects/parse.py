@@ -1,0 +1,106 @@
+"""Reading a winding program back: the text of any dialect winder writes (generic, marlin, linuxcnc,
+robot) to its rows of logical axes and the pass each row belongs to (from the pass comments).
+
+The result is in winder's axis conventions whatever the dialect: (carriage, rotation, cross_feed,
+yaw) for a straight-axis winder (marlin's A and B negated back, its fixed cross-feed from the
+`; fixed eye` comment), (x, y, z, i, j, k) for robot poses. Every row, the rapid to the start of a
+linuxcnc program included, is one programmed point. A line that is not what the dialect writes is
+an error naming the line.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from winder.config.machine import MachineConfig
+from winder.errors import ConfigError
+from winder.export.dialects import marlin
+from winder.export.dialects.robot import LETTERS as POSE_LETTERS
+
+_PASS = re.compile(r"^; layer (\d+) circuit (\d+) pass (\d+) (\w+)$")
+_SKIP = {"G21", "G90", "G94", "G93", "M2", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
+
+
+@dataclass(frozen=True)
+class ParsedProgram:
+    """A program read back.
+
+    dialect : the dialect it was read as. values : (m, 4) or (m, 6) rows (module docstring).
+    keys : (m, 3) int, (layer, circuit, pass) of each row. kinds : (m,) the pass kind words.
+    feed : (m,) the F word of each row (nan where none).
+    """
+
+    dialect: str
+    values: np.ndarray
+    keys: np.ndarray
+    kinds: tuple[str, ...]
+    feed: np.ndarray
+
+    @property
+    def robot(self) -> bool:
+        return self.dialect == "robot"
+
+
+def detect(text: str) -> str:
+    """The dialect of a program text, from what only that dialect writes."""
+    head = text.lstrip()
+    if head.startswith(marlin.HEADER.strip()):
+        return "marlin"
+    if "\nG93\n" in text:
+        return "linuxcnc"
+    if "\nPOSE " in text:
+        return "robot"
+    return "generic"
+
+
+def parse_program(text: str, machine: MachineConfig, source: str = "program") -> ParsedProgram:
+    """Read a program's text written for `machine` (its dialect detected from the text)."""
+    dialect = detect(text)
+    ax = machine.axes
+    if dialect == "robot":
+        letters, prefixes = POSE_LETTERS, ("POSE",)
+    elif dialect == "marlin":
+        letters, prefixes = marlin.LETTERS, ("G1", "G0")
+    else:
+        letters, prefixes = (ax.carriage, ax.rotation, ax.cross_feed, ax.yaw), ("G1", "G0")
+    rows: list[list[float]] = []
+    keys: list[tuple[int, int, int]] = []
+    kinds: list[str] = []
+    feeds: list[float] = []
+    key, kind = (0, 0, 0), ""
+    fixed_z = None
+    for number, raw in enumerate(text.splitlines(), start=1):
+        line = raw.strip()
+        if not line or line in _SKIP or line.startswith("G64 P"):
+            continue
+        if line.startswith(";"):
+            hit = _PASS.match(line)
+            if hit:
+                key, kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
+            elif line.startswith(marlin.FIXED_EYE):
+                fixed_z = float(line.removeprefix(marlin.FIXED_EYE).split()[0])
+            continue
+        words = line.split()
+        if words[0] not in prefixes:
+            raise ConfigError(f"{source}: line {number}: not a move of a {dialect} program: {line[:60]!r}")
+        try:
+            values = {w[0]: float(w[1:]) for w in words[1:]}
+        except (ValueError, IndexError) as exc:
+            raise ConfigError(f"{source}: line {number}: unreadable number in {line[:60]!r}") from exc
+        missing = [c for c in letters if c not in values]
+        if missing:
+            raise ConfigError(f"{source}: line {number}: axis {missing[0]} missing in {line[:60]!r}")
+        rows.append([values[c] for c in letters])
+        keys.append(key)
+        kinds.append(kind)
+        feeds.append(values.get("F", np.nan))
+    table = np.array(rows, dtype=float).reshape(-1, len(letters))
+    if dialect == "marlin":
+        if fixed_z is None:
+            raise ConfigError(f"{source}: a marlin program without its '{marlin.FIXED_EYE}' comment")
+        table = np.column_stack([table[:, 0], -table[:, 1], np.full(len(table), fixed_z), -table[:, 2]])
+    return ParsedProgram(dialect, table, np.array(keys, dtype=int).reshape(-1, 3), tuple(kinds),
+                         np.array(feeds, dtype=float))

@@ -1,0 +1,116 @@
+"""The smooth path of planned passes between their points (MATH.md 2): positions, tangents and arc
+length at any fractional point index, for all passes of a plan in one batch. The motion program
+densifies along it; `winder simulate` finds contact points on it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from winder.geometry.surface import SweepSurface
+from winder.winding.results import FiberPass
+
+GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
+
+
+def _along(surface: SweepSurface, fp: FiberPass, ds: np.ndarray, dth: np.ndarray):
+    """Parameter derivatives (s', theta') along the plan's directions, with the spline's speed."""
+    ev = surface.evaluate(fp.s, fp.theta, order=1)
+    basis = np.stack([ev.ps, ev.pt], axis=2)  # (n, 3, 2)
+    g = np.einsum("nki,nkj->nij", basis, basis)
+    rhs = np.einsum("nki,nk->ni", basis, fp.direction)
+    ab = np.linalg.solve(g, rhs[..., None])[..., 0]
+    speed_plan = np.linalg.norm(np.einsum("nki,ni->nk", basis, ab), axis=1)
+    speed_spline = np.linalg.norm(ev.ps * ds[:, None] + ev.pt * dth[:, None], axis=1)
+    scale = speed_spline / np.where(speed_plan > 0, speed_plan, 1.0)
+    # A direction against the spline (never in a plan) would fold the curve: keep the spline there.
+    sign = np.einsum("ni,ni->n", ab, np.column_stack([ds, dth]))
+    ok = (speed_plan > 0) & (sign > 0)
+    return np.where(ok, ab[:, 0] * scale, ds), np.where(ok, ab[:, 1] * scale, dth)
+
+
+class SmoothPaths:
+    """The planned passes' smooth paths, concatenated: pass j owns the global parameter range
+    [offset_j, offset_j + n_j - 1] (u = the point index). (s, theta) is cubic Hermite between the
+    points, with derivatives along the plan's own fiber directions (FiberPass.direction, the smooth
+    path's tangents), their size that of a cubic spline through the points: the curve passes through
+    every planned point with the planned tangent there, C1, and O(h^4) close to the smooth path."""
+
+    def __init__(self, surface: SweepSurface, passes: list[FiberPass]) -> None:
+        from scipy.interpolate import CubicSpline  # noqa: PLC0415 - scipy is imported where used
+
+        self.surface = surface
+        s, th, ds, dth, offsets, last = [], [], [], [], [], []
+        count = 0
+        for fp in passes:
+            n = len(fp.s)
+            offsets.append(count)
+            last.append(count + max(n - 1, 0))
+            u = np.arange(n, dtype=float)
+            s.append(fp.s)
+            th.append(fp.theta)
+            if n >= 2:
+                cs, ct = CubicSpline(u, fp.s), CubicSpline(u, fp.theta)
+                a, b = _along(surface, fp, cs(u, 1), ct(u, 1))
+                ds.append(a)
+                dth.append(b)
+            else:
+                ds.append(np.zeros(n))
+                dth.append(np.zeros(n))
+            count += n
+        self.s, self.th = np.concatenate(s), np.concatenate(th)
+        self.ds, self.dth = np.concatenate(ds), np.concatenate(dth)
+        self.offset, self.last = np.array(offsets), np.array(last)
+        # Arc length at the nodes: Gauss-Legendre per node interval.
+        x, w = np.polynomial.legendre.leggauss(GAUSS_NODES)
+        k = np.arange(max(count - 1, 0))
+        inside = np.isin(k, self.last, invert=True)  # no interval across passes
+        u = (k[:, None] + 0.5 * (x + 1.0)).ravel()
+        speed = self.speed(u).reshape(-1, GAUSS_NODES) @ (0.5 * w)
+        self.arc = np.concatenate([[0.0], np.cumsum(np.where(inside, speed, 0.0))])
+
+    def st(self, u: np.ndarray, order: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        k = np.clip(np.floor(u).astype(int), 0, self.s.size - 2)
+        k = np.where(np.isin(k, self.last), k - 1, k)  # the last node of a pass ends its last interval
+        k = np.maximum(k, 0)
+        h = u - k
+        out = []
+        for v, dv in ((self.s, self.ds), (self.th, self.dth)):
+            p0, p1, m0, m1 = v[k], v[k + 1], dv[k], dv[k + 1]
+            if order == 0:
+                out.append((2 * h**3 - 3 * h**2 + 1) * p0 + (h**3 - 2 * h**2 + h) * m0
+                           + (-2 * h**3 + 3 * h**2) * p1 + (h**3 - h**2) * m1)
+            else:
+                out.append((6 * h**2 - 6 * h) * p0 + (3 * h**2 - 4 * h + 1) * m0
+                           + (-6 * h**2 + 6 * h) * p1 + (3 * h**2 - 2 * h) * m1)
+        return out[0], out[1]
+
+    def speed(self, u: np.ndarray) -> np.ndarray:
+        if self.s.size < 2:
+            return np.zeros(np.shape(u))
+        s, th = self.st(u)
+        ds, dth = self.st(u, 1)
+        ev = self.surface.evaluate(s, th, order=1)
+        return np.linalg.norm(ev.ps * ds[:, None] + ev.pt * dth[:, None], axis=1)
+
+    def point(self, u: np.ndarray):
+        """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,)."""
+        if self.s.size < 2:
+            s, th = self.s[np.zeros(len(u), int)], self.th[np.zeros(len(u), int)]
+            return s, th, self.surface.points(s, th), np.zeros((len(u), 3))
+        s, th = self.st(u)
+        ds, dth = self.st(u, 1)
+        ev = self.surface.evaluate(s, th, order=1)
+        d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
+        n = np.linalg.norm(d, axis=1)
+        return s, th, ev.p, d / np.where(n > 0, n, 1.0)[:, None]
+
+    def arc_at(self, u: np.ndarray) -> np.ndarray:
+        """Arc length from the first node to u (within u's pass, the node table plus the rest)."""
+        k = np.clip(np.floor(u).astype(int), 0, self.arc.size - 1)
+        h = u - k
+        x, w = np.polynomial.legendre.leggauss(GAUSS_NODES)
+        uu = (k[:, None] + 0.5 * h[:, None] * (x + 1.0)).ravel()
+        part = (self.speed(uu).reshape(-1, GAUSS_NODES) @ (0.5 * w)) * h
+        return self.arc[k] + np.where(h > 0, part, 0.0)
+
+
