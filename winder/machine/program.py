@@ -30,9 +30,11 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
+from winder.machine.densify import DENSE_SHARE, densify
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.kinematics import RobotPoses, eye_envelope, eye_leads, eye_path, make_guide, robot_poses
 from winder.machine.limits import check_limits
+from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 
 YAW_TOLERANCE_DEG = 0.5  # a yaw (or fiber direction) deviation this large counts as chord_tolerance
@@ -70,7 +72,8 @@ class MotionProgram:
     values : (m, 4) float, the logical axes AXES (carriage mm, rotation deg, cross_feed mm, yaw deg)
         of each move; for a robot (m, 6), the eye pose POSE_AXES (position mm, unit direction).
     feed : (m,) float, fiber feed of each move (mm/min; machine.feed unless an axis' top speed limits
-        it). index : (m,) int, the move's contact point in its pass. fiber : (m,) float, the fiber the
+        it). index : (m,) float, the move's contact point in its pass: the point index, fractional where
+        the pass was densified between planned points (winder.machine.densify). fiber : (m,) float, the fiber the
         move to the row lays (mm, along the pass's points; 0 for the first row of a pass).
     times : the moves' cruise and profiled times from machine.dynamics (winder.machine.dynamics).
     layers : the plan's layers (comments); segments : per layer, its passes in order (empty passes too).
@@ -242,7 +245,18 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                    if len(fp.theta))
     sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
     poses = iter(_all_poses(plan, machine, env, guide) if robot else ())
+<<<<<<< HEAD
     leads = iter(() if robot else _all_leads(plan, env))
+=======
+    all_passes = [fp for layer in plan.layers for fp in layer.passes]
+    smooth = None if robot else SmoothPaths(surface, all_passes)
+    number = {id(fp): j for j, fp in enumerate(all_passes)}
+
+    def scaled(path) -> np.ndarray:
+        return np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
+                                np.radians(path.b_deg) * angle_scale])
+
+>>>>>>> 6ed8df8 (Densify passes where the eye bows off the programmed chords)
     for layer in plan.layers:
         segments: list[Segment] = []
         for fp in layer.passes:
@@ -250,6 +264,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                 segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count))
                 continue
             where = pass_where(plan, fp)
+            points, u = fp.points, np.arange(len(fp.points), dtype=float)
             theta, jumped = turns.place(np.asarray(fp.theta, dtype=float), np.asarray(fp.points[0], float))
             if robot:
                 pose = next(poses)
@@ -264,21 +279,31 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                     # A runs against theta: the eye would turn back on the way to this pass.
                     theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
                     path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
+<<<<<<< HEAD
                                     sense=sense, where=where, lead=lead)
+=======
+                                    sense=sense, where=where)
+                dense = densify(smooth, number[id(fp)], fp, theta, lambda p, d, th: scaled(
+                    eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, where=where)), tol)
+                if dense is not None:
+                    points, directions, dense_theta, u = dense
+                    path = eye_path(points, directions, surface, machine, theta=dense_theta, envelope=env,
+                                    sense=sense, where=where)
+>>>>>>> 6ed8df8 (Densify passes where the eye bows off the programmed chords)
                 a_end = float(path.a_deg[-1])
                 if b_end is not None:
                     path = replace(path, b_deg=path.b_deg + 360.0 * np.round((b_end - path.b_deg[0]) / 360.0))
                 b_end = float(path.b_deg[-1])
                 check_limits(path, machine, where)
                 on_envelope, lead = path.on_envelope, path.lead
-                q = np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
-                                     np.radians(path.b_deg) * angle_scale])
+                q = scaled(path)
                 table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
             turns.done(theta, fp.points[-1])
-            keep = reduce_points(q, tol)
+            # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
+            keep = reduce_points(q, tol if u.size == len(fp.points) else tol * (1.0 - DENSE_SHARE))
             rows.append(table[keep])
-            indices.append(keep)
-            along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(fp.points, axis=0), axis=1))])
+            indices.append(u[keep])
+            along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
             fibers.append(np.diff(along[keep], prepend=along[keep[0]]))
             capped = int(np.count_nonzero(~on_envelope))
             segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count + keep.size, capped,
@@ -293,6 +318,6 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
         total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,
         envelope_clearance=env.clearance, values=values, feed=times.feed,
-        index=np.concatenate(indices) if indices else np.zeros(0, dtype=int),
+        index=np.concatenate(indices) if indices else np.zeros(0),
         segments=tuple(layer_segments), fiber=fiber, times=times,
         mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(surface.axial_length))

@@ -36,6 +36,7 @@ class Move:
     kind: PassKind
     index: int
     values: tuple[float, ...]
+    u: float = 0.0  # the contact point's fractional point index (densified passes); index its nearest
 
 
 class Dialect(Protocol):
@@ -150,7 +151,8 @@ def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list
                 cur = tuple(float(v) for v in texts)
                 lines += dialect.move_lines(program, row, words, last, cur)
                 last = cur
-                moves.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(program.index[row]), cur))
+                u = float(program.index[row])
+                moves.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(round(u)), cur, u))
     lines += dialect.end(program)
     return lines, moves
 

@@ -1,0 +1,50 @@
+"""Densifying a pass where the eye moves fast: the controller interpolates the axes linearly between
+two programmed points, and the exact eye path between two planned points can bow far from that line
+(near a dome's turnaround the mandrel turns quickly while the contact point hardly moves).
+
+Per pass: the axis values at the midpoints of the planned point intervals (on the smooth path,
+winder.machine.smooth) against the chords' midpoints give each interval's bow e (in the scaled axis
+space of the point reduction). A smooth curve's bow falls as 1 / K^2 when its interval is cut in K,
+so the pass is resampled at K = ceil(sqrt(e_max / (tol / 4))) points per interval (at most
+MAX_FACTOR), which puts the exact eye path within a quarter of the chord tolerance of the dense
+polyline; the point reduction then keeps what the rest of the chord tolerance allows. Where the axes are linear
+in the point index (a helix on a cylinder) e = 0 and the pass is left as planned.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from winder.machine.smooth import SmoothPaths
+from winder.winding.results import FiberPass
+
+MAX_FACTOR = 64  # dense points per planned interval, at most
+DENSE_SHARE = 0.25  # of the chord tolerance, left to the dense polyline's own bow
+
+
+def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: Callable, tol: float):
+    """(points (k, 3), directions (k, 3), theta (k,), u (k,) fractional planned point index) of pass
+    j resampled for the chord tolerance, or None where the planned points suffice. theta : (n,) the
+    pass's program angles (unwrapped, with the program's turn count). axes(points, directions, theta)
+    -> (k, c) the scaled axis values of those contact points."""
+    n = len(fp.s)
+    if n < 2:
+        return None
+    shift = float(theta[0] - fp.theta[0])  # whole turns the program adds
+    base = axes(fp.points, fp.direction, theta)
+    mid = paths.offset[j] + np.arange(n - 1) + 0.5
+    _, th_mid, p_mid, d_mid = paths.point(mid)
+    q_mid = axes(p_mid, d_mid, th_mid + shift)
+    bow = float(np.max(np.linalg.norm(q_mid - 0.5 * (base[1:] + base[:-1]), axis=1)))
+    if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
+        return None
+    factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
+    if factor <= 1:
+        return None
+    u = np.linspace(0.0, n - 1.0, (n - 1) * factor + 1)
+    u[::factor] = np.arange(n)  # the planned points exactly
+    _, th, p, d = paths.point(paths.offset[j] + u)
+    p[::factor], d[::factor], th[::factor] = fp.points, fp.direction, fp.theta
+    return p, d, th + shift, u
