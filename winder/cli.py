@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import functools
 import json
-import math
 import sys
 import time
 from typing import Callable
@@ -53,20 +52,6 @@ def _guard(fn: Callable) -> Callable:
     return wrapper
 
 
-def _station(text: str, option: str) -> tuple[float, float]:
-    """Parse `T,DEG` into (t mm, theta rad)."""
-    parts = text.split(",")
-    try:
-        if len(parts) != 2:
-            raise ValueError
-        t, deg = float(parts[0]), float(parts[1])
-    except ValueError as exc:
-        raise ConfigError(f"{option}: expected T,DEG (station in mm, angle in degrees), got {text!r}") from exc
-    if not (math.isfinite(t) and math.isfinite(deg)):
-        raise ConfigError(f"{option}: must be finite numbers, got {text!r}")
-    return t, math.radians(deg)
-
-
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="winder")
 def main() -> None:
@@ -90,13 +75,14 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
                  tolerance: float | None, method: str, output: str | None, as_json: bool) -> None:
     """The geodesic on the mandrel of CONFIG from START to END."""
     from winder.config.job import load_config  # noqa: PLC0415
+    from winder.config.reader import station_option  # noqa: PLC0415
     from winder.export.path_csv import write_path_csv  # noqa: PLC0415
     from winder.geometry.build import build_surface  # noqa: PLC0415
     from winder.paths.geodesic import Method, geodesic  # noqa: PLC0415
 
     if points is not None and tolerance is not None:
         raise ConfigError("--points and --tolerance: give one or the other, not both")
-    a, b = _station(start, "--start"), _station(end, "--end")
+    a, b = station_option(start, "--start"), station_option(end, "--end")
     job = load_config(config)
     surface = build_surface(job.mandrel, job.source, job.name)
     try:
@@ -354,33 +340,16 @@ def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int) -> None:
 
 
 # -- regress ---------------------------------------------------------------------------------------
-@main.command("simulate", short_help="Read a winding program back: what it lays, its time.")
+@main.command("simulate", help="Reconstruct what PROGRAM (any dialect `run` writes for CONFIG) lays.")
 @click.argument("config", type=click.Path(dir_okay=False))
 @click.argument("program", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", type=click.Path(dir_okay=False), default=None, help="Write the laid path CSV here.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the laid path CSV here.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
 @_guard
 def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -> None:
-    """Reconstruct what PROGRAM (written by `winder run` for CONFIG, any dialect) lays."""
-    from winder.app.simulate import simulate, simulation_csv  # noqa: PLC0415
-    from winder.export.atomic import write_atomic  # noqa: PLC0415
-    from winder.winding.plan import plan as plan_job  # noqa: PLC0415
+    from winder.app.simulate import simulate_files  # noqa: PLC0415
 
-    job = load_config(config)
-    try:
-        with open(program, encoding="utf-8") as fh:
-            text = fh.read()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{program}: cannot read the program ({exc})") from exc
-    sim = simulate(job.machine, plan_job(job), text, program)
-    if output:
-        write_atomic(output, simulation_csv(sim))
-    if as_json:
-        click.echo(json.dumps(sim.summary()))
-    else:
-        click.echo(f"{job.name}: {sim.moves} moves ({sim.dialect}), {sim.time_s:.1f} s, fiber "
-                   f"{sim.fiber_length_mm:.3f} mm (planned {sim.planned_fiber_length_mm:.3f} mm), largest "
-                   f"deviation {sim.max_deviation_mm:.4f} mm")
+    click.echo(simulate_files(config, program, output, as_json))
 
 
 @main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")

@@ -172,3 +172,27 @@ def simulation_csv(sim: Simulation) -> str:
                   f"{sm['theta_deg'][k]:.6f},{x:.6f},{y:.6f},{z:.6f},{sm['alpha_deg'][k]:.6f},{sm['kind'][k]},"
                   f"{'mid' if sm['mid'][k] else 'move'},{ex:.6f},{ey:.6f},{ez:.6f},{sm['deviation_mm'][k]:.6f}\n")
     return buf.getvalue()
+
+
+def simulate_files(config: str, program: str, output: str | None = None, as_json: bool = False) -> str:
+    """`winder simulate`: plan CONFIG, read PROGRAM, write the laid path CSV to `output` (if given);
+    the text to show (one JSON object with as_json, else one line)."""
+    import json  # noqa: PLC0415
+
+    from winder.config.job import load_config  # noqa: PLC0415
+    from winder.export.atomic import write_atomic  # noqa: PLC0415
+    from winder.winding.plan import plan as plan_job  # noqa: PLC0415
+
+    job = load_config(config)
+    try:
+        with open(program, encoding="utf-8") as fh:
+            text = fh.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{program}: cannot read the program ({exc})") from exc
+    sim = simulate(job.machine, plan_job(job), text, program)
+    if output:
+        write_atomic(output, simulation_csv(sim))
+    if as_json:
+        return json.dumps(sim.summary())
+    return (f"{job.name}: {sim.moves} moves ({sim.dialect}), {sim.time_s:.1f} s, fiber {sim.fiber_length_mm:.3f} mm "
+            f"(planned {sim.planned_fiber_length_mm:.3f} mm), largest deviation {sim.max_deviation_mm:.4f} mm")

@@ -211,3 +211,17 @@ class Reader:
         if not isinstance(value, bool):
             raise self.error(path, "must be true or false", value)
         return value
+
+
+def station_option(text: str, option: str) -> tuple[float, float]:
+    """A command-line point `T,DEG` as (t mm, theta rad); ConfigError naming the option otherwise."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        t, deg = float(parts[0]), float(parts[1])
+    except ValueError as exc:
+        raise ConfigError(f"{option}: expected T,DEG (station in mm, angle in degrees), got {text!r}") from exc
+    if not (math.isfinite(t) and math.isfinite(deg)):
+        raise ConfigError(f"{option}: must be finite numbers, got {text!r}")
+    return t, math.radians(deg)
