@@ -73,7 +73,7 @@ def test_marlin_refuses_a_moving_eye():
     """On a cone the clearance envelope moves the eye radially: no cross-feed axis to do it."""
     cone = surface_of(LineAxis(300.0), ConeProfile(40.0, 60.0))
     plan = cylinder_plan(cone, circuits=1, hoop=False)
-    machine = MachineConfig(eye_clearance=20.0, dialect="marlin")
+    machine = MachineConfig(eye_clearance=20.0, chord_tolerance=0.5, dialect="marlin")
     with pytest.raises(ExportError, match=r"machine.dialect: marlin has no cross-feed axis.*eye: \{radius: Z\}"):
         gcode_text(plan, machine)
 

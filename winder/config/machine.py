@@ -97,6 +97,9 @@ class MachineConfig:
         the eye moves on a cylinder of radius Z (mm) around the axis (larger than the mandrel).
         YAML `eye: {clearance: c}`: the eye keeps c mm beyond the local mandrel radius
         (default: clearance 20).
+    eye_size: the payout eye's diameter (mm, >= 0, YAML `eye: {..., size: d}`; default 0, a point):
+        with a clearance the eye's body keeps the clearance (its centre c + d / 2 from the mandrel);
+        with a radius the body must clear the mandrel.
     feed: G-code feed rate F, mm/min, > 0 (default 3000).
     chord_tolerance: largest deviation (mm) between the programmed straight moves and the exact
         eye path, > 0 (default 0.05); the exporter drops points within it.
@@ -118,6 +121,7 @@ class MachineConfig:
     limits: MachineLimits = field(default_factory=MachineLimits)
     robot: bool = False
     dialect: str = "generic"
+    eye_size: float = 0.0
     dynamics: MachineDynamics = field(default_factory=MachineDynamics)
 
 
@@ -134,9 +138,18 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
     m = rd.mapping(value, path, _MACHINE_KEYS)
     axes = _parse_axes(rd, m["axes"], rd.at(path, "axes")) if "axes" in m else MachineAxes()
     limits = _parse_limits(rd, m["limits"], rd.at(path, "limits")) if "limits" in m else MachineLimits()
-    eye_radius, eye_clearance = None, DEFAULT_EYE_CLEARANCE
+    eye_radius, eye_clearance, eye_size = None, DEFAULT_EYE_CLEARANCE, 0.0
     if "eye" in m:
-        eye_radius, eye_clearance = _parse_eye(rd, m["eye"], rd.at(path, "eye"), max_radius, limits)
+        eye = m["eye"]
+        if isinstance(eye, dict) and "size" in eye:
+            eye_size = rd.number(eye["size"], rd.at(rd.at(path, "eye"), "size"))
+            if eye_size < 0.0:
+                raise rd.error(rd.at(rd.at(path, "eye"), "size"), "must be >= 0 (the eye's diameter, mm)", eye["size"])
+            eye = {k: v for k, v in eye.items() if k != "size"}
+        eye_radius, eye_clearance = _parse_eye(rd, eye, rd.at(path, "eye"), max_radius, limits)
+        if eye_radius is not None and max_radius is not None and eye_radius - eye_size / 2 <= max_radius:
+            raise rd.error(rd.at(rd.at(path, "eye"), "size"), f"an eye this large on radius {eye_radius:g} would "
+                           f"touch the mandrel (largest radius {max_radius:g} mm)", m["eye"]["size"])
     feed = rd.positive(m.get("feed", DEFAULT_FEED), rd.at(path, "feed"))
     chord_tolerance = rd.positive(m.get("chord_tolerance", DEFAULT_CHORD_TOLERANCE),
                                   rd.at(path, "chord_tolerance"))
@@ -148,7 +161,8 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
                            "winder cannot follow it, so winder writes eye poses for a robot", m["robot"])
     robot, dialect = _parse_dialect(rd, m, path, robot, bent)
     dynamics = _parse_dynamics(rd, m["dynamics"], rd.at(path, "dynamics")) if "dynamics" in m else MachineDynamics()
-    return MachineConfig(axes, eye_radius, eye_clearance, feed, chord_tolerance, limits, robot, dialect, dynamics)
+    return MachineConfig(axes, eye_radius, eye_clearance, feed, chord_tolerance, limits, robot, dialect,
+                         eye_size, dynamics)
 
 
 def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool) -> tuple[bool, str]:
@@ -218,7 +232,7 @@ def _parse_limits(rd: Reader, value: Any, path: str) -> MachineLimits:
 
 def _parse_eye(rd: Reader, value: Any, path: str, max_radius: float | None,
                limits: MachineLimits) -> tuple[float | None, float | None]:
-    m = rd.mapping(value, path, ("radius", "clearance"))
+    m = rd.mapping(value, path, ("radius", "clearance", "size"))
     if len(m) != 1:
         raise rd.error(path, "give exactly one of radius (a cylinder around the axis) or clearance "
                        "(a distance beyond the mandrel surface)", m)

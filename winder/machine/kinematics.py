@@ -12,7 +12,8 @@ moves along +d. So the free fiber leaves the mandrel at p along +d, and the eye 
 (E = p - lambda d would put the eye over the part already laid, which would peel it off.)
 lambda is the smallest positive value that puts E on the eye envelope:
 - `eye: {radius: Z}`: a cylinder of radius Z around the axis: |E_xy| = Z, closed form.
-- `eye: {clearance: c}`: a contour of revolution Z_env(X) around the axis that keeps c mm from the
+- `eye: {clearance: c}` (c + size / 2 for an eye of diameter size, so that its body keeps c): a contour
+  of revolution Z_env(X) around the axis that keeps c mm from the
   mandrel: the radial profile r_max(t) (the largest section radius at station t) dilated by a disc
   of radius c, Z_env(X) = max over t of r_max(t) + sqrt(c^2 - (t - X)^2). On a cylinder this is
   exactly r + c; where the profile slopes (cone, dome) the eye keeps c measured in 3D, i.e. somewhat
@@ -169,7 +170,7 @@ def eye_envelope(surface: SweepSurface, machine: MachineConfig) -> EyeEnvelope:
     if machine.eye_radius is not None:
         zr = float(machine.eye_radius)
         return EyeEnvelope(stations, np.full(n, zr), r_max, zr, None)
-    c = float(clearance)
+    c = float(clearance) + 0.5 * float(machine.eye_size)  # the eye's centre: its body keeps the clearance
     h = stations[1] - stations[0]
     k_max = int(np.floor(c / h))
     dil = r_max + c

@@ -30,6 +30,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
+from winder.machine.collision import check_collision
 from winder.machine.densify import DENSE_SHARE, densify
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.kinematics import RobotPoses, eye_envelope, eye_leads, eye_path, make_guide, robot_poses
@@ -313,6 +314,14 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     width = len(POSE_AXES if robot else AXES)
     values = np.concatenate(rows) if rows else np.zeros((0, width))
     fiber = np.concatenate(fibers) if fibers else np.zeros(0)
+    if not robot:
+        starts = [(seg.start, seg) for segs in layer_segments for seg in segs if seg.stop > seg.start]
+
+        def where(row: int) -> str:
+            seg = max((s for s in starts if s[0] <= row), key=lambda s: s[0])[1]
+            return f"{plan.source}: layer {seg.layer} circuit {seg.circuit} pass {seg.number} ({seg.kind.value})"
+
+        check_collision(values, env, machine, where)
     times = move_times(values[:, :3] if robot else values, fiber, machine, robot)
     return MotionProgram(
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
