@@ -115,7 +115,6 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     if unknown:
         raise ConfigError(f"{source}: layer {unknown[0][0]} circuit {unknown[0][1]} pass {unknown[0][2]} "
                           f"is not in the plan of {plan.source}: the program was written for another job")
-    paths = SmoothPaths(plan.surface, passes)
     eye = eye_positions(parsed)
     pass_of = np.array([order[tuple(k)] for k in parsed.keys])
     same = np.concatenate([[False], pass_of[1:] == pass_of[:-1]])
@@ -133,16 +132,29 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         dist = np.stack([_ray_distance(np.tile(e, (len(fp.points), 1)), fp.points, fp.direction)
                          for e in all_eye[rows]])
         guess[rows] = np.argmin(dist, axis=1)
-    first, last = paths.offset[all_pass], paths.last[all_pass]
-    lo = np.clip(first + guess - 1, first, last)
-    hi = np.clip(first + guess + 1, first, last)
-    u = _contacts(paths, all_eye, lo, hi)
-    s, th, p, d = paths.point(u)
+    n = all_eye.shape[0]
+    s, th, t = np.zeros(n), np.zeros(n), np.zeros(n)
+    p, d, alpha, arc = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n), np.zeros(n)
+    layer_of = np.array([fp.layer for fp in passes])
+    for layer in np.unique(layer_of[all_pass]):
+        # Each layer's paths lie on the surface it was wound on (the mandrel grown by the layers below).
+        surface = plan.surface_of(int(layer))
+        mine = np.flatnonzero(layer_of[all_pass] == layer)
+        local = np.flatnonzero(layer_of == layer)
+        paths = SmoothPaths(surface, [passes[j] for j in local])
+        where = np.searchsorted(local, all_pass[mine])
+        first, last = paths.offset[where], paths.last[where]
+        lo = np.clip(first + guess[mine] - 1, first, last)
+        hi = np.clip(first + guess[mine] + 1, first, last)
+        u = _contacts(paths, all_eye[mine], lo, hi)
+        s[mine], th[mine], p[mine], d[mine] = paths.point(u)
+        toward = all_eye[mine] - p[mine]
+        toward /= np.maximum(np.linalg.norm(toward, axis=1), 1e-300)[:, None]
+        alpha[mine] = winding_angle_deg(surface, s[mine], th[mine], toward)
+        t[mine] = surface.t_of_s(s[mine])
+        arc[mine] = paths.arc_at(u)
     dev = _ray_distance(all_eye, p, d)
-    toward = all_eye - p
-    toward /= np.maximum(np.linalg.norm(toward, axis=1), 1e-300)[:, None]
-    alpha = winding_angle_deg(plan.surface, s, th, toward)
-    arc = paths.arc_at(u[:m])
+    arc = arc[:m]
     fiber = np.where(same, np.abs(np.diff(arc, prepend=arc[0])), 0.0)
     times = move_times(parsed.values[:, :3] if parsed.robot else parsed.values, fiber, machine,
                        parsed.robot)
@@ -150,8 +162,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     rows_i = np.concatenate([np.arange(m), mid_rows])
     kinds = list(parsed.kinds) + [parsed.kinds[r] for r in mid_rows]
     samples = {"layer": keys[:, 0], "circuit": keys[:, 1], "pass": keys[:, 2], "i": rows_i, "kind": kinds,
-               "t": plan.surface.t_of_s(s), "theta_deg": np.degrees(th), "xyz": p, "alpha_deg": alpha,
-               "eye": all_eye, "deviation_mm": dev, "mid": np.arange(len(u)) >= m}
+               "t": t, "theta_deg": np.degrees(th), "xyz": p, "alpha_deg": alpha,
+               "eye": all_eye, "deviation_mm": dev, "mid": np.arange(n) >= m}
     return Simulation(dialect=parsed.dialect, moves=m, transitions=int(m - 1 - mid_rows.size),
                       time_s=times.total_s, fiber_length_mm=float(np.sum(fiber)),
                       planned_fiber_length_mm=plan.total_fiber_length_mm,

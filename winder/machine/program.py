@@ -246,18 +246,16 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                    if len(fp.theta))
     sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
     poses = iter(_all_poses(plan, machine, env, guide) if robot else ())
-<<<<<<< HEAD
     leads = iter(() if robot else _all_leads(plan, env))
-=======
-    all_passes = [fp for layer in plan.layers for fp in layer.passes]
-    smooth = None if robot else SmoothPaths(surface, all_passes)
-    number = {id(fp): j for j, fp in enumerate(all_passes)}
+    # Each layer's smooth paths lie on the surface it was wound on (the mandrel grown by the layers below).
+    smooth = {} if robot else {layer.index: SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
+                               for layer in plan.layers}
+    number = {id(fp): j for layer in plan.layers for j, fp in enumerate(layer.passes)}
 
     def scaled(path) -> np.ndarray:
         return np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
                                 np.radians(path.b_deg) * angle_scale])
 
->>>>>>> 6ed8df8 (Densify passes where the eye bows off the programmed chords)
     for layer in plan.layers:
         segments: list[Segment] = []
         for fp in layer.passes:
@@ -280,17 +278,13 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                     # A runs against theta: the eye would turn back on the way to this pass.
                     theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
                     path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
-<<<<<<< HEAD
                                     sense=sense, where=where, lead=lead)
-=======
-                                    sense=sense, where=where)
-                dense = densify(smooth, number[id(fp)], fp, theta, lambda p, d, th: scaled(
+                dense = densify(smooth[layer.index], number[id(fp)], fp, theta, lambda p, d, th: scaled(
                     eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, where=where)), tol)
                 if dense is not None:
                     points, directions, dense_theta, u = dense
                     path = eye_path(points, directions, surface, machine, theta=dense_theta, envelope=env,
                                     sense=sense, where=where)
->>>>>>> 6ed8df8 (Densify passes where the eye bows off the programmed chords)
                 a_end = float(path.a_deg[-1])
                 if b_end is not None:
                     path = replace(path, b_deg=path.b_deg + 360.0 * np.round((b_end - path.b_deg[0]) / 360.0))
