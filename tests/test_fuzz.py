@@ -6,6 +6,12 @@ Whatever a user types into a job file, `winder check` and `winder run` either su
 
 The examples are derandomized so CI is repeatable; WINDER_FUZZ_EXAMPLES=500 (say) runs more of them,
 with fresh random seeds.
+
+The mutation sweep (issue 15) mutates every sample and documented config FUZZ_CONFIGS times in all
+(wrong types, scales 1e-9 .. 1e9, deletions, unknown keys), runs `check` on all of them and `check`
+then `run` on FUZZ_RUNS of them, in child processes under a 2 GB memory limit and a time limit
+(tests/sandbox.py). The nightly size (README):
+WINDER_FUZZ_CONFIGS=20000 WINDER_FUZZ_RUNS=2000 python -m pytest tests/test_fuzz.py -k sweep
 """
 
 from __future__ import annotations
@@ -13,17 +19,21 @@ from __future__ import annotations
 import copy
 import math
 import os
+import random
 import signal
 import tempfile
+import time
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import pytest
 import yaml
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from tests.sandbox import run_limited
 from winder.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -191,3 +201,143 @@ def test_run_never_crashes(data):
         else:
             name = data["name"]
             assert written == sorted([f"{name}.csv", f"{name}.gcode", f"{name}.summary.json"])
+
+
+# -- the mutation sweep ------------------------------------------------------------------------------
+FUZZ_CONFIGS = int(os.environ.get("WINDER_FUZZ_CONFIGS", "2000"))
+FUZZ_RUNS = int(os.environ.get("WINDER_FUZZ_RUNS", "24"))
+FUZZ_SEED = int(os.environ.get("WINDER_FUZZ_SEED", "15"))
+SWEEP_SECONDS = 120  # per command: a hang guard on a busy machine, not a speed assertion
+RUN_LIMIT_S = 10  # run --time-limit: a job past it fails cleanly (exit 1), which the sweep counts
+SCALES = [1e-9, 1e-6, 1e-3, 0.1, 0.5, 2.0, 10.0, 1e3, 1e6, 1e9]
+UNKNOWN_KEYS = ["extra", "Radius", "typo", "x", "1", "band", "layer", "name "]
+
+
+def _quick(base: dict) -> dict:
+    """A base made quick to run: few points per pass, no tolerance."""
+    data = copy.deepcopy(base)
+    if isinstance(data.get("winding"), dict):
+        data["winding"]["points"] = 6
+        data["winding"].pop("tolerance", None)
+    return data
+
+
+SWEEP_BASES = [_quick(b) for b in BASES]
+
+
+def _mutate(rng: random.Random, data: Any) -> Any:
+    """One mutation of a random place: a scale (of a number), a wrong type, a deletion or an
+    unknown key (in a mapping)."""
+    paths = _paths(data)[1:]
+    op = rng.choice(["scale", "scale", "scale", "retype", "retype", "delete", "unknown"])
+    numbers = [p for p in paths if isinstance(_get(data, p), (int, float)) and not isinstance(_get(data, p), bool)]
+    mappings = [p for p in _paths(data) if isinstance(_get(data, p), dict)]
+    if op == "scale" and numbers:
+        path = rng.choice(numbers)
+        parent, key = _get(data, path[:-1]), path[-1]
+        value = parent[key]
+        factor = rng.choice(SCALES) * rng.choice([1, 1, 1, -1])
+        scaled = float(value) * factor if abs(value) < 1e300 else math.inf
+        # an int stays an int now and then (a count scaled: passes, pattern, points)
+        whole = isinstance(value, int) and math.isfinite(scaled) and abs(scaled) < 1e18 and rng.random() < 0.5
+        parent[key] = int(scaled) if whole else scaled
+    elif op == "unknown" and mappings:
+        _get(data, rng.choice(mappings))[rng.choice(UNKNOWN_KEYS)] = rng.choice(ODD_VALUES + [1, 10.0, "auto"])
+    elif paths:
+        path = rng.choice(paths)
+        parent, key = _get(data, path[:-1]), path[-1]
+        if op == "delete":
+            del parent[key]
+        else:
+            parent[key] = rng.choice(ODD_VALUES)
+    else:
+        return rng.choice(ODD_VALUES)
+    return data
+
+
+def sweep_configs(n: int, seed: int) -> list[tuple[str, Any]]:
+    """n mutated job files (base name, data), every base in turn, one to three mutations each."""
+    rng = random.Random(seed)
+    out = []
+    for i in range(n):
+        base = SWEEP_BASES[i % len(SWEEP_BASES)]
+        data = copy.deepcopy(base)
+        for _ in range(rng.choice([1, 1, 1, 2, 3])):
+            data = _mutate(rng, data)
+            if not isinstance(data, (dict, list)):
+                break
+        out.append((base["name"], data))
+    return out
+
+
+def _stderr_is_one_error(result: dict, config: str) -> None:
+    lines = result["stderr"].splitlines()
+    if result["code"] == 0:
+        assert lines == [], result["stderr"]
+        return
+    assert len(lines) == 1 and lines[0].startswith("Error: ") and config in lines[0], result["stderr"]
+
+
+def _assert_clean(result: dict, config: str, data: Any) -> None:
+    where = f"{result['args'][0]} on:\n{_dump(data)}"
+    assert result["code"] in (0, 1, 2), f"exit {result['code']}: {where}\n{result['stderr']}"
+    assert result["uncaught"] is None, f"{result['uncaught']}: {where}"
+    text = result["stdout"] + result["stderr"]
+    assert "Traceback" not in text and "internal error" not in text, f"{text}\n{where}"
+    _stderr_is_one_error(result, config)
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory) -> dict:
+    folder = tmp_path_factory.mktemp("sweep")
+    configs = sweep_configs(FUZZ_CONFIGS, FUZZ_SEED)
+    paths = []
+    for k, (_, data) in enumerate(configs):
+        path = folder / f"m{k:05d}.yaml"
+        path.write_text(_dump(data), encoding="utf-8")
+        paths.append(str(path))
+    started = time.perf_counter()
+    checks = [r[0] for r in run_limited([[["check", p]] for p in paths], workers=2, seconds=SWEEP_SECONDS)]
+    # run on configs check accepted (does run agree?) and, a quarter, on ones it refused
+    valid = [k for k, r in enumerate(checks) if r["code"] == 0]
+    invalid = [k for k, r in enumerate(checks) if r["code"] != 0]
+    pick = random.Random(FUZZ_SEED)
+    chosen = sorted(pick.sample(valid, min(len(valid), FUZZ_RUNS - FUZZ_RUNS // 4))
+                    + pick.sample(invalid, min(len(invalid), FUZZ_RUNS // 4)))
+    runs = run_limited([[["check", paths[k]], ["run", paths[k], "-o", str(folder / f"out{k}"),
+                                                "--format", "csv,gcode", "--time-limit", str(RUN_LIMIT_S)]]
+                        for k in chosen],
+                       workers=2, seconds=SWEEP_SECONDS)
+    return {"configs": configs, "paths": paths, "checks": checks, "chosen": chosen, "runs": runs,
+            "seconds": time.perf_counter() - started}
+
+
+def test_sweep_size(sweep) -> None:
+    assert len(sweep["checks"]) == FUZZ_CONFIGS >= 2000 or "WINDER_FUZZ_CONFIGS" in os.environ
+    valid = sum(r["code"] == 0 for r in sweep["checks"])
+    # The mutations must reach both sides: valid files that plan, and every kind of refusal.
+    assert 0.05 * FUZZ_CONFIGS < valid < 0.95 * FUZZ_CONFIGS, valid
+    assert any(r[1]["code"] == 0 for r in sweep["runs"]), "no mutated job ran"
+
+
+def test_sweep_check_is_clean(sweep) -> None:
+    for (_, data), path, result in zip(sweep["configs"], sweep["paths"], sweep["checks"]):
+        _assert_clean(result, Path(path).name, data)
+        assert result["code"] in (0, 1, 2), result  # 1: refused from the config as not windable
+
+
+def test_sweep_run_is_clean_and_agrees_with_check(sweep) -> None:
+    for k, (check, run) in zip(sweep["chosen"], sweep["runs"]):
+        data, path = sweep["configs"][k][1], sweep["paths"][k]
+        _assert_clean(check, Path(path).name, data)
+        _assert_clean(run, Path(path).name, data)
+        assert check["code"] == sweep["checks"][k]["code"]
+        if check["code"] == 0:
+            assert run["code"] != 2, f"check accepted what run refused: {run['stderr']}\n{_dump(data)}"
+        else:  # refused before computing: by both, with the same status and line
+            assert run["code"] == check["code"] and run["stderr"] == check["stderr"], (check, run)
+        if run["code"]:
+            assert run["left"] == [], run["left"]
+        else:
+            name = data["name"]
+            assert run["left"] == sorted([f"{name}.csv", f"{name}.gcode", f"{name}.summary.json"]), run["left"]

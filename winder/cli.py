@@ -10,18 +10,23 @@ import functools
 import json
 import sys
 import time
+import warnings
 from typing import Callable
 
 import click
 
 from winder import __version__
-from winder.errors import ConfigError, SolverError, WinderError
+from winder.app.interrupts import interrupts_raise
+from winder.errors import ConfigError, Interrupted
 
 # Each command imports the stages it needs when it runs: numpy, scipy and the pipeline take most of a
 # second to import, which `winder --help` and `winder check` should not pay. So the two values the
 # options show are written here (tests/test_cli.py keeps them equal to the library's).
 METHODS = ("newton", "lbfgs")  # winder.paths.geodesic.Method's values
 DEFAULT_POINTS = 200  # winder.config.winding.DEFAULT_POINTS
+MAX_POINTS = 100_000  # winder.config.winding.MAX_POINTS: the command line holds the config's limit
+DEFAULT_TIME_LIMIT = 600.0  # s per job: the largest job the work budget allows plans in about a minute
+MAX_ROUNDS = 1000  # --rounds and the turns of --start / --end: a 1000-round helix needs 48,000 points
 
 
 def _error(exc: BaseException, source: str | None = None) -> int:
@@ -44,7 +49,7 @@ def _guard(fn: Callable) -> Callable:
     def wrapper(*args, **kwargs):
         try:
             return fn(*args, **kwargs)
-        except (KeyboardInterrupt, click.exceptions.Exit, click.ClickException, click.Abort):
+        except (KeyboardInterrupt, Interrupted, click.exceptions.Exit, click.ClickException, click.Abort):
             raise
         except Exception as exc:  # noqa: BLE001 - the promise is: no traceback, ever
             sys.exit(_error(exc))
@@ -52,7 +57,38 @@ def _guard(fn: Callable) -> Callable:
     return wrapper
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class WinderGroup(click.Group):
+    """Every way out is one `Error:` line and a SPEC exit status: usage errors without usage lines; TERM
+    and INT raise Interrupted (app.interrupts): the job in hand rolls back, exit 128 + the signal."""
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        if not standalone_mode:  # a caller handling click's exceptions itself
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        try:
+            with warnings.catch_warnings(), interrupts_raise():
+                warnings.simplefilter("ignore")  # numbers are checked where they are reported
+                rv = super().main(args, prog_name, complete_var, False, **extra)
+        except click.exceptions.NoArgsIsHelpError as exc:  # a bare `winder`: the help, as click shows it
+            click.echo(exc.ctx.get_help() if exc.ctx is not None else exc.format_message())
+            sys.exit(exc.exit_code)
+        except click.ClickException as exc:
+            click.echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
+            sys.exit(exc.exit_code)
+        except Interrupted as exc:
+            click.echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
+            sys.exit(exc.exit_code)
+        except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread
+            click.echo("Error: interrupted by SIGINT", err=True)
+            sys.exit(130)
+        sys.exit(rv if isinstance(rv, int) else 0)
+
+
+_TIME_LIMIT = click.option("--time-limit", "time_limit", type=click.FloatRange(min=0, min_open=True, max=1e6),
+                           default=DEFAULT_TIME_LIMIT, show_default=True, metavar="SECONDS",
+                           help="Wall-clock limit of each job or solve; past it, exit 1 and no file written.")
+
+
+@click.group(cls=WinderGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="winder")
 def main() -> None:
     """winder: filament-winding CAM on sweep-surface mandrels."""
@@ -63,60 +99,27 @@ def main() -> None:
 @click.option("--start", required=True, metavar="T,DEG", help="Start point: station t (mm), angle (deg).")
 @click.option("--end", required=True, metavar="T,DEG", help="End point: station t (mm), angle (deg).")
 @click.option("--rounds", type=int, default=0, show_default=True, help="Extra full turns: +360*N on the end angle.")
-@click.option("--points", "points", type=click.IntRange(min=1), default=None,
+@click.option("--points", "points", type=click.IntRange(min=1, max=MAX_POINTS), default=None,
               help=f"Intermediate points (default {DEFAULT_POINTS}, and at least 48 per round).")
 @click.option("--tolerance", type=click.FloatRange(min=0, min_open=True), default=None, metavar="MM",
               help="Choose the points so that the length's error bound is below MM.")
 @click.option("--method", type=click.Choice(METHODS), default="newton", show_default=True)
 @click.option("-o", "--output", type=click.Path(dir_okay=False), default=None, help="Write the path CSV here.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
+@_TIME_LIMIT
 @_guard
 def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | None,
-                 tolerance: float | None, method: str, output: str | None, as_json: bool) -> None:
+                 tolerance: float | None, method: str, output: str | None, as_json: bool,
+                 time_limit: float) -> None:
     """The geodesic on the mandrel of CONFIG from START to END."""
-    from winder.config.job import load_config  # noqa: PLC0415
-    from winder.config.reader import station_option  # noqa: PLC0415
+    from winder.app.requests import geodesic_json, solve_geodesic  # noqa: PLC0415
     from winder.export.path_csv import write_path_csv  # noqa: PLC0415
-    from winder.geometry.build import build_surface  # noqa: PLC0415
-    from winder.paths.geodesic import Method, geodesic  # noqa: PLC0415
 
-    if points is not None and tolerance is not None:
-        raise ConfigError("--points and --tolerance: give one or the other, not both")
-    a, b = station_option(start, "--start"), station_option(end, "--end")
-    job = load_config(config)
-    surface = build_surface(job.mandrel, job.source, job.name)
-    try:
-        res = geodesic(surface, a, b, rounds=rounds, n=points, tolerance=tolerance,
-                       method=Method(method))
-    except WinderError as exc:
-        if exc.key_path in ("start", "end", "points", "tolerance"):  # the library's names of the options
-            exc.key_path = f"--{exc.key_path}"
-        if isinstance(exc, SolverError) and exc.file is None:
-            exc.file = config  # names the file, once
-        raise
-    if not res.success:
-        raise SolverError(f"the {method} solver did not converge in {res.nit} iterations ({res.message})",
-                          file=config)
+    job, res = solve_geodesic(config, start, end, rounds, points, tolerance, method, time_limit, MAX_ROUNDS, MAX_POINTS)
     if output:
         write_path_csv(output, res)
     if as_json:
-        click.echo(json.dumps({
-            "name": job.name,
-            "length_mm": res.length,
-            "polyline_length_mm": res.polyline_length,
-            "length_extrapolated_mm": res.length_extrapolated,
-            "error_estimate_mm": res.error_estimate,
-            "smooth_error_estimate_mm": res.smooth_error_estimate,
-            "points": res.n,
-            "iterations": res.iterations,
-            "converged": res.converged,
-            "stop_reason": res.reason.value,
-            "method": res.method.value,
-            "rounds": rounds,
-            "spacing_deviation": res.spacing_deviation,
-            "max_geodesic_curvature_per_mm": res.max_geodesic_curvature,
-            "seconds": res.seconds,
-        }))
+        click.echo(json.dumps(geodesic_json(job.name, res, rounds), allow_nan=False))
     else:
         click.echo(f"{job.name}: geodesic length {res.length:.9f} mm ({res.n} points, {rounds} rounds)")
         click.echo(f"  polyline {res.polyline_length:.9f} mm, Richardson {res.length_extrapolated:.9f} mm "
@@ -130,22 +133,23 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
 @main.command("check")
 @click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
 def check_cmd(configs: tuple[str, ...]) -> None:
-    """Validate configs only (no path computation)."""
-    from winder.config.job import load_config  # noqa: PLC0415
-    from winder.geometry.build import build_surface  # noqa: PLC0415
+    """Validate configs as `run` would, before computing: values, geometry, the winding plan, the
+    work budget (no path computation)."""
+    from winder.app.validate import validate  # noqa: PLC0415
 
-    bad = 0
+    from winder.app.jobs import exit_status  # noqa: PLC0415
+
+    codes = []
     for path in configs:
         try:
-            job = load_config(path)
-            build_surface(job.mandrel, job.source, job.name)
+            job, _, _ = validate(path)  # every check `run` makes before it computes
         except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
-            _error(exc, path)
-            bad += 1
+            codes.append(_error(exc, path))
         else:
             click.echo(f"ok: {path} ({job.name})")
-    if bad:
-        sys.exit(2)
+    status = exit_status(codes)  # as `run` would exit: 2 if any is invalid, 1 if one cannot be wound
+    if status:
+        sys.exit(status)
 
 
 # -- run -------------------------------------------------------------------------------------------
@@ -222,7 +226,7 @@ class _JobBar:
 
 
 def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jobs: int,
-           summary: bool = True) -> None:
+           summary: bool = True, seconds: float | None = None) -> None:
     """Run each config as a job (see run_cmd) and report: one Error line per failure, a table, a
     tally; exit with the batch's SPEC status."""
     from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
@@ -249,7 +253,7 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
             continue
         if key is not None:
             owner[key] = path
-        tasks.append(JobTask(path, out_dir, formats, summary=summary))
+        tasks.append(JobTask(path, out_dir, formats, summary=summary, seconds=seconds))
         index.append(i)
 
     single = _JobBar() if len(tasks) == 1 else None
@@ -304,9 +308,10 @@ _JOBS = click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show
 @click.option("--report", "with_report", is_flag=True,
               help="Also write <name>.html, the report page (needs the plot extra).")
 @_JOBS
+@_TIME_LIMIT
 @_guard
 def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], with_report: bool,
-            jobs: int) -> None:
+            jobs: int, time_limit: float) -> None:
     """Plan and export the whole job of each CONFIG: <name>.csv, .gcode, .ply and .summary.json
     (and <name>.html with --report).
 
@@ -320,15 +325,16 @@ def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], wi
         formats = tuple(f for f in FORMATS if f in formats or f == "report")
     if "report" in formats:
         _needs_plot_extra()
-    _batch(configs, out_dir, formats, jobs)
+    _batch(configs, out_dir, formats, jobs, seconds=time_limit)
 
 
 @main.command("report", short_help="Plan jobs and write one self-contained HTML report each.")
 @click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
 @_OUT_DIR
 @_JOBS
+@_TIME_LIMIT
 @_guard
-def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int) -> None:
+def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int, time_limit: float) -> None:
     """Plan each CONFIG and write <name>.html: the summary and layer tables, the unrolled pattern,
     the coverage map, winding angle and band layers along the mandrel, and a 3D view, in one page
     that opens offline in any browser. Needs the plot extra: pip install "winder[plot]".
@@ -336,7 +342,7 @@ def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int) -> None:
     Exit status as for run: 0 all ok, 2 if any config was invalid (or plotly is missing), else 1.
     """
     _needs_plot_extra()
-    _batch(configs, out_dir, ("report",), jobs, summary=False)
+    _batch(configs, out_dir, ("report",), jobs, summary=False, seconds=time_limit)
 
 
 # -- regress ---------------------------------------------------------------------------------------

@@ -57,3 +57,21 @@ class ExportError(WinderError):
     """An output that cannot be written: axis limits exceeded, unwritable folder."""
 
     exit_code = 1
+
+
+class Interrupted(BaseException):
+    """A TERM or INT signal stopping the work: not an error of the input, so not a WinderError, and a
+    BaseException so that no `except Exception` of a job swallows it; what is half-written is rolled
+    back on the way out. exit_code is 128 + the signal number (130 for INT, 143 for TERM)."""
+
+    def __init__(self, signum: int) -> None:
+        import signal  # noqa: PLC0415
+
+        name = signal.Signals(signum).name
+        super().__init__(f"interrupted by {name}")
+        self.signum = signum
+        self.signal_name = name
+        self.exit_code = 128 + signum
+
+    def __reduce__(self):
+        return (type(self), (self.signum,))

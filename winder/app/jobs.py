@@ -19,7 +19,8 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
 
-from winder.errors import ConfigError, WinderError
+from winder.app.interrupts import TimeUp, in_worker, stop_workers, time_limit, worker_init
+from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
 from winder.progress import Progress, part
 
@@ -114,12 +115,16 @@ def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
 
 
 def _plan(job, progress: Progress | None = None):
+    from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
 
-    if job.winding is None:
-        raise ConfigError(f"{job.source}: winding: required key missing; `run` needs a winding plan "
-                          "(band_width and layers)")
-    return plan(job, progress)
+    validate_job(job)  # the checks of `check`, so that `run` refuses nothing `check` accepted
+    try:
+        return plan(job, progress)
+    except ConfigError as exc:
+        # Past validation, a refusal rests on what was computed (a circuit count on the grown
+        # mandrel sharing a factor with the pattern): a job that cannot be computed, exit 1.
+        raise SolverError(exc.message, file=exc.file, key_path=exc.key_path) from exc
 
 
 def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
@@ -177,7 +182,7 @@ def _keep_old(path: Path) -> Path | None:
 
 def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             formats: Sequence[str] = ALL_FORMATS, source: str | None = None, summary: bool = True,
-            progress: Progress | None = None) -> JobReport:
+            progress: Progress | None = None, seconds: float | None = None) -> JobReport:
     """Run one job: load, plan, render in memory, then write. Never raises for a failing job (the
     failure is in the report); only KeyboardInterrupt / SystemExit pass through. A top-level
     function with picklable arguments and result, so it runs on a process pool.
@@ -187,6 +192,7 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
     depend on the folder the samples were run from. summary: write `<name>.summary.json` as well (the
     default). progress: told the fraction of the job done (planning per layer and circuit, then each
     output); None in worker processes.
+    seconds: the job's wall-clock limit (None: none); past it the job fails (exit 1), no file left.
     """
     import dataclasses  # noqa: PLC0415
 
@@ -198,20 +204,26 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
     name: str | None = None
     plan = None
     try:
-        formats = tuple(formats)
-        output_names("x", formats, summary)  # refuses an unknown format before any work
-        job = load_config(config)
-        if source is not None:
-            job = dataclasses.replace(job, source=source)
-            shown = source
-        name = job.name
-        if progress is not None:
-            progress = _named(progress, name)
-        plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
-        rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0))
-        outputs = write_outputs(out_dir, rendered)
+        with time_limit(seconds):
+            formats = tuple(formats)
+            output_names("x", formats, summary)  # refuses an unknown format before any work
+            job = load_config(config)
+            if source is not None:
+                job = dataclasses.replace(job, source=source)
+                shown = source
+            name = job.name
+            if progress is not None:
+                progress = _named(progress, name)
+            plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
+            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0))
+            outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")
+    except TimeUp:
+        exc = WinderError(f"the job did not finish within its time limit of {seconds:g} s (--time-limit); "
+                          "its solvers do not converge on this mandrel in reasonable time")
+        return JobReport(config, name, False, 1, error_message(exc, shown), (), _fiber_length(plan),
+                         _layer_count(plan), time.perf_counter() - started)
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback
         return JobReport(config, name, False, exit_code_of(exc), error_message(exc, shown),
                          (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
@@ -241,18 +253,21 @@ def _layer_count(plan) -> int:
 # -- batches ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class JobTask:
-    """One job of a batch: run_job(config, out_dir, formats[, source][, summary])."""
+    """One job of a batch: run_job(config, out_dir, formats[, source][, summary][, seconds])."""
 
     config: str
     out_dir: str
     formats: tuple[str, ...] = ALL_FORMATS
     source: str | None = None  # see run_job
     summary: bool = True
+    seconds: float | None = None  # see run_job
 
     def submit_args(self) -> tuple[tuple, dict]:
         kwargs: dict = {"source": self.source} if self.source else {}
         if not self.summary:
             kwargs["summary"] = False
+        if self.seconds:
+            kwargs["seconds"] = self.seconds
         return (self.config, self.out_dir, self.formats), kwargs
 
 
@@ -280,11 +295,12 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
             args, kwargs = task.submit_args()
             yield i, job(*args, **kwargs)
         return
-    pool = ProcessPoolExecutor(max_workers=workers)
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_init)
     retry: list[int] = []
     try:
         futures: dict[Future, int] = {
-            pool.submit(job, *task.submit_args()[0], **task.submit_args()[1]): i for i, task in enumerate(tasks)
+            pool.submit(in_worker, job, *task.submit_args()[0], **task.submit_args()[1]): i
+            for i, task in enumerate(tasks)
         }
         pending = set(futures)
         while pending:
@@ -301,17 +317,26 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
                 except Exception as exc:  # noqa: BLE001 - e.g. an unpicklable result
                     report = _worker_failure(tasks[i].config, exc)
                 yield i, report
-    finally:
-        # On an interrupt or an abandoned generator: drop what has not started.
-        pool.shutdown(wait=True, cancel_futures=True)
+    except BaseException:
+        # An interrupt (or an abandoned generator): stop the workers now, each rolling back its job,
+        # rather than letting them finish the batch without a parent.
+        stop_workers(pool)
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
     for i in sorted(retry):
         task = tasks[i]
-        with ProcessPoolExecutor(max_workers=1) as alone:
-            try:
-                args, kwargs = task.submit_args()
-                report = alone.submit(job, *args, **kwargs).result()
-            except Exception as exc:  # noqa: BLE001 - this job kills its worker: it fails, alone
-                report = _worker_failure(task.config, exc)
+        alone = ProcessPoolExecutor(max_workers=1, initializer=worker_init)
+        try:
+            args, kwargs = task.submit_args()
+            report = alone.submit(in_worker, job, *args, **kwargs).result()
+        except Exception as exc:  # noqa: BLE001 - this job kills its worker: it fails, alone
+            report = _worker_failure(task.config, exc)
+        except BaseException:
+            stop_workers(alone)
+            alone.shutdown(wait=False, cancel_futures=True)
+            raise
+        alone.shutdown(wait=True)
         yield i, report
 
 

@@ -44,6 +44,8 @@ def check_bend_angles(mandrel: MandrelConfig, winding: WindingConfig | None, sou
         return
     a = mandrel.profile.radius
     for radius, t_mid in _bends(mandrel.axis):
+        if radius <= a:  # the surface folds onto itself: winder.geometry.build refuses it, naming the key
+            continue
         least = least_pressing_angle_deg(radius, a)
         for i, layer in enumerate(winding.layers):
             if layer.type is LayerType.HELICAL and layer.slip == 0.0 and layer.angle_deg <= least:

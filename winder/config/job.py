@@ -7,7 +7,9 @@ Reads the file, refuses bad YAML, and hands each section to its parser (winder.c
 from __future__ import annotations
 
 import math
+import os
 import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,17 +38,43 @@ class JobConfig:
     machine: MachineConfig | None = field(default_factory=MachineConfig)
 
 
+# A job file is a page of YAML; a table or spline of 10,000 points is about 300 kB. Beyond this it is
+# not a job file (or a device such as /dev/zero), and reading it would not end in reasonable time.
+MAX_FILE_BYTES = 2_000_000
+# Output files are <name>.<suffix>, written through hidden temporary files with ~30 more characters;
+# file systems allow 255 bytes per name.
+MAX_NAME_LENGTH = 200
+
+
+def read_text(path: str | Path, source: str) -> str:
+    """The text of a job file: a regular file of at most MAX_FILE_BYTES, UTF-8."""
+    try:
+        info = os.stat(path)  # before opening: opening a FIFO would block
+        if not stat.S_ISREG(info.st_mode):
+            raise ConfigError(f"{source}: not a regular file (a job file is a YAML text file)")
+        if info.st_size > MAX_FILE_BYTES:
+            raise ConfigError(f"{source}: the file has {info.st_size} bytes, more than a job file's limit of "
+                              f"{MAX_FILE_BYTES}")
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
+    if len(raw) > MAX_FILE_BYTES:  # it grew while being read
+        raise ConfigError(f"{source}: the file has more than a job file's limit of {MAX_FILE_BYTES} bytes")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
+
+
 def load_config(path: str | Path) -> JobConfig:
     """Read and validate a job file; every problem is a ConfigError starting with the path."""
     source = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
+    text = read_text(path, source)
     try:
         data = yaml.load(text, Loader=YamlLoader)  # noqa: S506 (a SafeLoader subclass)
+    except RecursionError as exc:  # PyYAML composes nested collections recursively
+        raise ConfigError(f"{source}: invalid YAML: nested too deeply (a job file needs a few levels)") from exc
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
@@ -54,7 +82,10 @@ def load_config(path: str | Path) -> JobConfig:
         raise ConfigError(f"{source}: {where}invalid YAML: {problem}") from exc
     except (yaml.YAMLError, ValueError) as exc:  # ValueError: an explicitly tagged !!int "x"
         raise ConfigError(f"{source}: invalid YAML: {exc}") from exc
-    return parse_config(data, source)
+    try:
+        return parse_config(data, source)
+    except RecursionError as exc:  # a value nested too deeply to show in a message
+        raise ConfigError(f"{source}: invalid YAML: nested too deeply (a job file needs a few levels)") from exc
 
 
 # -- the job file ----------------------------------------------------------------------------------
@@ -69,6 +100,12 @@ def parse_config(data: dict, source: str) -> JobConfig:
     if not _NAME.fullmatch(name):
         raise rd.error("name", "must use only letters, digits, '_', '.' and '-' (it names the output "
                        "files)", name)
+    if name.startswith("."):
+        raise rd.error("name", "must not start with '.' (it names the output files, which would be hidden, "
+                       "or '.' and '..' the folders themselves)", name)
+    if len(name) > MAX_NAME_LENGTH:
+        raise rd.error("name", f"must have at most {MAX_NAME_LENGTH} characters (it names the output files), "
+                       f"got {len(name)} characters")
     mandrel = parse_mandrel(rd, top["mandrel"], "mandrel")
     vessel = isinstance(mandrel.profile, VesselProfile)
     winding = None

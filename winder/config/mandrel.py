@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
-from winder.config.reader import LENGTH_SLACK, Reader, show_value
+from winder.config.reader import LENGTH_SLACK, MAX_SIZE, Reader, show_value
 
 __all__ = [
     "ArcAxis", "Axis", "CircleSection", "ConeProfile", "ConstantProfile", "Dome", "DomeType", "EllipseSection",
@@ -166,6 +166,14 @@ def axis_length(axis: Axis | None) -> float | None:
     return None
 
 
+# A superellipse of exponent 100 is a rectangle whose corners have a radius of a few % of a side.
+MAX_EXPONENT = 100.0
+# The sharpest bend of a section outline, as a fraction of its size: an ellipse of a / b = 100 has
+# radius b^2 / a = a / 10,000 at the ends of its long axis. Sharper is a knife edge, where no fiber
+# path converges (and no fiber lies).
+MIN_BEND_FRACTION = 1e-4
+
+
 # -- parsing --------------------------------------------------------------------------------------
 _AXIS_KINDS = {
     "line": (("length",), ()),
@@ -271,6 +279,8 @@ def _parse_spline(rd: Reader, value: Any, path: str) -> SplineAxis:
         if not isinstance(item, list) or len(item) != 3:
             raise rd.error(where, "must be a point [x, y, z]", item)
         x, y, z = (rd.number(c, where, name) for c, name in zip(item, "xyz"))
+        if max(abs(x), abs(y), abs(z)) > MAX_SIZE:
+            raise rd.error(where, f"coordinates must lie within +-{MAX_SIZE:g} mm", item)
         if points and (x, y, z) == points[-1]:
             raise rd.error(where, "must differ from the previous point (a zero-length span)", item)
         points.append((x, y, z))
@@ -294,6 +304,8 @@ def _parse_profile(rd: Reader, value: Any, path: str) -> Profile:
     cylinder = rd.number(m["cylinder_length"], rd.at(path, "cylinder_length"))
     if cylinder < 0.0:
         raise rd.error(rd.at(path, "cylinder_length"), "must be >= 0", m["cylinder_length"])
+    if cylinder > MAX_SIZE:
+        raise rd.error(rd.at(path, "cylinder_length"), f"must be <= {MAX_SIZE:g}", m["cylinder_length"])
     dome = _parse_dome(rd, m["dome"], rd.at(path, "dome"), radius, radius_path)
     end_dome = dome
     if "end_dome" in m:
@@ -316,6 +328,8 @@ def _parse_table(rd: Reader, value: Any, path: str) -> TableProfile:
                            item[0])
         if r <= 0.0:
             raise rd.error(where, "r must be > 0", item[1])
+        if t > MAX_SIZE or r > MAX_SIZE:
+            raise rd.error(where, f"t and r must be <= {MAX_SIZE:g}", item)
         points.append((t, r))
     return TableProfile(tuple(points))
 
@@ -347,7 +361,14 @@ def _parse_section(rd: Reader, value: Any, path: str) -> Section:
     if kind == "circle":
         return CircleSection()
     if kind == "ellipse":
-        return EllipseSection(rd.positive(m["a"], rd.at(path, "a")), rd.positive(m["b"], rd.at(path, "b")))
+        a, b = rd.positive(m["a"], rd.at(path, "a")), rd.positive(m["b"], rd.at(path, "b"))
+        small, large = sorted((a, b))
+        if small * small / large < MIN_BEND_FRACTION * large:
+            key = "b" if b <= a else "a"
+            raise rd.error(rd.at(path, key), f"must be at least {math.sqrt(MIN_BEND_FRACTION) * large:g} "
+                           f"(1/{1 / math.sqrt(MIN_BEND_FRACTION):g} of the other semi-axis): flatter, the ends "
+                           "are a knife edge no fiber path can be computed over", m[key])
+        return EllipseSection(a, b)
     if kind == "superellipse":
         a = rd.positive(m["a"], rd.at(path, "a"))
         b = rd.positive(m["b"], rd.at(path, "b"))
@@ -355,10 +376,17 @@ def _parse_section(rd: Reader, value: Any, path: str) -> Section:
         if exponent < 2.0:
             raise rd.error(rd.at(path, "exponent"), "must be >= 2 (below 2 the outline has corners or "
                            "cusps, and the surface must be smooth for geodesics)", m["exponent"])
+        if exponent > MAX_EXPONENT:
+            raise rd.error(rd.at(path, "exponent"), f"must be <= {MAX_EXPONENT:g} (beyond, the corners are too "
+                           "sharp for a fiber path; use a rounded_rectangle)", m["exponent"])
         return SuperellipseSection(a, b, exponent)
     width = rd.positive(m["width"], rd.at(path, "width"))
     height = rd.positive(m["height"], rd.at(path, "height"))
     corner = rd.positive(m["corner_radius"], rd.at(path, "corner_radius"))
+    if corner < MIN_BEND_FRACTION * max(width, height):
+        raise rd.error(rd.at(path, "corner_radius"), f"must be at least {MIN_BEND_FRACTION * max(width, height):g} "
+                       f"({MIN_BEND_FRACTION:g} of the larger side): sharper, the corner is a knife edge no fiber "
+                       "path can be computed over", m["corner_radius"])
     if corner > min(width, height) / 2.0:
         raise rd.error(rd.at(path, "corner_radius"), f"must be <= min(width, height) / 2 "
                        f"({show_value(min(width, height) / 2.0)})", m["corner_radius"])

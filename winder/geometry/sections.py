@@ -80,14 +80,19 @@ class Superellipse:
         p = self.p
         ac, as_ = np.abs(c) / self.a, np.abs(s) / self.b
         sc, ss = np.sign(c), np.sign(s)
-        # f = ac^p + as^p; derivative of |cos|^p is -p |cos|^(p-1) sign(cos) sin, etc.
-        f = ac**p + as_**p
-        f1 = p * (-(ac ** (p - 1)) * sc * s / self.a + as_ ** (p - 1) * ss * c / self.b)
-        f2 = p * ((p - 1) * ac ** (p - 2) * s * s / self.a**2 - ac ** (p - 1) * np.abs(c) / self.a
-                  + (p - 1) * as_ ** (p - 2) * c * c / self.b**2 - as_ ** (p - 1) * np.abs(s) / self.b)
-        rho = f ** (-1.0 / p)
-        d1 = -(1.0 / p) * f ** (-1.0 / p - 1.0) * f1
-        d2 = (1.0 / p) * (1.0 / p + 1.0) * f ** (-1.0 / p - 2.0) * f1 * f1 - (1.0 / p) * f ** (-1.0 / p - 1.0) * f2
+        # f = ac^p + as^p, written as m^p (u^p + v^p) with m = max(ac, as), u = ac / m, v = as / m:
+        # ac^p alone underflows for large p or large semi-axes (p = 100, a = 1e5: 1e-500).
+        m = np.maximum(ac, as_)
+        u, v = ac / m, as_ / m
+        g = u**p + v**p  # in [1, 2]
+        # g1 = f' / m^(p-1), g2 = f'' / m^(p-2); derivative of |cos|^p is -p |cos|^(p-1) sign(cos) sin
+        g1 = p * (-(u ** (p - 1)) * sc * s / self.a + v ** (p - 1) * ss * c / self.b)
+        g2 = p * ((p - 1) * u ** (p - 2) * s * s / self.a**2 - m * m * u**p
+                  + (p - 1) * v ** (p - 2) * c * c / self.b**2 - m * m * v**p)
+        rho = g ** (-1.0 / p) / m
+        d1 = -(1.0 / p) * g ** (-1.0 / p - 1.0) * g1 / (m * m)
+        d2 = ((1.0 / p) * (1.0 / p + 1.0) * g ** (-1.0 / p - 2.0) * g1 * g1
+              - (1.0 / p) * g ** (-1.0 / p - 1.0) * g2) / (m * m * m)
         return rho, d1, d2
 
     def perimeter(self) -> float:

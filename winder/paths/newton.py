@@ -182,7 +182,8 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
 
 
 def _raise_left(surface: SweepSurface, s: np.ndarray) -> None:
-    low = s[1:-1].min() <= surface.length / 2
+    # The end it crossed: a path from near one end may run off the other (a cone's small end).
+    low = s[1:-1].min() <= BOUNDARY_TOL and not s[1:-1].max() >= surface.length - BOUNDARY_TOL
     edge = "polar opening" if not surface.is_axial_parameter else "end"
     where = f"t = 0 (the first {edge})" if low else f"t = {surface.axial_length:.6g} (the far {edge})"
     raise SolverError(f"the shortest path between these points runs off the mandrel past {where}: no "

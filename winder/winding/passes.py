@@ -26,6 +26,10 @@ DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
 # points and tangents: at 30 points per pass a spline through the vertices alone misses the tangent
 # by up to 1 deg next to a dome turnaround; 4x brings r sin(alpha) to 1e-6 of Clairaut there.
 TANGENT_REFINE = 4
+# A pass is refined (for a tolerance, or when it does not converge) up to this many points, then it
+# fails (exit 1): its tangent solve on TANGENT_REFINE times finer segments, with its Richardson twin,
+# then stays within ~0.5 GB (winder.winding.budget holds the rest).
+REFINE_MAX_POINTS = 20_000
 
 
 class SolvedPass(NamedTuple):
@@ -89,14 +93,15 @@ def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
     """
     w = ctx.winding
     n = n or w.points or 200
-    res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm)
+    res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm, max_points=max(REFINE_MAX_POINTS, n))
     for _ in range(2):
-        if res.converged:
+        if res.converged or 2 * n + 1 > max(REFINE_MAX_POINTS, n):
             break
         # Too coarse for a sharp stretch (a turnaround close to a small dome's hook): halve the
         # segments, warm-started from the path so far.
         n = 2 * n + 1
-        res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=(res.s, res.theta))
+        res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=(res.s, res.theta),
+                       max_points=REFINE_MAX_POINTS)
     _check_converged(ctx, a, b, res)
     k = TANGENT_REFINE
     fine = geodesic(ctx.surface, a, b, n=k * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))

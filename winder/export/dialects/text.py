@@ -13,10 +13,11 @@ from typing import Protocol
 
 import numpy as np
 
+from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import MotionProgram
 from winder.winding.results import LayerPlan, PassKind
 
-DECIMALS = 3  # mm and deg
+DECIMALS = AXIS_DECIMALS  # mm and deg: the limits hold for the values as written
 PREAMBLE = ("G21", "G90", "G94")
 END = "M2"
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")

@@ -13,7 +13,7 @@ import numpy as np
 
 from winder.config.winding import LayerConfig
 from winder.geometry.vessel import VesselMeridian
-from winder.errors import SolverError
+from winder.errors import ConfigError, SolverError
 from winder.winding.passes import (
     COVERAGE_STATIONS,
     PlanContext,
@@ -149,8 +149,15 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
         return 2.0 * half_advance(prof, c) / (2.0 * math.pi)
 
     n_c = circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
-    for _ in range(4):
-        k, c = close_vessel_pattern(advance, c0, c_min, c_hi, n_c, cfg.pattern, ctx.key(index, "pattern"))
+    for attempt in range(4):
+        try:
+            k, c = close_vessel_pattern(advance, c0, c_min, c_hi, n_c, cfg.pattern, ctx.key(index, "pattern"))
+        except ConfigError as exc:
+            if attempt == 0:  # the config's own circuit count: check refuses it the same way
+                raise
+            # The closed pattern moved the angle and needs more circuits, which share a factor with
+            # the given pattern: a result of the computation, not of the config alone.
+            raise SolverError(str(exc)) from exc
         need = circuits_for_coverage(perimeter, math.asin(c / big_r), w.band_width)
         if need <= n_c:
             break

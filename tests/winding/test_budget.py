@@ -1,0 +1,87 @@
+"""winder.winding.budget: the work of a job, from the config and the surface, before any path.
+
+Truths: the closed-form circuit count N_c = ceil(P cos(alpha) / B) with P = 2 pi r (MATH.md 5), the
+hoop's turns (region length / pitch, one band width of advance per turn) and the planner's own
+result on the same job (the budget holds it from above).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from winder.app.validate import validate
+from winder.config.job import load_config
+from winder.errors import ConfigError
+from winder.geometry.build import build_surface
+from winder.winding import budget as bud
+from winder.winding.plan import plan
+
+ROOT = Path(__file__).resolve().parents[2]
+HOSTILE = ROOT / "tests" / "app" / "hostile"
+PIPE = ROOT / "samples" / "pipe.yaml"
+
+
+def _budget(path: Path) -> bud.Budget:
+    job = load_config(path)
+    return bud.check_budget(job, build_surface(job.mandrel, job.source, job.name))
+
+
+def test_pipe_budget_matches_the_closed_form_and_holds_the_plan() -> None:
+    budget = _budget(PIPE)
+    helical, hoop = budget.layers
+    assert helical.circuits == math.ceil(2 * math.pi * 50 * math.cos(math.radians(55)) / 10)  # 19
+    assert helical.passes == 2 * helical.circuits
+    assert helical.pass_points == 30 + 2
+    pitch = 10 / math.sqrt(1 - (10 / (2 * math.pi * 50)) ** 2)
+    assert hoop.pass_points == math.ceil((480 - 20) / pitch * 360 / 5) + 1
+    assert hoop.points == 2 * hoop.pass_points
+    planned = plan(load_config(PIPE))
+    assert [layer.circuits for layer in planned.layers][0] == helical.circuits
+    laid = [sum(p.s.size for p in layer.passes) for layer in planned.layers]
+    assert laid[0] <= helical.points and laid[1] == hoop.points
+    assert budget.points == helical.points + hoop.points
+    assert budget.memory_bytes < bud.MAX_MEMORY_BYTES
+
+
+@pytest.mark.parametrize("name, key, limit", [
+    ("band_1e-6", "winding.band_width", str(bud.MAX_CIRCUITS)),
+    ("hoop_band_1e-4", "winding.band_width", str(bud.MAX_PASS_POINTS)),
+    ("hoop_89_999", "winding.layers[0].angle", str(bud.MAX_PASS_POINTS)),
+    ("hoop_passes_1e6", "winding.layers[0].passes", str(bud.MAX_PASSES)),
+    ("pattern_factor", "winding.layers[0].pattern", "19 circuits"),
+])
+def test_past_a_limit_is_refused_naming_key_and_limit(name: str, key: str, limit: str) -> None:
+    with pytest.raises(ConfigError) as info:
+        _budget(HOSTILE / f"{name}.yaml")
+    assert info.value.exit_code == 2
+    assert info.value.key_path == key and limit in info.value.message
+    assert f"{name}.yaml: {key}: " in str(info.value)
+
+
+def test_total_points_and_memory_are_held(tmp_path: Path) -> None:
+    text = PIPE.read_text(encoding="utf-8")
+    many = tmp_path / "many.yaml"
+    # 2000 passes of 3,300 points each: every pass is fine, the job is not.
+    many.write_text(text.replace("{type: hoop, passes: 2}", "{type: hoop, passes: 2000}"), encoding="utf-8")
+    with pytest.raises(ConfigError) as info:
+        _budget(many)
+    assert info.value.key_path == "winding.layers[1].passes" and str(bud.MAX_TOTAL_POINTS) in info.value.message
+    fine = tmp_path / "fine.yaml"
+    # One circuit of 100,000 points per pass: few points in all, but the tangent solve of a pass
+    # (4 times finer, with its Richardson twin) would need about 2 GB.
+    fine.write_text(text.replace("points: 30 ", "points: 100000 ").replace("band_width: 10", "band_width: 300")
+                    .replace("    - {type: hoop, passes: 2}\n", ""), encoding="utf-8")
+    with pytest.raises(ConfigError) as info:
+        _budget(fine)
+    assert info.value.key_path == "winding.points" and "GB of memory" in info.value.message
+
+
+def test_validate_refuses_what_run_needs() -> None:
+    with pytest.raises(ConfigError) as info:
+        validate(HOSTILE / "no_winding.yaml")
+    assert info.value.key_path == "winding" and "required key missing" in info.value.message
+    job, surface, budget = validate(PIPE)
+    assert job.name == "pipe" and budget.points > 0 and surface.axial_length == 500

@@ -1,0 +1,136 @@
+"""Interrupts: TERM and INT stop a job or a batch cleanly (SPEC-style exit 130 / 143, README).
+
+In the main process, `interrupts_raise` turns both signals into Interrupted, which unwinds through a
+job's writes (winder.app.jobs.write_outputs takes back what it put in place) and through the batch
+loop, which stops its workers with `stop_workers`. A worker runs each job through `in_worker`: a signal
+in the middle of a job rolls that job back and ends the worker; between jobs it just ends it. Workers
+also get TERM when their parent dies (Linux), so none outlives a killed batch.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
+from typing import Any
+
+from winder.errors import Interrupted
+
+
+class TimeUp(BaseException):
+    """A job's wall-clock limit ran out (time_limit). A BaseException, so that it unwinds through
+    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1)."""
+
+
+def _time_up(signum: int, frame) -> None:
+    raise TimeUp()
+
+
+@contextmanager
+def time_limit(seconds: float | None) -> Iterator[None]:
+    """Raise TimeUp in this (main) thread after seconds of wall-clock time (None: no limit). The
+    guard of solvers that cannot converge (an integrator taking ever smaller steps, L-BFGS at its
+    iteration cap): whatever the job computes, it ends. A timer set before is restored after."""
+    if not seconds:
+        yield
+        return
+    try:
+        old_handler = signal.signal(signal.SIGALRM, _time_up)
+    except ValueError:  # not the main thread: no signals here
+        yield
+        return
+    old_delay, old_interval = signal.setitimer(signal.ITIMER_REAL, seconds)
+    started = time.monotonic()
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old_handler)
+        if old_delay > 0:
+            left = old_delay - (time.monotonic() - started)
+            signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
+
+__all__ = ["STOP_SIGNALS", "TimeUp", "in_worker", "interrupts_raise", "stop_workers", "time_limit", "worker_init"]
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+WORKER_GRACE_S = 1.0  # a worker stopped by TERM rolls back its job's files within this, or is killed
+
+
+def _raise_interrupted(signum: int, frame) -> None:
+    for sig in STOP_SIGNALS:  # one interrupt: the rollback on the way out must not be interrupted
+        signal.signal(sig, signal.SIG_IGN)
+    raise Interrupted(signum)
+
+
+@contextmanager
+def interrupts_raise() -> Iterator[None]:
+    """TERM and INT raise Interrupted in this (main) thread while inside, so that a job's writes are
+    rolled back and batch workers stopped on the way out; the old handlers come back after."""
+    try:
+        old = {sig: signal.signal(sig, _raise_interrupted) for sig in STOP_SIGNALS}
+    except ValueError:  # not the main thread: signals stay as they are
+        yield
+        return
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+
+
+_IN_JOB = False  # in a worker process: inside a job (an interrupt must roll its files back)
+
+
+def _worker_signal(signum: int, frame) -> None:
+    if _IN_JOB:
+        _raise_interrupted(signum, frame)
+    os._exit(128 + signum)  # between jobs: nothing to roll back
+
+
+def worker_init() -> None:
+    """A batch worker: TERM and INT roll back the job in hand and end the process; and it gets TERM
+    when its parent dies (Linux), so no worker outlives a killed batch."""
+    for sig in STOP_SIGNALS:
+        signal.signal(sig, _worker_signal)
+    try:
+        import ctypes  # noqa: PLC0415
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
+        if os.getppid() == 1:  # the parent died before prctl
+            os._exit(128 + signal.SIGTERM)
+    except (OSError, AttributeError):  # not Linux: the parent's TERM handler stops the workers
+        pass
+
+
+def in_worker(job: Callable[..., Any], *args, **kwargs) -> Any:
+    global _IN_JOB  # noqa: PLW0603 - the one flag the signal handler reads
+    _IN_JOB = True
+    try:
+        return job(*args, **kwargs)
+    except Interrupted as exc:  # the job's files are rolled back by now
+        os._exit(exc.exit_code)
+    finally:
+        _IN_JOB = False
+
+
+def stop_workers(pool: ProcessPoolExecutor) -> None:
+    """TERM to every worker (each rolls back its job), then KILL to any still running after the grace."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for proc in processes:
+        try:
+            proc.terminate()
+        except (OSError, ValueError):
+            pass
+    deadline = time.monotonic() + WORKER_GRACE_S
+    for proc in processes:
+        try:
+            proc.join(max(0.0, deadline - time.monotonic()))
+            if proc.is_alive():
+                proc.kill()
+                proc.join(WORKER_GRACE_S)
+        except (OSError, ValueError, AssertionError):
+            pass

@@ -1,0 +1,35 @@
+"""The one validation path of a job: what `check` reports is exactly what `run` refuses before it
+computes anything (exit 2), because both call `validate_job`.
+
+Reading the file and its values (winder.config), building the surface (what only the geometry can
+tell: folds, dome fits), the winding section that `run` needs, and the work budget
+(winder.winding.budget: circuits, passes, points, memory) with a pattern that fits the circuits.
+"""
+
+from __future__ import annotations
+
+import os
+
+from winder.config.job import JobConfig, load_config
+from winder.errors import ConfigError
+from winder.geometry.build import build_surface
+from winder.geometry.surface import SweepSurface
+from winder.winding.budget import Budget, check_budget
+
+__all__ = ["validate", "validate_job"]
+
+
+def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
+    """The surface and the work budget of a loaded job that `run` can plan; ConfigError otherwise."""
+    surface = build_surface(job.mandrel, job.source, job.name)
+    if job.winding is None:
+        raise ConfigError("required key missing; `run` needs a winding plan (band_width and layers)",
+                          file=job.source, key_path="winding")
+    return surface, check_budget(job, surface)
+
+
+def validate(path: str | os.PathLike) -> tuple[JobConfig, SweepSurface, Budget]:
+    """Read a job file and validate it as `run` would, before any computation."""
+    job = load_config(path)
+    surface, budget = validate_job(job)
+    return job, surface, budget

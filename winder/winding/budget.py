@@ -1,0 +1,193 @@
+"""The work a job will do, decided from the config and the built surface before any path is solved.
+
+The planner's sizes follow from a few numbers: the circuits of a helical layer N_c = ceil(P cos(alpha)
+/ B) (MATH.md 5, P the perimeter, so the surface is needed), the turns of a hoop layer (region length
+over pitch, HOOP_STEP_DEG per point), the dwells (DWELL_STEP_DEG per point) and the points per pass.
+From them: circuits, passes, points per pass, points in total and a memory estimate, each held against
+a limit. A job past a limit is refused (ConfigError, exit 2) naming the key that drives it and the
+limit, instead of running for minutes and dying of memory. `check` and `run` both call
+`check_budget`, so what `check` accepts, `run` will not refuse for its size.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from winder.config.job import JobConfig
+from winder.config.winding import DEFAULT_POINTS, SLIP_AUTO, LayerConfig, LayerType, WindingConfig
+from winder.errors import ConfigError
+from winder.geometry.sections import arc_map
+from winder.geometry.surface import SweepSurface
+from winder.geometry.vessel import VesselMeridian
+from winder.winding.layers.friction_open import is_bent_tube
+from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
+from winder.winding.layers.hoop import HOOP_STEP_DEG
+from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
+from winder.winding.pattern import circuits_for_coverage, coprime_skips
+
+__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
+           "MAX_TOTAL_POINTS", "check_budget", "job_budget"]
+
+MAX_CIRCUITS = 20_000  # per helical layer: a 1 m vessel at 10 deg with 1 mm bands needs 3,100
+MAX_PASSES = 10_000  # per hoop layer
+# Turns of one helical pass (length x tan(alpha) / perimeter): the solvers' work grows with them (24
+# points per turn on the coarsest level, ODE traces of the natural advance); a 12 m pipe of radius
+# 50 at 80 deg makes 215.
+MAX_PASS_TURNS = 500
+MAX_PASS_POINTS = 1_000_000  # points of one pass as planned (a hoop of 13,900 turns)
+MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 GB to plan and write
+# Planning and writing keep every point in several forms (pass arrays, eye path, CSV and PLY text):
+# measured about 600 bytes per point; the Newton solve of a pass needs about 2.5 kB per point.
+BYTES_PER_POINT = 600
+SOLVER_BYTES_PER_POINT = 2_500
+MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
+REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
+
+
+@dataclass(frozen=True)
+class LayerBudget:
+    """The work of one layer: circuits (1 for a hoop), laid passes, points of its longest pass,
+    points in total (dwells included) and points of the largest single solve."""
+
+    circuits: int
+    passes: int
+    pass_points: int
+    points: int
+    solve_points: int
+
+
+@dataclass(frozen=True)
+class Budget:
+    """The work of a job: per layer, and in total (points, estimated peak memory in bytes)."""
+
+    layers: tuple[LayerBudget, ...]
+    points: int
+    memory_bytes: int
+
+
+def _region(surface: SweepSurface, winding: WindingConfig) -> tuple[float, float]:
+    if winding.region is not None:
+        return winding.region
+    return 0.0, surface.axial_length
+
+
+def _largest_perimeter(surface: SweepSurface, t_a: float, t_b: float) -> float:
+    ts = np.linspace(t_a, t_b, REGION_STATIONS)
+    return float(np.max(surface.perimeter(surface.s_of_t(ts))))
+
+
+def _refuse(source: str, key: str, what: str) -> ConfigError:
+    return ConfigError(what, file=source, key_path=key)
+
+
+def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> LayerBudget:
+    w = job.winding
+    vessel = isinstance(surface.profile, VesselMeridian)
+    if vessel:
+        perimeter = 2.0 * math.pi * surface.profile.radius
+        t_a, t_b = surface.profile.equator_t
+    else:
+        t_a, t_b = _region(surface, w)
+        perimeter = _largest_perimeter(surface, t_a, t_b)
+    turns = (t_b - t_a) * math.tan(math.radians(cfg.angle_deg)) / perimeter
+    if turns > MAX_PASS_TURNS:
+        raise _refuse(job.source, f"{key}.angle",
+                      f"a pass at {cfg.angle_deg:g} deg would make {turns:.4g} turns over {t_b - t_a:g} mm of "
+                      f"perimeter {perimeter:.6g} mm, more than the limit of {MAX_PASS_TURNS} (a shorter region "
+                      f"or a lower angle), got {cfg.angle_deg:g}")
+    need = perimeter * math.cos(math.radians(cfg.angle_deg)) / w.band_width
+    if need > MAX_CIRCUITS:
+        raise _refuse(job.source, "winding.band_width",
+                      f"layer {key} needs {need:.4g} circuits (perimeter {perimeter:.6g} mm x cos "
+                      f"{cfg.angle_deg:g} deg / band width), more than the limit of {MAX_CIRCUITS} (a wider "
+                      f"band needs fewer), got {w.band_width:g}")
+    circuits = circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
+    if cfg.pattern is not None and circuits > 1 and math.gcd(cfg.pattern, circuits) != 1:
+        skips = coprime_skips(circuits)
+        raise _refuse(job.source, f"{key}.pattern",
+                      f"shares a factor with the {circuits} circuits this layer needs, so some slots would "
+                      f"be wound twice and others never; allowed: {', '.join(map(str, skips[:12]))}"
+                      f"{' ...' if len(skips) > 12 else ''} or auto, got {cfg.pattern}")
+    slip = getattr(cfg, "slip", 0.0)
+    if not vessel and slip not in (0.0, SLIP_AUTO):
+        ctx = PlanContext(job, w, surface, arc_map(surface.section), job.machine.feed)
+        if not is_bent_tube(ctx):  # as winder.winding.layers.friction refuses it, before any path
+            raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels and to bent tubes of lines and "
+                          f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
+    grows = not vessel and not surface.is_revolution and cfg.pattern is None
+    most = circuits * (MAX_CIRCUIT_FACTOR if grows else 1)
+    n = w.points or DEFAULT_POINTS
+    pass_points = n + 2
+    dwell_points = 0
+    if not vessel:  # each end: the configured dwell plus less than a turn to close the pattern
+        dwell_points = sum(int(math.ceil((d + 360.0) / DWELL_STEP_DEG)) + 1
+                           for d in (w.dwell_start_deg, w.dwell_end_deg))
+        if dwell_points > MAX_PASS_POINTS:
+            raise _refuse(job.source, "winding.dwell",
+                          f"dwells of {w.dwell_start_deg:g} and {w.dwell_end_deg:g} deg need {dwell_points} "
+                          f"points per circuit, more than the limit of {MAX_PASS_POINTS}")  # both ends: no one value
+    # A pass may be refined up to REFINE_MAX_POINTS (a tolerance, or no convergence); its tangents come
+    # from a solve on TANGENT_REFINE times finer segments, with its Richardson twin.
+    solve = 2 * (TANGENT_REFINE * (max(n, REFINE_MAX_POINTS) + 1))
+    return LayerBudget(most, 2 * most, pass_points, most * (2 * pass_points + dwell_points), solve)
+
+
+def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> LayerBudget:
+    w = job.winding
+    prof = surface.profile
+    t_a, t_b = prof.equator_t if isinstance(prof, VesselMeridian) else _region(surface, w)
+    perimeter = _largest_perimeter(surface, t_a, t_b)
+    if cfg.passes > MAX_PASSES:
+        raise _refuse(job.source, f"{key}.passes", f"must be <= {MAX_PASSES}, got {cfg.passes}")
+    if cfg.angle_deg is None:
+        ratio = w.band_width / perimeter
+        # pitch = P / tan(acos(B / P)) = B / sqrt(1 - (B / P)^2): one band width per turn
+        pitch = w.band_width / math.sqrt(1.0 - ratio * ratio) if ratio < 1.0 else math.inf
+        cause, value = "winding.band_width", f"{w.band_width:g}"
+    else:
+        pitch = perimeter / math.tan(math.radians(cfg.angle_deg))
+        cause, value = f"{key}.angle", f"{cfg.angle_deg:g}"
+    turns = (t_b - t_a) / pitch
+    pass_points = int(math.ceil(turns * 360.0 / HOOP_STEP_DEG)) + 1 if math.isfinite(turns) else 3
+    if pass_points > MAX_PASS_POINTS:
+        raise _refuse(job.source, cause,
+                      f"layer {key} would lay {turns:.4g} turns of pitch {pitch:.3g} mm over {t_b - t_a:g} mm, "
+                      f"{pass_points:.4g} points per pass, more than the limit of {MAX_PASS_POINTS}, got {value}")
+    return LayerBudget(1, cfg.passes, pass_points, pass_points * cfg.passes, pass_points)
+
+
+def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
+    """The work of a job with a winding section; raises ConfigError where one layer alone is past
+    a limit (check_budget also holds the totals)."""
+    if job.winding is None:
+        return Budget((), 0, 0)
+    layers = []
+    for index, cfg in enumerate(job.winding.layers):
+        key = f"winding.layers[{index}]"
+        layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
+                      else _helical(job, surface, cfg, key))
+    points = sum(layer.points for layer in layers)
+    solve = max((layer.solve_points for layer in layers), default=0)
+    return Budget(tuple(layers), points, points * BYTES_PER_POINT + solve * SOLVER_BYTES_PER_POINT)
+
+
+def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
+    """job_budget, refusing a job past the total limits (ConfigError naming the key and the limit)."""
+    budget = job_budget(job, surface)
+    if budget.points > MAX_TOTAL_POINTS:
+        worst = max(range(len(budget.layers)), key=lambda i: budget.layers[i].points)
+        layer = budget.layers[worst]
+        hoop = job.winding.layers[worst].type is LayerType.HOOP
+        raise _refuse(job.source, f"winding.layers[{worst}].passes" if hoop else "winding.points",
+                      f"the job would plan {budget.points:.4g} points ({layer.points:.4g} in layer {worst}: "
+                      f"{layer.passes} passes of up to {layer.pass_points} points), more than the limit of "
+                      f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
+    if budget.memory_bytes > MAX_MEMORY_BYTES:
+        solver = max(layer.solve_points for layer in budget.layers) * SOLVER_BYTES_PER_POINT
+        raise _refuse(job.source, "winding.points" if 2 * solver > budget.memory_bytes else "winding",
+                      f"the job would need about {budget.memory_bytes / 1e9:.3g} GB of memory, more than the "
+                      f"limit of {MAX_MEMORY_BYTES / 1e9:g} GB; fewer points or a wider band")
+    return budget
