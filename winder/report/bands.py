@@ -8,7 +8,7 @@ is the same at every station and a band keeps its place when the mandrel narrows
 A pass crosses the station t once (it is monotone in t); its band, B wide across the fiber, covers
 B / sin(beta) of the perimeter there, beta the angle between the fiber and the section curve, centred on
 the crossing (MATH.md 5, the definition winder.coverage measures). The crossing and the fiber direction
-come from cubic splines of (s, theta) against t, O(h^4) accurate, far below a band width.
+come from winder.winding.coverage.pass_crossings, the same crossings the summary's coverage counts.
 """
 
 from __future__ import annotations
@@ -16,13 +16,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
-from winder.winding.results import FiberPass, PassKind
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
-
-MIN_SIN_BETA = 1e-12  # a fiber along the section curve (a turnaround) covers the whole perimeter
+from winder.winding.coverage import pass_crossings
+from winder.winding.results import FiberPass, PassKind
 
 
 @dataclass(frozen=True)
@@ -53,27 +51,13 @@ def coverage_groups(passes: tuple[FiberPass, ...]) -> list[list[FiberPass]]:
 
 def crossings(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass], rows: np.ndarray,
               band_width: float) -> Crossings:
-    """The crossings of the passes with the stations rows ((n,) float, mm)."""
-    row_parts, u_parts, half_parts = [], [], []
-    for p in passes:
-        order = slice(None) if p.t[-1] > p.t[0] else slice(None, None, -1)
-        t = p.t[order]
-        inside = np.nonzero((rows >= t[0]) & (rows <= t[-1]))[0]
-        if inside.size == 0 or t.size < 2:
-            continue
-        spline = CubicSpline(t, np.column_stack([p.s[order], p.theta[order]]), axis=0)
-        at, slope = spline(rows[inside]), spline(rows[inside], 1)
-        ev = surface.evaluate(at[:, 0], at[:, 1], order=1)
-        fiber = ev.ps * slope[:, :1] + ev.pt * slope[:, 1:]
-        fiber /= np.linalg.norm(fiber, axis=1)[:, None]
-        across = ev.pt / np.linalg.norm(ev.pt, axis=1)[:, None]
-        sin_beta = np.maximum(np.linalg.norm(np.cross(fiber, across), axis=1), MIN_SIN_BETA)
-        row_parts.append(inside)
-        u_parts.append(np.mod(arcs.fraction(at[:, 1]), 1.0))
-        half_parts.append(0.5 * band_width / sin_beta / surface.perimeter(at[:, 0]))
-    if not row_parts:
+    """The crossings of the passes with the stations rows ((n,) float, mm), as coverage finds them."""
+    parts = [pass_crossings(surface, arcs, p, rows, band_width) for p in passes]
+    parts = [part for part in parts if part[0].size]
+    if not parts:
         return Crossings(np.zeros(0, int), np.zeros(0), np.zeros(0))
-    return Crossings(np.concatenate(row_parts), np.concatenate(u_parts), np.concatenate(half_parts))
+    row, frac, half = (np.concatenate(k) for k in zip(*parts))
+    return Crossings(row, np.mod(frac, 1.0), half)
 
 
 def _arcs(c: Crossings) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -16,7 +16,7 @@ from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
 
 
-def _crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.ndarray,
+def pass_crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.ndarray,
                band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Where a pass crosses the stations: (station index, perimeter fraction, band half-width / P).
 
@@ -24,6 +24,8 @@ def _crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.n
     direction Phi_s s'(t) + Phi_theta theta'(t) to O(h^4), far below a band's width.
     """
     forward = p.t[-1] > p.t[0]
+    if p.t.size < 2:
+        return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0)
     t, s, th = (p.t, p.s, p.theta) if forward else (p.t[::-1], p.s[::-1], p.theta[::-1])
     idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
     if idx.size == 0:
@@ -93,7 +95,7 @@ def layer_coverage(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass],
     groups = [g for g in groups if g]
     stations = np.asarray(stations, dtype=float)
     perimeters = surface.perimeter(surface.s_of_t(stations))
-    hits = [[_crossings(surface, arcs, p, stations, band_width) for p in g] for g in groups]
+    hits = [[pass_crossings(surface, arcs, p, stations, band_width) for p in g] for g in groups]
     worst_cov, worst_gap, worst_overlap = 1.0, 0.0, 0.0
     min_layers, max_layers = None, 0
     for k, perimeter in enumerate(perimeters):
