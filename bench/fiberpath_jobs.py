@@ -24,7 +24,8 @@ from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = Path(os.environ.get("WINDER_FIBERPATH_EXAMPLES", ROOT.parent / "shared" / "bench" / "fiberpath"))
-FIBERPATH = Path(os.environ.get("WINDER_FIBERPATH", "/work/venv-fp/bin/fiberpath"))
+# fiberpath lives in its own environment (AGPL, a bench-only tool): WINDER_FIBERPATH, else on PATH.
+FIBERPATH = Path(os.environ.get("WINDER_FIBERPATH") or shutil.which("fiberpath") or "fiberpath")
 WINDER = Path(sys.executable).parent / "winder"
 CHECK_SAMPLE = ROOT / "samples" / "pipe.yaml"
 TARGETS = {"motor_tube": 5.0, "avbay_triple": 5.0, "main_chute": 5.0, "avbay_single": 3.0,

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -29,12 +28,12 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-BENCH = Path("/work/shared/bench/fiberpath")
-FIBERPATH = "/work/venv-fp/bin/fiberpath"
+from bench.fiberpath_jobs import EXAMPLES as BENCH  # one place says where fiberpath and its examples are
+from bench.fiberpath_jobs import FIBERPATH
 
 
 def fiberpath_exe(given: str | None) -> str | None:
-    for cand in (given, FIBERPATH, shutil.which("fiberpath")):
+    for cand in (given, str(FIBERPATH)):
         if cand and Path(cand).exists():
             return cand
     return None
