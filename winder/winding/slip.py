@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from winder.errors import SolverError
-from winder.geometry.curvature import polyline_curvatures
+from winder.geometry.curvature import curve_curvatures, polyline_curvatures
 from winder.geometry.surface import SweepSurface
 from winder.winding.results import FiberPass, PassKind
 
@@ -29,16 +29,9 @@ SLIP_MARGIN = 1e-3  # measured slip may exceed mu by this (the polyline measurem
 
 def slip_ratio(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> np.ndarray:
     """|k_g / k_n| at the points (s, theta) (m,) of a densely sampled path: friction mu holds the fiber
-    where this is <= mu (MATH.md 7)."""
-    ev = surface.evaluate(s, th, order=2)
+    where this is <= mu (MATH.md 7). The samples' index is the parameter (np.gradient derivatives)."""
     ds, dth = np.gradient(s), np.gradient(th)
-    vel = ev.ps * ds[:, None] + ev.pt * dth[:, None]
-    acc = ev.pss * (ds * ds)[:, None] + 2.0 * ev.pst * (ds * dth)[:, None] + ev.ptt * (dth * dth)[:, None]
-    nrm = np.cross(ev.pt, ev.ps)
-    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
-    speed2 = np.einsum("ij,ij->i", vel, vel)
-    k_n = np.einsum("ij,ij->i", acc, nrm) / speed2
-    k_g = np.einsum("ij,ij->i", np.cross(vel, acc), nrm) / speed2**1.5
+    k_n, k_g = curve_curvatures(surface, s, th, ds, dth, np.gradient(ds), np.gradient(dth))
     return np.abs(k_g) / np.maximum(np.abs(k_n), 1e-300)
 
 
