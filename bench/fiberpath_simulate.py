@@ -8,7 +8,7 @@ it, fiberpath's tow length against winder's planned fiber and the fiber `winder 
 the same program, and the times (fiberpath's estimate of winder's program, fiberpath's own plan,
 winder's winding_time_s from the dynamics). fiberpath counts every line as tow on a cylinder of the
 header's diameter, so the length matches on cylinders only, and every eye move that lays no fiber
-(the step back at a stop-and-go turnaround) counts too.
+(an approach to a new layer) counts too.
 
 fiberpath (AGPL) is only ever run as a separate program; it is optional: without it the script says
 so and exits 0.

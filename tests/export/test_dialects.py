@@ -12,11 +12,13 @@ import pytest
 
 from conftest import surface_of
 from plans import cylinder_plan
+from winder.config.job import parse_config
 from winder.config.machine import MachineConfig
-from winder.config.mandrel import ConeProfile, ConstantProfile, LineAxis
+from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ExportError
 from winder.export.gcode import gcode_text
 from winder.machine.program import build_program
+from winder.winding.plan import plan as plan_job
 
 GENERIC = MachineConfig(eye_radius=60.0, eye_clearance=None, chord_tolerance=0.05)
 SPEED = np.array([30000.0, 20000.0, 10000.0, 20000.0]) / 60.0  # the default dynamics, per s
@@ -71,11 +73,12 @@ def test_marlin_program(plan):
 
 def test_marlin_refuses_a_moving_eye():
     """On a cone the clearance envelope moves the eye radially: no cross-feed axis to do it."""
-    cone = surface_of(LineAxis(300.0), ConeProfile(40.0, 60.0))
-    plan = cylinder_plan(cone, circuits=1, hoop=False)
-    machine = MachineConfig(eye_clearance=20.0, chord_tolerance=0.5, dialect="marlin")
+    job = parse_config({"name": "cone", "mandrel": {"axis": {"type": "line", "length": 300},
+                                                    "profile": {"type": "cone", "start_radius": 40, "end_radius": 60}},
+                        "winding": {"band_width": 20, "points": 20, "layers": [{"type": "helical", "angle": 30}]},
+                        "machine": {"eye": {"clearance": 20}, "dialect": "marlin"}}, "cone.yaml")
     with pytest.raises(ExportError, match=r"machine.dialect: marlin has no cross-feed axis.*eye: \{radius: Z\}"):
-        gcode_text(plan, machine)
+        gcode_text(plan_job(job), job.machine)
 
 
 def test_linuxcnc_program(plan):

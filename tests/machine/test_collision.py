@@ -13,7 +13,7 @@ from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ExportError
 from winder.export.gcode import gcode_text
 from winder.machine.collision import check_collision, part_distance
-from winder.machine.kinematics import eye_envelope
+from winder.machine.envelope import eye_envelope
 
 R, T = 40.0, 300.0
 CUT_TOL = 1e-6  # mm

@@ -14,7 +14,8 @@ from winder.config.mandrel import ArcAxis, ConeProfile, ConstantProfile, Ellipse
 from winder.config.machine import MachineConfig, MachineLimits
 from plans import R, cylinder_plan, geodesic_pass, helix
 from winder.errors import ExportError
-from winder.machine.kinematics import eye_envelope, eye_path, robot_poses
+from winder.machine.envelope import eye_envelope
+from winder.machine.kinematics import eye_path, robot_poses
 from winder.machine.limits import check_limits
 from winder.winding.results import PassKind
 

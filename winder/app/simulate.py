@@ -10,8 +10,10 @@ the plan's nearest point is the initial guess, golden-section search on u refine
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
 lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
 Samples: every programmed point and the midpoint of every move within a pass (the eye the
-controller interpolates in axis space). Moves between passes (the stop-and-go of a turnaround, the
-way to a new layer) are counted, not sampled: no planned tangent describes them.
+controller interpolates in axis space), also of a move into a pass that continues where the last one
+ended (its first row, the same move as the last pass's final one, is not written twice). Moves to a
+pass that starts elsewhere (the way to a new layer, and its `approach` rows around the part) are
+counted, not sampled: no planned tangent describes them (their deviation is written as nan).
 
 The laid fiber's length is the arc length of the planned path between consecutive contact points;
 the time comes from machine.dynamics (winder.machine.dynamics) over the program's rows.
@@ -28,6 +30,7 @@ from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
 from winder.machine.dynamics import move_times
+from winder.machine.program import APPROACH
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import WindingPlan, winding_angle_deg
 
@@ -117,8 +120,21 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
                           f"is not in the plan of {plan.source}: the program was written for another job")
     eye = eye_positions(parsed)
     pass_of = np.array([order[tuple(k)] for k in parsed.keys])
-    same = np.concatenate([[False], pass_of[1:] == pass_of[:-1]])
-    mid_rows = np.flatnonzero(same)
+    # The approach to a pass that starts elsewhere lays no planned fiber: counted, not sampled.
+    laying = np.array([kind != APPROACH for kind in parsed.kinds], dtype=bool)
+    same = np.concatenate([[False], (pass_of[1:] == pass_of[:-1]) & laying[1:] & laying[:-1]])
+    # A pass that starts where the last one ended has its first row dropped (the same move): the move
+    # from the last pass's final row lays the new pass from its first point on.
+    starts = np.flatnonzero(~same & laying)[1:]
+    starts = starts[laying[starts - 1]]
+    first_p = np.array([passes[j].points[0] if len(passes[j].points) else np.zeros(3) for j in pass_of[starts]])
+    first_d = np.array([passes[j].direction[0] if len(passes[j].points) else np.zeros(3) for j in pass_of[starts]])
+    joined = np.zeros(m, dtype=bool)
+    if starts.size:
+        # Within the chord tolerance (the printed values round the eye by up to ~1e-3 mm).
+        near = _ray_distance(eye[starts - 1], first_p.reshape(-1, 3), first_d.reshape(-1, 3))
+        joined[starts] = near <= machine.chord_tolerance
+    mid_rows = np.flatnonzero(same | joined)
     # Samples: the rows, then the midpoints of the moves within a pass.
     mid_values = 0.5 * (parsed.values[mid_rows - 1] + parsed.values[mid_rows])
     mid_eye = eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0)))
@@ -135,6 +151,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     n = all_eye.shape[0]
     s, th, t = np.zeros(n), np.zeros(n), np.zeros(n)
     p, d, alpha, arc = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n), np.zeros(n)
+    arc0, arc1 = np.zeros(n), np.zeros(n)  # the arc at the first and the last point of the sample's pass
     layer_of = np.array([fp.layer for fp in passes])
     for layer in np.unique(layer_of[all_pass]):
         # Each layer's paths lie on the surface it was wound on (the mandrel grown by the layers below).
@@ -153,9 +170,14 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         alpha[mine] = winding_angle_deg(surface, s[mine], th[mine], toward)
         t[mine] = surface.t_of_s(s[mine])
         arc[mine] = paths.arc_at(u)
+        arc0[mine], arc1[mine] = paths.arc[first], paths.arc[last]
     dev = _ray_distance(all_eye, p, d)
-    arc = arc[:m]
+    dev = np.where(np.concatenate([laying, laying[mid_rows]]), dev, np.nan)  # approach rows lay nothing
+    arc, arc0, arc1 = arc[:m], arc0[:m], arc1[:m]
     fiber = np.where(same, np.abs(np.diff(arc, prepend=arc[0])), 0.0)
+    # A joined move lays the rest of the last pass and the new one up to its contact point.
+    rest = np.concatenate([[0.0], np.abs(arc1[:-1] - arc[:-1])])
+    fiber = np.where(joined, rest + np.abs(arc - arc0), fiber)
     times = move_times(parsed.values[:, :3] if parsed.robot else parsed.values, fiber, machine,
                        parsed.robot)
     keys = np.vstack([parsed.keys, parsed.keys[mid_rows]])
@@ -167,7 +189,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     return Simulation(dialect=parsed.dialect, moves=m, transitions=int(m - 1 - mid_rows.size),
                       time_s=times.total_s, fiber_length_mm=float(np.sum(fiber)),
                       planned_fiber_length_mm=plan.total_fiber_length_mm,
-                      max_deviation_mm=float(np.max(dev)), max_point_deviation_mm=float(np.max(dev[:m])),
+                      max_deviation_mm=float(np.nanmax(dev)), max_point_deviation_mm=float(np.nanmax(dev[:m])),
                       samples=samples)
 
 

@@ -7,7 +7,8 @@ Columns: layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind
   x, y, z: mandrel-frame point (mm); alpha_deg: signed winding angle from the meridian (deg), a
   line angle in (-90, 90]: a value that prints as -90.000000 is written as 90.000000 (the same
   line), so the file never depends on the round-off sign of a fiber running along a parallel.
-- kind: forward, return, dwell or hoop.
+- kind: forward, return, turnaround, dwell or hoop (winder.winding.turnaround: the fiber past the
+  winding region of an open mandrel, and the dwell where an end holds it).
 Rows in winding order; numbers with 6 decimals, "-0.000000" written as "0.000000".
 """
 

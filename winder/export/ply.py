@@ -33,6 +33,7 @@ KIND_SHADE = {  # (saturation, value) of HSV
     PassKind.RETURN: (0.85, 0.55),
     PassKind.HOOP: (0.45, 1.00),
     PassKind.DWELL: (0.30, 0.75),
+    PassKind.TURNAROUND: (0.30, 0.90),
 }
 
 

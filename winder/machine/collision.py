@@ -18,7 +18,7 @@ from scipy.spatial import cKDTree
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
-from winder.machine.kinematics import EyeEnvelope
+from winder.machine.envelope import EyeEnvelope
 
 SAMPLES_PER_MOVE = 8
 

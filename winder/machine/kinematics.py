@@ -17,8 +17,13 @@ lambda is the smallest positive value that puts E on the eye envelope:
   mandrel: the radial profile r_max(t) (the largest section radius at station t) dilated by a disc
   of radius c, Z_env(X) = max over t of r_max(t) + sqrt(c^2 - (t - X)^2). On a cylinder this is
   exactly r + c; where the profile slopes (cone, dome) the eye keeps c measured in 3D, i.e. somewhat
-  more than c radially (a cone of slope k: r + c sqrt(1 + k^2)). It is continuous (no jumps). Beyond
-  the mandrel's ends the contour keeps its end value.
+  more than c radially (a cone of slope k: r + c sqrt(1 + k^2)). It is continuous (no jumps). It is
+  then replaced by its concave majorant (the region inside it convex), so that every tangent ray
+  leaves it exactly once and the eye moves continuously with the contact point (around a dome's
+  polar opening the dilated profile is not concave: a ray grazing it would jump to a crossing far
+  past the pole). Beyond an end where the profile is level or rises toward it (a pipe) the contour
+  keeps its end value; where it falls toward the end (a dome, a cone's small end) the dilated end
+  cap is part of it and the contour goes on down past the cap with the cap's slope (to 0).
 Where the tangent line does not reach the envelope within MAX_LEAD_FACTOR times the largest envelope
 radius (a fiber running almost parallel to the axis), the eye is held at that lead on the tangent
 line (EyePath.on_envelope is False there).
@@ -56,14 +61,12 @@ from scipy.spatial import cKDTree
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.geometry.surface import SweepSurface
+from winder.machine.envelope import EyeEnvelope, eye_envelope
 
 MAX_LEAD_FACTOR = 10.0  # the free fiber is at most this times the largest envelope radius
 LEAD_SCAN = 32  # samples of the tangent line when bracketing the envelope crossing
 ROOT_ITER = 100  # regula falsi (Illinois) steps on the bracket, at most
 ROOT_TOL = 1e-10  # mm: the eye's distance from its envelope
-SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
-ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
-ENVELOPE_MAX_SAMPLES = 65537
 CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
 PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
 
@@ -106,79 +109,6 @@ class RobotPoses:
     station: np.ndarray
     lead: np.ndarray
     on_envelope: np.ndarray
-
-
-# -- the envelope ----------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class EyeEnvelope:
-    """The radius the eye keeps from the mandrel axis, as a function of the axial station.
-
-    stations, radius : (k,) float, a uniform table of Z_env; `constant` set in radius mode.
-    mandrel_radius : (k,) float, r_max at the same stations (the largest section radius).
-    """
-
-    stations: np.ndarray
-    radius: np.ndarray
-    mandrel_radius: np.ndarray
-    constant: float | None
-    clearance: float | None
-
-    @property
-    def max_radius(self) -> float:
-        return float(self.constant if self.constant is not None else np.max(self.radius))
-
-    def at(self, t: np.ndarray) -> np.ndarray:
-        """Z_env at stations t (clamped to the mandrel's ends)."""
-        t = np.asarray(t, dtype=float)
-        if self.constant is not None:
-            return np.full(t.shape, self.constant)
-        return np.interp(t, self.stations, self.radius)
-
-    def mandrel_at(self, t: np.ndarray) -> np.ndarray:
-        """r_max at stations t (clamped to the mandrel's ends)."""
-        return np.interp(np.asarray(t, dtype=float), self.stations, self.mandrel_radius)
-
-
-def _largest_section_angle(surface: SweepSurface) -> float:
-    """The section angle of the largest radius (the section is the same shape at every station,
-    scaled by the profile: R(s, theta) = p(s) q(theta))."""
-    th = np.linspace(0.0, 2.0 * np.pi, SECTION_SAMPLES)
-    s_mid = np.full(th.shape, 0.5 * surface.length)
-    r = surface.radius(s_mid, th)
-    k = int(np.argmax(r))
-    # One parabola step through the neighbours refines the grid maximum.
-    if 0 < k < th.shape[0] - 1:
-        r0, r1, r2 = r[k - 1], r[k], r[k + 1]
-        den = r0 - 2.0 * r1 + r2
-        if den < 0.0:
-            return float(th[k] + 0.5 * (r0 - r2) / den * (th[1] - th[0]))
-    return float(th[k])
-
-
-def eye_envelope(surface: SweepSurface, machine: MachineConfig) -> EyeEnvelope:
-    """The eye envelope of a machine around a mandrel (module docstring); computed once per job."""
-    T = surface.axial_length
-    clearance = machine.eye_clearance if machine.eye_radius is None else None
-    step = ENVELOPE_STEP if clearance is None else min(ENVELOPE_STEP, clearance / 16.0)
-    n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil(T / step) + 1)))
-    stations = np.linspace(0.0, T, n)
-    th_max = _largest_section_angle(surface)
-    # r_max(t): sampled in the internal station (arc length on domes), then put on the uniform grid.
-    s = np.linspace(0.0, surface.length, max(n, 2049))
-    r_s = surface.radius(s, np.full(s.shape, th_max))
-    r_max = np.interp(stations, surface.t_of_s(s), r_s)
-    if machine.eye_radius is not None:
-        zr = float(machine.eye_radius)
-        return EyeEnvelope(stations, np.full(n, zr), r_max, zr, None)
-    c = float(clearance) + 0.5 * float(machine.eye_size)  # the eye's centre: its body keeps the clearance
-    h = stations[1] - stations[0]
-    k_max = int(np.floor(c / h))
-    dil = r_max + c
-    for k in range(1, k_max + 1):
-        rise = np.sqrt(max(c * c - (k * h) ** 2, 0.0))
-        dil[k:] = np.maximum(dil[k:], r_max[:-k] + rise)
-        dil[:-k] = np.maximum(dil[:-k], r_max[k:] + rise)
-    return EyeEnvelope(stations, dil, r_max, None, c)
 
 
 # -- the lead (free-fiber length) -----------------------------------------------------------------

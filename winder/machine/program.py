@@ -33,7 +33,8 @@ from winder.errors import ExportError
 from winder.machine.collision import check_collision
 from winder.machine.densify import DENSE_SHARE, densify
 from winder.machine.dynamics import MoveTimes, move_times
-from winder.machine.kinematics import RobotPoses, eye_envelope, eye_leads, eye_path, make_guide, robot_poses
+from winder.machine.envelope import eye_envelope
+from winder.machine.kinematics import RobotPoses, eye_leads, eye_path, make_guide, robot_poses
 from winder.machine.limits import check_limits
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
@@ -45,6 +46,7 @@ _TWO_PI = 2.0 * np.pi
 _POINT_TOL = 1e-6  # mm: a pass starting this close to where the last one ended continues it
 
 AXES = ("carriage", "rotation", "cross_feed", "yaw")
+APPROACH = "approach"  # the comment word of a pass's approach rows (Segment.approach)
 POSE_AXES = ("x", "y", "z", "i", "j", "k")
 
 
@@ -64,6 +66,7 @@ class Segment:
     stop: int
     capped: int = 0
     max_lead: float = 0.0
+    approach: int = 0  # leading rows that bring the eye from another pass clear of the part (no fiber)
 
 
 @dataclass(frozen=True)
@@ -144,6 +147,18 @@ def reduce_points(q: np.ndarray, tol: float) -> np.ndarray:
             stack.append((j, k))
             stack.append((i, j))
     return np.flatnonzero(keep)
+
+
+def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | None:
+    """Rows (2, 4) that take the eye from the row `last` to a pass starting elsewhere (`first`, a new
+    layer) around the part, not through it: out to the cross-feed `clear` (the envelope's largest
+    radius), along, and in; the mandrel turning on meanwhile (a third of the turn per move). None
+    where both lie at `clear` (a straight move there keeps clear)."""
+    if min(last[2], first[2]) >= clear - 1e-9:
+        return None
+    da = first[1] - last[1]
+    return np.array([[last[0], last[1] + da / 3.0, clear, last[3]],
+                     [first[0], last[1] + 2.0 * da / 3.0, clear, first[3]]])
 
 
 class _Turns:
@@ -296,14 +311,17 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
             turns.done(theta, fp.points[-1])
             # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
             keep = reduce_points(q, tol if u.size == len(fp.points) else tol * (1.0 - DENSE_SHARE))
-            rows.append(table[keep])
-            indices.append(u[keep])
+            lift = approach(rows[-1][-1], table[keep[0]], env.max_radius) if jumped and rows and not robot else None
+            lifted = 0 if lift is None else lift.shape[0]
+            rows.append(table[keep] if lift is None else np.vstack([lift, table[keep]]))
+            indices.append(np.concatenate([np.full(lifted, -1.0), u[keep]]))
             along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
-            fibers.append(np.diff(along[keep], prepend=along[keep[0]]))
+            fibers.append(np.concatenate([np.zeros(lifted), np.diff(along[keep], prepend=along[keep[0]])]))
             capped = int(np.count_nonzero(~on_envelope))
-            segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count + keep.size, capped,
-                                    float(np.max(lead)) if capped else 0.0))
-            count += keep.size
+            size = lifted + keep.size
+            segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count + size, capped,
+                                    float(np.max(lead)) if capped else 0.0, lifted))
+            count += size
         layer_segments.append(tuple(segments))
     width = len(POSE_AXES if robot else AXES)
     values = np.concatenate(rows) if rows else np.zeros((0, width))

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from winder.geometry.surface import SweepSurface
-from winder.winding.results import FiberPass
+from winder.winding.results import FiberPass, PassKind
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
 
@@ -33,13 +33,15 @@ class SmoothPaths:
     [offset_j, offset_j + n_j - 1] (u = the point index). (s, theta) is cubic Hermite between the
     points, with derivatives along the plan's own fiber directions (FiberPass.direction, the smooth
     path's tangents), their size that of a cubic spline through the points: the curve passes through
-    every planned point with the planned tangent there, C1, and O(h^4) close to the smooth path."""
+    every planned point with the planned tangent there, C1, and O(h^4) close to the smooth path.
+    A dwell is the cubic spline through its points on the parallel, and its direction (the free
+    fiber's, swinging round an end that holds it) is interpolated between its points'."""
 
     def __init__(self, surface: SweepSurface, passes: list[FiberPass]) -> None:
         from scipy.interpolate import CubicSpline  # noqa: PLC0415 - scipy is imported where used
 
         self.surface = surface
-        s, th, ds, dth, offsets, last = [], [], [], [], [], []
+        s, th, ds, dth, offsets, last, free, d = [], [], [], [], [], [], [], []
         count = 0
         for fp in passes:
             n = len(fp.s)
@@ -48,9 +50,13 @@ class SmoothPaths:
             u = np.arange(n, dtype=float)
             s.append(fp.s)
             th.append(fp.theta)
+            free.append(np.full(n, fp.kind is PassKind.DWELL))
+            d.append(np.asarray(fp.direction, dtype=float).reshape(n, 3))
             if n >= 2:
                 cs, ct = CubicSpline(u, fp.s), CubicSpline(u, fp.theta)
-                a, b = _along(surface, fp, cs(u, 1), ct(u, 1))
+                # A dwell's directions are the free fiber's swing, not its parallel's tangent.
+                a, b = ((cs(u, 1), ct(u, 1)) if fp.kind is PassKind.DWELL
+                        else _along(surface, fp, cs(u, 1), ct(u, 1)))
                 ds.append(a)
                 dth.append(b)
             else:
@@ -60,6 +66,8 @@ class SmoothPaths:
         self.s, self.th = np.concatenate(s), np.concatenate(th)
         self.ds, self.dth = np.concatenate(ds), np.concatenate(dth)
         self.offset, self.last = np.array(offsets), np.array(last)
+        self.free = np.concatenate(free) if free else np.zeros(0, dtype=bool)
+        self.d = np.concatenate(d) if d else np.zeros((0, 3))
         # Arc length at the nodes: Gauss-Legendre per node interval.
         x, w = np.polynomial.legendre.leggauss(GAUSS_NODES)
         k = np.arange(max(count - 1, 0))
@@ -68,11 +76,15 @@ class SmoothPaths:
         speed = self.speed(u).reshape(-1, GAUSS_NODES) @ (0.5 * w)
         self.arc = np.concatenate([[0.0], np.cumsum(np.where(inside, speed, 0.0))])
 
-    def st(self, u: np.ndarray, order: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    def _interval(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(first node k, fraction h in [0, 1]) of each u's interval within its pass."""
         k = np.clip(np.floor(u).astype(int), 0, self.s.size - 2)
         k = np.where(np.isin(k, self.last), k - 1, k)  # the last node of a pass ends its last interval
         k = np.maximum(k, 0)
-        h = u - k
+        return k, u - k
+
+    def st(self, u: np.ndarray, order: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        k, h = self._interval(u)
         out = []
         for v, dv in ((self.s, self.ds), (self.th, self.dth)):
             p0, p1, m0, m1 = v[k], v[k + 1], dv[k], dv[k + 1]
@@ -101,6 +113,10 @@ class SmoothPaths:
         ds, dth = self.st(u, 1)
         ev = self.surface.evaluate(s, th, order=1)
         d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
+        k, h = self._interval(u)
+        free = self.free[k]
+        if np.any(free):  # the free fiber's direction on a dwell: between its nodes' directions
+            d = np.where(free[:, None], (1.0 - h)[:, None] * self.d[k] + h[:, None] * self.d[k + 1], d)
         n = np.linalg.norm(d, axis=1)
         return s, th, ev.p, d / np.where(n > 0, n, 1.0)[:, None]
 

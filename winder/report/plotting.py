@@ -50,15 +50,16 @@ PASS_LABELS = {  # (kind, t increasing) -> legend label, in legend order
     ("return", False): "−α band (return, t decreasing)",
     ("hoop", True): "hoop traverse, t increasing",
     ("hoop", False): "hoop traverse, t decreasing",
-    ("dwell", True): "dwell (mandrel turns, carriage waits)",
+    ("dwell", True): "dwell (mandrel turns, fiber on a parallel)",
+    ("turnaround", True): "turnaround (past the winding region)",
 }
 
 
 def pass_style(layer: int, kind: str, rising: bool) -> tuple[str, str]:
     """(legend label, color) of a pass: +alpha / -alpha colors by the direction along t (hoop
     traverses too), dwells gray."""
-    if kind == "dwell":
-        return PASS_LABELS[("dwell", True)], DWELL_COLOR
+    if kind in ("dwell", "turnaround"):
+        return PASS_LABELS[(kind, True)], DWELL_COLOR
     key = (kind, rising) if kind == "hoop" else (kind, kind == "forward")
     return PASS_LABELS[key], colors(layer)[0 if key[1] else 1]
 
@@ -69,6 +70,7 @@ def style_groups(passes) -> dict[str, list]:
     for p in passes:
         kind = p.kind.value
         rising = bool(p.t[-1] >= p.t[0]) if kind == "hoop" else (kind != "return")
+        rising = rising or kind == "turnaround"  # one legend entry for both ways
         groups[(kind, rising)].append(p)
     return {key: g for key, g in groups.items() if g}
 

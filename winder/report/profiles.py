@@ -23,11 +23,12 @@ PROFILE_STATIONS = 400
 
 
 def angle_profile(layer: LayerPlan, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Least, mean and largest |alpha| (deg) over the laid passes at stations t ((n,) each; NaN where
-    no pass lies)."""
+    """Least, mean and largest |alpha| (deg) over the layer's wound passes at stations t ((n,) each;
+    NaN where no pass lies; dwells and turnarounds, past the winding region, are not wound at the
+    layer's angle)."""
     rows = []
     for p in layer.passes:
-        if p.kind is PassKind.DWELL or p.t.size < 2:
+        if p.kind in (PassKind.DWELL, PassKind.TURNAROUND) or p.t.size < 2:
             continue
         order = slice(None) if p.t[-1] > p.t[0] else slice(None, None, -1)
         tp, ap = p.t[order], np.abs(p.alpha_deg[order])

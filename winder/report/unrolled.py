@@ -66,8 +66,10 @@ def unrolled_band(arcs: ArcMap, p: FiberPass) -> UnrolledBand:
 
 
 def unrolled_bands(arcs: ArcMap, layer: LayerPlan) -> tuple[UnrolledBand, ...]:
-    """The laid bands of a layer (forward, return, hoop passes; no dwells), in winding order."""
-    return tuple(unrolled_band(arcs, p) for p in layer.passes if p.kind is not PassKind.DWELL)
+    """The laid bands of a layer (forward, return, hoop passes; no dwells or turnarounds), in winding
+    order."""
+    return tuple(unrolled_band(arcs, p) for p in layer.passes
+                 if p.kind is not PassKind.DWELL and p.kind is not PassKind.TURNAROUND)
 
 
 def _joined(bands: list[UnrolledBand]) -> tuple[list, list, list]:
@@ -88,7 +90,7 @@ def _traces(arcs: ArcMap, layer: LayerPlan, x: str, y: str, title: str) -> list[
         out.append({"type": "scattergl" if len(xs) > 20000 else "scatter", "mode": "lines", "x": xs, "y": ys,
                     "customdata": cs, "xaxis": x, "yaxis": y, "name": label,
                     "legendgroup": f"layer{layer.index}", "legendgrouptitle": {"text": title},
-                    "line": {"color": color, "width": 1.0 if kind == "dwell" else LINE_WIDTH},
+                    "line": {"color": color, "width": 1.0 if kind in ("dwell", "turnaround") else LINE_WIDTH},
                     "connectgaps": False, "meta": {"layer": layer.index, "kind": kind, "bands": len(bands)},
                     "hovertemplate": f"{label}<br>circuit %{{customdata}}<br>t %{{x}} mm, %{{y}} deg"
                                      f"<extra>layer {layer.index}</extra>"})

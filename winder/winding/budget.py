@@ -27,6 +27,7 @@ from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.hoop import HOOP_STEP_DEG
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
+from winder.winding.turnaround import turnaround_points
 
 __all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
            "MAX_TOTAL_POINTS", "check_budget", "job_budget"]
@@ -129,6 +130,8 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) 
             raise _refuse(job.source, "winding.dwell",
                           f"dwells of {w.dwell_start_deg:g} and {w.dwell_end_deg:g} deg need {dwell_points} "
                           f"points per circuit, more than the limit of {MAX_PASS_POINTS}")  # both ends: no one value
+        # and the turnarounds past the region (winder.winding.turnaround)
+        dwell_points += turnaround_points(surface, tuple(float(v) for v in surface.s_of_t(np.array([t_a, t_b]))))
     # A pass may be refined up to REFINE_MAX_POINTS (a tolerance, or no convergence); its tangents come
     # from a solve on TANGENT_REFINE times finer segments, with its Richardson twin.
     solve = 2 * (TANGENT_REFINE * (max(n, REFINE_MAX_POINTS) + 1))
@@ -156,7 +159,10 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
         raise _refuse(job.source, cause,
                       f"layer {key} would lay {turns:.4g} turns of pitch {pitch:.3g} mm over {t_b - t_a:g} mm, "
                       f"{pass_points:.4g} points per pass, more than the limit of {MAX_PASS_POINTS}, got {value}")
-    return LayerBudget(1, cfg.passes, pass_points, pass_points * cfg.passes, pass_points)
+    # Between traverses the carriage turns back at one end or the other (winder.winding.turnaround).
+    ends = tuple(float(v) for v in surface.s_of_t(np.array([t_a, t_b])))
+    reversals = (cfg.passes - 1) * turnaround_points(surface, ends)
+    return LayerBudget(1, cfg.passes, pass_points, pass_points * cfg.passes + reversals, pass_points)
 
 
 def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:

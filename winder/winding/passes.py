@@ -17,11 +17,13 @@ from winder.progress import Progress
 from winder.paths.geodesic import GeodesicResult, geodesic
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_deg
 from winder.winding.slip import check as check_held
+from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
 
 COVERAGE_STATIONS = 21
 DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
+DWELL_MIN_RAD = 1e-12  # a shorter dwell is round-off between a way in and its way out: none
 # A pass is re-solved on this many times finer segments (warm-started, Richardson-refined) for its
 # points and tangents: at 30 points per pass a spline through the vertices alone misses the tangent
 # by up to 1 deg next to a dome turnaround; 4x brings r sin(alpha) to 1e-6 of Clairaut there.
@@ -118,16 +120,50 @@ def _check_converged(ctx: PlanContext, a: tuple[float, float], b: tuple[float, f
 
 
 def dwell_pass(ctx: PlanContext, layer: int, circuit: int, number: int, s: float, th0: float,
-              th1: float) -> FiberPass:
-    """A dwell: the mandrel turns from th0 to th1 at a fixed station."""
+              th1: float, heading_in: float = 90.0, heading_out: float = 90.0) -> FiberPass:
+    """A dwell: the mandrel turns from th0 to th1 with the fiber on the parallel at station s. Where
+    the fiber arrives or leaves off the parallel (heading_in / heading_out deg, 90: along it), the end
+    holds it and the free fiber swings through the hoop meanwhile (winder.winding.turnaround)."""
     m = max(2, int(math.ceil(abs(math.degrees(th1 - th0)) / DWELL_STEP_DEG)) + 1)
     th = np.linspace(th0, th1, m)
     ss = np.full(m, s)
-    pt = ctx.surface.evaluate(ss, th, order=1).pt
-    direction = pt / np.linalg.norm(pt, axis=1)[:, None]
+    if abs(heading_in - 90.0) <= HOOP_HEADING_TOL and abs(heading_out - 90.0) <= HOOP_HEADING_TOL:
+        pt = ctx.surface.evaluate(ss, th, order=1).pt
+        direction = pt / np.linalg.norm(pt, axis=1)[:, None]
+    else:
+        swing = swing_headings(np.linspace(0.0, 1.0, m), heading_in, heading_out)
+        direction = directions_of_heading(ctx.surface, ss, th, swing)
     pts = ctx.surface.points(ss, th)
     length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
     return make_pass(ctx.surface, layer, circuit, number, PassKind.DWELL, ss, th, direction, length)
+
+
+def turnaround_passes(ctx: PlanContext, layer: int, circuit: int, number: int, leg: Leg, s_end: float,
+                      th_in: float, th_next: float, headings: tuple[float, float]) -> list[FiberPass]:
+    """One end's turnaround (winder.winding.turnaround) from th_in, where a pass ended at station
+    s_end, to th_next, where the next one starts: the way in, the dwell at the apex (a swing between
+    `headings` where the end holds the fiber), the way out; passes numbered from `number`."""
+    surf = ctx.surface
+    th_apex = th_in + 0.5 * leg.turn
+    turn = th_next - th_in - leg.turn
+    passes: list[FiberPass] = []
+    if leg.s.size:
+        passes.append(leg_pass(surf, layer, circuit, number, PassKind.TURNAROUND, leg_way(surf, leg, th_in, False)))
+    if turn > DWELL_MIN_RAD:
+        s_apex = float(leg.s[-1]) if leg.s.size else s_end
+        passes.append(dwell_pass(ctx, layer, circuit, number + len(passes), s_apex, th_apex, th_apex + turn,
+                                 *headings))
+    if leg.s.size:
+        way = leg_way(surf, leg, th_apex + max(turn, 0.0), True)
+        passes.append(leg_pass(surf, layer, circuit, number + len(passes), PassKind.TURNAROUND, way))
+    return passes
+
+
+def leg_pass(surf: SweepSurface, layer: int, circuit: int, number: int, kind: PassKind, way) -> FiberPass:
+    s, th, d = way
+    pts = surf.points(s, th)
+    length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+    return make_pass(surf, layer, circuit, number, kind, s, th, d, length)
 
 
 def winding_region(ctx: PlanContext) -> tuple[float, float]:
@@ -148,7 +184,9 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
            dwell_a: float, dwell_b: float, c: float | None, passes: list[FiberPass], stations: np.ndarray,
            notes: list[str], coverage: Coverage | None = None) -> LayerPlan:
     laid = [p for p in passes if p.kind is not PassKind.DWELL]
-    folded = np.concatenate([np.abs(p.alpha_deg[1:-1]) for p in laid]) if laid else np.zeros(1)
+    # The angle range is the winding region's: turnarounds run through every angle up to the hoop.
+    wound = [p for p in laid if p.kind is not PassKind.TURNAROUND]
+    folded = np.concatenate([np.abs(p.alpha_deg[1:-1]) for p in wound]) if wound else np.zeros(1)
     length = float(sum(p.length for p in passes))
     if coverage is None:
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)

@@ -6,6 +6,7 @@ vessels (vessel.py), and hoop layers (hoop.py); passes.py holds what they share.
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 from winder.config.job import JobConfig
@@ -18,6 +19,7 @@ from winder.winding.layers.helical_open import open_helical_layer
 from winder.winding.layers.hoop import hoop_layer
 from winder.winding.passes import PlanContext
 from winder.winding.results import WindingPlan
+from winder.winding.turnaround import SWING_MIN_DEG
 from winder.geometry.sections import arc_map
 from winder.geometry.build import build_surface
 from winder.winding.layers.helical_vessel import vessel_helical_layer
@@ -50,6 +52,8 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
             ctx = replace(ctx, surface=build.surface)
         layers.append(layer)
         ctx.report(index, 1.0, "planned")
-        theta0 = float(layer.passes[-1].theta[-1])
+        # The next layer starts a little further on: the mandrel keeps turning while the eye moves
+        # from this layer's last direction to the next one's first.
+        theta0 = float(layer.passes[-1].theta[-1]) + math.radians(SWING_MIN_DEG)
     return WindingPlan(job.name, job.source, surface, tuple(layers), float(job.winding.band_width),
                        outer=build.surface if build is not None else None)

@@ -22,7 +22,8 @@ if TYPE_CHECKING:  # the laminate record builds on this module
 class PassKind(Enum):
     FORWARD = "forward"  # t increasing (+alpha band)
     RETURN = "return"  # t decreasing (-alpha band)
-    DWELL = "dwell"  # at an end of an open mandrel: the mandrel turns, the carriage waits
+    DWELL = "dwell"  # at an end of an open mandrel: the mandrel turns, the fiber on a parallel
+    TURNAROUND = "turnaround"  # past the winding region: the fiber turns toward the parallel and back
     HOOP = "hoop"  # a hoop traverse
 
 

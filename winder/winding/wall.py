@@ -74,7 +74,7 @@ def layer_angles(cells: StationCells, layer: LayerPlan) -> np.ndarray:
             continue
         idx = np.arange(p.s.size, dtype=float)
         at = index_of(CubicSpline(idx, p.s), p.s, cells.centres[inside])
-        alpha = np.abs(np.interp(at, idx, p.alpha_deg))
+        alpha = np.interp(at, idx, np.abs(p.alpha_deg))  # |alpha|: +90 on a parallel joins either sign
         # the crossing's weight: fiber length per station, 1 / cos(alpha) (capped at a turnaround)
         w = 1.0 / np.maximum(np.cos(np.radians(alpha)), 1e-3)
         num[inside] += w * alpha

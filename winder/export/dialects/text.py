@@ -14,7 +14,7 @@ from typing import Protocol
 import numpy as np
 
 from winder.machine.limits import AXIS_DECIMALS
-from winder.machine.program import MotionProgram
+from winder.machine.program import APPROACH, MotionProgram
 from winder.winding.results import LayerPlan, PassKind
 
 DECIMALS = AXIS_DECIMALS  # mm and deg: the limits hold for the values as written
@@ -139,11 +139,14 @@ def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list
             if seg.circuit != circuit:
                 circuit = seg.circuit
                 lines.append(f"; layer {layer.index} circuit {circuit}")
-            lines.append(f"; layer {layer.index} circuit {circuit} pass {seg.number} {seg.kind.value}")
+            head = f"; layer {layer.index} circuit {circuit} pass {seg.number}"
+            lines.append(f"{head} {APPROACH if seg.approach else seg.kind.value}")
             if seg.capped:
                 lines.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is "
                              f"held at the largest lead, {fmt(seg.max_lead)} mm, off the envelope")
             for row in range(seg.start, seg.stop):
+                if seg.approach and row == seg.start + seg.approach:
+                    lines.append(f"{head} {seg.kind.value}")
                 texts = [fmt(v, n) for v, n in zip(columns[row], decimals)]
                 words = " ".join(f"{c}{v}" for c, v in zip(letters, texts))
                 if words == last_words:

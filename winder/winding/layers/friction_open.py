@@ -9,6 +9,7 @@ tube (MATH.md 5). The circuit count covers the widest spacing inside the arcs; c
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -19,6 +20,7 @@ from winder.errors import SolverError
 from winder.winding.passes import COVERAGE_STATIONS, PlanContext, dwell_pass, finish_layer, make_pass, winding_region
 from winder.winding.pattern import close_open_pattern
 from winder.winding.results import FiberPass, LayerPlan, PassKind
+from winder.winding.turnaround import SWING_MIN_DEG, heading_deg
 
 MIN_POINTS = 200  # points per pass at the least: the slip is measured from them
 COVERED_TARGET = 0.999
@@ -65,8 +67,8 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     adv_f = pass_curves(pieces, a, np.zeros(1), 8, True)[4]
     adv_r = pass_curves(pieces, a, np.zeros(1), 8, False)[4]
     for _ in range(MAX_EXTRA_CIRCUITS + 1):
-        pat = close_open_pattern(n_c, (adv_f + adv_r) / (2.0 * math.pi), w.dwell_start_deg / 360.0,
-                                 w.dwell_end_deg / 360.0, cfg.pattern, ctx.key(index, "pattern"))
+        pat = close_open_pattern(n_c, (adv_f + adv_r) / (2.0 * math.pi), max(w.dwell_start_deg, SWING_MIN_DEG) / 360.0,
+                                 max(w.dwell_end_deg, SWING_MIN_DEG) / 360.0, cfg.pattern, ctx.key(index, "pattern"))
         passes = _passes(ctx, index, pieces, a, pat, theta0, points)
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
         if (cfg.pattern is not None or cov.covered_fraction >= COVERED_TARGET
@@ -77,7 +79,8 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
                        for p in pieces if p.is_arc)
     notes = [f"friction-held through the bends: {angles}; the passes turn their angle on the straight pieces; "
              f"designed |k_g / k_n| <= {worst:.3f} (friction {mu:g})"]
-    if pat.dwell_start * 360.0 > w.dwell_start_deg + 1e-9 or pat.dwell_end * 360.0 > w.dwell_end_deg + 1e-9:
+    if (pat.dwell_start * 360.0 > max(w.dwell_start_deg, SWING_MIN_DEG) + 1e-9
+            or pat.dwell_end * 360.0 > max(w.dwell_end_deg, SWING_MIN_DEG) + 1e-9):
         notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
                      f"the pattern (k = {pat.pattern} of {n_c})")
     if abs(ends[0] - alpha) > 1e-12:
@@ -96,19 +99,21 @@ def _passes(ctx: PlanContext, index: int, pieces, a: float, pat, theta0: float, 
     t_f, th_f, d1_f, _, adv_f = pass_curves(pieces, a, starts, points, True)
     ret_starts = starts + adv_f + 2.0 * math.pi * pat.dwell_end
     t_r, th_r, d1_r, _, adv_r = pass_curves(pieces, a, ret_starts, points, False)
-    passes: list[FiberPass] = []
-    number, layer = 0, index + 1
+    laid: list[FiberPass] = []
+    layer = index + 1
     for j in range(n_c):
         ctx.report(index, j / n_c, f"circuit {j + 1} of {n_c}")
-        next_start = theta0 + 2.0 * math.pi * pat.advance * (j + 1)
         for kind, t, th, d1 in ((PassKind.FORWARD, t_f, th_f[j], d1_f[j]), (PassKind.RETURN, t_r, th_r[j], d1_r[j])):
-            number += 1
-            forward = kind is PassKind.FORWARD
-            direction = _directions(ctx, t, th, d1, forward)
-            passes.append(make_pass(surf, layer, j + 1, number, kind, t, th, direction, _length(ctx, t, th, d1)))
-            number += 1
-            if forward:
-                passes.append(dwell_pass(ctx, layer, j + 1, number, t_b, float(th[-1]), float(ret_starts[j])))
-            else:
-                passes.append(dwell_pass(ctx, layer, j + 1, number, t_a, float(th[-1]), float(next_start)))
+            direction = _directions(ctx, t, th, d1, kind is PassKind.FORWARD)
+            laid.append(make_pass(surf, layer, j + 1, 0, kind, t, th, direction, _length(ctx, t, th, d1)))
+    # Between passes the ends hold the fiber while it swings round (winder.winding.turnaround).
+    passes: list[FiberPass] = []
+    for k, p in enumerate(laid):
+        passes.append(replace(p, number=len(passes) + 1))
+        nxt = laid[k + 1] if k + 1 < len(laid) else None
+        h_in = float(heading_deg(surf, p.s[-1:], p.theta[-1:], p.direction[-1:])[0])
+        h_out = float(heading_deg(surf, nxt.s[:1], nxt.theta[:1], nxt.direction[:1])[0]) if nxt else 180.0 - h_in
+        end = float(ret_starts[k // 2]) if p.kind is PassKind.FORWARD else theta0 + 2.0 * math.pi * pat.advance * (k // 2 + 1)
+        passes.append(dwell_pass(ctx, layer, p.circuit, len(passes) + 1, t_b if p.kind is PassKind.FORWARD else t_a,
+                                 float(p.theta[-1]), end, h_in, h_out))
     return passes

@@ -18,7 +18,7 @@ from winder.errors import SolverError
 from winder.winding.passes import (
     COVERAGE_STATIONS,
     PlanContext,
-    dwell_pass,
+    turnaround_passes,
     finish_layer,
     make_pass,
     reference_section,
@@ -31,6 +31,7 @@ from winder.winding.slip import check as check_held
 from winder.paths.ode import trace
 from winder.geometry.surface import SweepSurface
 from winder.winding.roots import bracketed_root
+from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
 
 TRACE_RTOL = 1e-10
 
@@ -86,43 +87,86 @@ GAP_TARGET = 0.02  # widest gap allowed, as a fraction of the band width
 MAX_CIRCUIT_FACTOR = 4  # at most this many times the closed-form circuit count
 
 
+def _heading_at(surf: SweepSurface, item, end: int) -> float:
+    """Heading (deg) of a solved pass at its first (end 0) or last (end -1) point."""
+    return float(heading_deg(surf, item.s[[end]], item.theta[[end]], item.direction[[end]])[0])
+
+
 def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: float, theta0: float,
-                 ends: tuple[float, float, float, float]) -> list[FiberPass]:
-    """The passes of an open-mandrel helical layer with the pattern `pat`, in winding order."""
+                 ends: tuple[float, float, float, float], legs: tuple[Leg, Leg]) -> list[FiberPass]:
+    """The passes of an open-mandrel helical layer with the pattern `pat`, in winding order: per
+    circuit forward, the far end's turnaround, return, the near end's turnaround."""
     surf = ctx.surface
     t_a, t_b, s_a, s_b = ends
+    leg_a, leg_b = legs
+    half_a, half_b = leg_a.turn / (4.0 * math.pi), leg_b.turn / (4.0 * math.pi)  # turns of one way in
     f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
-    passes: list[FiberPass] = []
-    number = 0
     layer = index + 1
-    for j in range(pat.circuits):
+    solved = []
+    for j in range(pat.circuits if not surf.is_revolution else 1):
         ctx.report(index, j / pat.circuits, f"circuit {j + 1} of {pat.circuits}")
         f_start = f0 + j * pat.advance
         f_fwd_end = f_start + natural_fwd
-        f_ret_start = f_fwd_end + pat.dwell_end
+        f_ret_start = f_fwd_end + 2.0 * half_b + pat.dwell_end
         f_ret_end = f_ret_start + natural_fwd
-        th = ctx.arcs.theta(np.array([f_start, f_fwd_end, f_ret_start, f_ret_end, f0 + (j + 1) * pat.advance]))
-        if surf.is_revolution and j > 0:
-            # A surface of revolution: the circuit is the first one turned by the circuit advance.
-            shift = th[0] - passes[0].theta[0]
-            for p in passes[:4]:
-                number += 1
-                passes.append(make_pass(surf, layer, j + 1, number, p.kind, p.s, p.theta + shift,
-                                        _turned(p.direction, shift), p.length))
-            continue
+        th = ctx.arcs.theta(np.array([f_start, f_fwd_end, f_ret_start, f_ret_end]))
         # Cold starts: consecutive circuits lie k / N_c of a turn apart, where the geodesic can look
         # nothing alike (inside vs outside of a bend); coarse-to-fine is robust and as fast.
-        fwd = solve_pass(ctx, (t_a, th[0]), (t_b, th[1]), None)
-        ret = solve_pass(ctx, (t_b, th[2]), (t_a, th[3]), None)
-        for kind, item in ((PassKind.FORWARD, fwd), (PassKind.DWELL, (s_b, th[1], th[2])),
-                           (PassKind.RETURN, ret), (PassKind.DWELL, (s_a, th[3], th[4]))):
-            number += 1
-            if kind is PassKind.DWELL:
-                passes.append(dwell_pass(ctx, layer, j + 1, number, *item))
-            else:
-                passes.append(make_pass(surf, layer, j + 1, number, kind, item.s, item.theta, item.direction,
-                                        item.length))
+        solved.append((solve_pass(ctx, (t_a, th[0]), (t_b, th[1]), None),
+                       solve_pass(ctx, (t_b, th[2]), (t_a, th[3]), None)))
+    passes: list[FiberPass] = []
+    for j, (fwd, ret) in enumerate(solved):
+        nxt = solved[j + 1][0] if j + 1 < len(solved) else None
+        if surf.is_revolution:  # every circuit a turned copy: the next one starts as this one
+            nxt = fwd
+        # The swing joins the directions on either side exactly (a way in and out mirror each other).
+        heads_b = ((leg_b.apex_heading_deg, 180.0 - leg_b.apex_heading_deg) if leg_b.s.size
+                   else (_heading_at(surf, fwd, -1), _heading_at(surf, ret, 0)))
+        h_a = _heading_at(surf, ret, -1)
+        heads_a = ((leg_a.apex_heading_deg, 180.0 - leg_a.apex_heading_deg) if leg_a.s.size
+                   else (h_a, _heading_at(surf, nxt, 0) if nxt is not None else 180.0 - h_a))
+        circuit = j + 1
+        passes.append(make_pass(surf, layer, circuit, len(passes) + 1, PassKind.FORWARD, fwd.s, fwd.theta,
+                                fwd.direction, fwd.length))
+        passes += turnaround_passes(ctx, layer, circuit, len(passes) + 1, leg_b, s_b, float(fwd.theta[-1]),
+                                    float(ret.theta[0]), heads_b)
+        passes.append(make_pass(surf, layer, circuit, len(passes) + 1, PassKind.RETURN, ret.s, ret.theta,
+                                ret.direction, ret.length))
+        th_next = float(ctx.arcs.theta(np.array([f0 + (j + 1) * pat.advance]))[0])
+        passes += turnaround_passes(ctx, layer, circuit, len(passes) + 1, leg_a, s_a, float(ret.theta[-1]),
+                                    th_next, heads_a)
+    if surf.is_revolution:
+        # A surface of revolution: circuit j is the first one turned by j circuit advances.
+        first = list(passes)
+        th_first = float(first[0].theta[0])
+        for j in range(1, pat.circuits):
+            ctx.report(index, j / pat.circuits, f"circuit {j + 1} of {pat.circuits}")
+            shift = float(ctx.arcs.theta(np.array([f0 + j * pat.advance]))[0]) - th_first
+            for p in first:
+                passes.append(make_pass(surf, layer, j + 1, len(passes) + 1, p.kind, p.s, p.theta + shift,
+                                        _turned(p.direction, shift), p.length))
     return passes
+
+
+def _legs(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alpha: float) -> tuple[Leg, Leg]:
+    """The ways into the end zones past s_a and s_b of a layer at alpha on the reference section; on a
+    surface of revolution the pass ends' headings follow from Clairaut (r sin(h) constant)."""
+    surf = ctx.surface
+    mu = ctx.winding.friction
+    if not surf.is_revolution:  # no ways traced: the ends hold the fiber (the heading is only a flag)
+        return (trace_leg(surf, s_a, 180.0 - alpha, -1.0, mu), trace_leg(surf, s_b, alpha, 1.0, mu))
+    r = surf.radius(np.array([s_ref, s_a, s_b]), np.zeros(3))
+    c = float(r[0]) * math.sin(math.radians(alpha))
+    h_a, h_b = (math.degrees(math.asin(min(1.0, c / float(v)))) for v in r[1:])
+    return trace_leg(surf, s_a, 180.0 - h_a, -1.0, mu), trace_leg(surf, s_b, h_b, 1.0, mu)
+
+
+def _least_dwells(ctx: PlanContext, legs: tuple[Leg, Leg]) -> tuple[float, float]:
+    """The least dwells (turns) at the start and far end: the config's, and where the end holds the
+    fiber at least SWING_MIN_DEG for the free fiber to swing round."""
+    w = ctx.winding
+    return tuple(max(d, SWING_MIN_DEG if leg.held_by_end else 0.0) / 360.0
+                 for d, leg in ((w.dwell_start_deg, legs[0]), (w.dwell_end_deg, legs[1])))
 
 
 def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
@@ -145,10 +189,12 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     ends = (t_a, t_b, s_a, s_b)
     last_cov = None
     cov = None
+    legs = _legs(ctx, s_ref, s_a, s_b, alpha)
+    turns = (legs[0].turn + legs[1].turn) / (2.0 * math.pi)
+    least = _least_dwells(ctx, legs)
     while True:
-        pat = close_open_pattern(n_c, 2.0 * natural_fwd, w.dwell_start_deg / 360.0, w.dwell_end_deg / 360.0,
-                                 cfg.pattern, ctx.key(index, "pattern"))
-        passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends)
+        pat = close_open_pattern(n_c, 2.0 * natural_fwd + turns, *least, cfg.pattern, ctx.key(index, "pattern"))
+        passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
         check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index), alpha)
         if surf.is_revolution or cfg.pattern is not None:
@@ -170,7 +216,8 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     if n_c > n_c0:
         notes.append(f"{n_c} circuits instead of {n_c0}: the geodesic passes between evenly spaced end slots "
                      f"drift together on this mandrel, and the closed-form count would leave gaps")
-    if pat.dwell_start * 360.0 > w.dwell_start_deg + 1e-9 or pat.dwell_end * 360.0 > w.dwell_end_deg + 1e-9:
+    notes += [end_note(surf, leg, name) for leg, name in zip(legs, ("start", "far end"))]
+    if pat.dwell_start > least[0] + 1e-12 or pat.dwell_end > least[1] + 1e-12:
         notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
                      f"the pattern (k = {pat.pattern} of {n_c})")
     return finish_layer(ctx, cfg, index, alpha, n_c, pat.pattern, pat.dwell_start * 360.0, pat.dwell_end * 360.0,

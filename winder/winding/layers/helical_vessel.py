@@ -101,7 +101,12 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
         th_out.append(th if not th_out else th[1:])
         d_out.append(d if not d_out else d[1:])
         length += ln
-    return np.concatenate(s_out), np.concatenate(th_out), np.concatenate(d_out), length
+    s, th, d = np.concatenate(s_out), np.concatenate(th_out), np.concatenate(d_out)
+    # Both ends lie on the turnaround parallels r = c, where the geodesic runs along the parallel
+    # (Clairaut): exactly, so that the pass turning back there leaves in the same direction.
+    pt = ctx.surface.evaluate(s[[0, -1]], th[[0, -1]], order=1).pt
+    d[[0, -1]] = pt / np.linalg.norm(pt, axis=1)[:, None]
+    return s, th, d, length
 
 
 def clairaut_path(prof: VesselMeridian, c: float, s_from: float, s_to: float, theta0: float,

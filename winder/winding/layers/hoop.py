@@ -19,10 +19,12 @@ from winder.winding.passes import (
     PlanContext,
     finish_layer,
     make_pass,
+    turnaround_passes,
     reference_section,
     winding_region,
 )
 from winder.winding.results import FiberPass, LayerPlan, PassKind
+from winder.winding.turnaround import SWING_MIN_DEG, trace_leg
 
 HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
 
@@ -48,14 +50,17 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
     pitch = perimeter / math.tan(math.radians(alpha))  # axial advance per turn
     turns = (t_b - t_a) / pitch
     m = max(3, int(math.ceil(turns * 360.0 / HOOP_STEP_DEG)) + 1)
-    f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
     passes: list[FiberPass] = []
+    theta_start = theta0
     for k in range(cfg.passes):
         ctx.report(index, k / cfg.passes, f"hoop traverse {k + 1} of {cfg.passes}")
-        frac = f0 + k * turns + np.linspace(0.0, turns, m)
-        t = np.linspace(t_a, t_b, m) if k % 2 == 0 else np.linspace(t_b, t_a, m)
+        f0 = float(ctx.arcs.fraction(np.array([theta_start]))[0])
+        frac = f0 + np.linspace(0.0, turns, m)
+        forward = k % 2 == 0
+        t = np.linspace(t_a, t_b, m) if forward else np.linspace(t_b, t_a, m)
         s = surf.s_of_t(t)
         th = ctx.arcs.theta(frac)
+        th[0] = theta_start
         ev = surf.evaluate(s, th, order=1)
         # Exact tangent of the constant-pitch path: d/dk Phi(s(t), theta(f)), both linear in k
         # (s = t on the cylindrical region).
@@ -63,7 +68,17 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         speed = np.linalg.norm(vel, axis=1)
         direction = vel / speed[:, None]
         length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
-        passes.append(make_pass(surf, index + 1, k + 1, k + 1, PassKind.HOOP, s, th, direction, length))
+        passes.append(make_pass(surf, index + 1, k + 1, len(passes) + 1, PassKind.HOOP, s, th, direction, length))
+        theta_start = float(th[-1])
+        if k + 1 < cfg.passes:
+            # The carriage reverses while the mandrel turns on (winder.winding.turnaround).
+            heading = alpha if forward else 180.0 - alpha
+            leg = trace_leg(surf, float(s[-1]), heading, 1.0 if forward else -1.0, w.friction)
+            turn = math.radians(SWING_MIN_DEG) if leg.held_by_end else 0.0
+            passes += turnaround_passes(ctx, index + 1, k + 1, len(passes) + 1, leg, float(s[-1]), theta_start,
+                                        theta_start + leg.turn + turn,
+                                        (leg.apex_heading_deg, 180.0 - leg.apex_heading_deg))
+            theta_start = float(passes[-1].theta[-1])
     check_slip(ctx, index, passes[0], turns)
     stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     return finish_layer(ctx, cfg, index, alpha, cfg.passes, 1, 0.0, 0.0, None, passes, stations, [])

@@ -1,0 +1,139 @@
+"""The payout eye's envelope: the surface of revolution the eye keeps to around a straight-axis
+mandrel (the rule is in winder.machine.kinematics' module docstring, which uses it)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from winder.config.machine import MachineConfig
+from winder.geometry.surface import SweepSurface
+
+SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
+ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
+ENVELOPE_MAX_SAMPLES = 65537
+
+
+@dataclass(frozen=True)
+class EyeEnvelope:
+    """The radius the eye keeps from the mandrel axis, as a function of the axial station.
+
+    stations, radius : (k,) float, a uniform table of Z_env; `constant` set in radius mode.
+    mandrel_radius : (k,) float, r_max at the same stations (the largest section radius).
+    """
+
+    stations: np.ndarray
+    radius: np.ndarray
+    mandrel_radius: np.ndarray
+    constant: float | None
+    clearance: float | None
+    radius_stations: np.ndarray | None = None  # where `radius` is tabulated (default: stations)
+    end_slopes: tuple[float, float] = (0.0, 0.0)  # dZ/dX past the table's first and last station
+
+    @property
+    def max_radius(self) -> float:
+        return float(self.constant if self.constant is not None else np.max(self.radius))
+
+    def at(self, t: np.ndarray) -> np.ndarray:
+        """Z_env at stations t; beyond the table it goes on straight with its end slopes (down to 0)."""
+        t = np.asarray(t, dtype=float)
+        if self.constant is not None:
+            return np.full(t.shape, self.constant)
+        x = self.stations if self.radius_stations is None else self.radius_stations
+        z = self.radius
+        out = np.interp(t, x, z)
+        lo, hi = self.end_slopes
+        out = np.where(t < x[0], z[0] + lo * (t - x[0]), out)
+        out = np.where(t > x[-1], z[-1] + hi * (t - x[-1]), out)
+        return np.maximum(out, 0.0)
+
+    def mandrel_at(self, t: np.ndarray) -> np.ndarray:
+        """r_max at stations t (clamped to the mandrel's ends)."""
+        return np.interp(np.asarray(t, dtype=float), self.stations, self.mandrel_radius)
+
+
+def _largest_section_angle(surface: SweepSurface) -> float:
+    """The section angle of the largest radius (the section is the same shape at every station,
+    scaled by the profile: R(s, theta) = p(s) q(theta))."""
+    th = np.linspace(0.0, 2.0 * np.pi, SECTION_SAMPLES)
+    s_mid = np.full(th.shape, 0.5 * surface.length)
+    r = surface.radius(s_mid, th)
+    k = int(np.argmax(r))
+    # One parabola step through the neighbours refines the grid maximum.
+    if 0 < k < th.shape[0] - 1:
+        r0, r1, r2 = r[k - 1], r[k], r[k + 1]
+        den = r0 - 2.0 * r1 + r2
+        if den < 0.0:
+            return float(th[k] + 0.5 * (r0 - r2) / den * (th[1] - th[0]))
+    return float(th[k])
+
+
+def eye_envelope(surface: SweepSurface, machine: MachineConfig) -> EyeEnvelope:
+    """The eye envelope of a machine around a mandrel (module docstring); computed once per job."""
+    T = surface.axial_length
+    clearance = machine.eye_clearance if machine.eye_radius is None else None
+    step = ENVELOPE_STEP if clearance is None else min(ENVELOPE_STEP, clearance / 16.0)
+    n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil(T / step) + 1)))
+    stations = np.linspace(0.0, T, n)
+    th_max = _largest_section_angle(surface)
+    # r_max(t): sampled in the internal station (arc length on domes), then put on the uniform grid.
+    s = np.linspace(0.0, surface.length, max(n, 2049))
+    r_s = surface.radius(s, np.full(s.shape, th_max))
+    r_max = np.interp(stations, surface.t_of_s(s), r_s)
+    if machine.eye_radius is not None:
+        zr = float(machine.eye_radius)
+        return EyeEnvelope(stations, np.full(n, zr), r_max, zr, None)
+    c = float(clearance) + 0.5 * float(machine.eye_size)  # the eye's centre: its body keeps the clearance
+    h = stations[1] - stations[0]
+    k_max = int(np.floor(c / h))
+    # The profile dilated by the disc of radius c; past an end where the profile falls toward it (a
+    # dome, a cone's small end) also the dilated end (its cap): there the envelope goes on down with
+    # the cap's slope (a convex region: see _concave_majorant), elsewhere it keeps its end value.
+    dil, _ = _dilate(stations, r_max, c, h, k_max, (False, False))
+    plain = _concave_majorant(stations, dil)
+    caps = (plain[1] > plain[0] + 1e-12, plain[-2] > plain[-1] + 1e-12)
+    if not any(caps):
+        return EyeEnvelope(stations, plain, r_max, None, c)
+    dil, x = _dilate(stations, r_max, c, h, k_max, caps)
+    # The cap's last samples run nearly vertical, where a chord between samples falls inside the circle:
+    # stop the table two samples short; the straight continuation (a secant's) stays outside it.
+    cut = slice(2 if caps[0] else 0, x.size - (2 if caps[1] else 0))
+    x, dil = x[cut], dil[cut]
+    z = _concave_majorant(x, dil)
+    slopes = tuple(((z[1] - z[0]) / h if caps[0] else 0.0, (z[-1] - z[-2]) / h if caps[1] else 0.0))
+    return EyeEnvelope(stations, z, r_max, None, c, x, slopes)
+
+
+def _dilate(stations: np.ndarray, r_max: np.ndarray, c: float, h: float, k_max: int,
+            caps: tuple[bool, bool]) -> tuple[np.ndarray, np.ndarray]:
+    """(Z, X): the profile r_max (k,) on the uniform stations dilated by a disc of radius c, on the
+    stations and, at the ends flagged in caps, c past them."""
+    before, after = (k_max if caps[0] else 0), (k_max if caps[1] else 0)
+    x = np.concatenate([stations[0] - h * np.arange(before, 0, -1), stations,
+                        stations[-1] + h * np.arange(1, after + 1)])
+    r_ext = np.concatenate([np.full(before, -np.inf), r_max, np.full(after, -np.inf)])
+    dil = r_ext + c
+    for k in range(1, k_max + 1):
+        rise = np.sqrt(max(c * c - (k * h) ** 2, 0.0))
+        dil[k:] = np.maximum(dil[k:], r_ext[:-k] + rise)
+        dil[:-k] = np.maximum(dil[:-k], r_ext[k:] + rise)
+    return np.maximum(dil, 0.0), x
+
+
+def _concave_majorant(x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """The least concave function >= z over the points x (k,) (their upper convex hull), at x.
+
+    Why: the eye sits where the fiber's tangent ray leaves the region inside the envelope; a region
+    that is convex (its profile concave, continued straight past the table) is left exactly once, so
+    the eye moves continuously with the contact point. Around a dome's polar opening the dilated
+    profile is not concave, and a ray grazing it jumped to a crossing far past the pole."""
+    from scipy.spatial import ConvexHull  # noqa: PLC0415
+
+    floor = float(np.min(z)) - 1.0 - float(np.ptp(z))
+    pts = np.column_stack([np.concatenate([x, x[[0, -1]]]), np.concatenate([z, [floor, floor]])])
+    hull = ConvexHull(pts)
+    upper = np.unique(hull.vertices[hull.vertices < x.size])
+    return np.interp(x, x[upper], z[upper])
+
+
