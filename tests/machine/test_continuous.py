@@ -49,3 +49,35 @@ def test_the_eye_reverses_while_the_mandrel_turns(name):
     for k in flips:
         window = b[max(k - 12, 0):k + 13]
         assert window.min() <= PRINTED and window.max() >= -PRINTED  # B crosses 0 nearby
+
+
+@pytest.mark.parametrize("name", ["pipe", "cone", "vessel_laminate"])
+def test_no_axis_over_its_speed_or_limits(name):
+    """The sample's program in the linuxcnc dialect, where every move states its own time (G93
+    inverse time, F = 60 / seconds), read back here: every axis within its top speed, the
+    turnarounds' swings included, and every value within machine.limits."""
+    from dataclasses import replace  # noqa: PLC0415
+
+    from winder.config.job import load_config  # noqa: PLC0415
+    from winder.export.gcode import gcode_text  # noqa: PLC0415
+    from winder.winding.plan import plan as plan_job  # noqa: PLC0415
+
+    job = load_config(SAMPLES / f"{name}.yaml")
+    machine = replace(job.machine, dialect="linuxcnc")
+    rows = []
+    for line in gcode_text(plan_job(job), machine).splitlines():
+        if line.startswith("G1 "):
+            words = dict(_WORD.findall(line.split(";")[0]))
+            rows.append([float(words[k]) for k in "XAZBF"])
+    v = np.array(rows)
+    seconds = 60.0 / v[1:, 4]
+    dyn = machine.dynamics
+    top = np.array([dyn.get(r).speed for r in ("carriage", "rotation", "cross_feed", "yaw")]) / 60.0
+    speed = np.abs(np.diff(v[:, :4], axis=0)) / seconds[:, None]
+    # The printed values round each move by up to one unit of the last place (and F to 3 decimals).
+    slack = PRINTED / seconds[:, None] + top * 1e-3
+    assert np.all(speed <= top + slack), np.unravel_index(np.argmax(speed / top), speed.shape)
+    for k, role in enumerate(("carriage", "rotation", "cross_feed", "yaw")):
+        span = machine.limits.get(role)
+        if span is not None:
+            assert span[0] - PRINTED <= v[:, k].min() and v[:, k].max() <= span[1] + PRINTED, role

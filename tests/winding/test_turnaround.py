@@ -112,3 +112,26 @@ def test_pipe_turns_on_its_20_mm_ends():
     expected = math.degrees(math.asin(s0 / (1.0 - TURN_SLIP_SHARE * 0.2 * 20.0 * s0 / R)))
     assert way_in.t[-1] == pytest.approx(500.0) and abs(way_in.alpha_deg[-1]) == pytest.approx(expected, abs=1e-6)
     assert any("holds the fiber at 60.516 deg" in n for n in layer.notes)
+
+
+def test_room_enough_turns_round_within_friction():
+    """A pipe wound 80 mm short of each end: at 55 deg on R 50 friction (lambda = 0.18) turns the
+    fiber round in R (1 / sin(55) - 1) / 0.18 = 61.3 mm, so no end holds it: the ways in reach the
+    parallel, any dwell (what closes the pattern) lies along it with the carriage still."""
+    from winder.config.job import parse_config  # noqa: PLC0415
+
+    job = parse_config({"name": "long", "mandrel": {"axis": {"type": "line", "length": 660},
+                                                    "profile": {"type": "constant", "radius": R}},
+                        "winding": {"band_width": 10, "points": 30, "region": {"start": 80, "end": 580},
+                                    "layers": [{"type": "helical", "angle": 55}]},
+                        "machine": {"eye": {"clearance": 20}}}, "long.yaml")
+    layer = plan_job(job).layers[0]
+    ways = [p for p in layer.passes if p.kind is PassKind.TURNAROUND]
+    assert len(ways) == 4 * layer.circuits
+    span = R * (1.0 / math.sin(math.radians(55.0)) - 1.0) / (TURN_SLIP_SHARE * 0.2)
+    for p in ways[:4]:
+        apex = p.t[-1] if abs(p.alpha_deg[-1]) > abs(p.alpha_deg[0]) else p.t[0]
+        assert abs(apex - (580.0 + span if apex > 330 else 80.0 - span)) < 1e-6
+    for d in (p for p in layer.passes if p.kind is PassKind.DWELL):
+        assert np.allclose(d.alpha_deg, 90.0) and np.ptp(d.t) == 0.0  # on the apex parallel
+    assert all("friction turns the fiber round 61.3" in n for n in layer.notes[:2])
