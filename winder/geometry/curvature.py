@@ -14,8 +14,8 @@ lambda = k_g / k_n, and its bridging margin, min k_n.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import make_interp_spline
 
+from winder.geometry.interp import InterpSpline
 from winder.geometry.surface import SweepSurface
 
 SPLINE_DEGREE = 5  # interpolating spline through a sampled path: 2nd derivatives to O(h^4)
@@ -58,9 +58,9 @@ def path_curvatures(surface: SweepSurface, arc: np.ndarray, s: np.ndarray,
     A quintic interpolating spline through the samples (against arc) gives the derivatives; the
     arc need not be exact (any smooth parametrization serves). All (m,) float, m >= 6.
     """
-    cs = make_interp_spline(arc, s, k=SPLINE_DEGREE)
-    ct = make_interp_spline(arc, theta, k=SPLINE_DEGREE)
-    return curve_curvatures(surface, s, theta, cs(arc, 1), ct(arc, 1), cs(arc, 2), ct(arc, 2))
+    spline = InterpSpline(arc, np.column_stack([s, theta]), SPLINE_DEGREE).derivative()
+    (ds, dth), (dds, ddth) = spline(arc).T, spline(arc, 1).T
+    return curve_curvatures(surface, s, theta, ds, dth, dds, ddth)
 
 
 def polyline_curvatures(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,

@@ -27,10 +27,9 @@ from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from winder.geometry.domes import DomeMeridian, _quintic_hermite
-from winder.geometry.profiles import AxialProfile
+from winder.geometry.profiles import AxialProfile, linear
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
 
@@ -57,9 +56,11 @@ def grow_axial(profile: AxialProfile, s: np.ndarray, h: np.ndarray) -> AxialProf
     r_new = ev.r + np.asarray(h, float) * np.sqrt(1.0 + ev.r1 * ev.r1)
     fit = np.polyfit(s, r_new, 1)
     if np.max(np.abs(np.polyval(fit, s) - r_new)) <= AFFINE_TOL:
-        x = np.array([0.0, profile.length])
-        spline = CubicSpline(x, np.polyval(fit, x), bc_type="not-a-knot")
+        r0, r1 = np.polyval(fit, np.array([0.0, profile.length]))
+        spline = linear(profile.length, float(r0), float(r1))
     else:
+        from scipy.interpolate import CubicSpline  # noqa: PLC0415 - slow to import: only a varying build-up
+
         spline = CubicSpline(s, r_new, bc_type="not-a-knot")
     return AxialProfile(spline, profile.length, profile.reference_radius)
 
@@ -175,6 +176,8 @@ def vessel_growths(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> tupl
         x = np.concatenate([[0.0], sigma[keep]])
         y = np.concatenate([[g_cyl], h[keep]])
         order = np.argsort(x)
+        from scipy.interpolate import CubicSpline  # noqa: PLC0415 - slow to import: only vessels
+
         spline = CubicSpline(x[order], y[order], bc_type=((1, 0.0), (1, 0.0)))
         return lambda q: (spline(q), spline(q, 1), spline(q, 2))
 
@@ -200,6 +203,6 @@ def grow_surface(surface: SweepSurface, s: np.ndarray, h: np.ndarray) -> SweepSu
     # mean section radius per unit profile: a circle grows by h, other sections scale to grow by h
     per_unit = 2.0 * np.pi / surface._unit_perimeter
     if prof is None:
-        base = AxialProfile(CubicSpline([0.0, surface.length], [1.0, 1.0]), surface.length, 1.0)
+        base = AxialProfile(linear(surface.length, 1.0, 1.0), surface.length, 1.0)
         return replace(surface, profile=grow_axial(base, s, h * per_unit))
     return replace(surface, profile=grow_axial(prof, s, h * per_unit))

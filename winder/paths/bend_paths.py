@@ -25,7 +25,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from winder.geometry.curvature import torus_constant_angle_slip, torus_least_pressing_angle
 from winder.geometry.curves import Arc, Path
@@ -93,6 +92,7 @@ def arc_slip(alpha: float, e: float) -> float:
     k = int(np.argmax(slip))
     step = phi[1] - phi[0]
     # Refine the grid's best by golden section: the design's bound must not be below the truth.
+    from scipy.optimize import minimize_scalar  # noqa: PLC0415 - slow to import: only friction bends
     res = minimize_scalar(lambda x: -abs(float(torus_constant_angle_slip(alpha, x, 1.0, e))),
                           bounds=(phi[k] - step, phi[k] + step), method="bounded", options={"xatol": 1e-12})
     return max(float(slip[k]), -float(res.fun))

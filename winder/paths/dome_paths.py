@@ -24,8 +24,6 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import root_scalar
 
 from winder.errors import SolverError
 
@@ -102,6 +100,7 @@ def trace_leg(meridian: DomeMeridian, s_eq: float, heading: float, slip: Callabl
     turn.direction = -math.copysign(1.0, math.cos(heading))
     opening.direction = -1.0
     span = 4.0 * s_max
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only vessels
     res = solve_ivp(fun, (0.0, span), [s_eq, 0.0, heading], method="DOP853", rtol=RTOL, atol=RTOL,
                     dense_output=True, events=(turn, opening), first_step=1e-3)
     # Turned the way it winds: a fiber pushed across the meridian (alpha through 0) turns the other way.
@@ -131,6 +130,7 @@ def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) ->
     if abs(_miss(meridian, s_eq, heading, c, 0.0)) < RADIUS_TOL:
         lam = 0.0
     else:
+        from scipy.optimize import root_scalar  # noqa: PLC0415 - slow to import: only vessels
         lam = root_scalar(lambda x: _miss(meridian, s_eq, heading, c, x), bracket=(-SLIP_BOUND, SLIP_BOUND),
                           method="toms748", xtol=1e-10, rtol=1e-12).root
     return lam, trace_leg(meridian, s_eq, heading, _constant(lam))

@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from winder.errors import ConfigError, SolverError
 from winder.paths.ode import heading_of_velocity, velocity_of_heading
@@ -133,6 +132,7 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
         return friction_rhs(surface, y, _slip_at(slip, l))
 
     events = _events(surface, y0, slip, stop_at_ends, stop_at_turnaround)
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only when tracing
     res = solve_ivp(fun, (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol,
                     dense_output=True, events=events or None)
     if res.status == -1:

@@ -30,7 +30,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.polynomial import legendre
-from scipy.integrate import solve_ivp
 
 from winder.geometry.curvature import path_curvatures, slip_and_margin
 from winder.errors import ConfigError
@@ -124,6 +123,7 @@ class _Shooter:
             return (friction_rhs(self.surface, y.reshape(4, k), slip) * lengths).reshape(-1)
 
         with np.errstate(all="ignore"):
+            from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only when tracing
             res = solve_ivp(fun, (0.0, 1.0), y0, method="DOP853", rtol=rtol, atol=rtol, dense_output=dense)
         if res.status == -1 or not np.all(np.isfinite(res.y[:, -1])):
             return None

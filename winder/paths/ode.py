@@ -30,7 +30,6 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
@@ -209,6 +208,7 @@ def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float,
     ds, dth = velocity_of_heading(surface, s0, th0, np.radians(heading_deg))
     y0 = np.array([s0, th0, ds[0], dth[0]])
     events = _leave_events(surface) if stop_at_ends else None
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only when tracing
     res = solve_ivp(fan_rhs(surface, 1), (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol,
                     dense_output=True, events=events, vectorized=True)
     if res.status == -1:
@@ -261,6 +261,7 @@ def trace_fan(surface: SweepSurface, start: tuple[float, float], headings_deg: n
     k = heads.size
     ds, dth = velocity_of_heading(surface, np.full(k, s0), np.full(k, th0), np.radians(heads))
     y0 = np.concatenate([np.full(k, s0), np.full(k, th0), ds, dth])
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only when tracing
     res = solve_ivp(fan_rhs(surface, k), (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol,
                     dense_output=True, vectorized=True)
     if res.status == -1:

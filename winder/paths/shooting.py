@@ -15,8 +15,6 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import root
 
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
@@ -146,6 +144,7 @@ def shoot(surface: SweepSurface, start: tuple[float, float], end: tuple[float, f
         ds, dth = velocity_of_heading(surface, np.full(3, s0), np.full(3, th0), heads)
         y0 = np.concatenate([np.full(3, s0), np.full(3, th0), ds, dth])
         with np.errstate(all="ignore"):
+            from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only when shooting
             res = solve_ivp(fun3, (0.0, length), y0, method="DOP853", rtol=rtol, atol=rtol,
                             dense_output=dense, vectorized=True)
         yend = res.y[:, -1].reshape(4, 3)
@@ -211,6 +210,7 @@ def shoot(surface: SweepSurface, start: tuple[float, float], end: tuple[float, f
             last["x"], last["res"], last["miss"] = xx.copy(), r, m
             return m, j
 
+        from scipy.optimize import root  # noqa: PLC0415 - slow to import: only when shooting
         sol = root(fun, x, jac=True, method="hybr", options={"xtol": 1e-15, "maxfev": MAX_SHOOT_EVALS})
         x = sol.x
         if not np.array_equal(last.get("x"), x):

@@ -18,8 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
+from winder.geometry.interp import NotAKnotCubic, interp_spline
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
 from winder.winding.laminate import turnaround_zone
@@ -64,7 +64,7 @@ def station_cells(surface: SweepSurface, band_width: float) -> StationCells:
     return StationCells(e, 0.5 * (e[1:] + e[:-1]), tuple(pieces))
 
 
-def index_of(spline: CubicSpline, s_vert: np.ndarray, targets: np.ndarray) -> np.ndarray:
+def index_of(spline: NotAKnotCubic, s_vert: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """Fractional vertex index where the pass's station spline reaches each target (s monotone)."""
     idx = np.arange(s_vert.size, dtype=float)
     rising = s_vert[-1] >= s_vert[0]
@@ -88,7 +88,7 @@ def pass_volumes(cells: StationCells, p: FiberPass, area: float) -> np.ndarray:
     ell = np.concatenate([[0.0], np.cumsum(seg)])
     ell *= p.length / ell[-1] if ell[-1] > 0.0 else 0.0
     idx = np.arange(p.s.size, dtype=float)
-    s_spline, l_spline = CubicSpline(idx, p.s), CubicSpline(idx, ell)
+    s_spline, l_spline = interp_spline(idx, p.s), interp_spline(idx, ell)
     lo, hi = min(p.s[0], p.s[-1]), max(p.s[0], p.s[-1])
     e = np.clip(cells.edges, lo, hi)
     at = l_spline(index_of(s_spline, p.s, e))
@@ -166,7 +166,7 @@ def share_around(surface: SweepSurface, passes: tuple[FiberPass, ...], band_widt
         if k.size == 0:
             continue
         idx = np.arange(p.s.size, dtype=float)
-        s_spline, th_spline = CubicSpline(idx, p.s), CubicSpline(idx, p.theta)
+        s_spline, th_spline = interp_spline(idx, p.s), interp_spline(idx, p.theta)
         at = index_of(s_spline, p.s, s[k])
         th_x = th_spline(at)
         ev = surface.evaluate(s[k], th_x, order=1)

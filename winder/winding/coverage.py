@@ -9,9 +9,9 @@ perimeter once for an even layer: gaps are uncovered stretches, overlaps doubly 
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from winder.winding.results import Coverage, FiberPass, PassKind
+from winder.geometry.interp import interp_spline
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
 
@@ -31,7 +31,7 @@ def pass_crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: 
     if idx.size == 0:
         return idx, np.zeros(0), np.zeros(0)
     st = stations[idx]
-    cs, ct = CubicSpline(t, s), CubicSpline(t, th)
+    cs, ct = interp_spline(t, s), interp_spline(t, th)
     s_x, th_x = cs(st), ct(st)
     ev = surface.evaluate(s_x, th_x, order=1)
     d = ev.ps * cs(st, 1)[:, None] + ev.pt * ct(st, 1)[:, None]

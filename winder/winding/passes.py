@@ -7,7 +7,6 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from scipy.interpolate import make_interp_spline
 
 from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
@@ -18,6 +17,7 @@ from winder.paths.geodesic import GeodesicResult, geodesic
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_deg
 from winder.winding.slip import check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
+from winder.geometry.interp import InterpSpline
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
 
@@ -71,7 +71,7 @@ def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray) -> np.nd
     i = np.arange(s.shape[0], dtype=float)
     # Quintic: the cubic's end slopes are O(h^3) off, visible next to a turnaround.
     k = min(5, s.shape[0] - 1 - (s.shape[0] % 2 == 1 and s.shape[0] < 7))
-    ds, dth = make_interp_spline(i, s, k=k)(i, 1), make_interp_spline(i, theta, k=k)(i, 1)
+    ds, dth = InterpSpline(i, np.column_stack([s, theta]), k)(i, 1).T
     ev = surface.evaluate(s, theta, order=1)
     v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
     return v / np.linalg.norm(v, axis=1)[:, None]

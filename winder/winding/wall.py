@@ -12,10 +12,10 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, replace
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from winder.config.material import MaterialConfig
 from winder.errors import SolverError
+from winder.geometry.interp import interp_spline
 from winder.geometry.offset import OffsetError
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
@@ -73,7 +73,7 @@ def layer_angles(cells: StationCells, layer: LayerPlan) -> np.ndarray:
         if not np.any(inside):
             continue
         idx = np.arange(p.s.size, dtype=float)
-        at = index_of(CubicSpline(idx, p.s), p.s, cells.centres[inside])
+        at = index_of(interp_spline(idx, p.s), p.s, cells.centres[inside])
         alpha = np.interp(at, idx, np.abs(p.alpha_deg))  # |alpha|: +90 on a parallel joins either sign
         # the crossing's weight: fiber length per station, 1 / cos(alpha) (capped at a turnaround)
         w = 1.0 / np.maximum(np.cos(np.radians(alpha)), 1e-3)

@@ -1,0 +1,82 @@
+"""Interpolating splines in numpy (winder.geometry.interp): polynomials reproduced, scipy's splines matched."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from winder.geometry.interp import InterpSpline, interp_spline
+
+EXACT = 1e-9  # a spline of degree k reproduces a polynomial of degree <= k (rounding of the solve only)
+SAME_AS_SCIPY = 1e-11  # relative: the same spline from another implementation
+
+
+def _sites(n: int, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return np.cumsum(rng.uniform(0.2, 1.5, n))
+
+
+@pytest.mark.parametrize("k", [1, 3, 5])
+@pytest.mark.parametrize("n", [8, 40])
+def test_reproduces_polynomials_of_its_degree(k, n):
+    x = _sites(n, k)
+    poly = np.polynomial.Polynomial(np.arange(1.0, k + 2.0) / 10.0)
+    spline = InterpSpline(x, poly(x), k)
+    q = np.linspace(x[0] - 0.3, x[-1] + 0.3, 301)  # extrapolation too: the end pieces are the polynomial
+    scale = np.max(np.abs(poly(q)))
+    for nu in range(min(k, 3) + 1):
+        assert np.max(np.abs(spline(q, nu) - poly.deriv(nu)(q))) <= EXACT * scale
+
+
+@pytest.mark.parametrize("n", [4, 5, 40])
+def test_the_hermite_cubic_reproduces_cubics(n):
+    x = _sites(n, n + 1)
+    poly = np.polynomial.Polynomial([0.5, -1.0, 0.3, 0.02])
+    spline = interp_spline(x, poly(x))
+    q = np.linspace(x[0] - 0.3, x[-1] + 0.3, 301)
+    scale = np.max(np.abs(poly(q)))
+    for nu in range(4):
+        assert np.max(np.abs(spline(q, nu) - poly.deriv(nu)(q))) <= EXACT * scale
+        assert np.max(np.abs(spline.derivative()(q, nu) - poly.deriv(nu + 1)(q))) <= EXACT * scale
+
+
+@pytest.mark.parametrize("n", [2, 3])
+def test_few_points_give_the_line_and_the_parabola(n):
+    x = np.array([0.0, 1.0, 3.0])[:n]
+    poly = np.polynomial.Polynomial([2.0, -1.0, 0.5][:n])
+    q = np.linspace(-1.0, 4.0, 11)
+    assert np.allclose(interp_spline(x, poly(x))(q), poly(q), atol=EXACT)
+
+
+@pytest.mark.parametrize("n", [4, 7, 50, 600])
+def test_the_cubic_is_scipys_not_a_knot_cubic_spline(n):
+    from scipy.interpolate import CubicSpline  # noqa: PLC0415
+
+    x = _sites(n, n)
+    y = np.sin(x) + 0.1 * np.cos(3.0 * x)
+    q = np.linspace(x[0], x[-1], 997)
+    ref, got = CubicSpline(x, y), interp_spline(x, y)
+    for nu in range(3):
+        assert np.max(np.abs(got(q, nu) - ref(q, nu))) <= SAME_AS_SCIPY * (1.0 + np.max(np.abs(ref(q, nu))))
+    d_ref, d_got = ref.derivative(), got.derivative()
+    assert np.max(np.abs(d_got(q) - d_ref(q))) <= SAME_AS_SCIPY * (1.0 + np.max(np.abs(d_ref(q))))
+
+
+@pytest.mark.parametrize("k", [3, 5])
+def test_matches_make_interp_spline_on_columns(k):
+    from scipy.interpolate import make_interp_spline  # noqa: PLC0415
+
+    x = _sites(30, 7)
+    y = np.column_stack([np.sin(x), np.exp(-0.1 * x)])
+    got = InterpSpline(x, y, k)
+    for nu in range(3):
+        ref = np.column_stack([make_interp_spline(x, y[:, j], k=k)(x, nu) for j in range(2)])
+        assert got(x, nu).shape == (30, 2)
+        assert np.max(np.abs(got(x, nu) - ref)) <= SAME_AS_SCIPY * (1.0 + np.max(np.abs(ref)))
+
+
+def test_refuses_even_degrees_and_unsorted_sites():
+    with pytest.raises(ValueError, match="odd degree"):
+        InterpSpline(np.arange(6.0), np.zeros(6), 4)
+    with pytest.raises(ValueError, match="increase strictly"):
+        InterpSpline(np.array([0.0, 2.0, 1.0, 3.0]), np.zeros(4), 3)
