@@ -32,6 +32,7 @@ from winder.paths.ode import trace
 from winder.geometry.surface import SweepSurface
 from winder.winding.roots import bracketed_root
 from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
+from winder.winding.advance import reach_theta, turnaround_error
 
 TRACE_RTOL = 1e-10
 
@@ -51,10 +52,7 @@ def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float
         s_target = reach
     hit = np.nonzero(sign * (ss - s_target) >= 0.0)[0]
     if hit.size == 0:
-        turn = float(surface.t_of_s(np.array([ss.max() if sign > 0 else ss.min()]))[0])
-        raise SolverError(f"the geodesic at {heading_deg:.4g} deg turns around at t = {turn:.4g} mm before "
-                          f"reaching the end of the winding region (Clairaut: r sin(alpha) is constant, so "
-                          f"it cannot reach a smaller radius); lower the angle or shorten the region")
+        raise turnaround_error(surface, float(ss.max() if sign > 0 else ss.min()), heading_deg)
     k = int(hit[0])
     if k == 0:
         return float(start[1])
@@ -67,19 +65,21 @@ def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float
 def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alpha_deg: float) -> float:
     """Turns a forward pass advances when it holds the layer angle at the reference station.
 
-    The geodesic through the reference station at the layer angle, traced both ways to the region
-    ends. On a surface of revolution one start angle suffices; elsewhere the advance is averaged
+    The geodesic through the reference station at the layer angle, followed both ways to the region
+    ends: in closed form on surfaces of revolution and general cylinders (winding.advance), traced
+    elsewhere. On a surface of revolution one start angle suffices; elsewhere the advance is averaged
     over four start angles (the passes themselves are then solved between their slots).
     """
     surf = ctx.surface
     span = 4.0 * (s_b - s_a) / max(math.cos(math.radians(alpha_deg)), 0.05) + 10.0
-    starts = [0.0] if surf.is_revolution else [0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi]
-    adv = []
-    for th0 in starts:
-        th_b = _reach(surf, (s_ref, th0), alpha_deg, s_b, span) if s_b > s_ref else th0
-        th_a = _reach(surf, (s_ref, th0), alpha_deg + 180.0, s_a, span) if s_a < s_ref else th0
-        adv.append(float(ctx.arcs.fraction(np.array([th_b]))[0] - ctx.arcs.fraction(np.array([th_a]))[0]))
-    return float(np.mean(adv))
+    starts = np.array([0.0] if surf.is_revolution else [0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi])
+    ends = []
+    for heading, s_end in ((alpha_deg, s_b), (alpha_deg + 180.0, s_a)):
+        th = reach_theta(surf, s_ref, starts, heading, s_end) if s_end != s_ref else starts
+        if th is None:
+            th = np.array([_reach(surf, (s_ref, th0), heading, s_end, span) for th0 in starts])
+        ends.append(th)
+    return float(np.mean(ctx.arcs.fraction(ends[0]) - ctx.arcs.fraction(ends[1])))
 
 
 COVERED_TARGET = 0.999  # covered fraction a helical layer must reach
