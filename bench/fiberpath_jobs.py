@@ -45,6 +45,16 @@ def _timed(argv: list[str]) -> tuple[float, str]:
 def _job(name: str, repeats: int) -> dict[str, Any]:
     wind, config = EXAMPLES / f"{name}.wind", EXAMPLES / f"{name}.yaml"
     fp, wi = [], []
+    try:
+        _pair_runs(name, wind, config, repeats, fp, wi)
+    except RuntimeError as exc:  # one example that a tool refuses must not lose the others
+        return {"name": name, "error": str(exc), "target": TARGETS.get(name)}
+    f, w = statistics.median(fp), statistics.median(wi)
+    return {"name": name, "fiberpath_s": f, "winder_s": w, "ratio": f / w, "target": TARGETS.get(name),
+            "fiberpath_runs_s": fp, "winder_runs_s": wi}
+
+
+def _pair_runs(name: str, wind: Path, config: Path, repeats: int, fp: list[float], wi: list[float]) -> None:
     with tempfile.TemporaryDirectory(prefix=f"winder-fp-{name}-") as tmp:
         out = Path(tmp)
         for k in range(repeats):
@@ -56,9 +66,6 @@ def _job(name: str, repeats: int) -> dict[str, Any]:
                     shutil.rmtree(out / "w", ignore_errors=True)
                     sec, _ = _timed([str(WINDER), "run", str(config), "-o", str(out / "w")])
                     wi.append(sec)
-    f, w = statistics.median(fp), statistics.median(wi)
-    return {"name": name, "fiberpath_s": f, "winder_s": w, "ratio": f / w, "target": TARGETS.get(name),
-            "fiberpath_runs_s": fp, "winder_runs_s": wi}
 
 
 def startup(repeats: int) -> dict[str, float]:
@@ -112,6 +119,9 @@ def markdown(data: dict[str, Any]) -> list[str]:
         lines += ["| example | fiberpath | winder | fiberpath / winder | target |", "|---|---:|---:|---:|---:|"]
         for j in data["jobs"]:
             tgt = f">= {j['target']:g}x" if j.get("target") else "-"
+            if "error" in j:
+                lines.append(f"| {j['name']} | - | - | failed: `{j['error'][-160:]}` | {tgt} |")
+                continue
             lines.append(f"| {j['name']} | {j['fiberpath_s']:.3f} s | {j['winder_s']:.3f} s | {j['ratio']:.2f}x | {tgt} |")
         lines.append("")
     else:

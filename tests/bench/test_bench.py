@@ -155,3 +155,18 @@ def test_speed_check_runs_and_reports_its_stop():
     assert rep.lbfgs_iterations <= 20 and rep.lbfgs_stop == "iteration cap"
     assert rep.newton_change < 1e-12  # Newton is converged: one more solve leaves the length alone
     assert [n for n, _ in rep.growth] == [100]
+
+
+def test_a_refused_example_is_a_row_of_its_own(monkeypatch, tmp_path):
+    """One example that a tool refuses is reported as failed; the other examples still get figures."""
+    from bench import fiberpath_jobs  # noqa: PLC0415
+
+    def refuse(argv):
+        raise RuntimeError(f"{argv[0]} exited 1: Error: the payout eye comes too close")
+
+    monkeypatch.setattr(fiberpath_jobs, "_timed", refuse)
+    row = fiberpath_jobs._job("cone_reducer", 1)
+    assert row["error"].endswith("the payout eye comes too close")
+    page = "\n".join(fiberpath_jobs.markdown({"jobs": [row], "startup_s": {}, "startup_targets_s": {},
+                                              "imports": []}))
+    assert "| cone_reducer | - | - | failed: `" in page
