@@ -10,7 +10,8 @@ from winder.export.dialects.linuxcnc import LinuxcncGcode
 from winder.export.dialects.marlin import MarlinGcode
 from winder.export.dialects.robot import RobotPoses
 from winder.export.dialects.text import Dialect, Move, serialize
-from winder.machine.program import MotionProgram, build_program
+from winder.export.programs import program_of
+from winder.machine.program import MotionProgram
 from winder.winding.results import WindingPlan
 
 
@@ -28,13 +29,13 @@ def dialect_for(program: MotionProgram, band_width: float = 0.0) -> Dialect:
 
 def program_moves(plan: WindingPlan, machine: MachineConfig) -> tuple[Move, ...]:
     """The programmed moves (or poses) of gcode_text, in order, with their contact points."""
-    program = build_program(plan, machine)
+    program = program_of(plan, machine)
     return tuple(serialize(program, dialect_for(program))[1])
 
 
 def gcode_text(plan: WindingPlan, machine: MachineConfig, band_width: float = 0.0) -> str:
     """The whole program as text (newline-terminated lines); band_width (mm) for the marlin header."""
-    program = build_program(plan, machine)
+    program = program_of(plan, machine)
     return "\n".join(serialize(program, dialect_for(program, band_width))[0]) + "\n"
 
 

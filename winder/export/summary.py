@@ -27,7 +27,7 @@ import math
 from typing import Any
 
 from winder.errors import ExportError, WinderError
-from winder.machine.program import build_program
+from winder.export.programs import program_of
 from winder.winding.results import LayerPlan, WindingPlan
 
 LENGTH_DECIMALS = 3
@@ -121,7 +121,7 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
 def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None]]:
     """(total, per layer) machine time from the dynamics; None where no program can be built."""
     try:
-        program = build_program(plan, machine)
+        program = program_of(plan, machine)
     except ExportError:
         return None, [None] * len(plan.layers)
     layers = list(program.layer_times_s)
