@@ -10,7 +10,6 @@ options (fiberpath's lock and lead-in, winder's dwell) are not the same physical
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -18,6 +17,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
+from bench.fiberpath_jobs import FIBERPATH
 from bench.settings import Settings
 from bench.timing import interleaved
 
@@ -52,7 +52,7 @@ def _gcode_stats(text: str) -> dict[str, int]:
 
 
 def compare_job(settings: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
-    exe = shutil.which("fiberpath")
+    exe = str(FIBERPATH) if FIBERPATH.exists() else None  # one place says where fiberpath is
     out: dict[str, Any] = {"job": {"radius_mm": RADIUS, "length_mm": LENGTH, "band_mm": BAND, "angle_deg": ANGLE,
                                    "feed_mm_min": FEED},
                            "fiberpath_wind": WIND, "winder_yaml": JOB_YAML, "notes": []}
