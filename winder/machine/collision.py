@@ -14,7 +14,6 @@ tolerance), distance - size / 2 > 0 with `eye: {radius}`.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
@@ -26,6 +25,8 @@ SAMPLES_PER_MOVE = 8
 def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
     """Distance (mm) of meridian points (rho, z) from the part (module docstring); < 0 inside."""
     t, r = env.stations, env.mandrel_radius
+    from scipy.spatial import cKDTree  # noqa: PLC0415 - scipy.spatial is slow to import
+
     tree = cKDTree(np.column_stack([t, r]))
     q = np.column_stack([z, rho])
     _, k = tree.query(q)

@@ -56,7 +56,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
@@ -252,6 +251,8 @@ class _Guide:
         self.x = np.concatenate([self.x0 - ext[::-1, None] * self.t0, curve.evaluate(z).x,
                                  self.x1 + ext[:, None] * self.t1])
         self.curve = curve
+        from scipy.spatial import cKDTree  # noqa: PLC0415 - scipy.spatial is slow to import
+
         self.tree = cKDTree(self.x)
 
     def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.geometry.index_spline import knot_slopes
 from winder.geometry.surface import SweepSurface
 from winder.winding.results import FiberPass, PassKind
 
@@ -38,8 +39,6 @@ class SmoothPaths:
     fiber's, swinging round an end that holds it) is interpolated between its points'."""
 
     def __init__(self, surface: SweepSurface, passes: list[FiberPass]) -> None:
-        from scipy.interpolate import CubicSpline  # noqa: PLC0415 - scipy is imported where used
-
         self.surface = surface
         s, th, ds, dth, offsets, last, free, d = [], [], [], [], [], [], [], []
         count = 0
@@ -53,10 +52,11 @@ class SmoothPaths:
             free.append(np.full(n, fp.kind is PassKind.DWELL))
             d.append(np.asarray(fp.direction, dtype=float).reshape(n, 3))
             if n >= 2:
-                cs, ct = CubicSpline(u, fp.s), CubicSpline(u, fp.theta)
+                # The not-a-knot cubic spline's slopes against the point index (index_spline).
+                slopes = knot_slopes(np.column_stack([fp.s, fp.theta]))
                 # A dwell's directions are the free fiber's swing, not its parallel's tangent.
-                a, b = ((cs(u, 1), ct(u, 1)) if fp.kind is PassKind.DWELL
-                        else _along(surface, fp, cs(u, 1), ct(u, 1)))
+                a, b = ((slopes[:, 0], slopes[:, 1]) if fp.kind is PassKind.DWELL
+                        else _along(surface, fp, slopes[:, 0], slopes[:, 1]))
                 ds.append(a)
                 dth.append(b)
             else:
