@@ -24,19 +24,32 @@ MAX_FACTOR = 64  # dense points per planned interval, at most
 DENSE_SHARE = 0.25  # of the chord tolerance, left to the dense polyline's own bow
 
 
-def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: Callable, tol: float):
+def midpoints(paths: SmoothPaths, j: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(points (n-1, 3), directions (n-1, 3), theta (n-1,)) on the smooth path of pass j (n points)
+    halfway between its planned points."""
+    _, th, p, d = paths.point(paths.offset[j] + np.arange(n - 1) + 0.5)
+    return p, d, th
+
+
+def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: Callable, tol: float,
+            base_lead=None, mid=None):
     """(points (k, 3), directions (k, 3), theta (k,), u (k,) fractional planned point index) of pass
     j resampled for the chord tolerance, or None where the planned points suffice. theta : (n,) the
-    pass's program angles (unwrapped, with the program's turn count). axes(points, directions, theta)
-    -> (k, c) the scaled axis values of those contact points."""
+    pass's program angles (unwrapped, with the program's turn count). axes(points, directions, theta,
+    lead) -> (k, c) the scaled axis values of those contact points (lead: their eye leads, or None).
+    base_lead : the planned points' leads; mid : (points, directions, theta, leads) of the midpoints,
+    when the caller computed them for many passes at once (the leads are pointwise)."""
     n = len(fp.s)
     if n < 2:
         return None
     shift = float(theta[0] - fp.theta[0])  # whole turns the program adds
-    base = axes(fp.points, fp.direction, theta)
-    mid = paths.offset[j] + np.arange(n - 1) + 0.5
-    _, th_mid, p_mid, d_mid = paths.point(mid)
-    q_mid = axes(p_mid, d_mid, th_mid + shift)
+    base = axes(fp.points, fp.direction, theta, base_lead)
+    if mid is None:
+        p_mid, d_mid, th_mid = midpoints(paths, j, n)
+        mid_lead = None
+    else:
+        p_mid, d_mid, th_mid, mid_lead = mid
+    q_mid = axes(p_mid, d_mid, th_mid + shift, mid_lead)
     bow = float(np.max(np.linalg.norm(q_mid - 0.5 * (base[1:] + base[:-1]), axis=1)))
     if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
         return None

@@ -238,6 +238,29 @@ def _all_leads(plan: WindingPlan, env) -> list[tuple[np.ndarray, np.ndarray] | N
     return list(zip(np.split(lam, cuts), np.split(ok, cuts)))
 
 
+def _all_midpoints(plan: WindingPlan, smooth: dict, number: dict, env) -> dict:
+    """id(pass) -> (points, directions, theta, leads) of its smooth path's interval midpoints, a layer
+    in one call each (the densify check's input; the leads are pointwise). Empty where the eye cannot
+    clear the mandrel: densify then finds it pass by pass and names the pass in its refusal."""
+    out = {}
+    for layer in plan.layers:
+        passes = [fp for fp in layer.passes if len(fp.points) >= 2]
+        if not passes:
+            continue
+        paths = smooth[layer.index]
+        sizes = [len(fp.points) - 1 for fp in passes]
+        u = np.concatenate([paths.offset[number[id(fp)]] + np.arange(k) + 0.5 for fp, k in zip(passes, sizes)])
+        _, th, p, d = paths.point(u)
+        try:
+            lam, ok = eye_leads(p, d, env)
+        except ExportError:
+            return {}
+        cuts = np.cumsum(sizes)[:-1]
+        for fp, *parts in zip(passes, *(np.split(a, cuts) for a in (p, d, th, lam, ok))):
+            out[id(fp)] = (parts[0], parts[1], parts[2], (parts[3], parts[4]))
+    return out
+
+
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
@@ -266,6 +289,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     smooth = {} if robot else {layer.index: SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
                                for layer in plan.layers}
     number = {id(fp): j for layer in plan.layers for j, fp in enumerate(layer.passes)}
+    mids = {} if robot else _all_midpoints(plan, smooth, number, env)
 
     def scaled(path) -> np.ndarray:
         return np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
@@ -294,8 +318,9 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                     theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
                     path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
                                     sense=sense, where=where, lead=lead)
-                dense = densify(smooth[layer.index], number[id(fp)], fp, theta, lambda p, d, th: scaled(
-                    eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, where=where)), tol)
+                dense = densify(smooth[layer.index], number[id(fp)], fp, theta, lambda p, d, th, ld: scaled(
+                    eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, where=where, lead=ld)),
+                    tol, lead, mids.get(id(fp)))
                 if dense is not None:
                     points, directions, dense_theta, u = dense
                     path = eye_path(points, directions, surface, machine, theta=dense_theta, envelope=env,
