@@ -29,12 +29,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from winder.config.machine import MachineConfig
-from winder.errors import ExportError
 from winder.machine.collision import check_collision
-from winder.machine.densify import DENSE_SHARE, densify
+from winder.machine.batch import all_dense, all_leads, all_midpoints, all_poses, pass_where
+from winder.machine.densify import DENSE_SHARE
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.envelope import eye_envelope
-from winder.machine.kinematics import RobotPoses, eye_leads, eye_path, make_guide, robot_poses
+from winder.machine.kinematics import eye_path, make_guide
 from winder.machine.limits import check_limits
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
@@ -197,70 +197,6 @@ class _Turns:
         self.end_point = np.asarray(last, dtype=float)
 
 
-def pass_where(plan: WindingPlan, fp: FiberPass) -> str:
-    """How messages name a pass: file, layer, circuit, pass and kind."""
-    return f"{plan.source}: layer {fp.layer} circuit {fp.circuit} pass {fp.number} ({fp.kind.value})"
-
-
-def _all_poses(plan: WindingPlan, machine: MachineConfig, env, guide) -> list[RobotPoses]:
-    """Robot poses of every non-empty pass, solved in one batch (the solver's cost is per call)."""
-    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
-    if not passes:
-        return []
-    sizes = np.cumsum([len(fp.points) for fp in passes])[:-1]
-    try:
-        batch = robot_poses(np.concatenate([fp.points for fp in passes]),
-                            np.concatenate([fp.direction for fp in passes]), plan.surface, machine,
-                            envelope=env, guide=guide)
-    except ExportError:
-        for fp in passes:  # name the pass that fails
-            robot_poses(fp.points, fp.direction, plan.surface, machine, envelope=env, guide=guide,
-                        where=pass_where(plan, fp))
-        raise
-    parts = [np.split(np.asarray(getattr(batch, f)), sizes) for f in
-             ("position", "direction", "station", "lead", "on_envelope")]
-    return [RobotPoses(*fields) for fields in zip(*parts)]
-
-
-def _all_leads(plan: WindingPlan, env) -> list[tuple[np.ndarray, np.ndarray] | None]:
-    """eye_leads of every non-empty pass in plan order, from one call over all their points (the lead
-    is pointwise, so the values are the same as pass by pass). Where the eye cannot clear the mandrel,
-    None for every pass: eye_path then finds it pass by pass and names the pass in its refusal."""
-    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
-    if not passes:
-        return []
-    try:
-        lam, ok = eye_leads(np.concatenate([fp.points for fp in passes]),
-                            np.concatenate([fp.direction for fp in passes]), env)
-    except ExportError:
-        return [None] * len(passes)
-    cuts = np.cumsum([len(fp.points) for fp in passes])[:-1]
-    return list(zip(np.split(lam, cuts), np.split(ok, cuts)))
-
-
-def _all_midpoints(plan: WindingPlan, smooth: dict, number: dict, env) -> dict:
-    """id(pass) -> (points, directions, theta, leads) of its smooth path's interval midpoints, a layer
-    in one call each (the densify check's input; the leads are pointwise). Empty where the eye cannot
-    clear the mandrel: densify then finds it pass by pass and names the pass in its refusal."""
-    out = {}
-    for layer in plan.layers:
-        passes = [fp for fp in layer.passes if len(fp.points) >= 2]
-        if not passes:
-            continue
-        paths = smooth[layer.index]
-        sizes = [len(fp.points) - 1 for fp in passes]
-        u = np.concatenate([paths.offset[number[id(fp)]] + np.arange(k) + 0.5 for fp, k in zip(passes, sizes)])
-        _, th, p, d = paths.point(u)
-        try:
-            lam, ok = eye_leads(p, d, env)
-        except ExportError:
-            return {}
-        cuts = np.cumsum(sizes)[:-1]
-        for fp, *parts in zip(passes, *(np.split(a, cuts) for a in (p, d, th, lam, ok))):
-            out[id(fp)] = (parts[0], parts[1], parts[2], (parts[3], parts[4]))
-    return out
-
-
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
@@ -283,17 +219,25 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     progress = sum(float(fp.theta[-1] - fp.theta[0]) for layer in plan.layers for fp in layer.passes
                    if len(fp.theta))
     sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
-    poses = iter(_all_poses(plan, machine, env, guide) if robot else ())
-    leads = iter(() if robot else _all_leads(plan, env))
+    poses = iter(all_poses(plan, machine, env, guide) if robot else ())
+    nonempty = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    lead_of = {} if robot else {id(fp): lead for fp, lead in zip(nonempty, all_leads(plan, env))}
     # Each layer's smooth paths lie on the surface it was wound on (the mandrel grown by the layers below).
     smooth = {} if robot else {layer.index: SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
                                for layer in plan.layers}
     number = {id(fp): j for layer in plan.layers for j, fp in enumerate(layer.passes)}
-    mids = {} if robot else _all_midpoints(plan, smooth, number, env)
+    mids = {} if robot else all_midpoints(plan, smooth, number, env)
 
     def scaled(path) -> np.ndarray:
         return np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
                                 np.radians(path.b_deg) * angle_scale])
+
+    def axes_of(fp: FiberPass):
+        where = pass_where(plan, fp)
+        return lambda p, d, th, ld: scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense,
+                                                    where=where, lead=ld))
+
+    dense_of = {} if robot else all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol)
 
     for layer in plan.layers:
         segments: list[Segment] = []
@@ -310,7 +254,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                 q = np.column_stack([pose.position, angle_scale * pose.direction])
                 table = np.column_stack([pose.position, pose.direction])
             else:
-                lead = next(leads)
+                lead = lead_of[id(fp)]
                 path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
                                 sense=sense, where=where, lead=lead)
                 if jumped and a_end is not None and (path.a_deg[0] - a_end) * turns.sense > TURN_BACK_DEG:
@@ -318,13 +262,11 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                     theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
                     path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
                                     sense=sense, where=where, lead=lead)
-                dense = densify(smooth[layer.index], number[id(fp)], fp, theta, lambda p, d, th, ld: scaled(
-                    eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, where=where, lead=ld)),
-                    tol, lead, mids.get(id(fp)))
-                if dense is not None:
-                    points, directions, dense_theta, u = dense
-                    path = eye_path(points, directions, surface, machine, theta=dense_theta, envelope=env,
-                                    sense=sense, where=where)
+                dense = dense_of.get(id(fp))
+                if dense is not None:  # at the plan's turn count: add the program's whole turns
+                    points, directions, dense_theta, u, dense_lead = dense
+                    path = eye_path(points, directions, surface, machine, envelope=env, sense=sense, where=where,
+                                    theta=dense_theta + float(theta[0] - fp.theta[0]), lead=dense_lead)
                 a_end = float(path.a_deg[-1])
                 if b_end is not None:
                     path = replace(path, b_deg=path.b_deg + 360.0 * np.round((b_end - path.b_deg[0]) / 360.0))

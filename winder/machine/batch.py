@@ -1,0 +1,102 @@
+"""Pointwise work of the motion program for every pass at once: robot poses, eye leads, the densify
+check's midpoints and dense resamplings. The solver and the eye's lead scan cost per call, so a
+layer's (or a plan's) points go in one call; the values are the same as pass by pass. Where a batch
+fails (the eye cannot clear the mandrel), the program goes pass by pass and names the pass."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from winder.config.machine import MachineConfig
+from winder.errors import ExportError
+from winder.machine.densify import densify
+from winder.machine.kinematics import RobotPoses, eye_leads, robot_poses
+from winder.winding.results import FiberPass, WindingPlan
+
+
+def pass_where(plan: WindingPlan, fp: FiberPass) -> str:
+    """How messages name a pass: file, layer, circuit, pass and kind."""
+    return f"{plan.source}: layer {fp.layer} circuit {fp.circuit} pass {fp.number} ({fp.kind.value})"
+
+
+def all_poses(plan: WindingPlan, machine: MachineConfig, env, guide) -> list[RobotPoses]:
+    """Robot poses of every non-empty pass, solved in one batch (the solver's cost is per call)."""
+    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    if not passes:
+        return []
+    sizes = np.cumsum([len(fp.points) for fp in passes])[:-1]
+    try:
+        batch = robot_poses(np.concatenate([fp.points for fp in passes]),
+                            np.concatenate([fp.direction for fp in passes]), plan.surface, machine,
+                            envelope=env, guide=guide)
+    except ExportError:
+        for fp in passes:  # name the pass that fails
+            robot_poses(fp.points, fp.direction, plan.surface, machine, envelope=env, guide=guide,
+                        where=pass_where(plan, fp))
+        raise
+    parts = [np.split(np.asarray(getattr(batch, f)), sizes) for f in
+             ("position", "direction", "station", "lead", "on_envelope")]
+    return [RobotPoses(*fields) for fields in zip(*parts)]
+
+
+def all_leads(plan: WindingPlan, env) -> list[tuple[np.ndarray, np.ndarray] | None]:
+    """eye_leads of every non-empty pass in plan order, from one call over all their points (the lead
+    is pointwise, so the values are the same as pass by pass). Where the eye cannot clear the mandrel,
+    None for every pass: eye_path then finds it pass by pass and names the pass in its refusal."""
+    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    if not passes:
+        return []
+    try:
+        lam, ok = eye_leads(np.concatenate([fp.points for fp in passes]),
+                            np.concatenate([fp.direction for fp in passes]), env)
+    except ExportError:
+        return [None] * len(passes)
+    cuts = np.cumsum([len(fp.points) for fp in passes])[:-1]
+    return list(zip(np.split(lam, cuts), np.split(ok, cuts)))
+
+
+def all_midpoints(plan: WindingPlan, smooth: dict, number: dict, env) -> dict:
+    """id(pass) -> (points, directions, theta, leads) of its smooth path's interval midpoints, a layer
+    in one call each (the densify check's input; the leads are pointwise). Empty where the eye cannot
+    clear the mandrel: densify then finds it pass by pass and names the pass in its refusal."""
+    out = {}
+    for layer in plan.layers:
+        passes = [fp for fp in layer.passes if len(fp.points) >= 2]
+        if not passes:
+            continue
+        paths = smooth[layer.index]
+        sizes = [len(fp.points) - 1 for fp in passes]
+        u = np.concatenate([paths.offset[number[id(fp)]] + np.arange(k) + 0.5 for fp, k in zip(passes, sizes)])
+        _, th, p, d = paths.point(u)
+        try:
+            lam, ok = eye_leads(p, d, env)
+        except ExportError:
+            return {}
+        cuts = np.cumsum(sizes)[:-1]
+        for fp, *parts in zip(passes, *(np.split(a, cuts) for a in (p, d, th, lam, ok))):
+            out[id(fp)] = (parts[0], parts[1], parts[2], (parts[3], parts[4]))
+    return out
+
+
+def all_dense(plan: WindingPlan, smooth: dict, number: dict, leads: dict, mids: dict, env, axes_of,
+              tol: float) -> dict:
+    """id(pass) -> (points, directions, theta, u, leads) of every pass the chord tolerance makes
+    densify (winder.machine.densify), theta at the plan's own turn count (the bow does not depend on
+    it), the dense points' leads in one call. axes_of(fp) -> the pass's axes function for densify."""
+    out = {}
+    for layer in plan.layers:
+        for fp in layer.passes:
+            if len(fp.points) >= 2:
+                dense = densify(smooth[layer.index], number[id(fp)], fp, np.asarray(fp.theta, dtype=float),
+                                axes_of(fp), tol, leads.get(id(fp)), mids.get(id(fp)))
+                if dense is not None:
+                    out[id(fp)] = dense
+    if not out:
+        return {}
+    sets = list(out.values())
+    try:
+        lam, ok = eye_leads(np.concatenate([d[0] for d in sets]), np.concatenate([d[1] for d in sets]), env)
+    except ExportError:
+        return {key: (*d, None) for key, d in out.items()}
+    cuts = np.cumsum([len(d[0]) for d in sets])[:-1]
+    return {key: (*d, lead) for (key, d), lead in zip(out.items(), zip(np.split(lam, cuts), np.split(ok, cuts)))}
