@@ -7,7 +7,7 @@ wall-clock timings: estimated times are the planner's, at the machine feed.
 
 Keys: name, source, total_fiber_length_mm, estimated_time_s, layer_count, and layers: one object per
 layer with index, type, angle_deg, requested_angle_deg, angle_change_deg, circuits, pattern (as planned),
-passes, fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
+passes (the layer's passes in the job CSV: turnarounds and dwells included), fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
 when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
 {covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text),
 max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0).

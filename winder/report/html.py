@@ -55,7 +55,7 @@ HOW = {
 
 def layer_title(layer: LayerPlan) -> str:
     if layer.type.value == "hoop":
-        return f"Layer {layer.index}: hoop {layer.angle_deg:.2f}°, {len(layer.passes)} traverse(s)"
+        return f"Layer {layer.index}: hoop {layer.angle_deg:.2f}°, {layer.circuits} traverse(s)"
     return (f"Layer {layer.index}: helical ±{layer.angle_deg:.2f}°, {layer.circuits} circuits, "
             f"pattern k = {layer.pattern}")
 
