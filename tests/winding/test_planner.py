@@ -181,6 +181,21 @@ def test_hoop_on_cone_slips():
                  {"band_width": 10, "friction": 0.05, "layers": [{"type": "hoop"}]}))
 
 
+@pytest.mark.parametrize("mandrel, friction", [
+    (PIPE, 0.0),  # a hoop on a cylinder is a helix, a geodesic: no friction needed, round-off apart
+    ({"axis": {"type": "line", "length": 400},
+      "section": {"type": "rounded_rectangle", "width": 100, "height": 70, "corner_radius": 15}}, 0.3),
+    ({"axis": {"type": "line", "length": 400},
+      "section": {"type": "superellipse", "a": 50, "b": 40, "exponent": 4}}, 0.3),
+])
+def test_hoop_on_a_straight_tube_holds(mandrel, friction):
+    """A constant-pitch hoop on a straight tube of any section is a geodesic (the tube develops flat):
+    it holds whatever the friction, on flat faces too (k_n = 0 there: friction is not what holds it)."""
+    p = plan(job(mandrel, {"band_width": 10, "friction": friction, "region": {"start": 20, "end": 380},
+                           "layers": [{"type": "hoop", "passes": 2}]}))
+    assert p.layers[0].max_slip <= friction + 1e-3
+
+
 def test_plan_needs_winding():
     with pytest.raises(ConfigError, match="t.yaml: winding: missing"):
         plan(parse_config({"name": "t", "mandrel": PIPE}, "t.yaml"))

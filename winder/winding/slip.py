@@ -29,10 +29,13 @@ SLIP_MARGIN = 1e-3  # measured slip may exceed mu by this (the polyline measurem
 
 def slip_ratio(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> np.ndarray:
     """|k_g / k_n| at the points (s, theta) (m,) of a densely sampled path: friction mu holds the fiber
-    where this is <= mu (MATH.md 7). The samples' index is the parameter (np.gradient derivatives)."""
+    where this is <= mu (MATH.md 7). The samples' index is the parameter (np.gradient derivatives).
+    Where the path runs on a flat face (k_n below PRESS_FLOOR of its largest) friction is not what
+    holds it, and the ratio of two round-off values would say nothing: 0 there, as in `measure`."""
     ds, dth = np.gradient(s), np.gradient(th)
     k_n, k_g = curve_curvatures(surface, s, th, ds, dth, np.gradient(ds), np.gradient(dth))
-    return np.abs(k_g) / np.maximum(np.abs(k_n), 1e-300)
+    pressing = np.abs(k_n) >= PRESS_FLOOR * float(np.max(np.abs(k_n)))
+    return np.where(pressing, np.abs(k_g) / np.where(pressing, np.abs(k_n), 1.0), 0.0)
 
 
 def check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None:
@@ -44,7 +47,7 @@ def check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None
     s, th = np.interp(i, idx, p.s), np.interp(i, idx, p.theta)
     ratio = slip_ratio(surf, s, th)
     worst = int(np.argmax(ratio))
-    if ratio[worst] > ctx.winding.friction:
+    if ratio[worst] > ctx.winding.friction + SLIP_MARGIN:  # a round-off slip is no slip, even at mu = 0
         t = float(surf.t_of_s(s[worst:worst + 1])[0])
         raise SolverError(f"{ctx.key(index)}: a hoop layer would slip here: |k_g / k_n| reaches "
                           f"{ratio[worst]:.3g} at t = {t:.3f} mm, above the friction coefficient "
