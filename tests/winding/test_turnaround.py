@@ -22,6 +22,7 @@ from winder.winding.turnaround import (SWING_MIN_DEG, TURN_SLIP_SHARE, heading_d
 R, MU = 50.0, 0.2
 CLOSED_FORM_TOL = 1e-8  # sin(alpha) along a traced leg against the closed form
 JOINT_TOL = 1e-9  # mm and rad: where one pass ends the next begins, in the same direction
+JOINT_DIRECTION_TOL = 1e-6  # unit tangents on either side of a joint
 SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 
 
@@ -97,6 +98,24 @@ def test_plans_are_continuous_and_held(name):
             turn = math.degrees(d.theta[-1] - d.theta[0])
             swings = np.ptp(d.alpha_deg) > 1e-6 or abs(abs(d.alpha_deg[0]) - 90.0) > 1e-6
             assert turn >= (least if swings else 0.0)
+
+
+def test_hoop_on_a_cone_reverses_without_a_kink():
+    """A hoop on a cone holds its angle on the reference (largest) section only: toward the small end
+    the constant pitch runs flatter. Each way in leaves with the hoop's own last direction, so the
+    fiber does not kink and the eye does not swing back where the carriage reverses."""
+    from winder.config.job import parse_config  # noqa: PLC0415
+
+    job = parse_config({"name": "cone", "mandrel": {"axis": {"type": "line", "length": 600},
+                                                    "profile": {"type": "cone", "start_radius": 60,
+                                                                "end_radius": 40}},
+                        "winding": {"band_width": 12, "friction": 0.3, "region": {"start": 100, "end": 500},
+                                    "layers": [{"type": "hoop", "passes": 3}]}}, "cone.yaml")
+    passes = [p for p in plan_job(job).layers[0].passes if len(p.points)]
+    assert any(p.kind is PassKind.TURNAROUND for p in passes)
+    for a, b in zip(passes, passes[1:]):
+        assert np.linalg.norm(a.points[-1] - b.points[0]) < JOINT_TOL
+        assert np.linalg.norm(a.direction[-1] - b.direction[0]) < JOINT_DIRECTION_TOL
 
 
 def test_pipe_turns_on_its_20_mm_ends():

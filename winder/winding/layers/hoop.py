@@ -24,7 +24,7 @@ from winder.winding.passes import (
     winding_region,
 )
 from winder.winding.results import FiberPass, LayerPlan, PassKind
-from winder.winding.turnaround import SWING_MIN_DEG, trace_leg
+from winder.winding.turnaround import SWING_MIN_DEG, heading_deg, trace_leg
 
 HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
 
@@ -71,8 +71,11 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         passes.append(make_pass(surf, index + 1, k + 1, len(passes) + 1, PassKind.HOOP, s, th, direction, length))
         theta_start = float(th[-1])
         if k + 1 < cfg.passes:
-            # The carriage reverses while the mandrel turns on (winder.winding.turnaround).
-            heading = alpha if forward else 180.0 - alpha
+            # The carriage reverses while the mandrel turns on (winder.winding.turnaround). The way in
+            # leaves with the pass's own last heading: alpha holds on the reference section only (a
+            # constant pitch turns steeper where the section is larger, on a cone), and any other
+            # heading would kink the fiber and swing the eye back.
+            heading = float(heading_deg(surf, s[-1:], th[-1:], direction[-1:])[0])
             leg = trace_leg(surf, float(s[-1]), heading, 1.0 if forward else -1.0, w.friction)
             turn = math.radians(SWING_MIN_DEG) if leg.held_by_end else 0.0
             passes += turnaround_passes(ctx, index + 1, k + 1, len(passes) + 1, leg, float(s[-1]), theta_start,
