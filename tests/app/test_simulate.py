@@ -111,3 +111,22 @@ def test_cli_simulate_json_and_csv(tmp_path):
     bad.write_text("G21\nG1 X1 A2 Q3 F100\n")
     result = CliRunner().invoke(main, ["simulate", str(config), str(bad)])
     assert result.exit_code == 2 and result.stderr.startswith("Error: ")
+
+
+def test_long_swing_dwell_read_back_within_the_tolerance():
+    """Dwells of 100 turns where the ends hold the fiber: a move spans turns of the mandrel, and the
+    dwell's tangent rays a turn apart nearly coincide; each move's midpoint is still found halfway
+    along its own move, within chord_tolerance of the plan."""
+    from winder.config.job import parse_config  # noqa: PLC0415
+
+    job = parse_config({"name": "swing", "mandrel": {"axis": {"type": "line", "length": 500},
+                                                     "profile": {"type": "constant", "radius": 50}},
+                        "winding": {"band_width": 10, "points": 30, "dwell": {"start": 36000, "end": 36000},
+                                    "region": {"start": 10, "end": 490},
+                                    "layers": [{"type": "helical", "angle": 45}]},
+                        "machine": {"eye": {"clearance": 20}}}, "swing.yaml")
+    plan = plan_job(job)
+    sim = simulate(job.machine, plan, gcode_text(plan, job.machine))
+    assert sim.max_point_deviation_mm < TANGENT_TOL
+    assert sim.max_deviation_mm < job.machine.chord_tolerance
+    assert sim.fiber_length_mm == pytest.approx(plan.total_fiber_length_mm, rel=1e-4)

@@ -6,7 +6,8 @@ at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
 point p(u) of the planned pass (the smooth path through its points: a cubic spline in (s, theta)
 over the point index, MATH.md 2) whose tangent ray p + lambda d, lambda > 0, passes closest to E;
-the plan's nearest point is the initial guess, golden-section search on u refines it. Its
+the plan's nearest point is the initial guess (a move's midpoint: also the nearest in the middle half
+between its rows' contacts, the better one kept), golden-section search on u refines it. Its
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
 lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
 Samples: every programmed point and the midpoint of every move within a pass (the eye the
@@ -148,6 +149,19 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         dist = np.stack([_ray_distance(np.tile(e, (len(fp.points), 1)), fp.points, fp.direction)
                          for e in all_eye[rows]])
         guess[rows] = np.argmin(dist, axis=1)
+    # A move's midpoint also gets a second guess, the closest ray in the middle half between its two
+    # rows' contacts (a joined move: from the pass's first point), and keeps the better of the two
+    # refined: a parallel wound round several times in one move (a long dwell) has nearly the same
+    # rays a turn apart, and the closest of those over the pass may be turns away from the move.
+    halfway = guess.copy()
+    for q in range(mid_rows.size):
+        j, row = all_pass[m + q], mid_rows[q]
+        lo, hi = sorted((int(guess[row - 1]) if same[row] else 0, int(guess[row])))
+        half = max(2, (hi - lo) // 4)
+        a, b = max(lo, (lo + hi) // 2 - half), min(hi, (lo + hi + 1) // 2 + half)
+        fp = passes[j]
+        near = _ray_distance(np.tile(all_eye[m + q], (b - a + 1, 1)), fp.points[a:b + 1], fp.direction[a:b + 1])
+        halfway[m + q] = a + int(np.argmin(near))
     n = all_eye.shape[0]
     s, th, t = np.zeros(n), np.zeros(n), np.zeros(n)
     p, d, alpha, arc = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n), np.zeros(n)
@@ -161,9 +175,12 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         paths = SmoothPaths(surface, [passes[j] for j in local])
         where = np.searchsorted(local, all_pass[mine])
         first, last = paths.offset[where], paths.last[where]
-        lo = np.clip(first + guess[mine] - 1, first, last)
-        hi = np.clip(first + guess[mine] + 1, first, last)
-        u = _contacts(paths, all_eye[mine], lo, hi)
+        u = []
+        for g in (guess[mine], halfway[mine]):
+            u.append(_contacts(paths, all_eye[mine], np.clip(first + g - 1, first, last),
+                               np.clip(first + g + 1, first, last)))
+        off = [_ray_distance(all_eye[mine], *paths.point(v)[2:]) for v in u]
+        u = np.where(off[1] < off[0], u[1], u[0])
         s[mine], th[mine], p[mine], d[mine] = paths.point(u)
         toward = all_eye[mine] - p[mine]
         toward /= np.maximum(np.linalg.norm(toward, axis=1), 1e-300)[:, None]
