@@ -81,3 +81,21 @@ def test_no_axis_over_its_speed_or_limits(name):
         span = machine.limits.get(role)
         if span is not None:
             assert span[0] - PRINTED <= v[:, k].min() and v[:, k].max() <= span[1] + PRINTED, role
+
+
+def test_turnaround_joints_are_exact_on_a_cone_with_room():
+    """A cone wound 50 mm short of both ends (friction turns the fiber round past the region): the
+    ways in and out take the passes' own directions at the joints, so no move steps the eye at a
+    standing mandrel (a 2e-6 rad mismatch printed 65 such 0.001 mm moves, F600000 in G93)."""
+    from winder.config.job import load_config  # noqa: PLC0415
+    from winder.export.gcode import gcode_text  # noqa: PLC0415
+    from winder.winding.plan import plan as plan_job  # noqa: PLC0415
+
+    job = load_config(Path(__file__).parent / "configs" / "cone_region_linuxcnc.yaml")
+    rows = []
+    for line in gcode_text(plan_job(job), job.machine).splitlines():
+        if line.startswith("G1 "):
+            words = dict(_WORD.findall(line.split(";")[0]))
+            rows.append([float(words[k]) for k in "XAZB"])
+    step = np.diff(np.array(rows), axis=0)
+    assert np.all(np.abs(step[:, 1]) >= PRINTED / 2)

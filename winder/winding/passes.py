@@ -139,23 +139,31 @@ def dwell_pass(ctx: PlanContext, layer: int, circuit: int, number: int, s: float
 
 
 def turnaround_passes(ctx: PlanContext, layer: int, circuit: int, number: int, leg: Leg, s_end: float,
-                      th_in: float, th_next: float, headings: tuple[float, float]) -> list[FiberPass]:
+                      th_in: float, th_next: float, headings: tuple[float, float],
+                      joints: tuple[np.ndarray, np.ndarray] | None = None) -> list[FiberPass]:
     """One end's turnaround (winder.winding.turnaround) from th_in, where a pass ended at station
     s_end, to th_next, where the next one starts: the way in, the dwell at the apex (a swing between
-    `headings` where the end holds the fiber), the way out; passes numbered from `number`."""
+    `headings` where the end holds the fiber), the way out; passes numbered from `number`. joints:
+    the directions (3,) the pass before ends with and the pass after starts with; the ways take them
+    at the joints (they agree to ~1e-6 rad, and the eye must not step between them)."""
     surf = ctx.surface
     th_apex = th_in + 0.5 * leg.turn
     turn = th_next - th_in - leg.turn
     passes: list[FiberPass] = []
     if leg.s.size:
-        passes.append(leg_pass(surf, layer, circuit, number, PassKind.TURNAROUND, leg_way(surf, leg, th_in, False)))
+        s, th, d = leg_way(surf, leg, th_in, False)
+        if joints is not None:
+            d[0] = joints[0]
+        passes.append(leg_pass(surf, layer, circuit, number, PassKind.TURNAROUND, (s, th, d)))
     if turn > DWELL_MIN_RAD:
         s_apex = float(leg.s[-1]) if leg.s.size else s_end
         passes.append(dwell_pass(ctx, layer, circuit, number + len(passes), s_apex, th_apex, th_apex + turn,
                                  *headings))
     if leg.s.size:
-        way = leg_way(surf, leg, th_apex + max(turn, 0.0), True)
-        passes.append(leg_pass(surf, layer, circuit, number + len(passes), PassKind.TURNAROUND, way))
+        s, th, d = leg_way(surf, leg, th_apex + max(turn, 0.0), True)
+        if joints is not None:
+            d[-1] = joints[1]
+        passes.append(leg_pass(surf, layer, circuit, number + len(passes), PassKind.TURNAROUND, (s, th, d)))
     return passes
 
 

@@ -129,12 +129,19 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
         passes.append(make_pass(surf, layer, circuit, len(passes) + 1, PassKind.FORWARD, fwd.s, fwd.theta,
                                 fwd.direction, fwd.length))
         passes += turnaround_passes(ctx, layer, circuit, len(passes) + 1, leg_b, s_b, float(fwd.theta[-1]),
-                                    float(ret.theta[0]), heads_b)
+                                    float(ret.theta[0]), heads_b, (fwd.direction[-1], ret.direction[0]))
         passes.append(make_pass(surf, layer, circuit, len(passes) + 1, PassKind.RETURN, ret.s, ret.theta,
                                 ret.direction, ret.length))
         th_next = float(ctx.arcs.theta(np.array([f0 + (j + 1) * pat.advance]))[0])
+        # The next circuit's forward pass starts as this one's, turned by the circuit advance.
+        if nxt is None:
+            joints = None
+        elif surf.is_revolution:
+            joints = (ret.direction[-1], _turned(fwd.direction[:1], th_next - float(fwd.theta[0]))[0])
+        else:
+            joints = (ret.direction[-1], nxt.direction[0])
         passes += turnaround_passes(ctx, layer, circuit, len(passes) + 1, leg_a, s_a, float(ret.theta[-1]),
-                                    th_next, heads_a)
+                                    th_next, heads_a, joints)
     if surf.is_revolution:
         # A surface of revolution: circuit j is the first one turned by j circuit advances.
         first = list(passes)
