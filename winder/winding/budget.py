@@ -188,7 +188,7 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
         layer = budget.layers[worst]
         hoop = job.winding.layers[worst].type is LayerType.HOOP
         raise _refuse(job.source, f"winding.layers[{worst}].passes" if hoop else "winding.points",
-                      f"the job would plan {budget.points:.4g} points ({layer.points:.4g} in layer {worst}: "
+                      f"the job would plan {budget.points:.4g} points ({layer.points:.4g} in layer {worst + 1}: "
                       f"{layer.passes} passes of up to {layer.pass_points} points), more than the limit of "
                       f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
     if budget.memory_bytes > MAX_MEMORY_BYTES:
