@@ -145,7 +145,8 @@ def turnaround_passes(ctx: PlanContext, layer: int, circuit: int, number: int, l
     s_end, to th_next, where the next one starts: the way in, the dwell at the apex (a swing between
     `headings` where the end holds the fiber), the way out; passes numbered from `number`. joints:
     the directions (3,) the pass before ends with and the pass after starts with; the ways take them
-    at the joints (they agree to ~1e-6 rad, and the eye must not step between them)."""
+    at the joints (they agree to ~1e-6 rad, and the eye must not step between them). A way's length
+    is its traced arc length."""
     surf = ctx.surface
     th_apex = th_in + 0.5 * leg.turn
     turn = th_next - th_in - leg.turn
@@ -154,7 +155,7 @@ def turnaround_passes(ctx: PlanContext, layer: int, circuit: int, number: int, l
         s, th, d = leg_way(surf, leg, th_in, False)
         if joints is not None:
             d[0] = joints[0]
-        passes.append(leg_pass(surf, layer, circuit, number, PassKind.TURNAROUND, (s, th, d)))
+        passes.append(make_pass(surf, layer, circuit, number, PassKind.TURNAROUND, s, th, d, leg.length))
     if turn > DWELL_MIN_RAD:
         s_apex = float(leg.s[-1]) if leg.s.size else s_end
         passes.append(dwell_pass(ctx, layer, circuit, number + len(passes), s_apex, th_apex, th_apex + turn,
@@ -163,15 +164,9 @@ def turnaround_passes(ctx: PlanContext, layer: int, circuit: int, number: int, l
         s, th, d = leg_way(surf, leg, th_apex + max(turn, 0.0), True)
         if joints is not None:
             d[-1] = joints[1]
-        passes.append(leg_pass(surf, layer, circuit, number + len(passes), PassKind.TURNAROUND, (s, th, d)))
+        passes.append(make_pass(surf, layer, circuit, number + len(passes), PassKind.TURNAROUND, s, th, d,
+                                leg.length))
     return passes
-
-
-def leg_pass(surf: SweepSurface, layer: int, circuit: int, number: int, kind: PassKind, way) -> FiberPass:
-    s, th, d = way
-    pts = surf.points(s, th)
-    length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
-    return make_pass(surf, layer, circuit, number, kind, s, th, d, length)
 
 
 def winding_region(ctx: PlanContext) -> tuple[float, float]:

@@ -6,12 +6,12 @@
 ; yaw: B = eye rotation about the cross-feed axis from the hoop orientation: the free fiber's direction d at the eye, B = atan2(d.z, d.u) with u the eye's tangential direction (0 hoop, + forward, - return); on a cylinder of radius R with the eye at Z: tan(B) = Z / (R tan(alpha)), alpha the winding angle on the mandrel
 ; eye envelope: clearance 20.000 mm from the mandrel
 ; feed 3000.000 mm/min, chord tolerance 0.050 mm
-; layers: 1, fiber 55784.308 mm
-; layer 1: helical, angle 40.000 deg (requested 40.000), circuits 25, pattern 3, passes 100, fiber 55784.308 mm
+; layers: 1, fiber 55784.307 mm
+; layer 1: helical, angle 40.000 deg (requested 40.000), circuits 25, pattern 3, passes 100, fiber 55784.307 mm
 G21
 G90
 G94
-; layer 1: helical, angle 40.000 deg (requested 40.000), circuits 25, pattern 3, passes 100, fiber 55784.308 mm
+; layer 1: helical, angle 40.000 deg (requested 40.000), circuits 25, pattern 3, passes 100, fiber 55784.307 mm
 ; layer 1 circuit 1
 ; layer 1 circuit 1 pass 1 forward
 G1 X62.107 A-41.991 Z77.941 B57.125 F3000.000

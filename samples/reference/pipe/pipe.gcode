@@ -6,13 +6,13 @@
 ; yaw: B = eye rotation about the cross-feed axis from the hoop orientation: the free fiber's direction d at the eye, B = atan2(d.z, d.u) with u the eye's tangential direction (0 hoop, + forward, - return); on a cylinder of radius R with the eye at Z: tan(B) = Z / (R tan(alpha)), alpha the winding angle on the mandrel
 ; eye envelope: clearance 20.000 mm from the mandrel
 ; feed 3000.000 mm/min, chord tolerance 0.050 mm
-; layers: 2, fiber 62833.048 mm
-; layer 1: helical, angle 55.000 deg (requested 55.000), circuits 19, pattern 13, passes 152, fiber 33912.703 mm
+; layers: 2, fiber 62833.145 mm
+; layer 1: helical, angle 55.000 deg (requested 55.000), circuits 19, pattern 13, passes 152, fiber 33912.800 mm
 ; layer 2: hoop, angle 88.176 deg (requested 88.176), circuits 2, pattern 1, passes 4, fiber 28920.345 mm
 G21
 G90
 G94
-; layer 1: helical, angle 55.000 deg (requested 55.000), circuits 19, pattern 13, passes 152, fiber 33912.703 mm
+; layer 1: helical, angle 55.000 deg (requested 55.000), circuits 19, pattern 13, passes 152, fiber 33912.800 mm
 ; layer 1 circuit 1
 ; layer 1 circuit 1 pass 1 forward
 G1 X54.303 A-44.415 Z70.000 B44.430 F3000.000
