@@ -54,3 +54,26 @@ def test_a_move_through_the_mandrel_is_refused(tube):
     with pytest.raises(ExportError, match=r"pass X: the payout eye \(size 4 mm\) comes within 3.000 mm"):
         check_collision(values, env, machine, lambda row: "pass X")
     check_collision(values[:2], env, machine, lambda row: "pass X")  # the first move keeps 20 mm
+
+
+def _brute_distance(rho: np.ndarray, z: np.ndarray, t: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """Distance of (z, rho) from every meridian segment at once, the least kept (no search)."""
+    q = np.column_stack([z, rho])[:, None, :]
+    a = np.column_stack([t[:-1], r[:-1]])[None]
+    seg = np.column_stack([np.diff(t), np.diff(r)])[None]
+    u = np.clip(np.sum((q - a) * seg, axis=2) / np.sum(seg * seg, axis=2), 0.0, 1.0)
+    return np.min(np.linalg.norm(q - a - u[..., None] * seg, axis=2), axis=1)
+
+
+@pytest.mark.parametrize("profile", ["cylinder", "cone", "dome"])
+def test_part_distance_is_the_least_over_all_segments(profile):
+    """The slab search (and the nearest-vertex rule on a finely tabulated dome) against the distance
+    from every segment of the meridian, at points outside the part within and past the ends."""
+    t = np.linspace(0.0, 200.0, 801)
+    r = {"cylinder": np.full_like(t, 40.0), "cone": 40.0 - 0.1 * t,
+         "dome": np.sqrt(np.maximum(100.0**2 - (t - 100.0) ** 2, 0.0)) * 0.5 + 10.0}[profile]
+    env = type("Env", (), {"stations": t, "mandrel_radius": r})()
+    rng = np.random.default_rng(7)
+    z = rng.uniform(0.0, 200.0, 4000)
+    rho = np.interp(z, t, r) + rng.uniform(0.5, 30.0, z.size)
+    assert part_distance(rho, z, env) == pytest.approx(_brute_distance(rho, z, t, r), abs=CUT_TOL)

@@ -57,3 +57,22 @@ def test_new_layer_is_approached_around_the_part():
     assert rows[1, 2] == pytest.approx(top) and rows[2, 2] == pytest.approx(top)
     assert np.all(np.diff(rows[:, 1]) * np.sign(program.values[-1, 1] - program.values[0, 1]) > 0)
     assert np.all(program.fiber[seg.start:seg.start + 2] == 0.0) and APPROACH == "approach"
+
+
+@pytest.mark.parametrize("shape", ["noise", "arc_below_ends", "concave"])
+def test_concave_majorant_is_the_upper_hull(shape):
+    """The pruning sweeps (and the monotone chain they hand over to) against the definition: the least
+    concave majorant at x_i is the largest chord value over the pairs of points straddling it."""
+    from winder.machine.envelope import _concave_majorant
+
+    x = np.linspace(0.0, 100.0, 301)
+    z = {"noise": np.random.default_rng(3).normal(size=x.size),
+         "arc_below_ends": -((x - 50.0) ** 2) / 100.0 + np.where((x == 0.0) | (x == 100.0), 200.0, 0.0),
+         "concave": -((x - 50.0) ** 2) / 100.0}[shape]
+    i, j = np.triu_indices(x.size, 1)
+    best = z.copy()
+    for k in range(x.size):
+        span = (x[i] <= x[k]) & (x[j] >= x[k])
+        w = (x[k] - x[i[span]]) / (x[j[span]] - x[i[span]])
+        best[k] = max(best[k], np.max(z[i[span]] + w * (z[j[span]] - z[i[span]])))
+    assert _concave_majorant(x, z) == pytest.approx(best, abs=1e-9)

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.geometry.lapack import lapack as scipy_lapack
+
 # Gauss-Lobatto with 4 nodes on [0, 1]: the knots and 1/2 -+ sqrt(5)/10, weights 1/12, 5/12, 5/12,
 # 1/12. Exact to degree 5, and the knots are shared with the neighbouring segments.
 LOBATTO_T = np.array([0.5 - np.sqrt(5.0) / 10.0, 0.5 + np.sqrt(5.0) / 10.0])
@@ -40,7 +42,7 @@ def knot_slopes(y: np.ndarray) -> np.ndarray:
     upper = np.ones(m - 1)
     upper[0] = 2.0
     lower[-1] = 2.0
-    from scipy.linalg import lapack  # noqa: PLC0415 - scipy.linalg is slow to import: only when used
+    lapack = scipy_lapack()
 
     *_, slopes, info = lapack.dgtsv(lower, diag, upper, rhs, overwrite_b=True)
     if info != 0:  # the matrix is strictly diagonally dominant but for the end rows: cannot happen

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.geometry.lapack import lapack as scipy_lapack
+
 
 def _knots(x: np.ndarray, k: int) -> np.ndarray:
     """Not-a-knot knots for degree k through sites x (n,): (n + k + 1,) float."""
@@ -103,7 +105,7 @@ def _solve(t: np.ndarray, k: int, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     ab = np.zeros((2 * kl + ku + 1, n), order="F")
     ab[kl + ku + rows - cols, cols] = vals
     rhs = y.reshape(n, -1)
-    from scipy.linalg import lapack  # noqa: PLC0415 - scipy.linalg is slow to import: only when used
+    lapack = scipy_lapack()
 
     _, _, c, info = lapack.dgbsv(kl, ku, ab, rhs)
     if info != 0:  # Schoenberg-Whitney holds for these knots: a singular system cannot happen
@@ -174,7 +176,7 @@ def _knot_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     rhs[0] = ((h[0] + 2.0 * s0) * h[1] * d[0] + h[0] ** 2 * d[1]) / s0
     diag[-1], lower[-1] = h[-2], s1
     rhs[-1] = (h[-1] ** 2 * d[-2] + (2.0 * s1 + h[-1]) * h[-2] * d[-1]) / s1
-    from scipy.linalg import lapack  # noqa: PLC0415 - scipy.linalg is slow to import: only when used
+    lapack = scipy_lapack()
 
     *_, slopes, info = lapack.dgtsv(lower, diag, upper, rhs, overwrite_b=True)
     if info != 0:

@@ -20,23 +20,33 @@ from winder.errors import ExportError
 from winder.machine.envelope import EyeEnvelope
 
 SAMPLES_PER_MOVE = 8
+SLAB_SEGMENTS = 16  # segments measured per point; more in its slab: the nearest vertex's two
+SEGMENT_BLOCK = 1 << 20  # point-segment pairs measured at once (memory stays bounded)
+STRAIGHT_TOL = 1e-11  # mm: a meridian vertex this close to its neighbours' chord is inside a straight run
 
 
 def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
-    """Distance (mm) of meridian points (rho, z) from the part (module docstring); < 0 inside."""
-    t, r = env.stations, env.mandrel_radius
-    from scipy.spatial import cKDTree  # noqa: PLC0415 - scipy.spatial is slow to import
-
-    tree = cKDTree(np.column_stack([t, r]))
+    """Distance (mm) of meridian points (rho, z) (m,) from the part (module docstring); < 0 inside."""
+    t, r = _meridian(env.stations, env.mandrel_radius)
     q = np.column_stack([z, rho])
-    _, k = tree.query(q)
-    best = np.full(q.shape[0], np.inf)
-    for j in (k - 1, k):  # the two segments around the nearest vertex
-        j = np.clip(j, 0, t.size - 2)
-        a = np.column_stack([t[j], r[j]])
-        seg = np.column_stack([t[j + 1], r[j + 1]]) - a
-        u = np.clip(np.einsum("ij,ij->i", q - a, seg) / np.einsum("ij,ij->i", seg, seg), 0.0, 1.0)
-        best = np.minimum(best, np.linalg.norm(q - a - u[:, None] * seg, axis=1))
+    # The segment over each point's own station bounds its distance d0 from above, so the nearest
+    # point of the meridian lies within the slab |t - z| <= d0: only the segments crossing it count.
+    last = t.size - 2
+    own = np.clip(np.searchsorted(t, z) - 1, 0, last)
+    d0 = _segment_distance(q, t, r, own)
+    lo = np.clip(np.searchsorted(t, z - d0, side="left") - 1, 0, last)
+    hi = np.clip(np.searchsorted(t, z + d0, side="right") - 1, 0, last)
+    best = d0.copy()
+    width = hi - lo + 1
+    wide = width > SLAB_SEGMENTS
+    for w in np.unique(width[~wide & (width > 1)]):
+        rows = np.flatnonzero(width == w)
+        for chunk in np.array_split(rows, max(1, rows.size * int(w) // SEGMENT_BLOCK)):
+            j = lo[chunk, None] + np.arange(w)
+            d = _segment_distance(np.repeat(q[chunk], w, axis=0), t, r, j.ravel())
+            best[chunk] = np.minimum(best[chunk], d.reshape(-1, w).min(axis=1))
+    if wide.any():  # a finely tabulated curved meridian (a dome): the nearest vertex's two segments
+        best[wide] = _near_vertex_distance(q[wide], t, r)
     # End discs: a point beyond an end within the end radius is that far from the disc.
     for end, radius in ((t[0], r[0]), (t[-1], r[-1])):
         beyond = (z - end) * (1.0 if end == t[-1] else -1.0)
@@ -44,6 +54,34 @@ def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarra
         best = np.where(on_disc, np.minimum(best, beyond), best)
     inside = (z >= t[0]) & (z <= t[-1]) & (rho < np.interp(z, t, r))
     return np.where(inside, -best, best)
+
+
+def _near_vertex_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """Distance of points q (m, 2) from the two segments around their nearest meridian vertex: on a
+    meridian tabulated finely against the eye's distance, the nearest point lies on one of them."""
+    from scipy.spatial import cKDTree  # noqa: PLC0415 - scipy.spatial is slow to import: only for domes
+
+    _, k = cKDTree(np.column_stack([t, r])).query(q)
+    last = t.size - 2
+    return np.minimum(_segment_distance(q, t, r, np.clip(k - 1, 0, last)),
+                      _segment_distance(q, t, r, np.clip(k, 0, last)))
+
+
+def _meridian(t: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The meridian polyline without the vertices inside its straight runs (a cylinder keeps its two
+    ends): the slabs then hold few segments. Each vertex dropped lies within STRAIGHT_TOL of its
+    neighbours' chord (a profile bent less would have a radius of curvature of thousands of km)."""
+    cross = np.abs((t[1:-1] - t[:-2]) * (r[2:] - r[:-2]) - (r[1:-1] - r[:-2]) * (t[2:] - t[:-2]))
+    keep = np.concatenate([[True], cross > STRAIGHT_TOL * np.hypot(t[2:] - t[:-2], r[2:] - r[:-2]), [True]])
+    return t[keep], r[keep]
+
+
+def _segment_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """Distance of points q (m, 2) as (z, rho) from the meridian segments j (m,)."""
+    a = np.column_stack([t[j], r[j]])
+    seg = np.column_stack([t[j + 1], r[j + 1]]) - a
+    u = np.clip(np.einsum("ij,ij->i", q - a, seg) / np.einsum("ij,ij->i", seg, seg), 0.0, 1.0)
+    return np.linalg.norm(q - a - u[:, None] * seg, axis=1)
 
 
 def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, where) -> None:

@@ -13,6 +13,7 @@ from winder.geometry.surface import SweepSurface
 SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
 ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
 ENVELOPE_MAX_SAMPLES = 65537
+HULL_SWEEPS = 64  # vectorized pruning sweeps of the upper hull before the monotone chain finishes it
 
 
 @dataclass(frozen=True)
@@ -122,18 +123,32 @@ def _dilate(stations: np.ndarray, r_max: np.ndarray, c: float, h: float, k_max: 
 
 
 def _concave_majorant(x: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """The least concave function >= z over the points x (k,) (their upper convex hull), at x.
+    """The least concave function >= z over the points x (k,) (increasing), at x: the upper convex
+    hull of the points (x, z), interpolated.
 
     Why: the eye sits where the fiber's tangent ray leaves the region inside the envelope; a region
     that is convex (its profile concave, continued straight past the table) is left exactly once, so
     the eye moves continuously with the contact point. Around a dome's polar opening the dilated
     profile is not concave, and a ray grazing it jumped to a crossing far past the pole."""
-    from scipy.spatial import ConvexHull  # noqa: PLC0415
+    keep = np.arange(x.size)
+    for _ in range(HULL_SWEEPS):
+        # A point on or below the chord of its kept neighbours is no vertex of the upper hull (the
+        # chord lies under the hull): all such points go at once. None left: the kept polyline
+        # turns one way at every vertex, so it is the hull.
+        a, b, c = keep[:-2], keep[1:-1], keep[2:]
+        below = (x[b] - x[a]) * (z[c] - z[a]) - (z[b] - z[a]) * (x[c] - x[a]) >= 0.0
+        if not below.any():
+            return np.interp(x, x[keep], z[keep])
+        keep = np.concatenate([keep[:1], b[~below], keep[-1:]])
+    return np.interp(x, x[keep], z[keep]) if keep.size < 3 else _monotone_chain(x, z, keep)
 
-    floor = float(np.min(z)) - 1.0 - float(np.ptp(z))
-    pts = np.column_stack([np.concatenate([x, x[[0, -1]]]), np.concatenate([z, [floor, floor]])])
-    hull = ConvexHull(pts)
-    upper = np.unique(hull.vertices[hull.vertices < x.size])
-    return np.interp(x, x[upper], z[upper])
 
-
+def _monotone_chain(x: np.ndarray, z: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """The upper hull of the points keep by Andrew's monotone chain, once the sweeps have left few."""
+    hull: list[int] = []
+    for i in keep.tolist():
+        while len(hull) >= 2 and ((x[hull[-1]] - x[hull[-2]]) * (z[i] - z[hull[-2]])
+                                  - (z[hull[-1]] - z[hull[-2]]) * (x[i] - x[hull[-2]])) >= 0.0:
+            hull.pop()
+        hull.append(i)
+    return np.interp(x, x[hull], z[hull])

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.geometry.lapack import lapack as scipy_lapack
 from winder.geometry.surface import SurfaceEval, SweepSurface
 
 
@@ -86,7 +87,7 @@ def banded(diag: np.ndarray, off: np.ndarray) -> np.ndarray:
 def newton_direction(diag: np.ndarray, off: np.ndarray, grad: np.ndarray):
     """The step -H^-1 grad (n, 2) by banded Cholesky (LAPACK pbsv) and the factor, for chord steps;
     (None, None) where H is not positive definite."""
-    from scipy.linalg import lapack  # noqa: PLC0415 - scipy.linalg is slow to import: only when solving
+    lapack = scipy_lapack()
 
     with np.errstate(all="ignore"):
         factor, step, info = lapack.dpbsv(banded(diag, off), -grad.ravel(), lower=0, overwrite_ab=1,
@@ -98,7 +99,7 @@ def newton_direction(diag: np.ndarray, off: np.ndarray, grad: np.ndarray):
 
 def chord_direction(factor: np.ndarray, grad: np.ndarray) -> np.ndarray:
     """-H^-1 grad with an earlier iterate's Cholesky factor (LAPACK pbtrs): (n, 2)."""
-    from scipy.linalg import lapack  # noqa: PLC0415
+    lapack = scipy_lapack()
 
     step, _ = lapack.dpbtrs(factor, -grad.ravel(), lower=0, overwrite_b=1)
     return step.reshape(-1, 2)
