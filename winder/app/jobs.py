@@ -14,15 +14,17 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from winder.app.interrupts import TimeUp, in_worker, stop_workers, time_limit, worker_init
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
 from winder.progress import Progress, part
+
+if TYPE_CHECKING:
+    from concurrent.futures import Future
 
 PLANNING_SHARE = 0.85  # of a job's progress bar: the planning; the rest renders the outputs
 
@@ -295,6 +297,10 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
             args, kwargs = task.submit_args()
             yield i, job(*args, **kwargs)
         return
+    # concurrent.futures.process takes ~17 ms to import: a single job (most runs) never needs it.
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait  # noqa: PLC0415
+    from concurrent.futures.process import BrokenProcessPool  # noqa: PLC0415
+
     pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_init)
     retry: list[int] = []
     try:
@@ -341,6 +347,8 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
 
 
 def _worker_failure(config: str, exc: BaseException) -> JobReport:
+    from concurrent.futures.process import BrokenProcessPool  # noqa: PLC0415 - loaded by the pool
+
     if isinstance(exc, BrokenProcessPool):
         what = "the worker process running this job died (killed, or out of memory?)"
     else:

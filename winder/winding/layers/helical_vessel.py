@@ -7,6 +7,7 @@ slightly from R sin(alpha) so the pattern closes, and the angle change is report
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -25,7 +26,12 @@ from winder.winding.pattern import circuits_for_coverage, close_vessel_pattern
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 
 QUAD_NODES = 200  # Gauss-Legendre nodes per dome for the turnaround advance
-_GAUSS = np.polynomial.legendre.leggauss(QUAD_NODES)
+
+
+@functools.cache
+def _gauss() -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights (computed on first use: 35 ms, a hoop job never needs them)."""
+    return np.polynomial.legendre.leggauss(QUAD_NODES)
 
 
 def turnaround_stations(prof: VesselMeridian, c: float) -> tuple[float, float]:
@@ -50,7 +56,7 @@ def advances(prof: VesselMeridian, c: float) -> tuple[float, float, float]:
     """
     s1, s2 = turnaround_stations(prof, c)
     e1, e2 = prof.equator_s
-    x, w = _GAUSS
+    x, w = _gauss()
     tau = 0.25 * np.pi * (x + 1.0)  # [0, pi/2]
     domes = []
     for s_c, s_eq in ((s1, e1), (s2, e2)):
