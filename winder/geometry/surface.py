@@ -86,6 +86,17 @@ class SweepSurface:
         p = self._profile(s)[3]
         return p * self.section.polar(theta)[0] / self.section_scale
 
+    @functools.cached_property
+    def _constant_radius(self) -> float | None:
+        """p(s) where the profile is a constant over z = s (None otherwise): evaluate then skips it."""
+        if self.profile is None:
+            return 1.0
+        spline = getattr(self.profile, "spline", None)
+        if not isinstance(self.profile, AxialProfile) or spline is None or spline.c.shape[1] != 1:
+            return None
+        c3, c2, c1, c0 = (float(v) for v in spline.c[:, 0])
+        return c0 if c3 == c2 == c1 == 0.0 else None
+
     # -- evaluation -------------------------------------------------------------------------------
     def evaluate(self, s: np.ndarray, theta: np.ndarray, order: int = 2) -> SurfaceEval:
         """Phi (order 0), with first (order 1) and second (order 2) derivatives.
@@ -93,9 +104,15 @@ class SweepSurface:
         s, theta : (m,) float. Returns SurfaceEval of (m, 3) arrays (views of (3, m) storage: the
         arithmetic runs along m, which numpy does several times faster than along the 3 components).
         """
-        s, theta = np.broadcast_arrays(np.asarray(s, float), np.asarray(theta, float))
-        if self.profile is None:  # z = s, radius from the section alone: the derivatives are constants
-            z, z1, z2, p, p1, p2 = s, 1.0, 0.0, 1.0, 0.0, 0.0
+        s, theta = np.asarray(s, float), np.asarray(theta, float)
+        if s.shape != theta.shape:
+            s, theta = np.broadcast_arrays(s, theta)
+        radius = self._constant_radius
+        if radius is not None:  # z = s and a constant radius: the derivatives are constants
+            z, z1, z2, p, p1, p2 = s, 1.0, 0.0, radius, 0.0, 0.0
+        elif isinstance(self.profile, AxialProfile):  # z = s: only the radius varies
+            _, _, _, p, p1, p2 = self.profile.evaluate(s)
+            z, z1, z2 = s, 1.0, 0.0
         else:
             z, z1, z2, p, p1, p2 = self.profile.evaluate(s)
         if isinstance(self.section, Circle):

@@ -28,7 +28,8 @@ from winder.geometry.measure import (geodesic_curvature, polyline_length, richar
                                      spacing_deviation)
 from winder.geometry.surface import SweepSurface
 from winder.paths.energy import energy_terms
-from winder.paths.newton import (MAX_NEWTON, LEVEL_STEP_TOL, STEP_TOL, Level, PathSolve, StopReason, _newton)
+from winder.paths.newton import (LEVEL_PREDICTED, LEVEL_STEP_TOL, MAX_NEWTON, STEP_TOL, Level, PathSolve,
+                                 StopReason, _newton)
 
 __all__ = ["DEFAULT_POINTS", "STEP_TOL", "GeodesicResult", "Level", "Method", "PathSolve", "StopReason",
            "energy_terms", "geodesic", "solve_path", "straight_path", "_lbfgs", "_newton"]
@@ -204,7 +205,8 @@ def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
     for k, level in enumerate(levels):
         cur_s, cur_t = resample(s, th, level)
         last = k == len(levels) - 1
-        sol = _newton(surface, cur_s, cur_t, STEP_TOL if last else LEVEL_STEP_TOL, ends=ends)
+        sol = (_newton(surface, cur_s, cur_t, STEP_TOL, ends=ends) if last else
+               _newton(surface, cur_s, cur_t, LEVEL_STEP_TOL, ends=ends, predicted_tol=LEVEL_PREDICTED))
         total += sol.iterations
         nfev += sol.nfev
         report.append(Level(level, sol.iterations, MAX_NEWTON, sol.converged))

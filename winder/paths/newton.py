@@ -21,6 +21,10 @@ from winder.paths.energy import _dot, chain_energy, chain_terms, chord_direction
 
 STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
 LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
+# A coarse level also stops once its predicted next step is below this fraction of its segment: 8x
+# finer, the next level's first step is ~3e-2 of its own segment whatever the coarse level's last
+# few 1e-4 (measured on the reference mandrels), and that saves the coarse level's last iteration.
+LEVEL_PREDICTED = 3e-4
 MAX_NEWTON = 100
 ARMIJO = 1e-4
 PREDICTED_MARGIN = 1e-2  # a predicted next step counts as converged this far below the step tolerance
@@ -77,13 +81,23 @@ class PathSolve:
 
 def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float) -> float:
     """Largest alpha <= 1 keeping every interior station inside [0, s_max]."""
+    if not s.size:
+        return 1.0
+    moved = s + ds
+    if moved.min() >= 0.0 and moved.max() <= s_max:  # the usual case: the full step stays inside
+        return 1.0
     with np.errstate(divide="ignore", invalid="ignore"):
         lim = np.where(ds < 0, -s / ds, np.where(ds > 0, (s_max - s) / ds, np.inf))
     return float(min(1.0, np.min(lim))) if lim.size else 1.0
 
 
 def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: float,
-            max_iter: int = MAX_NEWTON, ends: SurfaceEval | None = None) -> PathSolve:
+            max_iter: int = MAX_NEWTON, ends: SurfaceEval | None = None,
+            predicted_tol: float | None = None) -> PathSolve:
+    """Newton from (s, th) (n + 2,) to a step below step_tol of the mean segment; predicted_tol: stop
+    after a step once the predicted next one is below this fraction of a segment (default
+    PREDICTED_MARGIN step_tol)."""
+    predicted_tol = PREDICTED_MARGIN * step_tol if predicted_tol is None else predicted_tol
     s, th = s.copy(), th.copy()
     s_max = surface.length
     history = []
@@ -128,7 +142,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
         # one is well below the tolerance (the prediction is rough), or this one is below it: that
         # saves the last, roundoff-only iteration.
         predicted = disp**2 / prev_disp if chord else disp**3 / prev_disp**2
-        last = disp <= step_tol * h or (contracting and predicted <= PREDICTED_MARGIN * step_tol * h)
+        last = disp <= step_tol * h or (contracting and predicted <= predicted_tol * h)
         # A step this small hardly changes the Hessian: the next iteration reuses its factor.
         chord_next = newton and not last and disp <= CHORD_STEP * h
         order = 1 if last or chord_next else 2
