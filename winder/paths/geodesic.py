@@ -53,7 +53,9 @@ MAX_POINTS = 1_000_000  # the solver holds ~1 kB per point: beyond this, refuse 
 # the factor would be 16/15): so the reported estimate bounds the error, by about 1.9x asymptotically.
 SMOOTH_SAFETY = 2.0
 TOLERANCE_AIM = 0.5  # a refinement aims at this fraction of the tolerance
-MIN_GROWTH, MAX_GROWTH = 1.5, 16.0  # segment-count factor per refinement
+# Segment-count factor per refinement; up to 32 so that the h^4 prediction from the coarsest pair
+# (n = 31, 63) reaches n ~ 1000 in one step (16 stopped at 511 and needed another pair).
+MIN_GROWTH, MAX_GROWTH = 1.5, 32.0
 MAX_REFINE = 12
 ROUNDOFF_FLOOR = 1e-15  # relative: about 4 ulp, the roundoff of a length in double precision
 STALL_FLOOR = 1e3  # an error bound that stops falling this close to the roundoff floor is roundoff
