@@ -27,7 +27,9 @@ LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects th
 LEVEL_PREDICTED = 3e-4
 MAX_NEWTON = 100
 ARMIJO = 1e-4
-PREDICTED_MARGIN = 1e-2  # a predicted next step counts as converged this far below the step tolerance
+# A predicted next step counts as converged this far below the step tolerance: on the reference
+# mandrels the actual next step came out up to 10x the prediction (near roundoff), still below it.
+PREDICTED_MARGIN = 5e-2
 CHORD_STEP = 1e-3  # a Newton step below this fraction of the segment: the next step reuses the factor
 ENERGY_NOISE = 1.4e-14  # E's relative roundoff per sqrt(point) (64 ulp): smaller decreases are noise
 BOUNDARY_TOL = 1e-9  # a vertex this close (mm) to an end of the mandrel is on it
