@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from winder.geometry.curves import SPLINE_GRID, GuideCurve, Path, SplineCurve
+from winder.geometry.curves import SPLINE_GRID, GuideCurve, Line, Path, SplineCurve
 from winder.geometry.profiles import AxialProfile, Profile
 from winder.geometry.sections import Circle, Section
 
@@ -97,6 +97,15 @@ class SweepSurface:
         c3, c2, c1, c0 = (float(v) for v in spline.c[:, 0])
         return c0 if c3 == c2 == c1 == 0.0 else None
 
+    @functools.cached_property
+    def _line_frame(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """A straight guide line's origin, tangent, e2 and e3 as (3, 1) columns (None for other curves)."""
+        if not isinstance(self.curve, Line):
+            return None
+        line = self.curve
+        return (line.origin[:, None], line.tangent[:, None], line.e2[:, None],
+                np.cross(line.tangent, line.e2)[:, None])
+
     # -- evaluation -------------------------------------------------------------------------------
     def evaluate(self, s: np.ndarray, theta: np.ndarray, order: int = 2) -> SurfaceEval:
         """Phi (order 0), with first (order 1) and second (order 2) derivatives.
@@ -119,8 +128,13 @@ class SweepSurface:
             q, q1, q2 = self.section.radius / self.section_scale, 0.0, 0.0
         else:
             q, q1, q2 = (a / self.section_scale for a in self.section.polar(theta))
-        cv = self.curve.evaluate(z)
-        x, tan, kap, e2, e3 = cv.x.T, cv.d1.T, cv.d2.T, cv.e2.T, cv.e3.T
+        line = self._line_frame
+        if line is not None:  # its frame is constant: (3, 1) columns broadcast, nothing tiled per point
+            origin, tan, e2, e3 = line
+            x, kap, d3 = origin + z * tan, 0.0 * tan, 0.0 * tan
+        else:
+            cv = self.curve.evaluate(z)
+            x, tan, kap, d3, e2, e3 = cv.x.T, cv.d1.T, cv.d2.T, cv.d3.T, cv.e2.T, cv.e3.T
         c, sn = np.cos(theta), np.sin(theta)
         n = c * e2 + sn * e3
         r = p * q
@@ -137,7 +151,7 @@ class SweepSurface:
         if order == 1:
             return SurfaceEval(point.T, ps.T, pt.T)
         km = 0.0 if straight else np.einsum("ij,ij->j", kap, m)
-        kdn = 0.0 if straight else np.einsum("ij,ij->j", cv.d3.T, n)
+        kdn = 0.0 if straight else np.einsum("ij,ij->j", d3, n)
         pss = ((z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + (z1 * stretch) * kap
                + (p2 * q) * n)
         pst = (p1 * q1) * n + r_s * m - (z1 * (r_t * kn + r * km)) * tan
