@@ -26,7 +26,7 @@ from winder.errors import ConfigError, SolverError
 from winder.geometry.index_spline import resample_index
 from winder.geometry.measure import (geodesic_curvature, polyline_length, richardson, smooth_length,
                                      spacing_deviation)
-from winder.geometry.surface import SweepSurface
+from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.paths.energy import energy_terms
 from winder.paths.newton import (LEVEL_PREDICTED, LEVEL_STEP_TOL, MAX_NEWTON, STEP_TOL, Level, PathSolve,
                                  StopReason, _newton)
@@ -184,10 +184,11 @@ def coarsest_points(rounds: float) -> int:
 
 
 def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
-               method: Method = Method.NEWTON, warm: bool = False) -> PathSolve:
+               method: Method = Method.NEWTON, warm: bool = False, ends: SurfaceEval | None = None) -> PathSolve:
     """Minimize E from the path (s, th) (any number of points; end points fixed) at n interior points.
 
     warm : the given path is already near the solution; solve at n directly (no coarse levels).
+    ends : the surface at the two end points (order >= 1), when the caller has it (a refinement).
     Fewer than the coarsest level's points (a many-round path at a small n) are solved at the
     coarsest level first and resampled down: from a straight start they would not converge.
     """
@@ -203,7 +204,8 @@ def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
     total = nfev = 0
     sol = None
     report = []
-    ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)  # fixed: shared by every level
+    if ends is None:  # fixed: shared by every level
+        ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)
     for k, level in enumerate(levels):
         cur_s, cur_t = resample(s, th, level)
         last = k == len(levels) - 1
@@ -258,7 +260,7 @@ def _refine(surface: SweepSurface, sol: PathSolve, n: int, tolerance: float | No
     iterations, nfev, levels = sol.iterations, sol.nfev, list(sol.levels)
     while True:
         sol = _with_eval(surface, sol)
-        fine = _with_eval(surface, solve_path(surface, sol.s, sol.theta, 2 * n + 1, method, warm=True))
+        fine = _with_eval(surface, solve_path(surface, sol.s, sol.theta, 2 * n + 1, method, warm=True, ends=sol.ends))
         iterations += fine.iterations
         nfev += fine.nfev
         levels += fine.levels
@@ -283,7 +285,7 @@ def _refine(surface: SweepSurface, sol: PathSolve, n: int, tolerance: float | No
         if n_next > max_points:
             raise SolverError(f"{tolerance:g} mm would need about {n_next} points, more than the "
                               f"{max_points} allowed (error bound {bound:.3g} mm at n = {n})", key_path="tolerance")
-        sol, n = solve_path(surface, fine.s, fine.theta, n_next, method, warm=True), n_next
+        sol, n = solve_path(surface, fine.s, fine.theta, n_next, method, warm=True, ends=fine.ends), n_next
         iterations += sol.iterations
         nfev += sol.nfev
         levels += sol.levels
