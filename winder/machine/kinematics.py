@@ -117,18 +117,37 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / n[:, None]
 
 
-def _first_crossing(f, m: int, lmax: float) -> tuple[np.ndarray, np.ndarray]:
+def _first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Smallest lambda in (0, lmax] with f(lambda) = 0 for each of m lines, f(0) < 0 (f vectorized
     over (lambda (k,), line index (k,)), in mm). A scan brackets the first sign change, the Illinois
     variant of regula falsi closes the bracket to ROOT_TOL. Returns (lambda, found); lambda = lmax
-    where the line does not reach the envelope."""
+    where the line does not reach the envelope.
+
+    guess : (m,) estimates of the crossings, for lines whose f is negative before its crossing and
+    not after it (a ray leaving a convex region): the scan's bracket is then the grid interval around
+    the guess wherever f changes sign across it, two evaluations instead of the scan up to it (the
+    same bracket, so the same lambda); elsewhere the lines are scanned."""
+    grid = lmax * (np.arange(1, LEAD_SCAN + 1) / LEAD_SCAN) ** 2
     lam = np.full(m, lmax)
     lo, hi = np.zeros(m), np.full(m, lmax)
     flo, fhi = np.zeros(m), np.zeros(m)
     found = np.zeros(m, dtype=bool)
     pending = np.arange(m)
     prev_lam, prev_f = 0.0, f(np.zeros(m), pending)
-    for grid_lam in lmax * (np.arange(1, LEAD_SCAN + 1) / LEAD_SCAN) ** 2:
+    if guess is not None:
+        k = np.searchsorted(grid, np.where(np.isfinite(guess), guess, np.inf))  # grid[k - 1] < guess <= grid[k]
+        idx = np.flatnonzero(k < LEAD_SCAN)
+        k = k[idx]
+        below = np.where(k > 0, grid[np.maximum(k - 1, 0)], 0.0)
+        f_hi = f(grid[k], idx)
+        f_lo = np.where(k > 0, f(below, idx), prev_f[idx])
+        hit = (f_hi >= 0.0) & (f_lo < 0.0)
+        sel = idx[hit]
+        lo[sel], hi[sel], flo[sel], fhi[sel] = below[hit], grid[k[hit]], f_lo[hit], f_hi[hit]
+        found[sel] = True
+        pending = np.flatnonzero(~found)
+        prev_f = prev_f[pending]
+    for grid_lam in grid:
         if pending.size == 0:
             break
         val = f(np.full(pending.size, grid_lam), pending)
@@ -158,6 +177,18 @@ def _first_crossing(f, m: int, lmax: float) -> tuple[np.ndarray, np.ndarray]:
     return lam, found
 
 
+def _cylinder_lead(p: np.ndarray, d: np.ndarray, r0: np.ndarray, radius) -> np.ndarray:
+    """lambda > 0 putting p + lambda d (m, 3) on the cylinder of the given radius (m,) or () around the z
+    axis, r0 = |p_xy| < radius; inf or nan where the line runs along the axis."""
+    a = d[:, 0] ** 2 + d[:, 1] ** 2
+    b = p[:, 0] * d[:, 0] + p[:, 1] * d[:, 1]
+    c = r0**2 - radius * radius  # < 0: p is inside the cylinder, so exactly one positive root
+    # The root (-b + sqrt(b^2 - a c)) / a, in the form without cancellation for either sign of b
+    # (b < 0: the fiber heads toward the axis, as toward a dome's pole).
+    root = np.sqrt(b * b - a * c)
+    return np.where(b >= 0.0, -c / (b + root), (root - b) / a)
+
+
 def _lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
                    where: str) -> tuple[np.ndarray, np.ndarray]:
     """lambda putting p + lambda d on the envelope around the z axis; (lead, on_envelope)."""
@@ -170,23 +201,23 @@ def _lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
         raise ExportError(f"{where}: the eye envelope (radius {float(env.at(p[k:k+1, 2])[0]):.3f} mm) does "
                           f"not clear the mandrel at t = {p[k, 2]:.3f} mm (fiber at radius {r0[k]:.3f} mm)")
     if env.constant is not None:
-        zr = env.constant
-        a = d[:, 0] ** 2 + d[:, 1] ** 2
-        b = p[:, 0] * d[:, 0] + p[:, 1] * d[:, 1]
-        c = r0**2 - zr * zr  # < 0: p is inside the cylinder, so exactly one positive root
         with np.errstate(divide="ignore", invalid="ignore"):
-            # The root (-b + sqrt(b^2 - a c)) / a, in the form without cancellation for either sign
-            # of b (b < 0: the fiber heads toward the axis, as toward a dome's pole).
-            root = np.sqrt(b * b - a * c)
-            lam = np.where(b >= 0.0, -c / (b + root), (root - b) / a)
+            lam = _cylinder_lead(p, d, r0, env.constant)
         ok = np.isfinite(lam) & (lam > 0.0) & (lam <= lmax)
         return np.where(ok, lam, lmax), ok
 
-    def f(lam: np.ndarray, i: np.ndarray) -> np.ndarray:
-        e = p[i] + lam[:, None] * d[i]
-        return np.hypot(e[:, 0], e[:, 1]) - env.at(e[:, 2])
+    cols = (*p.T, *d.T)  # gathered per column: fancy indexing rows of (m, 3) costs more than the rest of f
 
-    return _first_crossing(f, m, lmax)
+    def f(lam: np.ndarray, i: np.ndarray) -> np.ndarray:
+        px, py, pz, dx, dy, dz = cols if i.size == m else (c[i] for c in cols)  # i: sorted line indices
+        return np.hypot(px + lam * dx, py + lam * dy) - env.at(pz + lam * dz)
+
+    # The region inside the envelope is convex (its profile concave), so the guess may bracket: the
+    # crossing with the cylinder of the envelope's radius where that one would be crossed.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        guess = _cylinder_lead(p, d, r0, env.at(p[:, 2]))
+        guess = _cylinder_lead(p, d, r0, env.at(p[:, 2] + np.where(np.isfinite(guess), guess, 0.0) * d[:, 2]))
+    return _first_crossing(f, m, lmax, guess)
 
 
 def eye_leads(points: np.ndarray, directions: np.ndarray, envelope: EyeEnvelope,

@@ -36,6 +36,7 @@ from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.envelope import eye_envelope
 from winder.machine.kinematics import eye_path, make_guide
 from winder.machine.limits import check_limits
+from winder.machine.reduce import reduce_many, reduce_points  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 
@@ -118,35 +119,6 @@ class MotionProgram:
 def is_robot(plan: WindingPlan, machine: MachineConfig) -> bool:
     """Whether the program is made of robot poses (bent axis or machine.robot)."""
     return bool(machine.robot or not plan.surface.curve.is_straight)
-
-
-def reduce_points(q: np.ndarray, tol: float) -> np.ndarray:
-    """Indices kept by Douglas-Peucker on the polyline q (m, k) with tolerance tol: every dropped
-    point lies within tol of the segment between its kept neighbours. First and last are kept."""
-    q = np.asarray(q, dtype=float)
-    m = q.shape[0]
-    if m <= 2:
-        return np.arange(m)
-    keep = np.zeros(m, dtype=bool)
-    keep[[0, -1]] = True
-    stack = [(0, m - 1)]
-    while stack:
-        i, k = stack.pop()
-        if k - i < 2:
-            continue
-        a = q[i]
-        seg = q[k] - a
-        rel = q[i + 1:k] - a
-        len2 = float(seg @ seg)
-        u = np.clip(rel @ seg / len2, 0.0, 1.0) if len2 > 0.0 else np.zeros(k - i - 1)
-        dist = np.linalg.norm(rel - u[:, None] * seg, axis=1)
-        j = int(np.argmax(dist))
-        if dist[j] > tol:
-            j += i + 1
-            keep[j] = True
-            stack.append((j, k))
-            stack.append((i, j))
-    return np.flatnonzero(keep)
 
 
 def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | None:
@@ -239,11 +211,12 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
 
     dense_of = {} if robot else all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol)
 
+    todo: list[tuple[np.ndarray, float]] = []  # per non-empty pass: (scaled axes, tolerance)
+    laid: list[tuple] = []
+    last_row: np.ndarray | None = None
     for layer in plan.layers:
-        segments: list[Segment] = []
         for fp in layer.passes:
             if len(fp.points) == 0:
-                segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count))
                 continue
             where = pass_where(plan, fp)
             points, u = fp.points, np.arange(len(fp.points), dtype=float)
@@ -276,9 +249,22 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                 q = scaled(path)
                 table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
             turns.done(theta, fp.points[-1])
+            lift = None if robot or not jumped or last_row is None else approach(last_row, table[0], env.max_radius)
+            last_row = table[-1]
             # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
-            keep = reduce_points(q, tol if u.size == len(fp.points) else tol * (1.0 - DENSE_SHARE))
-            lift = approach(rows[-1][-1], table[keep[0]], env.max_radius) if jumped and rows and not robot else None
+            todo.append((q, tol if u.size == len(fp.points) else tol * (1.0 - DENSE_SHARE)))
+            laid.append((fp, table, u, points, lift, on_envelope, lead))
+    # Every pass's point reduction in one batch (winder.machine.reduce); the rows in pass order.
+    kept = iter(reduce_many([t[0] for t in todo], [t[1] for t in todo]))
+    laid_of = iter(laid)
+    for layer in plan.layers:
+        segments: list[Segment] = []
+        for fp in layer.passes:
+            if len(fp.points) == 0:
+                segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count))
+                continue
+            _, table, u, points, lift, on_envelope, lead = next(laid_of)
+            keep = next(kept)
             lifted = 0 if lift is None else lift.shape[0]
             rows.append(table[keep] if lift is None else np.vstack([lift, table[keep]]))
             indices.append(np.concatenate([np.full(lifted, -1.0), u[keep]]))

@@ -68,10 +68,12 @@ class SmoothPaths:
         self.offset, self.last = np.array(offsets), np.array(last)
         self.free = np.concatenate(free) if free else np.zeros(0, dtype=bool)
         self.d = np.concatenate(d) if d else np.zeros((0, 3))
+        self._is_last = np.zeros(count + 1, dtype=bool)  # a table, not np.isin: _interval runs per lookup
+        self._is_last[self.last] = True
         # Arc length at the nodes: Gauss-Legendre per node interval.
         x, w = np.polynomial.legendre.leggauss(GAUSS_NODES)
         k = np.arange(max(count - 1, 0))
-        inside = np.isin(k, self.last, invert=True)  # no interval across passes
+        inside = ~self._is_last[k]  # no interval across passes
         u = (k[:, None] + 0.5 * (x + 1.0)).ravel()
         speed = self.speed(u).reshape(-1, GAUSS_NODES) @ (0.5 * w)
         self.arc = np.concatenate([[0.0], np.cumsum(np.where(inside, speed, 0.0))])
@@ -79,21 +81,19 @@ class SmoothPaths:
     def _interval(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(first node k, fraction h in [0, 1]) of each u's interval within its pass."""
         k = np.clip(np.floor(u).astype(int), 0, self.s.size - 2)
-        k = np.where(np.isin(k, self.last), k - 1, k)  # the last node of a pass ends its last interval
+        k = np.where(self._is_last[k], k - 1, k)  # the last node of a pass ends its last interval
         k = np.maximum(k, 0)
         return k, u - k
 
     def st(self, u: np.ndarray, order: int = 0) -> tuple[np.ndarray, np.ndarray]:
         k, h = self._interval(u)
-        out = []
-        for v, dv in ((self.s, self.ds), (self.th, self.dth)):
-            p0, p1, m0, m1 = v[k], v[k + 1], dv[k], dv[k + 1]
-            if order == 0:
-                out.append((2 * h**3 - 3 * h**2 + 1) * p0 + (h**3 - 2 * h**2 + h) * m0
-                           + (-2 * h**3 + 3 * h**2) * p1 + (h**3 - h**2) * m1)
-            else:
-                out.append((6 * h**2 - 6 * h) * p0 + (3 * h**2 - 4 * h + 1) * m0
-                           + (-6 * h**2 + 6 * h) * p1 + (3 * h**2 - 2 * h) * m1)
+        h2, h3 = h**2, h**3
+        if order == 0:  # the Hermite basis, shared by s and theta
+            c = (2 * h3 - 3 * h2 + 1, h3 - 2 * h2 + h, -2 * h3 + 3 * h2, h3 - h2)
+        else:
+            c = (6 * h2 - 6 * h, 3 * h2 - 4 * h + 1, -6 * h2 + 6 * h, 3 * h2 - 2 * h)
+        out = [c[0] * v[k] + c[1] * dv[k] + c[2] * v[k + 1] + c[3] * dv[k + 1]
+               for v, dv in ((self.s, self.ds), (self.th, self.dth))]
         return out[0], out[1]
 
     def speed(self, u: np.ndarray) -> np.ndarray:

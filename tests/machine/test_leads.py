@@ -1,0 +1,54 @@
+"""The eye's lead in clearance mode: the bracket guessed from the envelope's cylinder gives the very
+lead of the full scan, and that lead is the ray's first crossing of the envelope."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from winder.config.job import load_config
+from winder.config.machine import MachineConfig
+from winder.geometry.build import build_surface
+from winder.machine import kinematics
+from winder.machine.envelope import eye_envelope
+
+ROOT = Path(__file__).resolve().parents[2]
+SAMPLES = 400  # points along each ray before its lead, all inside the envelope
+
+
+@pytest.mark.parametrize("config", ["configs/ellipsoid_vessel.yaml", "samples/cone.yaml", "samples/pipe.yaml"])
+def test_guessed_bracket_gives_the_scans_lead(config, monkeypatch):
+    job = load_config(ROOT / config)
+    surface = build_surface(job.mandrel, job.source, job.name)
+    env = eye_envelope(surface, MachineConfig(eye_clearance=20.0, eye_radius=None))
+    rng = np.random.default_rng(11)
+    m = 3000
+    s = rng.uniform(0.0, surface.length, m)
+    th = rng.uniform(0.0, 2.0 * np.pi, m)
+    ev = surface.evaluate(s, th, order=1)
+    mix = rng.normal(size=(m, 2))
+    mix[:50, 1] = 1e-7  # nearly along the meridian (toward or away from the axis on a dome)
+    d = ev.ps * mix[:, :1] + ev.pt * mix[:, 1:]
+    lam, ok = kinematics.eye_leads(ev.p, d, env)
+    guessed = []
+    plain = kinematics._first_crossing
+
+    def scan_only(f, n, lmax, guess=None):
+        guessed.append(guess is not None)
+        return plain(f, n, lmax)
+
+    monkeypatch.setattr(kinematics, "_first_crossing", scan_only)
+    lam_scan, ok_scan = kinematics.eye_leads(ev.p, d, env)
+    assert guessed == [True]
+    assert np.array_equal(lam, lam_scan) and np.array_equal(ok, ok_scan)
+    # The first crossing: on the envelope, and inside it all along the ray before.
+    u = kinematics._unit(d)
+    e = ev.p + lam[:, None] * u
+    gap = np.hypot(e[:, 0], e[:, 1]) - env.at(e[:, 2])
+    assert np.all(np.abs(gap[ok]) <= kinematics.ROOT_TOL * 10)
+    t = np.linspace(0.0, 1.0, SAMPLES, endpoint=False)[1:]
+    for i in np.flatnonzero(ok)[:300]:
+        pts = ev.p[i] + (t * lam[i])[:, None] * u[i]
+        assert np.all(np.hypot(pts[:, 0], pts[:, 1]) < env.at(pts[:, 2]))
