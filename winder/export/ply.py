@@ -70,23 +70,34 @@ def _mandrel(plan: WindingPlan) -> tuple[np.ndarray, np.ndarray]:
     return verts, faces
 
 
-def _ribbon(plan: WindingPlan, fp: FiberPass, band_width: float) -> tuple[np.ndarray, np.ndarray]:
-    m = len(fp.points)
-    if m < 2:
-        return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
-    nrm = plan.surface_of(fp.layer).normals(np.asarray(fp.s, float), np.asarray(fp.theta, float))
-    d = np.asarray(fp.direction, dtype=float)
+def _ribbons(plan: WindingPlan, passes: list[FiberPass], band_width: float) -> tuple[np.ndarray, np.ndarray]:
+    """The ribbons of passes of one layer (each >= 2 points), one after the other: vertices (2 m, 3),
+    two per point (left, right), and faces (2 (m - passes), 3) indexing them, pass by pass the first
+    triangle of every interval, then the second. One surface evaluation for the whole layer."""
+    sizes = np.array([len(fp.points) for fp in passes])
+    nrm = plan.surface_of(passes[0].layer).normals(np.concatenate([np.asarray(fp.s, float) for fp in passes]),
+                                                   np.concatenate([np.asarray(fp.theta, float) for fp in passes]))
+    d = np.concatenate([np.asarray(fp.direction, dtype=float) for fp in passes])
     side = np.cross(nrm, d)
     side /= np.linalg.norm(side, axis=1)[:, None]
-    centre = np.asarray(fp.points, dtype=float) + LAYER_OFFSET * fp.layer * nrm
+    points = np.concatenate([np.asarray(fp.points, dtype=float) for fp in passes])
+    centre = points + LAYER_OFFSET * passes[0].layer * nrm
     left = centre - 0.5 * band_width * side
     right = centre + 0.5 * band_width * side
-    verts = np.empty((2 * m, 3))
+    verts = np.empty((2 * len(d), 3))
     verts[0::2], verts[1::2] = left, right
-    k = np.arange(m - 1)
+    last = np.zeros(len(d), dtype=bool)
+    last[np.cumsum(sizes) - 1] = True
+    k = np.flatnonzero(~last)  # every interval's first point
     lo, ro, ln, rn = 2 * k, 2 * k + 1, 2 * k + 2, 2 * k + 3
     # side = N x d, so (left, right-next, right) and (left, left-next, right-next) face along +N.
-    faces = np.concatenate([np.column_stack([lo, rn, ro]), np.column_stack([lo, ln, rn])])
+    # Pass by pass (its intervals from cumsum(n) - n in k): its first triangles, then its second.
+    n = sizes - 1
+    start = np.repeat(2 * (np.cumsum(n) - n), n)
+    i = np.arange(k.size) - np.repeat(np.cumsum(n) - n, n)
+    faces = np.empty((2 * k.size, 3), dtype=np.int64)
+    faces[start + i] = np.column_stack([lo, rn, ro])
+    faces[start + np.repeat(n, n) + i] = np.column_stack([lo, ln, rn])
     return verts, faces
 
 
@@ -100,14 +111,15 @@ def ply_arrays(plan: WindingPlan, band_width: float) -> tuple[np.ndarray, np.nda
     colors = [np.tile(np.array(MANDREL_COLOR, dtype=np.uint8), (len(verts), 1))]
     base = len(verts)
     for layer in plan.layers:
-        for fp in layer.passes:
-            v, f = _ribbon(plan, fp, band_width)
-            if len(f) == 0:
-                continue
-            all_v.append(v)
-            all_f.append(f + base)
-            colors.append(np.tile(np.array(band_color(fp.layer, fp.kind), dtype=np.uint8), (len(v), 1)))
-            base += len(v)
+        passes = [fp for fp in layer.passes if len(fp.points) >= 2]
+        if not passes:
+            continue
+        v, f = _ribbons(plan, passes, band_width)
+        all_v.append(v)
+        all_f.append(f + base)
+        shade = np.array([band_color(fp.layer, fp.kind) for fp in passes], dtype=np.uint8)
+        colors.append(np.repeat(shade, [2 * len(fp.points) for fp in passes], axis=0))
+        base += len(v)
     return np.concatenate(all_v), np.concatenate(all_f), np.concatenate(colors)
 
 

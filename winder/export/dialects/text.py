@@ -98,6 +98,15 @@ def fmt(value: float, decimals: int = DECIMALS) -> str:
     return _NEG_ZERO.sub(r"\1", f"{value:.{decimals}f}")
 
 
+def fmt_column(values: np.ndarray, decimals: int = DECIMALS) -> list[str]:
+    """fmt of every value of a column (k,), a whole program's at once (no regex per number)."""
+    text = [f"%.{decimals}f" % v for v in np.asarray(values, dtype=float).tolist()]
+    if decimals <= 0:
+        return text
+    zero = "-0." + "0" * decimals  # the only negative zero fmt's pattern matches in a lone number
+    return [t[1:] if t == zero else t for t in text]
+
+
 def clean(text: str) -> str:
     """A comment's text on one line."""
     return " ".join(str(text).split())
@@ -128,6 +137,10 @@ def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list
     """The program's lines (without newlines) and the moves they write, in order."""
     letters, decimals = dialect.letters(program), dialect.decimals(program)
     columns = dialect.columns(program)
+    # Every row's words as written, one column at a time.
+    written = list(zip(*[[c + t for t in fmt_column(columns[:, j], n)]
+                         for j, (c, n) in enumerate(zip(letters, decimals))])) if len(columns) else []
+    offset = [len(c) for c in letters]
     lines = dialect.first_lines(program) + _header(program, dialect) + dialect.preamble(program)
     moves: list[Move] = []
     last_words: str | None = None
@@ -147,12 +160,11 @@ def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list
             for row in range(seg.start, seg.stop):
                 if seg.approach and row == seg.start + seg.approach:
                     lines.append(f"{head} {seg.kind.value}")
-                texts = [fmt(v, n) for v, n in zip(columns[row], decimals)]
-                words = " ".join(f"{c}{v}" for c, v in zip(letters, texts))
+                words = " ".join(written[row])
                 if words == last_words:
                     continue
                 last_words = words
-                cur = tuple(float(v) for v in texts)
+                cur = tuple(float(w[k:]) for w, k in zip(written[row], offset))
                 lines += dialect.move_lines(program, row, words, last, cur)
                 last = cur
                 u = float(program.index[row])
