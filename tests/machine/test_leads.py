@@ -52,3 +52,15 @@ def test_guessed_bracket_gives_the_scans_lead(config, monkeypatch):
     for i in np.flatnonzero(ok)[:300]:
         pts = ev.p[i] + (t * lam[i])[:, None] * u[i]
         assert np.all(np.hypot(pts[:, 0], pts[:, 1]) < env.at(pts[:, 2]))
+
+
+def test_unwrap_each_is_np_unwrap_per_run():
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        sizes = rng.integers(0, 30, size=rng.integers(1, 8))
+        b = np.angle(np.exp(1j * np.cumsum(rng.normal(size=sizes.sum()) * rng.choice([0.1, 2.0]))))
+        b[rng.random(b.size) < 0.05] = -0.0
+        ends = np.cumsum(sizes)
+        want = np.concatenate([np.unwrap(b[e - n:e]) for e, n in zip(ends, sizes)])
+        got = kinematics._unwrap_each(b, sizes)
+        assert np.array_equal(want.view(np.int64), got.view(np.int64))  # bit for bit, signed zeros too

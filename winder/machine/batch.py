@@ -9,7 +9,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
-from winder.machine.densify import densify
+from winder.machine.densify import densify, densify_many
 from winder.machine.kinematics import RobotPoses, eye_leads, robot_poses
 from winder.winding.results import FiberPass, WindingPlan
 
@@ -79,18 +79,27 @@ def all_midpoints(plan: WindingPlan, smooth: dict, number: dict, env) -> dict:
 
 
 def all_dense(plan: WindingPlan, smooth: dict, number: dict, leads: dict, mids: dict, env, axes_of,
-              tol: float) -> dict:
+              tol: float, axes_many=None) -> dict:
     """id(pass) -> (points, directions, theta, u, leads) of every pass the chord tolerance makes
     densify (winder.machine.densify), theta at the plan's own turn count (the bow does not depend on
-    it), the dense points' leads in one call. axes_of(fp) -> the pass's axes function for densify."""
+    it), the dense points' leads in one call. axes_of(fp) -> the pass's axes function for densify;
+    axes_many: that of many passes at once (winder.machine.densify.densify_many), used for a layer
+    whose leads and midpoints were all found in their batches."""
     out = {}
     for layer in plan.layers:
-        for fp in layer.passes:
-            if len(fp.points) >= 2:
-                dense = densify(smooth[layer.index], number[id(fp)], fp, np.asarray(fp.theta, dtype=float),
-                                axes_of(fp), tol, leads.get(id(fp)), mids.get(id(fp)))
-                if dense is not None:
-                    out[id(fp)] = dense
+        passes = [fp for fp in layer.passes if len(fp.points) >= 2]
+        if not passes:
+            continue
+        if axes_many is not None and all(leads.get(id(fp)) is not None and id(fp) in mids for fp in passes):
+            base_lead = tuple(np.concatenate([leads[id(fp)][k] for fp in passes]) for k in (0, 1))
+            mid = [np.concatenate([mids[id(fp)][k] for fp in passes]) for k in range(3)]
+            mid_lead = tuple(np.concatenate([mids[id(fp)][3][k] for fp in passes]) for k in (0, 1))
+            found = densify_many(smooth[layer.index], [number[id(fp)] for fp in passes], passes, axes_many, tol,
+                                 base_lead, (*mid, mid_lead))
+        else:  # pass by pass: a failure names its pass
+            found = [densify(smooth[layer.index], number[id(fp)], fp, np.asarray(fp.theta, dtype=float),
+                             axes_of(fp), tol, leads.get(id(fp)), mids.get(id(fp))) for fp in passes]
+        out.update((id(fp), dense) for fp, dense in zip(passes, found) if dense is not None)
     if not out:
         return {}
     sets = list(out.values())

@@ -61,3 +61,44 @@ def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: 
     _, th, p, d = paths.point(paths.offset[j] + u)
     p[::factor], d[::factor], th[::factor] = fp.points, fp.direction, fp.theta
     return p, d, th + shift, u
+
+
+def densify_many(paths: SmoothPaths, numbers: list[int], passes: list[FiberPass], axes_many: Callable,
+                 tol: float, base_lead: tuple[np.ndarray, np.ndarray],
+                 mid: tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]) -> list:
+    """densify of the passes (each >= 2 points) of one smooth-path set at their planned turn counts,
+    in one batch: the same (points, directions, theta, u) or None per pass. numbers : each pass's j.
+    axes_many(points, directions, theta, lead, sizes) -> the scaled axis values of consecutive runs of
+    contact points of those sizes. base_lead : the passes' points' leads, concatenated; mid : the
+    concatenated (points, directions, theta, leads) of their midpoints (sizes n_i - 1)."""
+    sizes = np.array([len(fp.s) for fp in passes])
+    base = axes_many(np.concatenate([fp.points for fp in passes]), np.concatenate([fp.direction for fp in passes]),
+                     np.concatenate([np.asarray(fp.theta, dtype=float) for fp in passes]), base_lead, sizes)
+    p_mid, d_mid, th_mid, mid_lead = mid
+    q_mid = axes_many(p_mid, d_mid, th_mid + 0.0, mid_lead, sizes - 1)  # + 0.0: densify's zero shift
+    last = np.zeros(len(base), dtype=bool)
+    last[np.cumsum(sizes) - 1] = True
+    k = np.flatnonzero(~last)  # each interval's first point
+    err = np.linalg.norm(q_mid - 0.5 * (base[k + 1] + base[k]), axis=1)
+    bows = np.maximum.reduceat(err, np.cumsum(sizes - 1) - (sizes - 1))
+    todo, us = [], []
+    for i, (fp, n, bow) in enumerate(zip(passes, sizes, bows.tolist())):
+        if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
+            continue
+        factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
+        if factor <= 1:
+            continue
+        u = np.linspace(0.0, n - 1.0, (n - 1) * factor + 1)
+        u[::factor] = np.arange(n)  # the planned points exactly
+        todo.append((i, factor, u))
+        us.append(paths.offset[numbers[i]] + u)
+    out: list = [None] * len(passes)
+    if not todo:
+        return out
+    _, th, p, d = paths.point(np.concatenate(us))
+    cuts = np.cumsum([u.size for _, _, u in todo])[:-1]
+    for (i, factor, u), th_i, p_i, d_i in zip(todo, np.split(th, cuts), np.split(p, cuts), np.split(d, cuts)):
+        fp = passes[i]
+        p_i[::factor], d_i[::factor], th_i[::factor] = fp.points, fp.direction, fp.theta
+        out[i] = (p_i, d_i, th_i + 0.0, u)
+    return out

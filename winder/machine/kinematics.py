@@ -229,16 +229,34 @@ def eye_leads(points: np.ndarray, directions: np.ndarray, envelope: EyeEnvelope,
     return _lead_straight(p, _unit(np.asarray(directions, dtype=float).reshape(-1, 3)), envelope, where)
 
 
+def _unwrap_each(b: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """np.unwrap of each consecutive run of b (k,) of the given sizes, bit for bit: a run with no
+    step of pi or more gets np.unwrap's zero corrections added to its tail, any other run is
+    unwrapped on its own."""
+    run = np.repeat(np.arange(sizes.size), sizes)
+    out = b.copy()
+    tail = np.ones(b.size, dtype=bool)
+    tail[(np.cumsum(sizes) - sizes)[sizes > 0]] = False
+    out[tail] = b[tail] + 0.0
+    steps = (np.abs(np.diff(b)) >= np.pi) & (run[1:] == run[:-1])
+    starts = np.cumsum(sizes) - sizes
+    for k in np.unique(run[:-1][steps]):
+        out[starts[k]:starts[k] + sizes[k]] = np.unwrap(b[starts[k]:starts[k] + sizes[k]])
+    return out
+
+
 def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, machine: MachineConfig,
              *, theta: np.ndarray | None = None, envelope: EyeEnvelope | None = None,
              sense: float | None = None, where: str = "eye path",
-             lead: tuple[np.ndarray, np.ndarray] | None = None) -> EyePath:
+             lead: tuple[np.ndarray, np.ndarray] | None = None, sizes: np.ndarray | None = None) -> EyePath:
     """Axis values of a straight-axis winder laying the fiber through contact points (m, 3) with unit
     fiber directions (m, 3) (toward the part not yet laid). theta : (m,) the contact angles, unwrapped
     (default: the polar angles of the points, unwrapped); they fix A's turn count. envelope : from
     eye_envelope (computed here when left out). sense : the winding sense sigma of B (> 0: theta
     increasing; default: the sense the fiber runs in here). `where` prefixes error messages. lead :
-    eye_leads of these points, when the caller computed them for many passes at once."""
+    eye_leads of these points, when the caller computed them for many passes at once. sizes : the
+    points are those of consecutive passes this long, each pass's B made continuous on its own (the
+    same values as pass by pass; sense must be given); default one pass."""
     if not surface.curve.is_straight:
         raise ExportError(f"{where}: the mandrel axis is bent: a straight-axis winder cannot follow it; "
                           "use robot poses (machine.robot)")
@@ -258,7 +276,8 @@ def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, 
     if sense is None:
         sense = -1.0 if np.sum(d_u) < 0.0 else 1.0
     sigma = -1.0 if sense < 0.0 else 1.0
-    b = np.unwrap(np.arctan2(sigma * d[:, 2], sigma * d_u))
+    b = np.arctan2(sigma * d[:, 2], sigma * d_u)
+    b = np.unwrap(b) if sizes is None else _unwrap_each(b, np.asarray(sizes, dtype=int))
     return EyePath(x=e[:, 2].copy(), a_deg=-np.degrees(phi), z=zr, b_deg=np.degrees(b), eye_xyz=e,
                    lead=lam, on_envelope=ok)
 

@@ -209,7 +209,10 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
         return lambda p, d, th, ld: scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense,
                                                     where=where, lead=ld))
 
-    dense_of = {} if robot else all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol)
+    def axes_many(p, d, th, ld, sizes) -> np.ndarray:
+        return scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, lead=ld, sizes=sizes))
+
+    dense_of = {} if robot else all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol, axes_many)
 
     todo: list[tuple[np.ndarray, float]] = []  # per non-empty pass: (scaled axes, tolerance)
     laid: list[tuple] = []

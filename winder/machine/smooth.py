@@ -4,6 +4,8 @@ densifies along it; `winder simulate` finds contact points on it."""
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 from winder.geometry.index_spline import knot_slopes
@@ -13,12 +15,14 @@ from winder.winding.results import FiberPass, PassKind
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
 
 
-def _along(surface: SweepSurface, fp: FiberPass, ds: np.ndarray, dth: np.ndarray):
-    """Parameter derivatives (s', theta') along the plan's directions, with the spline's speed."""
-    ev = surface.evaluate(fp.s, fp.theta, order=1)
+def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.ndarray, ds: np.ndarray,
+           dth: np.ndarray):
+    """Parameter derivatives (s', theta') along the plan's directions (n, 3) at nodes (s, theta)
+    (n,), with the spline's speed (ds, dth): pointwise, so all passes' nodes go in one call."""
+    ev = surface.evaluate(s, th, order=1)
     basis = np.stack([ev.ps, ev.pt], axis=2)  # (n, 3, 2)
     g = np.einsum("nki,nkj->nij", basis, basis)
-    rhs = np.einsum("nki,nk->ni", basis, fp.direction)
+    rhs = np.einsum("nki,nk->ni", basis, direction)
     ab = np.linalg.solve(g, rhs[..., None])[..., 0]
     speed_plan = np.linalg.norm(np.einsum("nki,ni->nk", basis, ab), axis=1)
     speed_spline = np.linalg.norm(ev.ps * ds[:, None] + ev.pt * dth[:, None], axis=1)
@@ -40,43 +44,44 @@ class SmoothPaths:
 
     def __init__(self, surface: SweepSurface, passes: list[FiberPass]) -> None:
         self.surface = surface
-        s, th, ds, dth, offsets, last, free, d = [], [], [], [], [], [], [], []
+        s, th, ds, dth, offsets, last, free, d, along = [], [], [], [], [], [], [], [], []
         count = 0
         for fp in passes:
             n = len(fp.s)
             offsets.append(count)
             last.append(count + max(n - 1, 0))
-            u = np.arange(n, dtype=float)
             s.append(fp.s)
             th.append(fp.theta)
             free.append(np.full(n, fp.kind is PassKind.DWELL))
             d.append(np.asarray(fp.direction, dtype=float).reshape(n, 3))
-            if n >= 2:
-                # The not-a-knot cubic spline's slopes against the point index (index_spline).
-                slopes = knot_slopes(np.column_stack([fp.s, fp.theta]))
-                # A dwell's directions are the free fiber's swing, not its parallel's tangent.
-                a, b = ((slopes[:, 0], slopes[:, 1]) if fp.kind is PassKind.DWELL
-                        else _along(surface, fp, slopes[:, 0], slopes[:, 1]))
-                ds.append(a)
-                dth.append(b)
-            else:
-                ds.append(np.zeros(n))
-                dth.append(np.zeros(n))
+            # The not-a-knot cubic spline's slopes against the point index (index_spline); a dwell's
+            # directions are the free fiber's swing, not its parallel's tangent: the slopes stay.
+            slopes = knot_slopes(np.column_stack([fp.s, fp.theta])) if n >= 2 else np.zeros((n, 2))
+            ds.append(slopes[:, 0])
+            dth.append(slopes[:, 1])
+            along.append(np.full(n, n >= 2 and fp.kind is not PassKind.DWELL))
             count += n
         self.s, self.th = np.concatenate(s), np.concatenate(th)
         self.ds, self.dth = np.concatenate(ds), np.concatenate(dth)
         self.offset, self.last = np.array(offsets), np.array(last)
         self.free = np.concatenate(free) if free else np.zeros(0, dtype=bool)
         self.d = np.concatenate(d) if d else np.zeros((0, 3))
+        on = np.flatnonzero(np.concatenate(along)) if along else np.zeros(0, dtype=int)
+        if on.size:  # every pass's nodes in one call
+            self.ds[on], self.dth[on] = _along(surface, self.s[on], self.th[on], self.d[on], self.ds[on], self.dth[on])
         self._is_last = np.zeros(count + 1, dtype=bool)  # a table, not np.isin: _interval runs per lookup
         self._is_last[self.last] = True
-        # Arc length at the nodes: Gauss-Legendre per node interval.
+
+    @cached_property
+    def arc(self) -> np.ndarray:
+        """(n,) arc length at the nodes, from each pass's first (Gauss-Legendre per node interval):
+        worked out when first asked for (`winder simulate`), the motion program does not need it."""
         x, w = np.polynomial.legendre.leggauss(GAUSS_NODES)
-        k = np.arange(max(count - 1, 0))
+        k = np.arange(max(self.s.size - 1, 0))
         inside = ~self._is_last[k]  # no interval across passes
         u = (k[:, None] + 0.5 * (x + 1.0)).ravel()
         speed = self.speed(u).reshape(-1, GAUSS_NODES) @ (0.5 * w)
-        self.arc = np.concatenate([[0.0], np.cumsum(np.where(inside, speed, 0.0))])
+        return np.concatenate([[0.0], np.cumsum(np.where(inside, speed, 0.0))])
 
     def _interval(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(first node k, fraction h in [0, 1]) of each u's interval within its pass."""

@@ -1,0 +1,31 @@
+"""Densify in one batch per layer (densify_many) writes the very program of densify pass by pass."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from winder.config.job import load_config
+from winder.machine import batch, program
+from winder.winding.plan import plan as plan_job
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_batched_densify_is_pass_by_pass(monkeypatch):
+    job = load_config(ROOT / "samples/vessel_isotensoid.yaml")
+    plan = plan_job(job)
+    batched = program.build_program(plan, job.machine)
+    calls = []
+
+    def one_by_one(*args):
+        calls.append(len(args))
+        return batch.all_dense(*args[:8])  # without axes_many: densify pass by pass
+
+    monkeypatch.setattr(program, "all_dense", one_by_one)
+    plain = program.build_program(plan, job.machine)
+    assert calls == [9]
+    assert np.any(batched.index != np.round(batched.index))  # some passes were densified
+    assert np.array_equal(batched.values, plain.values) and np.array_equal(batched.index, plain.index)
+    assert np.array_equal(batched.fiber, plain.fiber)
