@@ -17,24 +17,47 @@ from winder.geometry.surface import SweepSurface
 
 
 def pass_crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.ndarray,
-               band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Where a pass crosses the stations: (station index, perimeter fraction, band half-width / P).
 
     Cubic splines of s and theta against t (monotone along a pass) give the crossing and the local
     direction Phi_s s'(t) + Phi_theta theta'(t) to O(h^4), far below a band's width.
     """
+    return _bands(surface, arcs, *_spline_crossings(p, stations), band_width)
+
+
+def crossings_many(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass], stations: np.ndarray,
+                   band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """pass_crossings of every pass, concatenated in pass order: the splines pass by pass, the
+    surface (pointwise) in one evaluation."""
+    parts = [_spline_crossings(p, stations) for p in passes]
+    if not parts:
+        return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0)
+    return _bands(surface, arcs, *(np.concatenate(c) for c in zip(*parts)), band_width)
+
+
+def _spline_crossings(p: FiberPass, stations: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(station index, s, theta, s'(t), theta'(t)) where the pass crosses the stations."""
     forward = p.t[-1] > p.t[0]
     if p.t.size < 2:
-        return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0)
+        return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0)
     t, s, th = (p.t, p.s, p.theta) if forward else (p.t[::-1], p.s[::-1], p.theta[::-1])
     idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
     if idx.size == 0:
-        return idx, np.zeros(0), np.zeros(0)
+        return idx, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0)
     st = stations[idx]
     cs, ct = interp_spline(t, s), interp_spline(t, th)
-    s_x, th_x = cs(st), ct(st)
+    return idx, cs(st), ct(st), cs(st, 1), ct(st, 1)
+
+
+def _bands(surface: SweepSurface, arcs: ArcMap, idx: np.ndarray, s_x: np.ndarray, th_x: np.ndarray,
+           ds: np.ndarray, dth: np.ndarray, band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(station index, perimeter fraction, band half-width / P) of crossings at (s, theta) heading
+    (s', theta') per unit t."""
+    if idx.size == 0:
+        return idx, np.zeros(0), np.zeros(0)
     ev = surface.evaluate(s_x, th_x, order=1)
-    d = ev.ps * cs(st, 1)[:, None] + ev.pt * ct(st, 1)[:, None]
+    d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
     d /= np.linalg.norm(d, axis=1)[:, None]
     e_t = ev.pt / np.linalg.norm(ev.pt, axis=1)[:, None]
     sin_beta = np.linalg.norm(np.cross(d, e_t), axis=1)
@@ -95,14 +118,19 @@ def layer_coverage(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass],
     groups = [g for g in groups if g]
     stations = np.asarray(stations, dtype=float)
     perimeters = surface.perimeter(surface.s_of_t(stations))
-    hits = [[pass_crossings(surface, arcs, p, stations, band_width) for p in g] for g in groups]
+    # Each group's crossings by station (a stable sort: in pass order within a station).
+    hits = []
+    for g in groups:
+        i, f, h = crossings_many(surface, arcs, g, stations, band_width)
+        order = np.argsort(i, kind="stable")
+        cuts = np.searchsorted(i[order], np.arange(1, len(stations)))
+        hits.append((np.split(f[order], cuts), np.split(h[order], cuts)))
     worst_cov, worst_gap, worst_overlap = 1.0, 0.0, 0.0
     min_layers, max_layers = None, 0
     for k, perimeter in enumerate(perimeters):
         all_c, all_h = [], []
-        for group in hits:
-            cs = np.concatenate([f[i == k] for i, f, _ in group]) * perimeter
-            hs = np.concatenate([h[i == k] for i, _, h in group]) * perimeter
+        for fracs, halves in hits:
+            cs, hs = fracs[k] * perimeter, halves[k] * perimeter
             covered, gap, overlap, _, _ = _union_stats(cs, hs, perimeter)
             worst_cov = min(worst_cov, covered / perimeter)
             worst_gap = max(worst_gap, gap)

@@ -70,14 +70,27 @@ class LayerSlip:
     bridge_pass: int
 
 
+def _curvatures(surface: SweepSurface, passes: list[FiberPass]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """polyline_curvatures of each pass (>= 3 points), from one call over the passes one after the
+    other: its values at a vertex come from that vertex and its two neighbours, so those of each
+    pass's interior are its own; the two at each junction between passes are dropped."""
+    if not passes:
+        return []
+    sizes = np.array([p.s.size for p in passes])
+    with np.errstate(all="ignore"):  # a junction's segment may have no length (a pass starts where one ended)
+        k_n, k_g = polyline_curvatures(surface, np.concatenate([p.s for p in passes]),
+                                       np.concatenate([p.theta for p in passes]),
+                                       np.concatenate([p.points for p in passes]))
+    first = np.cumsum(sizes) - sizes  # in the interior vertices' numbering, pass i's start at first_i
+    return [(k_n[a:a + n - 2], k_g[a:a + n - 2]) for a, n in zip(first.tolist(), sizes.tolist())]
+
+
 def measure(surface: SweepSurface, passes: list[FiberPass] | tuple[FiberPass, ...]) -> LayerSlip:
     """The layer's slip and bridging margin, from the points of every laid (non-dwell) pass."""
     best = [0.0, 0.0, 0, np.inf, 0.0, 0]
     scale = 0.0
-    for p in passes:
-        if p.kind is PassKind.DWELL or p.s.size < 3:
-            continue
-        k_n, k_g = polyline_curvatures(surface, p.s, p.theta, p.points)
+    laid = [p for p in passes if p.kind is not PassKind.DWELL and p.s.size >= 3]
+    for p, (k_n, k_g) in zip(laid, _curvatures(surface, laid)):
         top = float(np.max(np.abs(k_n)))
         scale = max(scale, top)
         i = int(np.argmin(k_n))
