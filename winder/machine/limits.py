@@ -38,7 +38,11 @@ def check_limits(path: EyePath, machine: MachineConfig, where: str) -> None:
         values = path.axes()[role]
         if values.size == 0:
             continue
-        values = as_written(np.asarray(values, dtype=float), (lo, hi))
+        values = np.asarray(values, dtype=float)
+        margin = 10.0 ** -AXIS_DECIMALS  # farther inside than this, rounding as written cannot leave the limits
+        if values.min() > lo + margin and values.max() < hi - margin:
+            continue
+        values = as_written(values, (lo, hi))
         bad = np.flatnonzero((values < lo) | (values > hi))
         if bad.size:
             k = int(bad[np.argmax(np.maximum(lo - values[bad], values[bad] - hi))])
