@@ -11,7 +11,7 @@ import pytest
 from winder.config.job import load_config
 from winder.config.machine import MachineConfig
 from winder.geometry.build import build_surface
-from winder.machine import kinematics
+from winder.machine import kinematics, leads
 from winder.machine.envelope import eye_envelope
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -31,23 +31,23 @@ def test_guessed_bracket_gives_the_scans_lead(config, monkeypatch):
     mix = rng.normal(size=(m, 2))
     mix[:50, 1] = 1e-7  # nearly along the meridian (toward or away from the axis on a dome)
     d = ev.ps * mix[:, :1] + ev.pt * mix[:, 1:]
-    lam, ok = kinematics.eye_leads(ev.p, d, env)
+    lam, ok = leads.eye_leads(ev.p, d, env)
     guessed = []
-    plain = kinematics._first_crossing
+    plain = leads.first_crossing
 
     def scan_only(f, n, lmax, guess=None):
         guessed.append(guess is not None)
         return plain(f, n, lmax)
 
-    monkeypatch.setattr(kinematics, "_first_crossing", scan_only)
-    lam_scan, ok_scan = kinematics.eye_leads(ev.p, d, env)
+    monkeypatch.setattr(leads, "first_crossing", scan_only)
+    lam_scan, ok_scan = leads.eye_leads(ev.p, d, env)
     assert guessed == [True]
     assert np.array_equal(lam, lam_scan) and np.array_equal(ok, ok_scan)
     # The first crossing: on the envelope, and inside it all along the ray before.
-    u = kinematics._unit(d)
+    u = leads.unit_rows(d)
     e = ev.p + lam[:, None] * u
     gap = np.hypot(e[:, 0], e[:, 1]) - env.at(e[:, 2])
-    assert np.all(np.abs(gap[ok]) <= kinematics.ROOT_TOL * 10)
+    assert np.all(np.abs(gap[ok]) <= leads.ROOT_TOL * 10)
     t = np.linspace(0.0, 1.0, SAMPLES, endpoint=False)[1:]
     for i in np.flatnonzero(ok)[:300]:
         pts = ev.p[i] + (t * lam[i])[:, None] * u[i]

@@ -10,7 +10,8 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.densify import densify, densify_many
-from winder.machine.kinematics import RobotPoses, eye_leads, robot_poses
+from winder.machine.kinematics import RobotPoses, robot_poses
+from winder.machine.leads import eye_leads
 from winder.winding.results import FiberPass, WindingPlan
 
 
