@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
-from bench.fiberpath_jobs import FIBERPATH
+from bench.fiberpath_jobs import FIBERPATH, compile_winder
 from bench.settings import Settings
 from bench.timing import interleaved
 
@@ -53,6 +53,7 @@ def _gcode_stats(text: str) -> dict[str, int]:
 
 def compare_job(settings: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
     exe = str(FIBERPATH) if FIBERPATH.exists() else None  # one place says where fiberpath is
+    compile_winder()  # both command lines from bytecode, as installed
     out: dict[str, Any] = {"job": {"radius_mm": RADIUS, "length_mm": LENGTH, "band_mm": BAND, "angle_deg": ANGLE,
                                    "feed_mm_min": FEED},
                            "fiberpath_wind": WIND, "winder_yaml": JOB_YAML, "notes": []}
