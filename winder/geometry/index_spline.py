@@ -9,6 +9,8 @@ object is built. The spline is the one of scipy's CubicSpline(i, y, bc_type="not
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from winder.geometry.lapack import lapack as scipy_lapack
@@ -18,6 +20,21 @@ from winder.geometry.lapack import lapack as scipy_lapack
 LOBATTO_T = np.array([0.5 - np.sqrt(5.0) / 10.0, 0.5 + np.sqrt(5.0) / 10.0])
 LOBATTO_W_END = 1.0 / 12.0
 LOBATTO_W_MID = 5.0 / 12.0
+
+
+@functools.lru_cache(maxsize=16)
+def _knot_matrix(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The (lower, diagonal, upper) bands of the knot system for m > 3 knots, read-only: dgtsv
+    copies them (its overwrite flags are off), so a solver's levels share one set per size."""
+    diag = np.full(m, 4.0)
+    diag[[0, -1]] = 1.0
+    lower = np.ones(m - 1)
+    upper = np.ones(m - 1)
+    upper[0] = 2.0
+    lower[-1] = 2.0
+    for band in (lower, diag, upper):
+        band.flags.writeable = False
+    return lower, diag, upper
 
 
 def knot_slopes(y: np.ndarray) -> np.ndarray:
@@ -36,15 +53,8 @@ def knot_slopes(y: np.ndarray) -> np.ndarray:
     rhs[0] = 0.5 * (5.0 * sl[0] + sl[1])
     rhs[1:-1] = 3.0 * (sl[:-1] + sl[1:])
     rhs[-1] = 0.5 * (sl[-2] + 5.0 * sl[-1])
-    diag = np.full(m, 4.0)
-    diag[[0, -1]] = 1.0
-    lower = np.ones(m - 1)
-    upper = np.ones(m - 1)
-    upper[0] = 2.0
-    lower[-1] = 2.0
-    lapack = scipy_lapack()
-
-    *_, slopes, info = lapack.dgtsv(lower, diag, upper, rhs, overwrite_b=True)
+    lower, diag, upper = _knot_matrix(m)
+    *_, slopes, info = scipy_lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
     if info != 0:  # the matrix is strictly diagonally dominant but for the end rows: cannot happen
         raise ArithmeticError(f"the spline's knot system is singular (LAPACK info {info})")
     return slopes
@@ -81,7 +91,21 @@ def segment_nodes(y: np.ndarray, dy: np.ndarray, fractions: np.ndarray) -> tuple
     y, dy : (m, k) knot values and slopes. Returns two ((m - 1) q, k) float arrays, the nodes in
     path order.
     """
-    y0, y1, d0, d1 = y[:-1], y[1:], dy[:-1], dy[1:]
-    vals = np.stack([_hermite(y0, d0, y1, d1, float(t)) for t in fractions], axis=1)
-    ders = np.stack([_hermite(y0, d0, y1, d1, float(t), derivative=True) for t in fractions], axis=1)
+    # One broadcast pass over (m - 1, q, k) with the basis weights of the fractions computed once
+    # (the arithmetic and its order are _hermite's, so the nodes are bit for bit the same).
+    a, b, c, d, e, f, g = _basis(tuple(float(t) for t in fractions))
+    y0, y1, d0, d1 = y[:-1, None], y[1:, None], dy[:-1, None], dy[1:, None]
+    vals = a * y0 + b * d0 + c * y1 + d * d1
+    ders = e * (y0 - y1) + f * d0 + g * d1
     return vals.reshape(-1, y.shape[1]), ders.reshape(-1, y.shape[1])
+
+
+@functools.lru_cache(maxsize=16)
+def _basis(fractions: tuple[float, ...]) -> tuple[np.ndarray, ...]:
+    """The cubic Hermite weights at the fractions, each (1, q, 1): of y0, d0, y1, d1 for the value,
+    of y0 - y1, d0, d1 for the slope."""
+    t = np.array(fractions)[None, :, None]
+    t2 = t * t
+    t3 = t2 * t
+    return (2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + t, 3.0 * t2 - 2.0 * t3, t3 - t2,
+            6.0 * (t2 - t), 3.0 * t2 - 4.0 * t + 1.0, 3.0 * t2 - 2.0 * t)
