@@ -151,18 +151,30 @@ class Path:
             rows.append((piece.origin, t0, u, b, kappa, piece.e2 @ u, piece.e2 @ b, e3 @ u, e3 @ b))
         cols = list(zip(*rows))
         object.__setattr__(self, "_vec", tuple(np.array(c, dtype=float) for c in cols))
+        # Piece-major tables for the multi-piece gather: one fancy index along the pieces gives
+        # contiguous (rows, m) component rows. 1 / kappa is 0 on lines, where it is never selected,
+        # so the evaluation divides nothing by zero.
+        origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = self._vec
+        inv = np.divide(1.0, kappa, out=np.zeros_like(kappa), where=kappa > 0.0)
+        object.__setattr__(self, "_columns", np.concatenate([origin.T, t0.T, u.T, b.T]))
+        object.__setattr__(self, "_scalars", np.stack([kappa, inv, e2u, e2b, e3u, e3b]))
+        # One piece: its parameters broadcast as they are, as (3, 1) columns and floats, with the
+        # binormal's constant parts of the frame, e2b b and e3b b, formed once.
+        col = tuple(a[0][:, None] for a in (origin, t0, u, b))
+        object.__setattr__(self, "_single", (*col, float(kappa[0]), float(e2u[0]), float(e3u[0]),
+                                             e2b[0] * col[3], e3b[0] * col[3]))
 
     def evaluate(self, z: np.ndarray) -> CurveEval:
         z = np.asarray(z, dtype=float)
-        if len(self.pieces) == 1:
-            # One piece: its parameters broadcast as they are (no per-point gather).
-            origin, t0, u, b = (a[0][:, None] for a in self._vec[:4])
-            kappa, e2u, e2b, e3u, e3b = (a[0] for a in self._vec[4:])
+        if len(self.pieces) == 1:  # no per-point gather
+            origin, t0, u, b, kappa, e2u, e3u, e2bb, e3bb = self._single
             zl = z
         else:
             k = np.clip(np.searchsorted(self.starts, z, side="right") - 1, 0, len(self.pieces) - 1)
-            origin, t0, u, b = (a[k].T for a in self._vec[:4])
-            kappa, e2u, e2b, e3u, e3b = (a[k] for a in self._vec[4:])
+            cols = self._columns[:, k]
+            origin, t0, u, b = cols[0:3], cols[3:6], cols[6:9], cols[9:12]
+            kappa, inv, e2u, e2b, e3u, e3b = self._scalars[:, k]
+            e2bb, e3bb = e2b * b, e3b * b
             zl = z - self.starts[k]
         # Component-major (3, m): the arithmetic runs along m. sin(phi) / kappa and
         # (1 - cos(phi)) / kappa = 2 sin(phi / 2)^2 / kappa tend to z and 0 on lines (kappa = 0).
@@ -171,15 +183,14 @@ class Path:
         if np.ndim(kappa) == 0:
             along, across = (s / kappa, 2.0 * np.sin(0.5 * phi) ** 2 / kappa) if kappa > 0.0 else (zl, 0.0)
         else:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                inv = 1.0 / kappa
-                along = np.where(kappa > 0.0, s * inv, zl)
-                across = np.where(kappa > 0.0, 2.0 * np.sin(0.5 * phi) ** 2 * inv, 0.0)
+            arc = kappa > 0.0
+            along = np.where(arc, s * inv, zl)
+            across = np.where(arc, 2.0 * np.sin(0.5 * phi) ** 2 * inv, 0.0)
         x = origin + along * t0 + across * u
         tan = c * t0 + s * u
         nrm = c * u - s * t0
-        return CurveEval(x.T, tan.T, (kappa * nrm).T, (-(kappa * kappa) * tan).T, (e2u * nrm + e2b * b).T,
-                         (e3u * nrm + e3b * b).T)
+        return CurveEval(x.T, tan.T, (kappa * nrm).T, (-(kappa * kappa) * tan).T, (e2u * nrm + e2bb).T,
+                         (e3u * nrm + e3bb).T)
 
     def max_curvature(self) -> float:
         return max(p.max_curvature() for p in self.pieces)
