@@ -57,9 +57,10 @@ class Ellipse:
         q = (b * c) ** 2 + (a * s) ** 2
         q1 = 2.0 * (a * a - b * b) * s * c
         q2 = 2.0 * (a * a - b * b) * (c * c - s * s)
+        q15 = q**-1.5  # used twice: a power costs several multiplies
         rho = a * b * q**-0.5
-        d1 = -0.5 * a * b * q**-1.5 * q1
-        d2 = a * b * (0.75 * q**-2.5 * q1 * q1 - 0.5 * q**-1.5 * q2)
+        d1 = -0.5 * a * b * q15 * q1
+        d2 = a * b * (0.75 * q**-2.5 * q1 * q1 - 0.5 * q15 * q2)
         return rho, d1, d2
 
     def perimeter(self) -> float:
