@@ -6,6 +6,7 @@ vectorized over stations z (m,), the point, its first three derivatives and the 
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import NamedTuple, Protocol
 
@@ -62,9 +63,13 @@ class Line:
         z = np.asarray(z, dtype=float)
         m = z.shape[0]
         zero = np.zeros((3, m)).T
-        e3 = np.cross(self.tangent, self.e2)
         return CurveEval((self.origin[:, None] + z * self.tangent[:, None]).T, _tile(self.tangent, m), zero,
-                         zero, _tile(self.e2, m), _tile(e3, m))
+                         zero, _tile(self.e2, m), _tile(self.e3, m))
+
+    @functools.cached_property
+    def e3(self) -> np.ndarray:
+        """The frame's third vector, tangent x e2 (3,): constant along a line."""
+        return np.cross(self.tangent, self.e2)
 
     def max_curvature(self) -> float:
         return 0.0

@@ -7,6 +7,7 @@ singular on the domes down to the polar opening; the user-facing station t = z(s
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple, Protocol
 
@@ -64,6 +65,15 @@ class AxialProfile:
     @property
     def axial_length(self) -> float:
         return self.length
+
+    @functools.cached_property
+    def constant_radius(self) -> float | None:
+        """r where the profile is one constant piece (a straight tube), else None: an evaluator can
+        then skip the profile, whose derivatives are all 0."""
+        if self.spline.c.shape[1] != 1:
+            return None
+        c3, c2, c1, c0 = (float(v) for v in self.spline.c[:, 0])
+        return c0 if c3 == c2 == c1 == 0.0 else None
 
     def evaluate(self, s: np.ndarray) -> ProfileEval:
         s = np.asarray(s, dtype=float)

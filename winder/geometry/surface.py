@@ -88,14 +88,10 @@ class SweepSurface:
 
     @functools.cached_property
     def _constant_radius(self) -> float | None:
-        """p(s) where the profile is a constant over z = s (None otherwise): evaluate then skips it."""
+        """p(s) where it is a constant over z = s (None otherwise): evaluate then skips the profile."""
         if self.profile is None:
             return 1.0
-        spline = getattr(self.profile, "spline", None)
-        if not isinstance(self.profile, AxialProfile) or spline is None or spline.c.shape[1] != 1:
-            return None
-        c3, c2, c1, c0 = (float(v) for v in spline.c[:, 0])
-        return c0 if c3 == c2 == c1 == 0.0 else None
+        return self.profile.constant_radius if isinstance(self.profile, AxialProfile) else None
 
     @functools.cached_property
     def _line_frame(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
@@ -103,8 +99,7 @@ class SweepSurface:
         if not isinstance(self.curve, Line):
             return None
         line = self.curve
-        return (line.origin[:, None], line.tangent[:, None], line.e2[:, None],
-                np.cross(line.tangent, line.e2)[:, None])
+        return line.origin[:, None], line.tangent[:, None], line.e2[:, None], line.e3[:, None]
 
     # -- evaluation -------------------------------------------------------------------------------
     def evaluate(self, s: np.ndarray, theta: np.ndarray, order: int = 2) -> SurfaceEval:
