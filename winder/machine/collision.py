@@ -17,7 +17,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
-from winder.machine.envelope import EyeEnvelope
+from winder.machine.envelope import EyeEnvelope, turn
 
 SAMPLES_PER_MOVE = 8
 SLAB_SEGMENTS = 16  # segments measured per point; more in its slab: the nearest vertex's two
@@ -71,7 +71,8 @@ def _meridian(t: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The meridian polyline without the vertices inside its straight runs (a cylinder keeps its two
     ends): the slabs then hold few segments. Each vertex dropped lies within STRAIGHT_TOL of its
     neighbours' chord (a profile bent less would have a radius of curvature of thousands of km)."""
-    cross = np.abs((t[1:-1] - t[:-2]) * (r[2:] - r[:-2]) - (r[1:-1] - r[:-2]) * (t[2:] - t[:-2]))
+    i = np.arange(t.size)
+    cross = np.abs(turn(t, r, i[:-2], i[1:-1], i[2:]))
     keep = np.concatenate([[True], cross > STRAIGHT_TOL * np.hypot(t[2:] - t[:-2], r[2:] - r[:-2]), [True]])
     return t[keep], r[keep]
 

@@ -122,6 +122,12 @@ def _dilate(stations: np.ndarray, r_max: np.ndarray, c: float, h: float, k_max: 
     return np.maximum(dil, 0.0), x
 
 
+def turn(x: np.ndarray, z: np.ndarray, a, b, c):
+    """(b - a) x (c - a) of the points (x, z) at indices a, b, c (ints or index arrays): < 0 where b
+    lies above the chord a-c (x increasing), 0 on it; twice the triangle's signed area."""
+    return (x[b] - x[a]) * (z[c] - z[a]) - (z[b] - z[a]) * (x[c] - x[a])
+
+
 def _concave_majorant(x: np.ndarray, z: np.ndarray) -> np.ndarray:
     """The least concave function >= z over the points x (k,) (increasing), at x: the upper convex
     hull of the points (x, z), interpolated.
@@ -136,7 +142,7 @@ def _concave_majorant(x: np.ndarray, z: np.ndarray) -> np.ndarray:
         # chord lies under the hull): all such points go at once. None left: the kept polyline
         # turns one way at every vertex, so it is the hull.
         a, b, c = keep[:-2], keep[1:-1], keep[2:]
-        below = (x[b] - x[a]) * (z[c] - z[a]) - (z[b] - z[a]) * (x[c] - x[a]) >= 0.0
+        below = turn(x, z, a, b, c) >= 0.0
         if not below.any():
             return np.interp(x, x[keep], z[keep])
         keep = np.concatenate([keep[:1], b[~below], keep[-1:]])
@@ -147,8 +153,7 @@ def _monotone_chain(x: np.ndarray, z: np.ndarray, keep: np.ndarray) -> np.ndarra
     """The upper hull of the points keep by Andrew's monotone chain, once the sweeps have left few."""
     hull: list[int] = []
     for i in keep.tolist():
-        while len(hull) >= 2 and ((x[hull[-1]] - x[hull[-2]]) * (z[i] - z[hull[-2]])
-                                  - (z[hull[-1]] - z[hull[-2]]) * (x[i] - x[hull[-2]])) >= 0.0:
+        while len(hull) >= 2 and turn(x, z, hull[-2], hull[-1], i) >= 0.0:
             hull.pop()
         hull.append(i)
     return np.interp(x, x[hull], z[hull])
