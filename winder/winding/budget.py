@@ -22,7 +22,6 @@ from winder.errors import ConfigError
 from winder.geometry.sections import arc_map
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.winding.layers.friction_open import is_bent_tube
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.hoop import HOOP_STEP_DEG
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
@@ -114,6 +113,7 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) 
                       f"{' ...' if len(skips) > 12 else ''} or auto, got {cfg.pattern}")
     slip = getattr(cfg, "slip", 0.0)
     if not vessel and slip not in (0.0, SLIP_AUTO):
+        from winder.winding.layers.friction_open import is_bent_tube  # noqa: PLC0415 - friction jobs only
         ctx = PlanContext(job, w, surface, arc_map(surface.section), job.machine.feed)
         if not is_bent_tube(ctx):  # as winder.winding.layers.friction refuses it, before any path
             raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels and to bent tubes of lines and "

@@ -22,8 +22,6 @@ from winder.winding.results import WindingPlan
 from winder.winding.turnaround import SWING_MIN_DEG
 from winder.geometry.sections import arc_map
 from winder.geometry.build import build_surface
-from winder.winding.layers.helical_vessel import vessel_helical_layer
-from winder.winding.wall import material_of, start_buildup
 
 
 def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
@@ -37,13 +35,19 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
     ctx = PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed, monotone(progress))
     layers = []
     theta0 = 0.0
-    build = start_buildup(ctx) if job.winding.has_laminate else None
+    build = None
+    if job.winding.has_laminate:
+        # Layer planners and the laminate load with the jobs that need them: a small job's time is
+        # mostly start-up, and each module costs its import.
+        from winder.winding.wall import material_of, start_buildup  # noqa: PLC0415
+        build = start_buildup(ctx)
     for index, cfg in enumerate(job.winding.layers):
         if cfg.type is LayerType.HOOP:
             layer = hoop_layer(ctx, cfg, index, theta0)
         elif (held := friction_layer(ctx, cfg, index, theta0)) is not None:
             layer = held
         elif isinstance(surface.profile, VesselMeridian):
+            from winder.winding.layers.helical_vessel import vessel_helical_layer  # noqa: PLC0415
             layer = vessel_helical_layer(ctx, cfg, index, theta0)
         else:
             layer = open_helical_layer(ctx, cfg, index, theta0)

@@ -8,8 +8,6 @@ import math
 from winder.config.winding import SLIP_AUTO, LayerConfig
 from winder.errors import ConfigError
 from winder.geometry.vessel import VesselMeridian
-from winder.winding.layers.friction_open import bend_helical_layer, is_bent_tube
-from winder.winding.layers.friction_vessel import friction_vessel_layer
 from winder.winding.passes import PlanContext
 from winder.winding.results import LayerPlan
 
@@ -24,7 +22,9 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
     """
     mu, slip = ctx.winding.friction, cfg.slip
     surf = ctx.surface
+    # The friction planners load only for the jobs that wind with friction (start-up of small jobs).
     if isinstance(surf.profile, VesselMeridian):
+        from winder.winding.layers.friction_vessel import friction_vessel_layer  # noqa: PLC0415
         prof = surf.profile
         c_min = max(prof.dome.end_radius, prof.end_dome.end_radius) + 0.5 * ctx.winding.band_width
         if cfg.turnaround_radius is not None:
@@ -36,8 +36,10 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
         return friction_vessel_layer(ctx, cfg, index, theta0, mu, None, slip) if slip > 0.0 else None
     if slip == 0.0:
         return None
-    if is_bent_tube(ctx):
-        return bend_helical_layer(ctx, cfg, index, theta0, mu if slip == SLIP_AUTO else float(slip))
+    if not surf.curve.is_straight:  # a bent tube has an arc
+        from winder.winding.layers.friction_open import bend_helical_layer, is_bent_tube  # noqa: PLC0415
+        if is_bent_tube(ctx):
+            return bend_helical_layer(ctx, cfg, index, theta0, mu if slip == SLIP_AUTO else float(slip))
     if slip != SLIP_AUTO:
         raise ConfigError(f"{ctx.key(index, 'slip')}: a number applies to vessels and to bent tubes of lines and "
                           f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
