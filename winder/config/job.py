@@ -18,7 +18,7 @@ import yaml
 from winder.config.extent import is_bent, mandrel_reach
 from winder.config.machine import MachineConfig, parse_machine
 from winder.config.mandrel import MandrelConfig, VesselProfile, axis_length, parse_mandrel
-from winder.config.reader import Reader, YamlLoader
+from winder.config.reader import Reader, load_yaml
 from winder.config.bends import check_bend_angles
 from winder.config.winding import WindingConfig, parse_winding
 from winder.errors import ConfigError
@@ -72,7 +72,7 @@ def load_config(path: str | Path) -> JobConfig:
     source = str(path)
     text = read_text(path, source)
     try:
-        data = yaml.load(text, Loader=YamlLoader)  # noqa: S506 (a SafeLoader subclass)
+        data = load_yaml(text)
     except RecursionError as exc:  # PyYAML composes nested collections recursively
         raise ConfigError(f"{source}: invalid YAML: nested too deeply (a job file needs a few levels)") from exc
     except yaml.MarkedYAMLError as exc:

@@ -1,0 +1,69 @@
+"""winder.config.reader.load_yaml: libyaml's parser and PyYAML's own read every job file alike, and
+what libyaml refuses is reported as PyYAML reports it."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+from winder.config import reader
+from winder.config.job import load_config
+from winder.errors import ConfigError
+
+ROOT = Path(__file__).resolve().parents[2]
+JOB_FILES = sorted([*ROOT.glob("samples/*.yaml"), *ROOT.glob("configs/*.yaml"),
+                    *(ROOT / "tests/config/invalid").glob("*.yaml")])
+needs_libyaml = pytest.mark.skipif(reader._CParser is None, reason="PyYAML built without libyaml")
+
+
+def same(a: object, b: object) -> bool:
+    """Equal data, with the same types, key order and NaNs."""
+    if type(a) is not type(b):
+        return False
+    if isinstance(a, float):
+        return a == b or (math.isnan(a) and math.isnan(b))
+    if isinstance(a, dict):
+        return list(a) == list(b) and all(same(a[k], b[k]) for k in a)
+    if isinstance(a, list):
+        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+    return a == b
+
+
+@needs_libyaml
+@pytest.mark.parametrize("path", JOB_FILES, ids=lambda p: p.name)
+def test_both_parsers_read_the_same_data(path: Path) -> None:
+    text = path.read_text(encoding="utf-8")
+    try:
+        expected = yaml.load(text, Loader=reader.YamlLoader)  # noqa: S506
+    except yaml.YAMLError:
+        pytest.skip("not YAML: the error path is tested below")
+    assert same(yaml.load(text, Loader=reader._FastLoader), expected)  # noqa: S506
+
+
+@pytest.mark.parametrize("text", [
+    "a: 1e-3\nb: no\nc: 1:30\nd: 2024-01-01\ne: 0x1F\nf: .inf\ng: ~\nh: True\n",
+    "a: [1, 2.5, -3]\nb: {c: 'x', d: \"y\"}\n",
+])
+def test_core_schema_scalars(text: str) -> None:
+    data = reader.load_yaml(text)
+    assert same(data, yaml.load(text, Loader=reader.YamlLoader))  # noqa: S506
+    if "1e-3" in text:
+        assert data == {"a": 0.001, "b": "no", "c": "1:30", "d": "2024-01-01", "e": 31, "f": math.inf,
+                        "g": None, "h": True}
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("name: a\nmandrel: {profile: {radius: 40}\n", "line 3, column 1: invalid YAML: expected ',' or '}'"),
+    ("name: a\nname: b\n", "line 2, column 1: invalid YAML: duplicate key 'name'"),
+    ("name: a\nmandrel:\n" + "".join(" " * i + "x:\n" for i in range(1, 1500)),
+     "invalid YAML: nested too deeply"),
+])
+def test_refusals_are_pyyamls(tmp_path: Path, text: str, message: str) -> None:
+    path = tmp_path / "job.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ConfigError) as info:
+        load_config(path)
+    assert message in str(info.value)
