@@ -4,6 +4,7 @@ baselines and verdicts are right. No timed assertions: times are only checked to
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,6 +15,8 @@ from bench.baselines import bvp_geodesic, grid_for, length_and_gradient, seed_ch
 from bench.cases import cases, cone_length, developable_tube_length, ellipse_perimeter
 from bench.table1 import frontier, verdict_text, verdicts
 from winder.paths.geodesic import geodesic
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -170,3 +173,22 @@ def test_a_refused_example_is_a_row_of_its_own(monkeypatch, tmp_path):
     page = "\n".join(fiberpath_jobs.markdown({"jobs": [row], "startup_s": {}, "startup_targets_s": {},
                                               "imports": []}))
     assert "| cone_reducer | - | - | failed: `" in page
+
+
+def test_the_installed_copy_is_this_tree_without_an_editable_finder(tmp_path):
+    """Whole jobs are timed on winder as `pip install .` leaves it: this tree's code, byte-compiled, and
+    no editable-install path finder loaded at start."""
+    import subprocess  # noqa: PLC0415
+
+    from bench.fiberpath_jobs import installed_winder  # noqa: PLC0415
+
+    with installed_winder() as script:
+        probe = ("import sys, winder; print(winder.__file__); "
+                 "print(any('editable' in m for m in sys.modules))")
+        where, editable = subprocess.run([str(script.parent / "python"), "-c", probe], cwd=tmp_path,
+                                         capture_output=True, text=True, check=True).stdout.split()
+        assert Path(where).is_relative_to(script.parent.parent) and editable == "False"
+        assert list(Path(where).parent.glob("__pycache__/*.pyc"))
+        check = subprocess.run([str(script), "check", str(ROOT / "samples" / "pipe.yaml")], cwd=tmp_path,
+                               capture_output=True, text=True)
+        assert check.returncode == 0, check.stderr
