@@ -8,7 +8,10 @@ from winder.geometry.index_spline import LOBATTO_T, LOBATTO_W_END, LOBATTO_W_MID
 from winder.geometry.surface import SweepSurface
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per segment on short paths
-GAUSS_X, GAUSS_W = np.polynomial.legendre.leggauss(GAUSS_NODES)
+# numpy.polynomial.legendre.leggauss(5), bit for bit, as literals: numpy.polynomial costs ~4 ms to import.
+GAUSS_X = np.array([-0.906179845938664, -0.5384693101056831, 0.0, 0.5384693101056831, 0.906179845938664])
+GAUSS_W = np.array([0.23692688505618928, 0.4786286704993663, 0.5688888888888887, 0.4786286704993663,
+                    0.23692688505618928])
 GAUSS_SEGMENTS = 256  # paths of up to this many segments use them (see smooth_length)
 
 

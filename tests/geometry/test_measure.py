@@ -1,0 +1,20 @@
+"""winder.geometry.measure: its quadrature rule is numpy's Gauss-Legendre rule, bit for bit."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from winder.geometry.measure import GAUSS_NODES, GAUSS_W, GAUSS_X
+
+POLY_TOL = 1e-15
+
+
+def test_gauss_rule_is_leggauss_bit_for_bit() -> None:
+    x, w = np.polynomial.legendre.leggauss(GAUSS_NODES)
+    assert np.array_equal(GAUSS_X, x) and np.array_equal(GAUSS_W, w)
+
+
+def test_gauss_rule_integrates_degree_2n_minus_1_exactly() -> None:
+    for degree in range(2 * GAUSS_NODES):
+        exact = 0.0 if degree % 2 else 2.0 / (degree + 1)
+        assert abs(GAUSS_W @ GAUSS_X**degree - exact) < POLY_TOL
