@@ -241,12 +241,10 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
         # Jobs in one folder must not share a name: they would overwrite each other's files. The
         # names are known only from the configs, so read them first (cheap: no computation); a
         # config that cannot be read goes to the job anyway, which reports it in order.
-        name = None
-        if len(configs) > 1:  # a single job clashes with nothing: it reads its config once
-            try:
-                name = load_config(path).name
-            except Exception:  # noqa: BLE001 - reported by run_job, in its turn
-                name = None
+        try:  # a single job clashes with nothing: it reads its config once, in run_job
+            name = load_config(path).name if len(configs) > 1 else None
+        except Exception:  # noqa: BLE001 - reported by run_job, in its turn
+            name = None
         key = name.casefold() if name is not None else None  # Pipe and pipe clash on some disks
         if key is not None and key in owner:
             exc = ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
