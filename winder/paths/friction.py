@@ -28,6 +28,7 @@ import numpy as np
 
 from winder.errors import ConfigError, SolverError
 from winder.paths.ode import heading_of_velocity, velocity_of_heading
+from winder.paths.rk import solve_rk
 from winder.geometry.surface import SweepSurface
 
 Slip = float | Callable[[float], float]
@@ -115,7 +116,7 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
 
     slip : lambda = k_g / k_n, a number or a function of the arc length (mm) from the start; positive
         lambda turns the fiber toward larger heading (as shooting's heading: from the meridian toward
-        increasing theta). DOP853, dense output.
+        increasing theta). Dormand-Prince 8(5,3) (winder.paths.rk), dense output.
     stop_at_ends : stop where s leaves [0, surface.length]. stop_at_turnaround : stop where the fiber
         first runs along the parallel (heading +-90 deg: the turnaround on a surface of revolution).
     """
@@ -132,9 +133,7 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
         return friction_rhs(surface, y, _slip_at(slip, l))
 
     events = _events(surface, y0, slip, stop_at_ends, stop_at_turnaround)
-    from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only when tracing
-    res = solve_ivp(fun, (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol,
-                    dense_output=True, events=events or None)
+    res = solve_rk(fun, (0.0, float(length)), y0, rtol=rtol, atol=atol, dense_output=True, events=events)
     if res.status == -1:
         raise SolverError(f"friction path tracing failed: {res.message}")
     event, radius = "length", None
