@@ -24,12 +24,13 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from winder.paths.roots import bracketed_root
+
 SAFETY = 0.9  # of the step the error estimate asks for
 MIN_FACTOR, MAX_FACTOR = 0.2, 10.0  # step change per step
 ERROR_EXPONENT = -1.0 / 8.0  # the estimate's leading term is O(h^8)
 STEP_FLOOR = 10.0  # steps below this many ulps of t fail
 EVENT_XTOL = 4.0 * np.finfo(float).eps  # relative: event times are located to this
-EVENT_MAX_ITER = 100
 MESSAGES = {0: "The solver successfully reached the end of the integration interval.",
             1: "A termination event occurred.",
             -1: "Required step size is less than spacing between numbers."}
@@ -159,36 +160,6 @@ def _first_step(fun, t0, y0, f0, span, rtol, atol) -> tuple[float, int]:
     return min(100.0 * h0, h1, span), 1
 
 
-def _root(g: Callable[[float], float], a: float, b: float, ga: float, gb: float) -> float:
-    """A root of g in [a, b] with g(a) g(b) <= 0: regula falsi with the Illinois halving, bisecting
-    where the secant lands outside the bracket's inner part."""
-    if ga == 0.0:
-        return a
-    if gb == 0.0:
-        return b
-    side = 0
-    for _ in range(EVENT_MAX_ITER):
-        if abs(b - a) <= EVENT_XTOL * max(abs(a), abs(b), 1.0):
-            break
-        c = b - gb * (b - a) / (gb - ga)
-        if not (min(a, b) < c < max(a, b)):
-            c = 0.5 * (a + b)
-        gc = g(c)
-        if gc == 0.0:
-            return c
-        if (gc > 0.0) == (gb > 0.0):  # c replaces b: a stays, and is halved if it stayed before
-            b, gb = c, gc
-            if side == -1:
-                ga *= 0.5
-            side = -1
-        else:
-            a, ga = c, gc
-            if side == 1:
-                gb *= 0.5
-            side = 1
-    return b if abs(gb) < abs(ga) else a
-
-
 def _crossed(g_old: float, g_new: float, direction: float) -> bool:
     up, down = g_old <= 0.0 <= g_new, g_old >= 0.0 >= g_new
     return (up and direction >= 0.0) or (down and direction <= 0.0)
@@ -215,7 +186,8 @@ def _roots(events: list, g_old: list[float], g_new: list[float], t: float, t_new
     for i, g in enumerate(events):
         if _crossed(g_old[i], g_new[i], float(getattr(g, "direction", 0.0))):
             at = interpolant()
-            t_root = _root(lambda s, g=g: float(g(s, at(s))), t, t_new, g_old[i], g_new[i])
+            t_root = bracketed_root(lambda s, g=g: float(g(s, at(s))), t, t_new, rtol=0.0,
+                                    xtol=EVENT_XTOL * max(abs(t), abs(t_new), 1.0), fa=g_old[i], fb=g_new[i])
             hits.append((t_root, i, at(t_root)))
     return sorted(hits, key=lambda hit: (hit[0], hit[1]))
 

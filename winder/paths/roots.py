@@ -1,4 +1,5 @@
-"""A bracketed scalar root (the pattern's angle, a dome's turnaround station, a trace's crossing).
+"""A bracketed scalar root (the pattern's angle, a dome's turnaround station, a trace's crossing,
+an integrator's event).
 
 Regula falsi with the Illinois modification: the end that stays put has its value halved, so the
 bracket closes from both sides (superlinearly), and a step outside the bracket falls back to
@@ -15,11 +16,14 @@ MAX_ITER = 200
 
 
 def bracketed_root(f: Callable[[float], float], a: float, b: float, xtol: float = 1e-12,
-                   rtol: float = 4.0 * 2.220446049250313e-16) -> float:
+                   rtol: float = 4.0 * 2.220446049250313e-16, fa: float | None = None,
+                   fb: float | None = None) -> float:
     """x in [a, b] with f(x) = 0 to within xtol + rtol |x|; f(a) and f(b) of opposite signs (or zero).
 
-    Raises ValueError where they are not (as brentq does)."""
-    fa, fb = float(f(a)), float(f(b))
+    fa, fb: f(a) and f(b) where the caller has them already. Raises ValueError where the signs do not
+    differ (as brentq does)."""
+    fa = float(f(a)) if fa is None else float(fa)
+    fb = float(f(b)) if fb is None else float(fb)
     if fa == 0.0:
         return a
     if fb == 0.0:
