@@ -98,6 +98,11 @@ class Arc:
         object.__setattr__(self, "_coef", (b, self.e2 @ self.toward_dir, self.e2 @ b,
                                            e3 @ self.toward_dir, e3 @ b))
 
+    @property
+    def frame_components(self) -> tuple[np.ndarray, float, float, float, float]:
+        """The binormal b = T0 x u (3,) and e2.u, e2.b, e3.u, e3.b: the frame is e2 = (e2.u) N + (e2.b) b."""
+        return self._coef
+
     def evaluate(self, z: np.ndarray) -> CurveEval:
         z = np.asarray(z, dtype=float)
         rho, t0, u = self.radius, self.tangent, self.toward_dir

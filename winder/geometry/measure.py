@@ -40,22 +40,34 @@ def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     m = s.shape[0]
     if m - 1 <= GAUSS_SEGMENTS:
         u, du = segment_nodes(y, dy, 0.5 + 0.5 * GAUSS_X)
-        ev = surface.evaluate(u[:, 0], u[:, 1], order=1)
+        ev = surface.evaluate(u[:, 0], u[:, 1], order=1, with_point=False)
         vel = ev.ps * du[:, :1] + ev.pt * du[:, 1:]
         speed = np.sqrt(np.einsum("ij,ij->i", vel, vel)).reshape(-1, GAUSS_NODES)
         return float(0.5 * np.sum(speed @ GAUSS_W))
     u, du = segment_nodes(y, dy, LOBATTO_T)
     if knots is None:
-        ev = surface.evaluate(np.concatenate([s, u[:, 0]]), np.concatenate([theta, u[:, 1]]), order=1)
+        ev = surface.evaluate(np.concatenate([s, u[:, 0]]), np.concatenate([theta, u[:, 1]]), order=1,
+                              with_point=False)
         ps, pt = ev.ps, ev.pt
     else:
-        ev = surface.evaluate(u[:, 0], u[:, 1], order=1)
+        ev = surface.evaluate(u[:, 0], u[:, 1], order=1, with_point=False)
         ps, pt = np.concatenate([knots[0], ev.ps]), np.concatenate([knots[1], ev.pt])
     du = np.concatenate([dy, du])
     vel = ps * du[:, :1] + pt * du[:, 1:]
     speed = np.sqrt(np.einsum("ij,ij->i", vel, vel))
     return float(LOBATTO_W_END * (2.0 * np.sum(speed[:m]) - speed[0] - speed[m - 1])
                  + LOBATTO_W_MID * np.sum(speed[m:]))
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise a x b of two (m, 3) arrays: np.cross's arithmetic (a1 b2 - a2 b1, ...) without its
+    axis handling, which costs more than the products on a solver's few thousand rows."""
+    out = np.empty((a.shape[0], 3))
+    a0, a1, a2, b0, b1, b2 = a[:, 0], a[:, 1], a[:, 2], b[:, 0], b[:, 1], b[:, 2]
+    out[:, 0] = a1 * b2 - a2 * b1
+    out[:, 1] = a2 * b0 - a0 * b2
+    out[:, 2] = a0 * b1 - a1 * b0
+    return out
 
 
 def geodesic_curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, points: np.ndarray,
@@ -72,9 +84,9 @@ def geodesic_curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, 
     if jac is None:
         nrm = surface.normals(s[1:-1], theta[1:-1])
     else:
-        nrm = np.cross(jac[1], jac[0])
+        nrm = cross(jac[1], jac[0])
         nrm /= np.linalg.norm(nrm, axis=1)[:, None]
-    turn = np.einsum("ij,ij->i", np.cross(d[:-1], d[1:]), nrm)
+    turn = np.einsum("ij,ij->i", cross(d[:-1], d[1:]), nrm)
     return turn / (0.5 * (lens[:-1] + lens[1:]))
 
 

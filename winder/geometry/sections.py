@@ -52,14 +52,22 @@ class Ellipse:
     is_circle: bool = False
 
     def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        c, s = np.cos(theta), np.sin(theta)
+        return self.polar_cs(np.cos(theta), np.sin(theta))
+
+    def polar_cs(self, c: np.ndarray, s: np.ndarray, order: int = 2):
+        """rho and its derivatives up to `order` (the others None) from cos(theta) and sin(theta) (m,),
+        which the surface has already."""
         a, b = self.a, self.b
         q = (b * c) ** 2 + (a * s) ** 2
-        q1 = 2.0 * (a * a - b * b) * s * c
-        q2 = 2.0 * (a * a - b * b) * (c * c - s * s)
-        q15 = q**-1.5  # used twice: a power costs several multiplies
         rho = a * b * q**-0.5
+        if order == 0:
+            return rho, None, None
+        q1 = 2.0 * (a * a - b * b) * s * c
+        q15 = q**-1.5  # used twice: a power costs several multiplies
         d1 = -0.5 * a * b * q15 * q1
+        if order == 1:
+            return rho, d1, None
+        q2 = 2.0 * (a * a - b * b) * (c * c - s * s)
         d2 = a * b * (0.75 * q**-2.5 * q1 * q1 - 0.5 * q15 * q2)
         return rho, d1, d2
 

@@ -22,9 +22,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from winder.geometry.curves import SPLINE_GRID, GuideCurve, Line, Path, SplineCurve
+from winder.geometry.curves import SPLINE_GRID, Arc, GuideCurve, Line, Path, SplineCurve
 from winder.geometry.profiles import AxialProfile, Profile
-from winder.geometry.sections import Circle, Section
+from winder.geometry.sections import Circle, Ellipse, Section
 
 
 class SurfaceEval(NamedTuple):
@@ -101,12 +101,45 @@ class SweepSurface:
         line = self.curve
         return line.origin[:, None], line.tangent[:, None], line.e2[:, None], line.e3[:, None]
 
+    @functools.cached_property
+    def _arc_frame(self) -> tuple | None:
+        """A guide curve that is one circular arc: its origin, start tangent T0, in-plane normal u and
+        binormal b as (3, 1) columns, its curvature and the frame's components e2.u, e2.b, e3.u, e3.b
+        (None for other curves)."""
+        curve = self.curve
+        if not (isinstance(curve, Path) and len(curve.pieces) == 1 and isinstance(curve.pieces[0], Arc)):
+            return None
+        arc = curve.pieces[0]
+        b, e2u, e2b, e3u, e3b = arc.frame_components
+        col = (arc.origin[:, None], arc.tangent[:, None], arc.toward_dir[:, None], b[:, None])
+        return (*col, 1.0 / arc.radius, float(e2u), float(e2b), float(e3u), float(e3b))
+
+    @staticmethod
+    def _arc_parts(arc: tuple, z: np.ndarray, c: np.ndarray, sn: np.ndarray, with_point: bool):
+        """x (None without `with_point`), T, the in-plane normal nrm (each (3, m)), b, kappa and the
+        components of n and m along nrm and b ((m,) each) on a one-arc guide curve: the frame
+        e2 = e2u nrm + e2b b, e3 = e3u nrm + e3b b is never formed per point."""
+        origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = arc
+        # Everything from the half angle, two transcendentals: (1 - cos(phi)) / kappa = 2 sin(phi/2)^2
+        # / kappa keeps its digits near the arc's start, where 1 - cos(phi) cancels.
+        half = (0.5 * kappa) * z
+        sh, ch = np.sin(half), np.cos(half)
+        sh2 = sh * sh
+        cp, sp = 1.0 - 2.0 * sh2, 2.0 * sh * ch
+        tan = cp * t0 + sp * u
+        nrm = cp * u - sp * t0
+        parts = (c * e2u + sn * e3u, c * e2b + sn * e3b, c * e3u - sn * e2u, c * e3b - sn * e2b)
+        x = origin + (sp / kappa) * t0 + ((2.0 / kappa) * sh2) * u if with_point else None
+        return x, tan, nrm, b, kappa, parts
+
     # -- evaluation -------------------------------------------------------------------------------
-    def evaluate(self, s: np.ndarray, theta: np.ndarray, order: int = 2) -> SurfaceEval:
+    def evaluate(self, s: np.ndarray, theta: np.ndarray, order: int = 2,
+                 with_point: bool = True) -> SurfaceEval:
         """Phi (order 0), with first (order 1) and second (order 2) derivatives.
 
         s, theta : (m,) float. Returns SurfaceEval of (m, 3) arrays (views of (3, m) storage: the
         arithmetic runs along m, which numpy does several times faster than along the 3 components).
+        with_point : False leaves Phi out (p None) where only the derivatives are asked (order >= 1).
         """
         s, theta = np.asarray(s, float), np.asarray(theta, float)
         if s.shape != theta.shape:
@@ -119,39 +152,55 @@ class SweepSurface:
             z, z1, z2 = s, 1.0, 0.0
         else:
             z, z1, z2, p, p1, p2 = self.profile.evaluate(s)
+        c, sn = np.cos(theta), np.sin(theta)
         if isinstance(self.section, Circle):
             q, q1, q2 = self.section.radius / self.section_scale, 0.0, 0.0
         else:
-            q, q1, q2 = (a / self.section_scale for a in self.section.polar(theta))
-        line = self._line_frame
+            # An ellipse takes the angle's cosine and sine from here, and only the derivatives asked.
+            rho = (self.section.polar_cs(c, sn, order) if isinstance(self.section, Ellipse)
+                   else self.section.polar(theta))
+            q, q1, q2 = (a / self.section_scale if a is not None else None for a in rho)
+        line, arc = self._line_frame, self._arc_frame
+        with_point = with_point or order == 0
+        kdn = 0.0
         if line is not None:  # its frame is constant: (3, 1) columns broadcast, nothing tiled per point
             origin, tan, e2, e3 = line
-            x, kap, d3 = origin + z * tan, 0.0 * tan, 0.0 * tan
+            x, kap, d3 = origin + z * tan if with_point else None, 0.0 * tan, 0.0 * tan
+            n = c * e2 + sn * e3
+        elif arc is not None:
+            x, tan, nrm, b, kappa, (n_nrm, n_b, m_nrm, m_b) = self._arc_parts(arc, z, c, sn, with_point)
+            n = n_nrm * nrm + n_b * b
         else:
             cv = self.curve.evaluate(z)
             x, tan, kap, d3, e2, e3 = cv.x.T, cv.d1.T, cv.d2.T, cv.d3.T, cv.e2.T, cv.e3.T
-        c, sn = np.cos(theta), np.sin(theta)
-        n = c * e2 + sn * e3
+            n = c * e2 + sn * e3
         r = p * q
-        point = x + r * n
+        point = (x + r * n).T if with_point else None
         if order == 0:
-            return SurfaceEval(point.T)
-        m = c * e3 - sn * e2
+            return SurfaceEval(point)
         straight = self.curve.is_straight
-        kn = 0.0 if straight else np.einsum("ij,ij->j", kap, n)
+        if arc is not None:  # K = kappa nrm and K' = -kappa^2 T: K.n, K.m from n's frame components, K'.n = 0
+            m = m_nrm * nrm + m_b * b
+            kn, km = kappa * n_nrm, kappa * m_nrm
+        else:
+            m = c * e3 - sn * e2
+            kn = 0.0 if straight else np.einsum("ij,ij->j", kap, n)
         r_s, r_t = p1 * q, p * q1
         stretch = z1 * (1.0 - r * kn)  # Phi_s . T: the section's point runs faster outside a bend
         ps = stretch * tan + r_s * n
         pt = r_t * n + r * m
         if order == 1:
-            return SurfaceEval(point.T, ps.T, pt.T)
-        km = 0.0 if straight else np.einsum("ij,ij->j", kap, m)
-        kdn = 0.0 if straight else np.einsum("ij,ij->j", d3, n)
+            return SurfaceEval(point, ps.T, pt.T)
+        if arc is not None:
+            kap = kappa * nrm
+        else:
+            km = 0.0 if straight else np.einsum("ij,ij->j", kap, m)
+            kdn = 0.0 if straight else np.einsum("ij,ij->j", d3, n)
         pss = ((z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + (z1 * stretch) * kap
                + (p2 * q) * n)
         pst = (p1 * q1) * n + r_s * m - (z1 * (r_t * kn + r * km)) * tan
         ptt = (p * q2 - r) * n + (2.0 * r_t) * m
-        return SurfaceEval(point.T, ps.T, pt.T, pss.T, pst.T, ptt.T)
+        return SurfaceEval(point, ps.T, pt.T, pss.T, pst.T, ptt.T)
 
     def points(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """Phi(s, theta): (m, 3) float."""

@@ -19,6 +19,12 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.einsum("ij,ij->i", a, b)
 
 
+def _dot_cols(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """_dot of two (m, 3) views of (3, m) storage (a surface evaluation's fields): einsum then runs
+    along the contiguous rows, 2-4x faster from m ~ 1000 on, the same sums in the same order."""
+    return np.einsum("ji,ji->i", a.T, b.T)
+
+
 def energy(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> float:
     """E = sum |y_{i+1} - y_i|^2 of the polyline (s, th) (n + 2,) on the surface."""
     y = surface.points(s, th)
@@ -48,10 +54,10 @@ def chain_terms(ev: SurfaceEval, ends: np.ndarray, full_hessian: bool | None = T
     e = float(np.einsum("ij,ij->", d, d))
     if full_hessian is None:
         return e, grad, None, None, None
-    gram = 4.0 * np.array([_dot(ps, ps), _dot(ps, pt), _dot(pt, pt)])
+    gram = 4.0 * np.array([_dot_cols(ps, ps), _dot_cols(ps, pt), _dot_cols(pt, pt)])
     curv = 2.0 * np.array([_dot(a, ev.pss), _dot(a, ev.pst), _dot(a, ev.ptt)]) if full_hessian else None
-    off = -2.0 * np.array([_dot(ps[:-1], ps[1:]), _dot(ps[:-1], pt[1:]), _dot(pt[:-1], ps[1:]),
-                           _dot(pt[:-1], pt[1:])])
+    off = -2.0 * np.array([_dot_cols(ps[:-1], ps[1:]), _dot_cols(ps[:-1], pt[1:]), _dot_cols(pt[:-1], ps[1:]),
+                           _dot_cols(pt[:-1], pt[1:])])
     return e, grad, gram, curv, off
 
 
