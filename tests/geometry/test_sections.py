@@ -241,3 +241,17 @@ def test_make_section_maps_configs():
     assert make_section(EllipseSection(3.0, 2.0)) == Ellipse(3.0, 2.0)
     assert make_section(RoundedRectangleSection(6.0, 4.0, 1.0)) == RoundedRectangle(6.0, 4.0, 1.0)
     assert make_section(SuperellipseSection(3.0, 2.0, 4.0)) == Superellipse(3.0, 2.0, 4.0)
+
+
+def test_ellipse_from_cos_sin_is_its_polar_radius_bit_for_bit():
+    """The surface hands the ellipse its angle's cosine and sine and asks only the derivatives it needs."""
+    ell = Ellipse(60.0, 35.0)
+    th = np.linspace(-7.0, 7.0, 101)
+    full = ell.polar(th)
+    for order in (0, 1, 2):
+        part = ell.polar_cs(np.cos(th), np.sin(th), order)
+        for k in range(3):
+            if k <= order:
+                np.testing.assert_array_equal(part[k], full[k])
+            else:
+                assert part[k] is None

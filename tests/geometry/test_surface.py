@@ -386,3 +386,55 @@ def test_short_tight_arc_inside_long_path_is_refused():
 def test_straight_path_needs_no_bend_check():
     build_surface(MandrelConfig(PathAxis((LineAxis(10.0), LineAxis(20.0))), ConstantProfile(500.0), CircleSection()),
                   "t")
+
+
+# -- the evaluation's special cases against the general one ---------------------------------------
+FAST_PATH_REL = 1e-14  # the closed forms of a one-arc curve vs the general path gather, relative to the field: roundoff
+
+
+@pytest.mark.parametrize("toward", [0.0, 30.0, 200.0])
+@pytest.mark.parametrize("section", ["circle", "ellipse"])
+def test_one_arc_closed_form_matches_the_general_path(toward, section):
+    """A one-arc axis evaluates in closed form (half angle, no per-point frame); the same arc as two
+    half arcs goes through the general multi-piece path evaluation."""
+    one = make_curve(ArcAxis(150.0, 90.0, toward), "t.yaml")
+    two = make_curve(PathAxis((ArcAxis(150.0, 45.0, toward), ArcAxis(150.0, 45.0, toward))), "t.yaml")
+    sec = make_section(SECTIONS[section])
+    scale = 1.0 if isinstance(sec, Circle) else 12.0
+    prof = make_profile(ConstantProfile(10.0), one.length, "t.yaml")
+    fast = SweepSurface(one, prof, sec, scale, one.length, "")
+    general = SweepSurface(two, prof, sec, scale, two.length, "")
+    assert fast._arc_frame is not None and general._arc_frame is None
+    rng = np.random.default_rng(3)
+    s, th = rng.uniform(0.0, one.length, 200), rng.uniform(-np.pi, 3 * np.pi, 200)
+    for order in (0, 1, 2):
+        a, b = fast.evaluate(s, th, order), general.evaluate(s, th, order)
+        for x, y in zip(a, b):
+            assert (x is None) == (y is None)
+            if x is not None:
+                scale_xy = max(1.0, float(np.abs(y).max()))
+                assert float(np.abs(x - y).max()) <= FAST_PATH_REL * scale_xy
+
+
+@pytest.mark.parametrize("axis", ["line", "arc", "path"])
+@pytest.mark.parametrize("section", ["circle", "ellipse", "superellipse4"])
+def test_evaluate_without_the_point_keeps_the_derivatives_bit_for_bit(axis, section):
+    surf = surface_of(axis, section, "cone")
+    s = np.linspace(0.0, surf.length, 33)
+    th = np.linspace(-1.0, 7.0, 33)
+    for order in (1, 2):
+        full, bare = surf.evaluate(s, th, order), surf.evaluate(s, th, order, with_point=False)
+        assert bare.p is None
+        for x, y in zip(full[1:], bare[1:]):
+            np.testing.assert_array_equal(x, y)
+    np.testing.assert_array_equal(surf.evaluate(s, th, 0, with_point=False).p, surf.points(s, th))
+
+
+def test_row_cross_product_is_numpys():
+    from winder.geometry.measure import cross  # noqa: PLC0415
+
+    rng = np.random.default_rng(5)
+    storage = rng.standard_normal((2, 3, 257))
+    a, b = storage[0].T, storage[1].T  # (m, 3) views of (3, m) storage, like an evaluation's fields
+    np.testing.assert_array_equal(cross(a, b), np.cross(a, b))
+    np.testing.assert_array_equal(cross(a[:-1], b[1:]), np.cross(a[:-1], b[1:]))

@@ -53,3 +53,18 @@ def test_indefinite_hessian_is_reported():
     off = np.zeros((4, 1))
     step, factor = newton_direction(diag, off, np.ones((2, 2)))
     assert step is None and factor is None
+
+
+@pytest.mark.parametrize("surface_name", ["quarter_bend", "elliptic_tube"])
+def test_hessian_entries_match_the_plain_dot_products(request, surface_name):
+    """chain_terms' dot products along the evaluation's contiguous rows: the same sums as the row-wise
+    einsum over the (m, 3) fields themselves, bit for bit."""
+    surface = request.getfixturevalue(surface_name)
+    s, th = straight_path(0.0, 0.0, surface.length, 2.0 * np.pi + 1.0, 500)
+    ev = surface.evaluate(s[1:-1], th[1:-1], order=2)
+    _, _, gram, _, off = chain_terms(ev, surface.points(s[[0, -1]], th[[0, -1]]))
+    ps, pt = ev.ps, ev.pt
+    dot = lambda a, b: np.einsum("ij,ij->i", a, b)  # noqa: E731
+    np.testing.assert_array_equal(gram, 4.0 * np.array([dot(ps, ps), dot(ps, pt), dot(pt, pt)]))
+    np.testing.assert_array_equal(off, -2.0 * np.array([dot(ps[:-1], ps[1:]), dot(ps[:-1], pt[1:]),
+                                                        dot(pt[:-1], ps[1:]), dot(pt[:-1], pt[1:])]))

@@ -159,6 +159,18 @@ def test_tolerance_stops_on_the_reported_lengths_bound(quarter_bend, bend_truth)
     assert abs(half.length - bend_truth) > tol
 
 
+def test_tight_tolerance_on_the_elliptic_tube_in_one_refinement(elliptic_tube):
+    """1e-12 of the length needs ~94x the coarsest pair's segments: the h^4 prediction gets there in
+    one refinement, and the bound still holds against the unrolled closed form."""
+    truth = np.hypot(400.0, ellipse_arc(60.0, 35.0, 0.0, np.pi / 2 + 4 * np.pi))
+    tol = 1e-12 * truth
+    res = geodesic(elliptic_tube, (0.0, 0.0), (400.0, np.pi / 2), rounds=2, tolerance=tol)
+    err = abs(res.length - truth)
+    assert res.converged and res.smooth_error_estimate < tol
+    assert err <= res.smooth_error_estimate <= BOUND_SLACK * err
+    assert [lv.n for lv in res.levels][2:] == [res.n, 2 * res.n + 1]  # the coarsest pair, then this one
+
+
 @pytest.mark.parametrize("name, n", [("elliptic", 50), ("elliptic", 200), ("elliptic", 1000), ("cone", 25),
                                      ("cone", 400), ("bend", 25), ("bend", 200), ("straight", 200)])
 def test_smooth_error_estimate_bounds_the_true_error(name, n, elliptic_tube, cone, quarter_bend,

@@ -100,9 +100,7 @@ def newton_direction(diag: np.ndarray, off: np.ndarray, grad: np.ndarray):
     (None, None) where H is not positive definite."""
     lapack = scipy_lapack()
 
-    with np.errstate(all="ignore"):
-        factor, step, info = lapack.dpbsv(banded(diag, off), -grad.ravel(), lower=1, overwrite_ab=1,
-                                          overwrite_b=1)
+    factor, step, info = lapack.dpbsv(banded(diag, off), -grad.ravel(), lower=1, overwrite_ab=1, overwrite_b=1)
     if info != 0 or not np.all(np.isfinite(step)):
         return None, None
     return step.reshape(-1, 2), factor
