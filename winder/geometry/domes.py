@@ -44,6 +44,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from winder.geometry.ppoly import PiecewisePoly
+
 # Limits of what the dome geometry can represent (see the module docstring).
 ISOTENSOID_MAX_OPENING = 0.75  # polar_opening / radius; netting theory ends at sqrt(2/3) = 0.8165
 ISOTENSOID_MIN_OPENING = 0.02  # polar_opening / radius; below, the end hook is thinner than ~3e-9 R
@@ -64,7 +66,7 @@ class DomeEval(NamedTuple):
     r2: np.ndarray
 
 
-def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarray) -> "PPoly":  # noqa: F821
+def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarray) -> PiecewisePoly:
     """The C2 piecewise quintic through values, first and second derivatives at the knots x.
 
     Exact at the knots (value, slope and curvature), O(dx^6) between them; its derivatives are exactly
@@ -79,9 +81,7 @@ def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarra
     b4 = -15.0 * d0 + 7.0 * d1 - d2
     b5 = 6.0 * d0 - 3.0 * d1 + 0.5 * d2
     c = np.array([b5 / dx**5, b4 / dx**4, b3 / dx**3, a2, a1, a0])
-    from scipy.interpolate import PPoly  # noqa: PLC0415 - slow to import: only for vessels
-
-    return PPoly(c, x, extrapolate=True)
+    return PiecewisePoly(c, x)
 
 
 class DomeMeridian:
