@@ -15,7 +15,7 @@ from winder.errors import SolverError
 from winder.progress import Progress
 from winder.paths.geodesic import GeodesicResult, geodesic
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_deg
-from winder.winding.slip import check as check_held
+from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
 from winder.geometry.interp import InterpSpline
 from winder.geometry.sections import ArcMap
@@ -83,6 +83,26 @@ def make_pass(surface: SweepSurface, layer: int, circuit: int, number: int, kind
         direction = directions(surface, s, theta)
     return FiberPass(layer, circuit, number, kind, surface.t_of_s(s), s, theta, surface.points(s, theta),
                      direction, winding_angle_deg(surface, s, theta, direction), float(length))
+
+
+def make_passes(surface: SweepSurface, heads: list[tuple[int, int, int, PassKind, float]], s: list[np.ndarray],
+                theta: list[np.ndarray], direction: list[np.ndarray]) -> list[FiberPass]:
+    """make_pass of many passes with their directions given, from one surface evaluation: stations,
+    points and winding angles are pointwise, so each pass gets what make_pass would give it.
+
+    heads : per pass (layer, circuit, number, kind, length); s, theta : per pass (m_i,) float;
+    direction : per pass (m_i, 3) float.
+    """
+    if not heads:
+        return []
+    s_all, th_all, d_all = np.concatenate(s), np.concatenate(theta), np.concatenate(direction)
+    t_all = surface.t_of_s(s_all)
+    pts = surface.points(s_all, th_all)
+    alpha = winding_angle_deg(surface, s_all, th_all, d_all)
+    cuts = np.cumsum([a.size for a in s])[:-1]
+    return [FiberPass(layer, circuit, number, kind, t, si, thi, p, d, a, float(length))
+            for (layer, circuit, number, kind, length), t, si, thi, p, d, a
+            in zip(heads, np.split(t_all, cuts), s, theta, np.split(pts, cuts), direction, np.split(alpha, cuts))]
 
 
 def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
@@ -185,7 +205,9 @@ def reference_section(ctx: PlanContext, t_a: float, t_b: float) -> tuple[float, 
 
 def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, circuits: int, pattern: int,
            dwell_a: float, dwell_b: float, c: float | None, passes: list[FiberPass], stations: np.ndarray,
-           notes: list[str], coverage: Coverage | None = None) -> LayerPlan:
+           notes: list[str], coverage: Coverage | None = None, held: LayerSlip | None = None) -> LayerPlan:
+    """The layer's plan from its passes; coverage and held (the slip check of its laid passes), when the
+    caller measured them on these passes already, are not measured again."""
     laid = [p for p in passes if p.kind is not PassKind.DWELL]
     # The angle range is the winding region's: turnarounds run through every angle up to the hoop.
     wound = [p for p in laid if p.kind is not PassKind.TURNAROUND]
@@ -193,7 +215,8 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
     length = float(sum(p.length for p in passes))
     if coverage is None:
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)
-    held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha))
+    if held is None:
+        held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha))
     return LayerPlan(index=index + 1, type=cfg.type, angle_deg=float(alpha),
                      requested_angle_deg=float(cfg.angle_deg if cfg.angle_deg is not None else alpha),
                      circuits=int(circuits), pattern=int(pattern), dwell_start_deg=float(dwell_a),

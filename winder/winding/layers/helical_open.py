@@ -21,6 +21,7 @@ from winder.winding.passes import (
     turnaround_passes,
     finish_layer,
     make_pass,
+    make_passes,
     reference_section,
     solve_pass,
     winding_region,
@@ -144,14 +145,19 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
                                     th_next, heads_a, joints)
     if surf.is_revolution:
         # A surface of revolution: circuit j is the first one turned by j circuit advances.
+        # The copies' points and angles in one surface evaluation.
         first = list(passes)
         th_first = float(first[0].theta[0])
+        heads, ss, ths, ds = [], [], [], []
         for j in range(1, pat.circuits):
             ctx.report(index, j / pat.circuits, f"circuit {j + 1} of {pat.circuits}")
             shift = float(ctx.arcs.theta(np.array([f0 + j * pat.advance]))[0]) - th_first
             for p in first:
-                passes.append(make_pass(surf, layer, j + 1, len(passes) + 1, p.kind, p.s, p.theta + shift,
-                                        _turned(p.direction, shift), p.length))
+                heads.append((layer, j + 1, len(passes) + len(heads) + 1, p.kind, p.length))
+                ss.append(p.s)
+                ths.append(p.theta + shift)
+                ds.append(_turned(p.direction, shift))
+        passes += make_passes(surf, heads, ss, ths, ds)
     return passes
 
 
@@ -196,6 +202,7 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     ends = (t_a, t_b, s_a, s_b)
     last_cov = None
     cov = None
+    held = None
     legs = _legs(ctx, s_ref, s_a, s_b, alpha)
     turns = (legs[0].turn + legs[1].turn) / (2.0 * math.pi)
     least = _least_dwells(ctx, legs)
@@ -203,7 +210,8 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
         pat = close_open_pattern(n_c, 2.0 * natural_fwd + turns, *least, cfg.pattern, ctx.key(index, "pattern"))
         passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
-        check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index), alpha)
+        held = check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index),
+                          alpha)
         if surf.is_revolution or cfg.pattern is not None:
             break
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
@@ -228,7 +236,7 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
         notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
                      f"the pattern (k = {pat.pattern} of {n_c})")
     return finish_layer(ctx, cfg, index, alpha, n_c, pat.pattern, pat.dwell_start * 360.0, pat.dwell_end * 360.0,
-                  None, passes, stations, notes, cov)
+                  None, passes, stations, notes, cov, held)
 
 
 def _turned(d: np.ndarray, shift: float) -> np.ndarray:

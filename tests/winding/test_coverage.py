@@ -1,0 +1,113 @@
+"""Coverage crossings: the batched splines against the pass-by-pass ones (bit for bit) and closed forms."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from winder.config.job import parse_config
+from winder.geometry.interp import _knot_slopes
+from winder.geometry.sections import arc_map
+from winder.winding import coverage
+from winder.winding.passes import make_pass, make_passes
+from winder.winding.plan import plan
+from winder.winding.results import FiberPass, PassKind
+
+HELIX_ABS = 1e-12  # rad: a spline through samples of a line reproduces it (round-off only)
+CUBIC_REL = 1e-9  # not-a-knot slopes of a cubic's samples: its derivative (conditioning only)
+
+
+def _job(mandrel: dict, winding: dict):
+    return parse_config({"name": "t", "mandrel": mandrel, "winding": winding}, "t.yaml")
+
+
+@pytest.fixture(scope="module")
+def elliptic():
+    return plan(_job({"axis": {"type": "line", "length": 300}, "section": {"type": "ellipse", "a": 60, "b": 35}},
+                     {"band_width": 10, "points": 80, "layers": [{"type": "helical", "angle": 45}]}))
+
+
+@pytest.fixture(scope="module")
+def elliptic_layer(elliptic):
+    return elliptic.layers[0]
+
+
+def _pass(t: np.ndarray, theta: np.ndarray, kind: PassKind = PassKind.FORWARD) -> FiberPass:
+    m = t.size
+    return FiberPass(1, 1, 1, kind, t, t.copy(), theta, np.zeros((m, 3)), np.zeros((m, 3)), np.zeros(m), 0.0)
+
+
+def _per_pass(passes, stations):
+    return [np.concatenate(c) for c in zip(*[coverage._spline_crossings(p, stations) for p in passes])]
+
+
+@pytest.mark.parametrize("kind", [PassKind.FORWARD, PassKind.RETURN])
+def test_batched_crossings_are_the_pass_by_pass_ones(elliptic_layer, kind):
+    passes = [p for p in elliptic_layer.passes if p.kind is kind]
+    stations = elliptic_layer.coverage.stations
+    batched = coverage._spline_crossings_batched(passes, stations)
+    assert batched is not None
+    for got, want in zip(batched, _per_pass(passes, stations)):
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+
+
+def test_batched_knot_slopes_are_geometry_interps():
+    rng = np.random.default_rng(7)
+    sizes = [4, 5, 9, 30, 4]
+    xs = [np.cumsum(rng.uniform(0.1, 2.0, n)) for n in sizes]
+    ys = [rng.normal(size=(n, 2)) for n in sizes]
+    first = np.cumsum(sizes) - np.array(sizes)
+    got = coverage._knot_slopes_batched(np.concatenate(xs), np.concatenate(ys), first, np.array(sizes))
+    want = np.concatenate([_knot_slopes(x, y) for x, y in zip(xs, ys)])
+    assert np.array_equal(got, want)
+
+
+def test_knot_slopes_of_a_cubic_are_its_derivative():
+    x = np.array([0.0, 0.3, 1.1, 1.5, 2.6, 3.0, 4.2])
+    y = np.column_stack([x ** 3 - 2.0 * x, 0.5 * x ** 2 + 1.0])
+    got = coverage._knot_slopes_batched(np.concatenate([x, x + 10.0]), np.concatenate([y, y]), np.array([0, 7]),
+                                        np.array([7, 7]))
+    want = np.column_stack([3.0 * x ** 2 - 2.0, x])
+    assert np.allclose(got, np.concatenate([want, want]), rtol=CUBIC_REL, atol=CUBIC_REL)
+
+
+def test_helix_crossings_closed_form():
+    # theta linear in t (a helix on a cylinder, forward and back): the crossing is theta0 + k t.
+    t = np.linspace(0.0, 100.0, 12)
+    k = math.tan(math.radians(40.0)) / 50.0
+    back = t[::-1].copy()
+    passes = [_pass(t, 0.3 + k * t), _pass(back, 1.0 + k * back, PassKind.RETURN)]
+    stations = np.linspace(0.0, 100.0, 23)[1:-1]
+    idx, s, th, ds, dth = coverage._spline_crossings_batched(passes, stations)
+    assert np.array_equal(idx, np.concatenate([np.arange(21), np.arange(21)]))
+    assert np.allclose(s, np.concatenate([stations, stations]), atol=HELIX_ABS)
+    assert np.allclose(th, np.concatenate([0.3 + k * stations, 1.0 + k * stations]), atol=HELIX_ABS)
+    assert np.allclose(dth, k, atol=HELIX_ABS) and np.allclose(ds, 1.0, atol=HELIX_ABS)
+
+
+def test_short_pass_falls_back_to_pass_by_pass(elliptic, elliptic_layer):
+    stations = elliptic_layer.coverage.stations
+    t = np.linspace(0.0, 300.0, 3)  # three points: a parabola, not a not-a-knot cubic
+    passes = [p for p in elliptic_layer.passes if p.kind is PassKind.FORWARD][:2] + [_pass(t, 0.01 * t)]
+    assert coverage._spline_crossings_batched(passes, stations) is None
+    surf = elliptic.surface
+    arcs = arc_map(surf.section)
+    got = coverage.crossings_many(surf, arcs, passes, stations, 10.0)
+    want = coverage._bands(surf, arcs, *_per_pass(passes, stations), 10.0)
+    for a, b in zip(got, want):
+        assert np.array_equal(a, b)
+
+
+def test_make_passes_is_make_pass(elliptic, elliptic_layer):
+    surf = elliptic.surface
+    src = [p for p in elliptic_layer.passes if p.kind is not PassKind.DWELL][:6]
+    heads = [(p.layer, p.circuit, p.number, p.kind, p.length) for p in src]
+    got = make_passes(surf, heads, [p.s for p in src], [p.theta + 0.25 for p in src], [p.direction for p in src])
+    for g, p in zip(got, src):
+        want = make_pass(surf, p.layer, p.circuit, p.number, p.kind, p.s, p.theta + 0.25, p.direction, p.length)
+        for name in ("t", "s", "theta", "points", "direction", "alpha_deg"):
+            assert np.array_equal(getattr(g, name), getattr(want, name)), name
+        assert (g.layer, g.circuit, g.number, g.kind, g.length) == (want.layer, want.circuit, want.number,
+                                                                    want.kind, want.length)
