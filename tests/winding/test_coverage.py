@@ -104,7 +104,8 @@ def test_make_passes_is_make_pass(elliptic, elliptic_layer):
     surf = elliptic.surface
     src = [p for p in elliptic_layer.passes if p.kind is not PassKind.DWELL][:6]
     heads = [(p.layer, p.circuit, p.number, p.kind, p.length) for p in src]
-    got = make_passes(surf, heads, [p.s for p in src], [p.theta + 0.25 for p in src], [p.direction for p in src])
+    got = make_passes(surf, heads, [p.s.size for p in src], np.concatenate([p.s for p in src]),
+                      np.concatenate([p.theta + 0.25 for p in src]), np.concatenate([p.direction for p in src]))
     for g, p in zip(got, src):
         want = make_pass(surf, p.layer, p.circuit, p.number, p.kind, p.s, p.theta + 0.25, p.direction, p.length)
         for name in ("t", "s", "theta", "points", "direction", "alpha_deg"):

@@ -199,3 +199,17 @@ def test_hoop_on_a_straight_tube_holds(mandrel, friction):
 def test_plan_needs_winding():
     with pytest.raises(ConfigError, match="t.yaml: winding: missing"):
         plan(parse_config({"name": "t", "mandrel": PIPE}, "t.yaml"))
+
+
+def test_turned_copies_of_directions():
+    from winder.winding.layers.helical_open import _turned, _turned_many
+    rng = np.random.default_rng(3)
+    d = rng.normal(size=(17, 3))
+    shifts = [0.1, 2.5, -1.0, 7.0]
+    got = _turned_many(d, shifts)
+    # bit for bit the directions turned one shift at a time, and each a turn about +z
+    assert np.array_equal(got, np.concatenate([_turned(d, v) for v in shifts]))
+    for k, v in enumerate(shifts):
+        part = got[k * 17:(k + 1) * 17]
+        c, s = math.cos(v), math.sin(v)
+        assert np.allclose(part, d @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]), atol=1e-12)

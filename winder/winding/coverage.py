@@ -63,7 +63,7 @@ def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray) -> 
     never mixes them, and each row's arithmetic is that of geometry.interp's NotAKnotCubic: the same
     values to the bit.
     """
-    xs, ys, sts, idxs, sizes = [], [], [], [], []
+    xs, ss, ths, sts, idxs, sizes, spans = [], [], [], [], [], [], []
     for p in passes:
         if p.t.size < 2:
             continue
@@ -72,21 +72,27 @@ def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray) -> 
         idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
         if idx.size == 0:
             continue
-        if t.size < 4 or np.any(np.diff(t) <= 0.0):
+        if t.size < 4:
             return None
         xs.append(t)
-        ys.append(np.column_stack([s, th]))
-        sts.append(stations[idx])
+        ss.append(s)
+        ths.append(th)
+        st = stations[idx]
+        sts.append(st)
         idxs.append(idx)
         sizes.append(t.size)
+        # Each station's interval in its own pass, as NotAKnotCubic.__call__ finds it.
+        spans.append(np.minimum(np.maximum(np.searchsorted(t, st, side="right") - 1, 0), t.size - 2))
     if not xs:
         return (np.zeros(0, dtype=int),) + tuple(np.zeros(0) for _ in range(4))
-    x, y = np.concatenate(xs), np.concatenate(ys)
+    x, y = np.concatenate(xs), np.column_stack([np.concatenate(ss), np.concatenate(ths)])
     first = np.cumsum(sizes) - sizes
+    rise = np.diff(x) > 0.0
+    rise[first[1:] - 1] = True  # from one pass to the next
+    if not np.all(rise):
+        return None
     slopes = _knot_slopes_batched(x, y, first, np.asarray(sizes))
-    # Each station's interval in its own pass, as NotAKnotCubic.__call__ finds it.
-    i = np.concatenate([o + np.clip(np.searchsorted(t, st, side="right") - 1, 0, t.size - 2)
-                        for o, t, st in zip(first.tolist(), xs, sts)])
+    i = np.concatenate(spans) + np.repeat(first, [a.size for a in spans])
     q = np.concatenate(sts)
     h = (x[i + 1] - x[i])[:, None]
     u = ((q - x[i]) / h[:, 0])[:, None]

@@ -14,12 +14,12 @@ from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError
 from winder.progress import Progress
 from winder.paths.geodesic import GeodesicResult, geodesic
-from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_deg
+from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_of
 from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
 from winder.geometry.interp import InterpSpline
 from winder.geometry.sections import ArcMap
-from winder.geometry.surface import SweepSurface
+from winder.geometry.surface import SurfaceEval, SweepSurface
 
 COVERAGE_STATIONS = 21
 DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
@@ -66,43 +66,46 @@ class PlanContext:
 
 
 # -- passes ---------------------------------------------------------------------------------------
-def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """Unit tangents (m, 3) of the smooth curve through the vertices, in laying order."""
+def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ev: SurfaceEval | None = None) -> np.ndarray:
+    """Unit tangents (m, 3) of the smooth curve through the vertices, in laying order; ev: the surface
+    there (order >= 1), when the caller has it."""
     i = np.arange(s.shape[0], dtype=float)
     # Quintic: the cubic's end slopes are O(h^3) off, visible next to a turnaround.
     k = min(5, s.shape[0] - 1 - (s.shape[0] % 2 == 1 and s.shape[0] < 7))
     ds, dth = InterpSpline(i, np.column_stack([s, theta]), k)(i, 1).T
-    ev = surface.evaluate(s, theta, order=1)
+    if ev is None:
+        ev = surface.evaluate(s, theta, order=1)
     v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
     return v / np.linalg.norm(v, axis=1)[:, None]
 
 
 def make_pass(surface: SweepSurface, layer: int, circuit: int, number: int, kind: PassKind,
                s: np.ndarray, theta: np.ndarray, direction: np.ndarray | None, length: float) -> FiberPass:
+    # One evaluation of order 1 gives the points too (the same arithmetic as order 0's).
+    ev = surface.evaluate(s, theta, order=1)
     if direction is None:
-        direction = directions(surface, s, theta)
-    return FiberPass(layer, circuit, number, kind, surface.t_of_s(s), s, theta, surface.points(s, theta),
-                     direction, winding_angle_deg(surface, s, theta, direction), float(length))
+        direction = directions(surface, s, theta, ev)
+    return FiberPass(layer, circuit, number, kind, surface.t_of_s(s), s, theta, ev.p, direction,
+                     winding_angle_of(ev, direction), float(length))
 
 
-def make_passes(surface: SweepSurface, heads: list[tuple[int, int, int, PassKind, float]], s: list[np.ndarray],
-                theta: list[np.ndarray], direction: list[np.ndarray]) -> list[FiberPass]:
+def make_passes(surface: SweepSurface, heads: list[tuple[int, int, int, PassKind, float]], sizes: list[int],
+                s: np.ndarray, theta: np.ndarray, direction: np.ndarray) -> list[FiberPass]:
     """make_pass of many passes with their directions given, from one surface evaluation: stations,
     points and winding angles are pointwise, so each pass gets what make_pass would give it.
 
-    heads : per pass (layer, circuit, number, kind, length); s, theta : per pass (m_i,) float;
-    direction : per pass (m_i, 3) float.
+    heads : per pass (layer, circuit, number, kind, length); sizes : per pass its point count m_i;
+    s, theta : (sum m_i,) float and direction (sum m_i, 3) float, the passes one after the other.
     """
     if not heads:
         return []
-    s_all, th_all, d_all = np.concatenate(s), np.concatenate(theta), np.concatenate(direction)
-    t_all = surface.t_of_s(s_all)
-    pts = surface.points(s_all, th_all)
-    alpha = winding_angle_deg(surface, s_all, th_all, d_all)
-    cuts = np.cumsum([a.size for a in s])[:-1]
-    return [FiberPass(layer, circuit, number, kind, t, si, thi, p, d, a, float(length))
-            for (layer, circuit, number, kind, length), t, si, thi, p, d, a
-            in zip(heads, np.split(t_all, cuts), s, theta, np.split(pts, cuts), direction, np.split(alpha, cuts))]
+    t = surface.t_of_s(s)
+    ev = surface.evaluate(s, theta, order=1)
+    alpha = winding_angle_of(ev, direction)
+    cuts = np.cumsum(sizes)[:-1]
+    parts = (np.split(a, cuts) for a in (t, s, theta, ev.p, direction, alpha))
+    return [FiberPass(layer, circuit, number, kind, *arrays, float(length))
+            for (layer, circuit, number, kind, length), *arrays in zip(heads, *parts)]
 
 
 def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from winder.config.winding import LayerType
-from winder.geometry.surface import SweepSurface
+from winder.geometry.surface import SurfaceEval, SweepSurface
 
 if TYPE_CHECKING:  # the laminate record builds on this module
     from winder.winding.wall import LayerLaminate
@@ -155,7 +155,11 @@ def winding_angle_deg(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     sign is that of the mandrel's turn, and every plan turns the mandrel toward +theta, so it reads
     +90 whatever the round-off in its meridian component.
     """
-    ev = surface.evaluate(s, theta, order=1)
+    return winding_angle_of(surface.evaluate(s, theta, order=1), direction)
+
+
+def winding_angle_of(ev: SurfaceEval, direction: np.ndarray) -> np.ndarray:
+    """winding_angle_deg from the surface's first derivatives at the points (an evaluation of order >= 1)."""
     e_s = ev.ps / np.linalg.norm(ev.ps, axis=1)[:, None]
     e_t = ev.pt - np.einsum("ij,ij->i", ev.pt, e_s)[:, None] * e_s
     e_t /= np.linalg.norm(e_t, axis=1)[:, None]

@@ -87,10 +87,34 @@ def _curvatures(surface: SweepSurface, passes: list[FiberPass]) -> list[tuple[np
 
 def measure(surface: SweepSurface, passes: list[FiberPass] | tuple[FiberPass, ...]) -> LayerSlip:
     """The layer's slip and bridging margin, from the points of every laid (non-dwell) pass."""
+    laid = [p for p in passes if p.kind is not PassKind.DWELL and p.s.size >= 3]
+    curves = _curvatures(surface, laid)
+    if not laid:
+        return LayerSlip(0.0, np.inf, 0.0, 0.0, 0, 0.0, 0)
+    k_n, k_g = (np.concatenate(c) for c in zip(*curves))
+    if not (np.all(np.isfinite(k_n)) and np.all(np.isfinite(k_g))):
+        return _measure_each(laid, curves)
+    # Over all the passes at once, what _measure_each finds pass by pass: the first pass (in laying
+    # order) holding the layer's extreme, at that pass's first point of it.
+    sizes = np.array([p.s.size - 2 for p in laid])
+    first = np.cumsum(sizes) - sizes
+    mag = np.abs(k_n)
+    top = np.maximum.reduceat(mag, first)
+    pressing = k_n >= np.repeat(PRESS_FLOOR * top, sizes)
+    ratio = np.where(pressing, np.abs(k_g) / np.where(pressing, k_n, 1.0), 0.0)
+    owner = np.repeat(np.arange(len(laid)), sizes)
+    i, j = int(np.argmin(k_n)), int(np.argmax(ratio))
+    p_i, p_j = laid[owner[i]], laid[owner[j]]
+    slip = (float(ratio[j]), float(p_j.t[j - first[owner[j]] + 1]), p_j.number) if ratio[j] > 0.0 else (0.0, 0.0, 0)
+    return LayerSlip(slip[0], float(k_n[i]), float(np.max(top)), slip[1], slip[2],
+                     float(p_i.t[i - first[owner[i]] + 1]), p_i.number)
+
+
+def _measure_each(laid: list[FiberPass], curves: list[tuple[np.ndarray, np.ndarray]]) -> LayerSlip:
+    """measure, pass by pass (curvatures that are not all finite: the comparisons decide as they fall)."""
     best = [0.0, 0.0, 0, np.inf, 0.0, 0]
     scale = 0.0
-    laid = [p for p in passes if p.kind is not PassKind.DWELL and p.s.size >= 3]
-    for p, (k_n, k_g) in zip(laid, _curvatures(surface, laid)):
+    for p, (k_n, k_g) in zip(laid, curves):
         top = float(np.max(np.abs(k_n)))
         scale = max(scale, top)
         i = int(np.argmin(k_n))

@@ -148,16 +148,18 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
         # The copies' points and angles in one surface evaluation.
         first = list(passes)
         th_first = float(first[0].theta[0])
-        heads, ss, ths, ds = [], [], [], []
+        shifts = []
         for j in range(1, pat.circuits):
             ctx.report(index, j / pat.circuits, f"circuit {j + 1} of {pat.circuits}")
-            shift = float(ctx.arcs.theta(np.array([f0 + j * pat.advance]))[0]) - th_first
-            for p in first:
-                heads.append((layer, j + 1, len(passes) + len(heads) + 1, p.kind, p.length))
-                ss.append(p.s)
-                ths.append(p.theta + shift)
-                ds.append(_turned(p.direction, shift))
-        passes += make_passes(surf, heads, ss, ths, ds)
+            shifts.append(float(ctx.arcs.theta(np.array([f0 + j * pat.advance]))[0]) - th_first)
+        heads = [(layer, j + 2, len(first) * (j + 1) + i + 1, p.kind, p.length)
+                 for j in range(len(shifts)) for i, p in enumerate(first)]
+        s = np.concatenate([p.s for p in first])
+        theta = np.concatenate([p.theta for p in first])
+        shift = np.array(shifts)[:, None]
+        passes += make_passes(surf, heads, [p.s.size for p in first] * len(shifts), np.tile(s, len(shifts)),
+                              (theta + shift).reshape(-1),
+                              _turned_many(np.concatenate([p.direction for p in first]), shifts))
     return passes
 
 
@@ -237,6 +239,15 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
                      f"the pattern (k = {pat.pattern} of {n_c})")
     return finish_layer(ctx, cfg, index, alpha, n_c, pat.pattern, pat.dwell_start * 360.0, pat.dwell_end * 360.0,
                   None, passes, stations, notes, cov, held)
+
+
+def _turned_many(d: np.ndarray, shifts: list[float]) -> np.ndarray:
+    """The directions d (m, 3) turned by each shift in turn (k,) (rad, as _turned): (k m, 3)."""
+    c = np.array([math.cos(v) for v in shifts])[:, None]
+    s = np.array([math.sin(v) for v in shifts])[:, None]
+    x = c * d[:, 0] - s * d[:, 1]
+    y = s * d[:, 0] + c * d[:, 1]
+    return np.stack([x, y, np.broadcast_to(d[:, 2], x.shape)], axis=-1).reshape(-1, 3)
 
 
 def _turned(d: np.ndarray, shift: float) -> np.ndarray:
