@@ -32,6 +32,9 @@ TANGENT_REFINE = 4
 # fails (exit 1): its tangent solve on TANGENT_REFINE times finer segments, with its Richardson twin,
 # then stays within ~0.5 GB (winder.winding.budget holds the rest).
 REFINE_MAX_POINTS = 20_000
+# Fine vertices of the passes whose tangent splines are solved together (one banded system, many
+# right-hand sides): bounds the right-hand sides' memory at 2 x 8 bytes a vertex (16 MB).
+TANGENT_BATCH_POINTS = 1 << 20
 
 
 class SolvedPass(NamedTuple):
@@ -116,6 +119,12 @@ def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
     returned vertices are the fine solution's (Richardson-refined) at the n + 2 shared fractions and
     the directions the tangents of the smooth curve through all the fine vertices.
     """
+    return solved_passes(ctx.surface, [fine_geodesic(ctx, a, b, warm, n)])[0]
+
+
+def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
+                  warm: tuple[np.ndarray, np.ndarray] | None, n: int | None = None) -> GeodesicResult:
+    """The fine solve of solve_pass (its tangents are solved_passes')."""
     w = ctx.winding
     n = n or w.points or 200
     res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm, max_points=max(REFINE_MAX_POINTS, n))
@@ -128,11 +137,47 @@ def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
         res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=(res.s, res.theta),
                        max_points=REFINE_MAX_POINTS)
     _check_converged(ctx, a, b, res)
-    k = TANGENT_REFINE
-    fine = geodesic(ctx.surface, a, b, n=k * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))
+    fine = geodesic(ctx.surface, a, b, n=TANGENT_REFINE * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))
     _check_converged(ctx, a, b, fine)
-    d = directions(ctx.surface, fine.refined_s, fine.refined_theta)
-    return SolvedPass(fine.refined_s[::k], fine.refined_theta[::k], d[::k], fine.length, fine)
+    return fine
+
+
+def solved_passes(surface: SweepSurface, fines: list[GeodesicResult]) -> list[SolvedPass]:
+    """The passes of fine solves (fine_geodesic): every TANGENT_REFINE-th refined vertex, with the
+    tangent there of the smooth curve through all of them (directions). Solves of one size share one
+    spline system (the sites are the index), so their splines come from one banded solve, and every
+    tangent from one surface evaluation; values pointwise the same as directions' (the spline's and
+    the surface's arithmetic is per point and per column)."""
+    k = TANGENT_REFINE
+    out: list[SolvedPass | None] = [None] * len(fines)
+    groups: dict[int, list[int]] = {}
+    for j, f in enumerate(fines):
+        groups.setdefault(f.refined_s.size, []).append(j)
+    for m, members in groups.items():
+        step = max(1, TANGENT_BATCH_POINTS // m)
+        for lo in range(0, len(members), step):
+            chunk = members[lo:lo + step]
+            d = _tangents(surface, [(fines[j].refined_s, fines[j].refined_theta) for j in chunk], k)
+            for j, dj in zip(chunk, d):
+                f = fines[j]
+                out[j] = SolvedPass(f.refined_s[::k], f.refined_theta[::k], dj, f.length, f)
+    return out
+
+
+def _tangents(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarray]], every: int) -> list[np.ndarray]:
+    """directions(surface, s, theta)[::every] of each path (s, theta), all (m,): (q, 3) each."""
+    m = paths[0][0].size
+    i = np.arange(m, dtype=float)
+    # the degree directions takes
+    k = min(5, m - 1 - (m % 2 == 1 and m < 7))
+    rate = InterpSpline(i, np.column_stack([a for path in paths for a in path]), k)(i[::every], 1)
+    q = rate.shape[0]
+    s = np.concatenate([path[0][::every] for path in paths])
+    th = np.concatenate([path[1][::every] for path in paths])
+    ev = surface.evaluate(s, th, order=1)
+    v = ev.ps * rate[:, 0::2].T.reshape(-1)[:, None] + ev.pt * rate[:, 1::2].T.reshape(-1)[:, None]
+    v = v / np.linalg.norm(v, axis=1)[:, None]
+    return [v[j * q:(j + 1) * q] for j in range(len(paths))]
 
 
 def _check_converged(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],

@@ -23,7 +23,8 @@ from winder.winding.passes import (
     make_pass,
     make_passes,
     reference_section,
-    solve_pass,
+    fine_geodesic,
+    solved_passes,
     winding_region,
 )
 from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_open_pattern
@@ -113,8 +114,11 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
         th = ctx.arcs.theta(np.array([f_start, f_fwd_end, f_ret_start, f_ret_end]))
         # Cold starts: consecutive circuits lie k / N_c of a turn apart, where the geodesic can look
         # nothing alike (inside vs outside of a bend); coarse-to-fine is robust and as fast.
-        solved.append((solve_pass(ctx, (t_a, th[0]), (t_b, th[1]), None),
-                       solve_pass(ctx, (t_b, th[2]), (t_a, th[3]), None)))
+        solved += [fine_geodesic(ctx, (t_a, th[0]), (t_b, th[1]), None),
+                   fine_geodesic(ctx, (t_b, th[2]), (t_a, th[3]), None)]
+    # The tangents of all the passes together (solved_passes).
+    done = solved_passes(surf, solved)
+    solved = list(zip(done[0::2], done[1::2]))
     passes: list[FiberPass] = []
     for j, (fwd, ret) in enumerate(solved):
         nxt = solved[j + 1][0] if j + 1 < len(solved) else None

@@ -1,0 +1,48 @@
+"""Pass tangents solved together against pass by pass (the same values to the bit) and the closed form."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from winder.config.job import parse_config
+from winder.geometry.build import build_surface
+from winder.geometry.sections import arc_map
+from winder.winding import passes as P
+
+HELIX_DIR_ABS = 1e-9  # unit tangent of a helix from the spline through its refined vertices
+
+
+def _ctx(mandrel: dict, points: int) -> P.PlanContext:
+    job = parse_config({"name": "t", "mandrel": mandrel,
+                        "winding": {"band_width": 10, "points": points, "layers": [{"type": "helical", "angle": 45}]}},
+                       "t.yaml")
+    surface = build_surface(job.mandrel, job.source, job.name)
+    return P.PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed)
+
+
+@pytest.mark.parametrize("batch", [P.TANGENT_BATCH_POINTS, 500])
+def test_solved_passes_are_directions_pass_by_pass(monkeypatch, batch):
+    monkeypatch.setattr(P, "TANGENT_BATCH_POINTS", batch)
+    ctx = _ctx({"axis": {"type": "line", "length": 300}, "section": {"type": "ellipse", "a": 60, "b": 35}}, 30)
+    fines = [P.fine_geodesic(ctx, (0.0, th0), (300.0, th0 + 4.0), None, n)
+             for th0, n in ((0.0, 30), (1.0, 30), (2.0, 20), (3.0, 30))]  # two sizes of fine solve
+    got = P.solved_passes(ctx.surface, fines)
+    k = P.TANGENT_REFINE
+    for f, g in zip(fines, got):
+        want = P.directions(ctx.surface, f.refined_s, f.refined_theta)[::k]
+        assert np.array_equal(g.direction, want)
+        assert np.array_equal(g.s, f.refined_s[::k]) and np.array_equal(g.theta, f.refined_theta[::k])
+        assert g.length == f.length and g.result is f
+
+
+def test_solved_pass_tangent_on_a_cylinder_is_the_helix():
+    ctx = _ctx({"axis": {"type": "line", "length": 300}, "profile": {"type": "constant", "radius": 50}}, 40)
+    sp = P.solve_pass(ctx, (0.0, 0.0), (300.0, 3.0), None)
+    # the helix theta = 3 t / 300 on r = 50: its direction at (t, theta) is (-r k sin, r k cos, 1) / norm
+    rk = 50.0 * 3.0 / 300.0
+    want = np.column_stack([-rk * np.sin(sp.theta), rk * np.cos(sp.theta), np.ones_like(sp.theta)])
+    want /= math.hypot(rk, 1.0)
+    assert np.allclose(sp.direction, want, atol=HELIX_DIR_ABS)
