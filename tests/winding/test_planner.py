@@ -201,15 +201,36 @@ def test_plan_needs_winding():
         plan(parse_config({"name": "t", "mandrel": PIPE}, "t.yaml"))
 
 
-def test_turned_copies_of_directions():
-    from winder.winding.layers.helical_open import _turned, _turned_many
-    rng = np.random.default_rng(3)
-    d = rng.normal(size=(17, 3))
-    shifts = [0.1, 2.5, -1.0, 7.0]
-    got = _turned_many(d, shifts)
-    # bit for bit the directions turned one shift at a time, and each a turn about +z
-    assert np.array_equal(got, np.concatenate([_turned(d, v) for v in shifts]))
-    for k, v in enumerate(shifts):
-        part = got[k * 17:(k + 1) * 17]
-        c, s = math.cos(v), math.sin(v)
-        assert np.allclose(part, d @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]), atol=1e-12)
+def test_turned_copies_are_copies_made_one_at_a_time(pipe_plan):
+    from winder.winding.layers.helical_open import _turned
+    from winder.winding.passes import make_pass, turned_copies
+    surf = pipe_plan.surface
+    first = [p for p in pipe_plan.layers[0].passes if p.circuit == 1]
+    shifts = [0.1, 2.5, -1.0]
+    heads = [(1, j + 2, 0, p.kind, p.length) for j in range(len(shifts)) for p in first]
+    got = turned_copies(surf, heads, [(p.s, p.theta, p.direction) for p in first], shifts)
+    want = [make_pass(surf, 1, j + 2, 0, p.kind, p.s, p.theta + v, _turned(p.direction, v), p.length)
+            for j, v in enumerate(shifts) for p in first]
+    assert len(got) == len(want)
+    for g, w in zip(got, want):
+        for name in ("t", "s", "theta", "points", "direction", "alpha_deg"):
+            assert np.array_equal(getattr(g, name), getattr(w, name)), name
+        assert (g.circuit, g.kind, g.length) == (w.circuit, w.kind, w.length)
+    # and a turn about +z: the points of a copy are the first's turned by the shift
+    c, s = math.cos(0.1), math.sin(0.1)
+    rot = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    assert np.allclose(got[0].points, first[0].points @ rot, atol=1e-9)
+
+
+def test_end_headings_are_each_points_heading():
+    from winder.winding.layers.helical_open import _end_headings
+    from winder.winding.turnaround import heading_deg
+    p = plan(job({"axis": {"type": "line", "length": 300}, "section": {"type": "ellipse", "a": 60, "b": 35}},
+                 {"band_width": 10, "points": 40, "layers": [{"type": "helical", "angle": 45}]}))
+    laid = [q for q in p.layers[0].passes if q.kind in (PassKind.FORWARD, PassKind.RETURN)][:6]
+    got = _end_headings(p.surface, laid)
+    for q, row in zip(laid, got):
+        for end, h in zip((0, -1), row):
+            assert h == heading_deg(p.surface, q.s[[end]], q.theta[[end]], q.direction[[end]])[0]
+    # forward passes leave the start at the layer angle (45 deg at the reference section, near it elsewhere)
+    assert np.all(np.abs(got[0::2, 0] - 45.0) < 15.0)

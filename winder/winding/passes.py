@@ -105,10 +105,30 @@ def make_passes(surface: SweepSurface, heads: list[tuple[int, int, int, PassKind
     t = surface.t_of_s(s)
     ev = surface.evaluate(s, theta, order=1)
     alpha = winding_angle_of(ev, direction)
-    cuts = np.cumsum(sizes)[:-1]
-    parts = (np.split(a, cuts) for a in (t, s, theta, ev.p, direction, alpha))
+    stop = np.cumsum(sizes).tolist()
+    spans = list(zip([0] + stop[:-1], stop))
+    parts = ([a[i:j] for i, j in spans] for a in (t, s, theta, ev.p, direction, alpha))
     return [FiberPass(layer, circuit, number, kind, *arrays, float(length))
             for (layer, circuit, number, kind, length), *arrays in zip(heads, *parts)]
+
+
+def turned_copies(surface: SweepSurface, heads: list[tuple[int, int, int, PassKind, float]],
+                  templates: list[tuple[np.ndarray, np.ndarray, np.ndarray]], shifts: list[float]) -> list[FiberPass]:
+    """make_passes of the templates (s, theta, direction) turned about the straight axis (+z) by each
+    shift (rad) in turn: theta + shift, the directions turned with it (math.cos / sin of the shift, as
+    a copy made one at a time would). heads: one per copy, shift-major (len(shifts) * len(templates))."""
+    if not shifts or not templates:
+        return []
+    s = np.concatenate([t[0] for t in templates])
+    theta = np.concatenate([t[1] for t in templates])
+    d = np.concatenate([t[2] for t in templates])
+    c = np.array([math.cos(v) for v in shifts])[:, None]
+    sn = np.array([math.sin(v) for v in shifts])[:, None]
+    x = c * d[:, 0] - sn * d[:, 1]
+    y = sn * d[:, 0] + c * d[:, 1]
+    turned = np.stack([x, y, np.broadcast_to(d[:, 2], x.shape)], axis=-1).reshape(-1, 3)
+    return make_passes(surface, heads, [t[0].size for t in templates] * len(shifts), np.tile(s, len(shifts)),
+                       (theta + np.array(shifts)[:, None]).reshape(-1), turned)
 
 
 def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],

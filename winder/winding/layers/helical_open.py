@@ -21,7 +21,7 @@ from winder.winding.passes import (
     turnaround_passes,
     finish_layer,
     make_pass,
-    make_passes,
+    turned_copies,
     reference_section,
     fine_geodesic,
     solved_passes,
@@ -89,9 +89,14 @@ GAP_TARGET = 0.02  # widest gap allowed, as a fraction of the band width
 MAX_CIRCUIT_FACTOR = 4  # at most this many times the closed-form circuit count
 
 
-def _heading_at(surf: SweepSurface, item, end: int) -> float:
-    """Heading (deg) of a solved pass at its first (end 0) or last (end -1) point."""
-    return float(heading_deg(surf, item.s[[end]], item.theta[[end]], item.direction[[end]])[0])
+def _end_headings(surf: SweepSurface, solved: list) -> np.ndarray:
+    """Headings (deg) of solved passes (k) at their first and last points, in one evaluation: (k, 2)."""
+    if not solved:
+        return np.zeros((0, 2))
+    s = np.array([item.s[e] for item in solved for e in (0, -1)])
+    th = np.array([item.theta[e] for item in solved for e in (0, -1)])
+    d = np.array([item.direction[e] for item in solved for e in (0, -1)])
+    return heading_deg(surf, s, th, d).reshape(-1, 2)
 
 
 def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: float, theta0: float,
@@ -119,17 +124,23 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
     # The tangents of all the passes together (solved_passes).
     done = solved_passes(surf, solved)
     solved = list(zip(done[0::2], done[1::2]))
+    # Where an end holds the fiber, the swing there runs between the passes' own end headings.
+    ends_at = _end_headings(surf, done if not (leg_a.s.size and leg_b.s.size) else []).tolist()
     passes: list[FiberPass] = []
     for j, (fwd, ret) in enumerate(solved):
         nxt = solved[j + 1][0] if j + 1 < len(solved) else None
+        nxt_head = ends_at[2 * j + 2][0] if ends_at and j + 1 < len(solved) else None
         if surf.is_revolution:  # every circuit a turned copy: the next one starts as this one
             nxt = fwd
+            nxt_head = ends_at[2 * j][0] if ends_at else None
         # The swing joins the directions on either side exactly (a way in and out mirror each other).
         heads_b = ((leg_b.apex_heading_deg, 180.0 - leg_b.apex_heading_deg) if leg_b.s.size
-                   else (_heading_at(surf, fwd, -1), _heading_at(surf, ret, 0)))
-        h_a = _heading_at(surf, ret, -1)
-        heads_a = ((leg_a.apex_heading_deg, 180.0 - leg_a.apex_heading_deg) if leg_a.s.size
-                   else (h_a, _heading_at(surf, nxt, 0) if nxt is not None else 180.0 - h_a))
+                   else (ends_at[2 * j][1], ends_at[2 * j + 1][0]))
+        if leg_a.s.size:
+            heads_a = (leg_a.apex_heading_deg, 180.0 - leg_a.apex_heading_deg)
+        else:
+            h_a = ends_at[2 * j + 1][1]
+            heads_a = (h_a, nxt_head if nxt is not None else 180.0 - h_a)
         circuit = j + 1
         passes.append(make_pass(surf, layer, circuit, len(passes) + 1, PassKind.FORWARD, fwd.s, fwd.theta,
                                 fwd.direction, fwd.length))
@@ -158,12 +169,7 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
             shifts.append(float(ctx.arcs.theta(np.array([f0 + j * pat.advance]))[0]) - th_first)
         heads = [(layer, j + 2, len(first) * (j + 1) + i + 1, p.kind, p.length)
                  for j in range(len(shifts)) for i, p in enumerate(first)]
-        s = np.concatenate([p.s for p in first])
-        theta = np.concatenate([p.theta for p in first])
-        shift = np.array(shifts)[:, None]
-        passes += make_passes(surf, heads, [p.s.size for p in first] * len(shifts), np.tile(s, len(shifts)),
-                              (theta + shift).reshape(-1),
-                              _turned_many(np.concatenate([p.direction for p in first]), shifts))
+        passes += turned_copies(surf, heads, [(p.s, p.theta, p.direction) for p in first], shifts)
     return passes
 
 
@@ -243,15 +249,6 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
                      f"the pattern (k = {pat.pattern} of {n_c})")
     return finish_layer(ctx, cfg, index, alpha, n_c, pat.pattern, pat.dwell_start * 360.0, pat.dwell_end * 360.0,
                   None, passes, stations, notes, cov, held)
-
-
-def _turned_many(d: np.ndarray, shifts: list[float]) -> np.ndarray:
-    """The directions d (m, 3) turned by each shift in turn (k,) (rad, as _turned): (k m, 3)."""
-    c = np.array([math.cos(v) for v in shifts])[:, None]
-    s = np.array([math.sin(v) for v in shifts])[:, None]
-    x = c * d[:, 0] - s * d[:, 1]
-    y = s * d[:, 0] + c * d[:, 1]
-    return np.stack([x, y, np.broadcast_to(d[:, 2], x.shape)], axis=-1).reshape(-1, 3)
 
 
 def _turned(d: np.ndarray, shift: float) -> np.ndarray:

@@ -19,11 +19,11 @@ from winder.winding.passes import (
     COVERAGE_STATIONS,
     PlanContext,
     finish_layer,
-    make_pass,
+    turned_copies,
     solve_pass,
 )
 from winder.winding.pattern import circuits_for_coverage, close_vessel_pattern
-from winder.winding.results import FiberPass, LayerPlan, PassKind
+from winder.winding.results import LayerPlan, PassKind
 
 QUAD_NODES = 200  # Gauss-Legendre nodes per dome for the turnaround advance
 
@@ -179,16 +179,10 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
     fwd = _vessel_pass(ctx, prof, c, True, theta0)
     ctx.report(index, 0.5, "the return pass")
     ret = _vessel_pass(ctx, prof, c, False, theta0 + half)
-    passes: list[FiberPass] = []
-    number = 0
-    for j in range(n_c):
-        shift = j * 2.0 * half
-        for kind, (s, th, d, ln) in ((PassKind.FORWARD, fwd), (PassKind.RETURN, ret)):
-            number += 1
-            # A rotated copy: the directions turn with it (about the straight axis, +z).
-            c_, s_ = math.cos(shift), math.sin(shift)
-            turned = np.column_stack([c_ * d[:, 0] - s_ * d[:, 1], s_ * d[:, 0] + c_ * d[:, 1], d[:, 2]])
-            passes.append(make_pass(surf, index + 1, j + 1, number, kind, s, th + shift, turned, ln))
+    # Every circuit a rotated copy of the first: the directions turn with it (about the straight axis, +z).
+    heads = [(index + 1, j + 1, 2 * j + i + 1, kind, pas[3])
+             for j in range(n_c) for i, (kind, pas) in enumerate(((PassKind.FORWARD, fwd), (PassKind.RETURN, ret)))]
+    passes = turned_copies(surf, heads, [fwd[:3], ret[:3]], [j * 2.0 * half for j in range(n_c)])
     notes = [f"turnaround radius c = {c:.4f} mm on the domes (polar opening {r_open:.4g} mm); angle moved "
              f"{alpha - cfg.angle_deg:+.4f} deg to close the pattern (k = {k} of {n_c})"]
     e1, e2 = prof.equator_t
