@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.winding.bands import union_stats_many
 from winder.winding.results import Coverage, FiberPass, PassKind
 from winder.geometry.interp import interp_spline
 from winder.geometry.lapack import lapack as scipy_lapack
@@ -156,50 +157,6 @@ def _bands(surface: SweepSurface, arcs: ArcMap, idx: np.ndarray, s_x: np.ndarray
     return idx, arcs.fraction(th_x), 0.5 * band_width / np.maximum(sin_beta, 1e-12) / perimeter
 
 
-EDGE_TOL = 1e-6  # mm, far below the 3 decimals the summary prints
-
-
-def _union_stats(centres: np.ndarray, halves: np.ndarray, perimeter: float) -> tuple[float, float, float, int, int]:
-    """Covered length, longest gap, longest overlap, min and max band count on a circle of perimeter P.
-
-    centres, halves : (k,) float, band centres and half-widths along the perimeter (mm).
-    """
-    if centres.size == 0:
-        return 0.0, perimeter, 0.0, 0, 0
-    lo = np.mod(centres - halves, perimeter)
-    hi = lo + np.minimum(2.0 * halves, perimeter)
-    # Events on [0, 2P): each band is counted on its own stretch and on its copy shifted by -P,
-    # so that stretches wrapping past P are seen on [0, P).
-    pos = np.concatenate([lo, hi, lo - perimeter, hi - perimeter, [0.0, perimeter]])
-    delta = np.concatenate([np.ones_like(lo), -np.ones_like(hi), np.ones_like(lo), -np.ones_like(hi), [0, 0]])
-    order = np.lexsort((-delta, pos))
-    pos, delta = pos[order], delta[order]
-    count = np.cumsum(delta)
-    seg = np.diff(pos)
-    mid = count[:-1]
-    # A stretch shorter than EDGE_TOL is where two band edges meet (hoop turns abut exactly): whether
-    # round-off puts a sliver of overlap or of gap there must not change the counts.
-    inside = (pos[:-1] >= 0.0) & (pos[1:] <= perimeter) & (seg > EDGE_TOL)
-    seg, mid = seg[inside], mid[inside]
-    covered = float(np.sum(seg[mid > 0]))
-    return covered, _longest_run(seg, mid == 0, perimeter), _longest_run(seg, mid >= 2, perimeter), \
-        int(mid.min()), int(mid.max())
-
-
-def _longest_run(seg: np.ndarray, flag: np.ndarray, perimeter: float) -> float:
-    """Longest stretch of consecutive flagged segments around the circle."""
-    if not flag.any():
-        return 0.0
-    if flag.all():
-        return perimeter
-    # Rotate so the sequence starts on an unflagged segment: runs then never wrap.
-    start = int(np.argmin(flag))
-    seg, flag = np.roll(seg, -start), np.roll(flag, -start)
-    run = np.where(flag, seg, 0.0)
-    breaks = np.cumsum(~flag)
-    return float(np.max(np.bincount(breaks, weights=run)))
-
-
 def layer_coverage(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass], band_width: float,
                    stations: np.ndarray) -> Coverage:
     """Coverage of the passes' bands at the stations (the DWELL passes lay no band in the region)."""
@@ -216,19 +173,29 @@ def layer_coverage(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass],
         order = np.argsort(i, kind="stable")
         cuts = np.searchsorted(i[order], np.arange(1, len(stations)))
         hits.append((np.split(f[order], cuts), np.split(h[order], cuts)))
-    worst_cov, worst_gap, worst_overlap = 1.0, 0.0, 0.0
-    min_layers, max_layers = None, 0
+    # Per station: each group's bands, then all of them together (for the band counts); one batch.
+    centres, halves, pers = [], [], []
     for k, perimeter in enumerate(perimeters):
         all_c, all_h = [], []
-        for fracs, halves in hits:
-            cs, hs = fracs[k] * perimeter, halves[k] * perimeter
-            covered, gap, overlap, _, _ = _union_stats(cs, hs, perimeter)
+        for fracs, half in hits:
+            cs, hs = fracs[k] * perimeter, half[k] * perimeter
+            centres.append(cs)
+            halves.append(hs)
+            all_c.append(cs)
+            all_h.append(hs)
+        centres.append(np.concatenate(all_c))
+        halves.append(np.concatenate(all_h))
+        pers += [perimeter] * (len(hits) + 1)
+    stats = iter(union_stats_many(centres, halves, pers))
+    worst_cov, worst_gap, worst_overlap = 1.0, 0.0, 0.0
+    min_layers, max_layers = None, 0
+    for perimeter in perimeters:
+        for _ in hits:
+            covered, gap, overlap, _, _ = next(stats)
             worst_cov = min(worst_cov, covered / perimeter)
             worst_gap = max(worst_gap, gap)
             worst_overlap = max(worst_overlap, overlap)
-            all_c.append(cs)
-            all_h.append(hs)
-        _, _, _, lo, hi = _union_stats(np.concatenate(all_c), np.concatenate(all_h), perimeter)
+        _, _, _, lo, hi = next(stats)
         min_layers = lo if min_layers is None else min(min_layers, lo)
         max_layers = max(max_layers, hi)
     return Coverage(stations, worst_cov, worst_gap, worst_overlap, int(min_layers or 0), int(max_layers))

@@ -1,0 +1,63 @@
+"""Band unions on a circle: many sets at once against one at a time (bit for bit), and closed forms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from winder.winding.bands import union_stats, union_stats_many
+
+EVEN_ABS = 1e-9  # mm: N abutting bands of P / N cover P (round-off of the edges only)
+
+
+def _sets(rng):
+    p = np.float64(2.0 * np.pi * 50.0)
+    sets = [(rng.uniform(0, p, 30), rng.uniform(1, 6, 30), p),  # scattered: gaps and overlaps
+            (np.zeros(0), np.zeros(0), p),  # no bands
+            (np.array([p - 1.0]), np.array([4.0]), p),  # one band across the seam
+            (np.array([10.0]), np.array([p]), p),  # wider than the perimeter
+            (np.arange(40) * p / 40, np.full(40, p / 80), p),  # abutting exactly, as hoop turns
+            (rng.uniform(0, 100.0, 12), np.full(12, 30.0), np.float64(100.0)),  # all doubly covered
+            (np.array([20.0, 60.0]), np.array([5.0, 5.0]), np.float64(100.0))]  # two bands, two gaps
+    return sets
+
+
+def test_many_is_one_at_a_time():
+    sets = _sets(np.random.default_rng(5))
+    got = union_stats_many([s[0] for s in sets], [s[1] for s in sets], [s[2] for s in sets])
+    for (c, h, p), g in zip(sets, got):
+        want = union_stats(c, h, p)
+        assert g == want and [type(v) for v in g] == [type(v) for v in want]
+
+
+def test_even_bands_cover_once():
+    p = 300.0
+    (covered, gap, overlap, lo, hi), = union_stats_many([np.arange(25) * p / 25 + 3.0], [np.full(25, p / 50)], [p])
+    assert covered == pytest.approx(p, abs=EVEN_ABS) and gap == 0.0 and overlap == 0.0 and lo == hi == 1
+
+
+def test_two_bands_closed_form():
+    (covered, gap, overlap, lo, hi), = union_stats_many([np.array([20.0, 60.0])], [np.array([5.0, 5.0])], [100.0])
+    # bands [15, 25] and [55, 65] on a circle of 100: 20 covered, gaps 30 and 50, no overlap
+    assert covered == pytest.approx(20.0) and gap == pytest.approx(50.0) and overlap == 0.0
+    assert (lo, hi) == (0, 1)
+
+
+def test_a_circle_too_small_to_resolve_is_refused_alike():
+    args = ([np.array([1e-8])], [np.array([1e-8])], [1e-7])
+    with pytest.raises(ValueError):
+        union_stats(args[0][0], args[1][0], args[2][0])
+    with pytest.raises(ValueError):
+        union_stats_many(*args)
+
+
+def test_many_random_sets_are_one_at_a_time():
+    rng = np.random.default_rng(11)
+    sets = []
+    for _ in range(300):
+        k = int(rng.integers(0, 40))
+        p = np.float64(rng.uniform(50.0, 500.0))
+        sets.append((rng.uniform(-p, 2 * p, k), rng.uniform(0.0, 0.2 * p, k) ** rng.uniform(0.5, 1.5), p))
+    got = union_stats_many([s[0] for s in sets], [s[1] for s in sets], [s[2] for s in sets])
+    for (c, h, p), g in zip(sets, got):
+        assert g == union_stats(c, h, p)
