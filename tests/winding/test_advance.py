@@ -63,3 +63,10 @@ def test_straight_tube_against_the_traced_geodesic(straight_tube):
 
 def test_a_bent_axis_is_left_to_the_tracer(quarter_bend):
     assert reach_theta(quarter_bend, 0.0, np.array([0.0]), 30.0, quarter_bend.length) is None
+
+
+def test_gauss_rule_is_leggauss_bit_for_bit():
+    from winder.winding.advance import GAUSS_W, GAUSS_X  # noqa: PLC0415
+
+    x, w = np.polynomial.legendre.leggauss(GAUSS_X.size)
+    assert np.array_equal(GAUSS_X, x) and np.array_equal(GAUSS_W, w)
