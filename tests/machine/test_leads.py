@@ -35,7 +35,7 @@ def test_guessed_bracket_gives_the_scans_lead(config, monkeypatch):
     guessed = []
     plain = leads.first_crossing
 
-    def scan_only(f, n, lmax, guess=None):
+    def scan_only(f, n, lmax, guess=None, f0=None):  # f(0) found by the scan itself, too
         guessed.append(guess is not None)
         return plain(f, n, lmax)
 

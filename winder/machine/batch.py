@@ -103,10 +103,29 @@ def all_dense(plan: WindingPlan, smooth: dict, number: dict, leads: dict, mids: 
         out.update((id(fp), dense) for fp, dense in zip(passes, found) if dense is not None)
     if not out:
         return {}
-    sets = list(out.values())
+    # Every factor-th dense point is a planned one, whose lead is known (the lead is pointwise).
+    planned = [_planned_rows(d[3]) if leads.get(key) is not None else np.zeros(len(d[3]), dtype=bool)
+               for key, d in out.items()]
     try:
-        lam, ok = eye_leads(np.concatenate([d[0] for d in sets]), np.concatenate([d[1] for d in sets]), env)
+        lam, ok = eye_leads(np.concatenate([d[0][~k] for d, k in zip(out.values(), planned)]),
+                            np.concatenate([d[1][~k] for d, k in zip(out.values(), planned)]), env)
     except ExportError:
         return {key: (*d, None) for key, d in out.items()}
-    cuts = np.cumsum([len(d[0]) for d in sets])[:-1]
-    return {key: (*d, lead) for (key, d), lead in zip(out.items(), zip(np.split(lam, cuts), np.split(ok, cuts)))}
+    cuts = np.cumsum([np.count_nonzero(~k) for k in planned])[:-1]
+    found = {}
+    for (key, d), k, lam_new, ok_new in zip(out.items(), planned, np.split(lam, cuts), np.split(ok, cuts)):
+        lam_all, ok_all = np.empty(k.size), np.empty(k.size, dtype=bool)
+        lam_all[~k], ok_all[~k] = lam_new, ok_new
+        if k.any():
+            lam_all[k], ok_all[k] = leads[key]
+        found[key] = (*d, (lam_all, ok_all))
+    return found
+
+
+def _planned_rows(u: np.ndarray) -> np.ndarray:
+    """Which rows of a densified pass (fractional point indices u (k,), the planned points every
+    factor-th) are its planned points."""
+    factor = (u.size - 1) // max(int(round(u[-1])), 1)
+    rows = np.zeros(u.size, dtype=bool)
+    rows[::factor] = True
+    return rows

@@ -43,11 +43,17 @@ class EyeEnvelope:
             return np.full(t.shape, self.constant)
         x = self.stations if self.radius_stations is None else self.radius_stations
         z = self.radius
-        out = np.interp(t, x, z)
         lo, hi = self.end_slopes
-        out = np.where(t < x[0], z[0] + lo * (t - x[0]), out)
-        out = np.where(t > x[-1], z[-1] + hi * (t - x[-1]), out)
-        return np.maximum(out, 0.0)
+        if t.ndim == 0:
+            return self.at(t[None])[0]
+        out = np.interp(t, x, z)
+        # Only the few stations past the table are recomputed (a lead search asks for ~10^6 stations).
+        before, after = t < x[0], t > x[-1]
+        if before.any():
+            out[before] = z[0] + lo * (t[before] - x[0])
+        if after.any():
+            out[after] = z[-1] + hi * (t[after] - x[-1])
+        return np.maximum(out, 0.0, out=out)
 
     def mandrel_at(self, t: np.ndarray) -> np.ndarray:
         """r_max at stations t (clamped to the mandrel's ends)."""

@@ -53,7 +53,7 @@ fiber direction from the eye to its contact point, both in the mandrel frame.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -142,13 +142,21 @@ def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, 
     d = unit_rows(np.asarray(directions, dtype=float).reshape(-1, 3))
     env = envelope if envelope is not None else eye_envelope(surface, machine)
     lam, ok = lead if lead is not None else lead_straight(p, d, env, where)
-    e = p + lam[:, None] * d
-    phi_raw = np.arctan2(e[:, 1], e[:, 0])
+    path, phi_raw = eye_frames(p, d, (lam, ok), sense, sizes)
     if theta is None:
         theta = np.unwrap(np.arctan2(p[:, 1], p[:, 0]))
-    theta = np.asarray(theta, dtype=float)
-    lead_angle = np.angle(np.exp(1j * (phi_raw - theta)))  # wrapped to (-pi, pi]
-    phi = theta + lead_angle
+    return replace(path, a_deg=rotation_deg(phi_raw, np.asarray(theta, dtype=float)))
+
+
+def eye_frames(p: np.ndarray, d: np.ndarray, lead: tuple[np.ndarray, np.ndarray], sense: float | None = None,
+               sizes: np.ndarray | None = None) -> tuple[EyePath, np.ndarray]:
+    """eye_path's values that do not depend on the contact angles theta, of points p (m, 3) with unit
+    directions d (m, 3) and their leads: the path with a_deg left empty, and the eye's polar angle
+    phi_raw (m,) (rad, in (-pi, pi]) from which rotation_deg makes A once theta is known. Pointwise
+    but for B's continuity (per run of `sizes`), so a whole program's passes go in one call."""
+    lam, ok = lead
+    e = p + lam[:, None] * d
+    phi_raw = np.arctan2(e[:, 1], e[:, 0])
     zr = np.hypot(e[:, 0], e[:, 1])
     d_u = -np.sin(phi_raw) * d[:, 0] + np.cos(phi_raw) * d[:, 1]
     if sense is None:
@@ -156,8 +164,15 @@ def eye_path(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, 
     sigma = -1.0 if sense < 0.0 else 1.0
     b = np.arctan2(sigma * d[:, 2], sigma * d_u)
     b = np.unwrap(b) if sizes is None else _unwrap_each(b, np.asarray(sizes, dtype=int))
-    return EyePath(x=e[:, 2].copy(), a_deg=-np.degrees(phi), z=zr, b_deg=np.degrees(b), eye_xyz=e,
-                   lead=lam, on_envelope=ok)
+    return EyePath(x=e[:, 2].copy(), a_deg=np.zeros(0), z=zr, b_deg=np.degrees(b), eye_xyz=e,
+                   lead=lam, on_envelope=ok), phi_raw
+
+
+def rotation_deg(phi_raw: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """A (deg) of eyes at polar angles phi_raw (k,) laying contact points at the unwrapped angles
+    theta (k,): -(theta + the lead angle phi_raw - theta wrapped to (-pi, pi]). Pointwise."""
+    lead_angle = np.angle(np.exp(1j * (phi_raw - theta)))  # wrapped to (-pi, pi]
+    return -np.degrees(theta + lead_angle)
 
 
 # -- robot mode ------------------------------------------------------------------------------------

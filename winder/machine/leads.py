@@ -22,7 +22,8 @@ def unit_rows(v: np.ndarray) -> np.ndarray:
     return v / n[:, None]
 
 
-def first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+def first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None,
+                   f0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Smallest lambda in (0, lmax] with f(lambda) = 0 for each of m lines, f(0) < 0 (f vectorized
     over (lambda (k,), line index (k,)), in mm). A scan brackets the first sign change, the Illinois
     variant of regula falsi closes the bracket to ROOT_TOL. Returns (lambda, found); lambda = lmax
@@ -31,14 +32,15 @@ def first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None) -> t
     guess : (m,) estimates of the crossings, for lines whose f is negative before its crossing and
     not after it (a ray leaving a convex region): the scan's bracket is then the grid interval around
     the guess wherever f changes sign across it, two evaluations instead of the scan up to it (the
-    same bracket, so the same lambda); elsewhere the lines are scanned."""
+    same bracket, so the same lambda); elsewhere the lines are scanned. f0 : (m,) f(0) of every
+    line, where the caller has it."""
     grid = lmax * (np.arange(1, LEAD_SCAN + 1) / LEAD_SCAN) ** 2
     lam = np.full(m, lmax)
     lo, hi = np.zeros(m), np.full(m, lmax)
     flo, fhi = np.zeros(m), np.zeros(m)
     found = np.zeros(m, dtype=bool)
     pending = np.arange(m)
-    prev_lam, prev_f = 0.0, f(np.zeros(m), pending)
+    prev_lam, prev_f = 0.0, (f(np.zeros(m), pending) if f0 is None else f0)
     if guess is not None:
         k = np.searchsorted(grid, np.where(np.isfinite(guess), guess, np.inf))  # grid[k - 1] < guess <= grid[k]
         idx = np.flatnonzero(k < LEAD_SCAN)
@@ -100,7 +102,8 @@ def lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
     m = p.shape[0]
     lmax = MAX_LEAD_FACTOR * env.max_radius
     r0 = np.hypot(p[:, 0], p[:, 1])
-    inside = r0 < env.at(p[:, 2])
+    at_p = env.at(p[:, 2])
+    inside = r0 < at_p
     if not inside.all():
         k = int(np.argmin(inside))
         raise ExportError(f"{where}: the eye envelope (radius {float(env.at(p[k:k+1, 2])[0]):.3f} mm) does "
@@ -120,9 +123,9 @@ def lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
     # The region inside the envelope is convex (its profile concave), so the guess may bracket: the
     # crossing with the cylinder of the envelope's radius where that one would be crossed.
     with np.errstate(divide="ignore", invalid="ignore"):
-        guess = _cylinder_lead(p, d, r0, env.at(p[:, 2]))
+        guess = _cylinder_lead(p, d, r0, at_p)
         guess = _cylinder_lead(p, d, r0, env.at(p[:, 2] + np.where(np.isfinite(guess), guess, 0.0) * d[:, 2]))
-    return first_crossing(f, m, lmax, guess)
+    return first_crossing(f, m, lmax, guess, r0 - at_p)  # f(0): p + 0 d is p
 
 
 def eye_leads(points: np.ndarray, directions: np.ndarray, envelope: EyeEnvelope,

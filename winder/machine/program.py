@@ -24,7 +24,7 @@ preamble, comments.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -34,17 +34,13 @@ from winder.machine.batch import all_dense, all_leads, all_midpoints, all_poses,
 from winder.machine.densify import DENSE_SHARE
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.envelope import eye_envelope
+from winder.machine.axis_batch import TURN_BACK_DEG, straight_axes  # noqa: F401 - TURN_BACK_DEG: docstring
 from winder.machine.kinematics import eye_path, make_guide
-from winder.machine.limits import check_limits
 from winder.machine.reduce import reduce_many, reduce_points  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 
 YAW_TOLERANCE_DEG = 0.5  # a yaw (or fiber direction) deviation this large counts as chord_tolerance
-TURN_BACK_DEG = 1.0  # moving to a new layer, the mandrel may turn back this much, not more
-_CONTINUITY_TOL = 1e-9  # rad: two passes whose angles meet this closely are continuous
-_TWO_PI = 2.0 * np.pi
-_POINT_TOL = 1e-6  # mm: a pass starting this close to where the last one ended continues it
 
 AXES = ("carriage", "rotation", "cross_feed", "yaw")
 APPROACH = "approach"  # the comment word of a pass's approach rows (Segment.approach)
@@ -133,42 +129,6 @@ def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | 
                      [first[0], last[1] + 2.0 * da / 3.0, clear, first[3]]])
 
 
-class _Turns:
-    """Carries the contact angle over the whole program: each pass's unwrapped theta plus whole
-    turns, so that A is cumulative. A pass continuing where the last one ended keeps its angles; a
-    pass starting elsewhere (a new layer) is reached by turning on in the winding sense (that of the
-    previous pass), less than a turn, never backwards."""
-
-    def __init__(self) -> None:
-        self.offset = 0.0
-        self.end: float | None = None
-        self.end_point: np.ndarray | None = None
-        self.sense = 1.0
-
-    def place(self, theta: np.ndarray, first: np.ndarray) -> tuple[np.ndarray, bool]:
-        """(the pass's program angles, whether it starts away from where the last pass ended);
-        first: the pass's first contact point."""
-        jumped = False
-        if self.end is not None:
-            self.offset += _TWO_PI * np.round((self.end - (theta[0] + self.offset)) / _TWO_PI)
-            gap = theta[0] + self.offset - self.end
-            jumped = abs(gap) > _CONTINUITY_TOL or float(np.linalg.norm(first - self.end_point)) > _POINT_TOL
-            if abs(gap) > _CONTINUITY_TOL and gap * self.sense < 0.0:
-                self.offset += _TWO_PI * self.sense
-        return theta + self.offset, jumped
-
-    def turn_on(self, theta: np.ndarray) -> np.ndarray:
-        """One more turn in the winding sense (the eye, not only the contact, must not turn back)."""
-        self.offset += _TWO_PI * self.sense
-        return theta + self.offset
-
-    def done(self, cum: np.ndarray, last: np.ndarray) -> None:
-        if cum[-1] != cum[0]:
-            self.sense = float(np.sign(cum[-1] - cum[0]))
-        self.end = float(cum[-1])
-        self.end_point = np.asarray(last, dtype=float)
-
-
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
@@ -180,85 +140,61 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     angle_scale = tol / np.radians(YAW_TOLERANCE_DEG)  # mm per radian of yaw / direction
     arc_radius = env.max_radius  # the mandrel-turn arc of A, at the largest eye radius
 
+    def scaled(path) -> np.ndarray:
+        return np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
+                                np.radians(path.b_deg) * angle_scale])
+
     rows: list[np.ndarray] = []
     indices: list[np.ndarray] = []
     fibers: list[np.ndarray] = []
     layer_segments: list[tuple[Segment, ...]] = []
     count = 0
-    b_end: float | None = None
-    a_end: float | None = None
-    turns = _Turns()
     progress = sum(float(fp.theta[-1] - fp.theta[0]) for layer in plan.layers for fp in layer.passes
                    if len(fp.theta))
     sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
-    poses = iter(all_poses(plan, machine, env, guide) if robot else ())
     nonempty = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
-    lead_of = {} if robot else {id(fp): lead for fp, lead in zip(nonempty, all_leads(plan, env))}
-    # Each layer's smooth paths lie on the surface it was wound on (the mandrel grown by the layers below).
-    smooth = {} if robot else {layer.index: SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
-                               for layer in plan.layers}
-    number = {id(fp): j for layer in plan.layers for j, fp in enumerate(layer.passes)}
-    mids = {} if robot else all_midpoints(plan, smooth, number, env)
+    wheres = [pass_where(plan, fp) for fp in nonempty]
+    laid: list[tuple] = []  # per non-empty pass: (table, scaled axes, u, points, lift, on_envelope, lead)
+    if robot:
+        for fp, pose in zip(nonempty, all_poses(plan, machine, env, guide)):
+            laid.append((np.column_stack([pose.position, pose.direction]),
+                         np.column_stack([pose.position, angle_scale * pose.direction]),
+                         np.arange(len(fp.points), dtype=float), fp.points, None, pose.on_envelope, pose.lead))
+    elif nonempty:
+        leads = all_leads(plan, env)
+        lead_of = {id(fp): lead for fp, lead in zip(nonempty, leads)}
+        # Each layer's smooth paths lie on the surface it was wound on (the mandrel grown by the layers below).
+        smooth = {layer.index: SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
+                  for layer in plan.layers}
+        number = {id(fp): j for layer in plan.layers for j, fp in enumerate(layer.passes)}
+        mids = all_midpoints(plan, smooth, number, env)
 
-    def scaled(path) -> np.ndarray:
-        return np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
-                                np.radians(path.b_deg) * angle_scale])
-
-    def axes_of(fp: FiberPass):
-        where = pass_where(plan, fp)
-        return lambda p, d, th, ld: scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense,
-                                                    where=where, lead=ld))
-
-    def axes_many(p, d, th, ld, sizes) -> np.ndarray:
-        return scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, lead=ld, sizes=sizes))
-
-    dense_of = {} if robot else all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol, axes_many)
-
-    todo: list[tuple[np.ndarray, float]] = []  # per non-empty pass: (scaled axes, tolerance)
-    laid: list[tuple] = []
-    last_row: np.ndarray | None = None
-    for layer in plan.layers:
-        for fp in layer.passes:
-            if len(fp.points) == 0:
-                continue
+        def axes_of(fp: FiberPass):
             where = pass_where(plan, fp)
-            points, u = fp.points, np.arange(len(fp.points), dtype=float)
-            theta, jumped = turns.place(np.asarray(fp.theta, dtype=float), np.asarray(fp.points[0], float))
-            if robot:
-                pose = next(poses)
-                on_envelope, lead = pose.on_envelope, pose.lead
-                q = np.column_stack([pose.position, angle_scale * pose.direction])
-                table = np.column_stack([pose.position, pose.direction])
-            else:
-                lead = lead_of[id(fp)]
-                path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
-                                sense=sense, where=where, lead=lead)
-                if jumped and a_end is not None and (path.a_deg[0] - a_end) * turns.sense > TURN_BACK_DEG:
-                    # A runs against theta: the eye would turn back on the way to this pass.
-                    theta = turns.turn_on(np.asarray(fp.theta, dtype=float))
-                    path = eye_path(fp.points, fp.direction, surface, machine, theta=theta, envelope=env,
-                                    sense=sense, where=where, lead=lead)
-                dense = dense_of.get(id(fp))
-                if dense is not None:  # at the plan's turn count: add the program's whole turns
-                    points, directions, dense_theta, u, dense_lead = dense
-                    path = eye_path(points, directions, surface, machine, envelope=env, sense=sense, where=where,
-                                    theta=dense_theta + float(theta[0] - fp.theta[0]), lead=dense_lead)
-                a_end = float(path.a_deg[-1])
-                if b_end is not None:
-                    path = replace(path, b_deg=path.b_deg + 360.0 * np.round((b_end - path.b_deg[0]) / 360.0))
-                b_end = float(path.b_deg[-1])
-                check_limits(path, machine, where)
-                on_envelope, lead = path.on_envelope, path.lead
-                q = scaled(path)
-                table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
-            turns.done(theta, fp.points[-1])
-            lift = None if robot or not jumped or last_row is None else approach(last_row, table[0], env.max_radius)
-            last_row = table[-1]
-            # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
-            todo.append((q, tol if u.size == len(fp.points) else tol * (1.0 - DENSE_SHARE)))
-            laid.append((fp, table, u, points, lift, on_envelope, lead))
+            return lambda p, d, th, ld: scaled(eye_path(p, d, surface, machine, theta=th, envelope=env,
+                                                        sense=sense, where=where, lead=ld))
+
+        def axes_many(p, d, th, ld, sizes) -> np.ndarray:
+            return scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, lead=ld,
+                                   sizes=sizes))
+
+        dense_of = all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol, axes_many)
+        dense = [dense_of.get(id(fp)) for fp in nonempty]
+        path, sizes, jumped = straight_axes(nonempty, wheres, leads, dense, env, machine, sense)
+        table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
+        cuts = np.cumsum(sizes)[:-1]
+        parts = zip(np.split(table, cuts), np.split(scaled(path), cuts), np.split(path.on_envelope, cuts),
+                    np.split(path.lead, cuts))
+        last_row: np.ndarray | None = None
+        for fp, dn, jump, (tab, q, on_envelope, lead) in zip(nonempty, dense, jumped, parts):
+            lift = None if not jump or last_row is None else approach(last_row, tab[0], env.max_radius)
+            last_row = tab[-1]
+            u, points = (np.arange(len(fp.points), dtype=float), fp.points) if dn is None else (dn[3], dn[0])
+            laid.append((tab, q, u, points, lift, on_envelope, lead))
+    # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
+    tols = [tol if t[2].size == len(fp.points) else tol * (1.0 - DENSE_SHARE) for fp, t in zip(nonempty, laid)]
     # Every pass's point reduction in one batch (winder.machine.reduce); the rows in pass order.
-    kept = iter(reduce_many([t[0] for t in todo], [t[1] for t in todo]))
+    kept = iter(reduce_many([t[1] for t in laid], tols))
     laid_of = iter(laid)
     for layer in plan.layers:
         segments: list[Segment] = []
@@ -266,7 +202,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
             if len(fp.points) == 0:
                 segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count))
                 continue
-            _, table, u, points, lift, on_envelope, lead = next(laid_of)
+            table, _, u, points, lift, on_envelope, lead = next(laid_of)
             keep = next(kept)
             lifted = 0 if lift is None else lift.shape[0]
             rows.append(table[keep] if lift is None else np.vstack([lift, table[keep]]))
