@@ -102,3 +102,20 @@ def test_linuxcnc_program(plan):
 
 def test_generic_is_the_default(plan):
     assert gcode_text(plan, GENERIC) == gcode_text(plan, replace(GENERIC, dialect="generic"))
+
+
+@pytest.mark.parametrize("dialect", ["generic", "marlin", "linuxcnc"])
+def test_lines_alone_are_the_lines_with_moves(plan, dialect):
+    """serialize without its moves (what gcode_text asks for) writes the same lines, and each move's
+    F is the feed formatted one value at a time (text.fmt)."""
+    from winder.export.dialects.text import fmt, serialize  # noqa: PLC0415
+    from winder.export.gcode import dialect_for  # noqa: PLC0415
+
+    program = build_program(plan, replace(GENERIC, dialect=dialect))
+    lines, found = serialize(program, dialect_for(program, 10.0))
+    alone, none = serialize(program, dialect_for(program, 10.0), moves=False)
+    assert alone == lines and none == [] and len(found) > 0
+    if dialect == "generic":
+        generic = dialect_for(program)
+        for row in range(0, len(program.feed), 7):
+            assert generic.move_lines(program, row, "X1", None, (1.0,)) == [f"G1 X1 F{fmt(program.feed[row])}"]

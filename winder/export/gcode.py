@@ -36,7 +36,7 @@ def program_moves(plan: WindingPlan, machine: MachineConfig) -> tuple[Move, ...]
 def gcode_text(plan: WindingPlan, machine: MachineConfig, band_width: float = 0.0) -> str:
     """The whole program as text (newline-terminated lines); band_width (mm) for the marlin header."""
     program = program_of(plan, machine)
-    return "\n".join(serialize(program, dialect_for(program, band_width))[0]) + "\n"
+    return "\n".join(serialize(program, dialect_for(program, band_width), moves=False)[0]) + "\n"
 
 
 def export(plan: WindingPlan, job) -> str:

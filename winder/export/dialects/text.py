@@ -83,7 +83,12 @@ class BaseDialect:
 
     def move_lines(self, program: MotionProgram, row: int, words: str,
                    prev: tuple[float, ...] | None, cur: tuple[float, ...]) -> list[str]:
-        return [f"{self.prefix} {words} F{fmt(program.feed[row])}"]
+        # The whole feed column formatted once per program (fmt_column: fmt of each value).
+        cached = getattr(self, "_feeds", None)
+        if cached is None or cached[0] is not program:
+            cached = (program, fmt_column(program.feed))
+            self._feeds = cached
+        return [f"{self.prefix} {words} F{cached[1][row]}"]
 
 
 def fmt_significant(value: float, digits: int = 6) -> str:
@@ -133,16 +138,17 @@ def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
     return lines
 
 
-def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list[Move]]:
-    """The program's lines (without newlines) and the moves they write, in order."""
+def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> tuple[list[str], list[Move]]:
+    """The program's lines (without newlines) and the moves they write, in order (moves=False: the
+    lines alone, the moves list left empty)."""
     letters, decimals = dialect.letters(program), dialect.decimals(program)
     columns = dialect.columns(program)
-    # Every row's words as written, one column at a time.
-    written = list(zip(*[[c + t for t in fmt_column(columns[:, j], n)]
-                         for j, (c, n) in enumerate(zip(letters, decimals))])) if len(columns) else []
-    offset = [len(c) for c in letters]
+    # Every row's words as written, one column at a time; the values as written parsed back once.
+    texts = [fmt_column(columns[:, j], n) for j, n in enumerate(decimals)] if len(columns) else []
+    written = list(map(" ".join, zip(*[[c + t for t in col] for c, col in zip(letters, texts)])))
+    values = np.array(texts, dtype=float).T.tolist() if texts else []
     lines = dialect.first_lines(program) + _header(program, dialect) + dialect.preamble(program)
-    moves: list[Move] = []
+    found: list[Move] = []
     last_words: str | None = None
     last: tuple[float, ...] | None = None
     for layer, segments in zip(program.layers, program.segments):
@@ -160,15 +166,15 @@ def serialize(program: MotionProgram, dialect: Dialect) -> tuple[list[str], list
             for row in range(seg.start, seg.stop):
                 if seg.approach and row == seg.start + seg.approach:
                     lines.append(f"{head} {seg.kind.value}")
-                words = " ".join(written[row])
+                words = written[row]
                 if words == last_words:
                     continue
                 last_words = words
-                cur = tuple(float(w[k:]) for w, k in zip(written[row], offset))
+                cur = tuple(values[row])
                 lines += dialect.move_lines(program, row, words, last, cur)
                 last = cur
-                u = float(program.index[row])
-                moves.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(round(u)), cur, u))
+                if moves:
+                    u = float(program.index[row])
+                    found.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(round(u)), cur, u))
     lines += dialect.end(program)
-    return lines, moves
-
+    return lines, found
