@@ -39,21 +39,26 @@ def reduce_many(polylines: list[np.ndarray], tols) -> list[np.ndarray]:
     lo, hi = start[sizes > 2], (start + sizes - 1)[sizes > 2]  # the open chords
     while lo.size:
         n = hi - lo - 1  # interior points of each chord
-        lo, hi, n = lo[n > 0], hi[n > 0], n[n > 0]
+        open_ = n > 0
+        lo, hi, n = lo[open_], hi[open_], n[open_]
         if lo.size == 0:
             break
+        order = np.argsort(lo, kind="stable")  # chords in point order: the gathers below run forward
+        lo, hi, n = lo[order], hi[order], n[order]
         first = np.concatenate([[0], np.cumsum(n)[:-1]])
         chord = np.repeat(np.arange(lo.size), n)
-        idx = np.arange(int(n.sum())) - first[chord] + lo[chord] + 1
+        idx = np.arange(int(n.sum())) + np.repeat(lo + 1 - first, n)
         a = q[lo]
         seg = q[hi] - a
         len2 = np.matmul(seg[:, None, :], seg[:, :, None])[:, 0, 0]  # as seg @ seg, bit for bit
-        rel = q[idx] - a[chord]
-        seg_p = seg[chord]
+        rel = q.take(idx, axis=0) - a.take(chord, axis=0)
+        seg_p = seg.take(chord, axis=0)
+        len2_p = len2[chord]
         with np.errstate(divide="ignore", invalid="ignore"):
-            u = np.clip(np.einsum("ij,ij->i", rel, seg_p) / len2[chord], 0.0, 1.0)  # as rel @ seg
-        u = np.where(len2[chord] > 0.0, u, 0.0)
-        dist = np.linalg.norm(rel - u[:, None] * seg_p, axis=1)
+            u = np.clip(np.einsum("ij,ij->i", rel, seg_p) / len2_p, 0.0, 1.0)  # as rel @ seg
+        u[~(len2_p > 0.0)] = 0.0
+        rel -= u[:, None] * seg_p
+        dist = np.linalg.norm(rel, axis=1)
         top = np.maximum.reduceat(dist, first)
         # The first point at the largest distance (np.argmax's choice).
         at_top = np.where(dist == top[chord], np.arange(dist.size), dist.size)
