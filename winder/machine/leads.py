@@ -72,14 +72,17 @@ def first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None,
         c = np.clip(b - fb * (b - a) / (fb - fa), a, b)
         fc = f(c, active)
         done = (np.abs(fc) <= ROOT_TOL) | (b - a <= ROOT_TOL)
-        lam[active[done]] = c[done]
+        finished = bool(done.any())  # most steps close no bracket: nothing to store, nothing to drop
+        if finished:
+            lam[active[done]] = c[done]
         up = fc >= 0.0  # c replaces b (the end with f >= 0), else a
         fa = np.where(up & (side == 1), 0.5 * fa, np.where(up, fa, fc))
         fb = np.where(~up & (side == -1), 0.5 * fb, np.where(up, fc, fb))
         a, b = np.where(up, a, c), np.where(up, c, b)
         side = np.where(up, 1, -1).astype(np.int8)
-        keep = ~done
-        active, a, b, fa, fb, side = active[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep]
+        if finished:
+            keep = ~done
+            active, a, b, fa, fb, side = active[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep]
     lam[active] = b  # not converged within ROOT_ITER steps: the bracket's end with f >= 0
     return lam, found
 
