@@ -22,6 +22,7 @@ import numpy as np
 
 from winder.errors import ExportError
 from winder.winding.results import FiberPass, PassKind, WindingPlan
+from winder.geometry.measure import row_norms
 
 MANDREL_COLOR = (190, 190, 190, 255)
 LAYER_OFFSET = 0.05  # mm per layer index, along the outward normal
@@ -79,7 +80,7 @@ def _ribbons(plan: WindingPlan, passes: list[FiberPass], band_width: float) -> t
                                                    np.concatenate([np.asarray(fp.theta, float) for fp in passes]))
     d = np.concatenate([np.asarray(fp.direction, dtype=float) for fp in passes])
     side = np.cross(nrm, d)
-    side /= np.linalg.norm(side, axis=1)[:, None]
+    side /= row_norms(side)[:, None]
     points = np.concatenate([np.asarray(fp.points, dtype=float) for fp in passes])
     centre = points + LAYER_OFFSET * passes[0].layer * nrm
     left = centre - 0.5 * band_width * side

@@ -15,6 +15,21 @@ GAUSS_W = np.array([0.23692688505618928, 0.4786286704993663, 0.5688888888888887,
 GAUSS_SEGMENTS = 256  # paths of up to this many segments use them (see smooth_length)
 
 
+def row_norms(v: np.ndarray) -> np.ndarray:
+    """The Euclidean norm of each row of v (m, k): np.linalg.norm(v, axis=1) bit for bit.
+
+    numpy reduces a short last axis in order (v0^2 + v1^2 + ...), and so does this sum, written out a
+    column at a time: about 5x faster on (m, 3), where the reduction's per-row overhead dominates.
+    Rows of 8 or more components (numpy sums those pairwise) go to np.linalg.norm itself.
+    """
+    if v.ndim != 2 or v.shape[1] >= 8 or v.shape[1] == 0:
+        return np.linalg.norm(v, axis=1)
+    total = v[:, 0] * v[:, 0]
+    for j in range(1, v.shape[1]):
+        total = total + v[:, j] * v[:, j]
+    return np.sqrt(total)
+
+
 def polyline_length(points: np.ndarray) -> float:
     """Length of the polyline through points (m, 3)."""
     return float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))

@@ -18,6 +18,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.envelope import EyeEnvelope, turn
+from winder.geometry.measure import row_norms
 
 SAMPLES_PER_MOVE = 8
 SLAB_SEGMENTS = 16  # segments measured per point; more in its slab: the nearest vertex's two
@@ -82,7 +83,7 @@ def _segment_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray, j: np.ndarray
     a = np.column_stack([t[j], r[j]])
     seg = np.column_stack([t[j + 1], r[j + 1]]) - a
     u = np.clip(np.einsum("ij,ij->i", q - a, seg) / np.einsum("ij,ij->i", seg, seg), 0.0, 1.0)
-    return np.linalg.norm(q - a - u[:, None] * seg, axis=1)
+    return row_norms(q - a - u[:, None] * seg)
 
 
 def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, where) -> None:

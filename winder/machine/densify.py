@@ -19,6 +19,7 @@ import numpy as np
 
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass
+from winder.geometry.measure import row_norms
 
 MAX_FACTOR = 64  # dense points per planned interval, at most
 DENSE_SHARE = 0.25  # of the chord tolerance, left to the dense polyline's own bow
@@ -50,7 +51,7 @@ def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: 
     else:
         p_mid, d_mid, th_mid, mid_lead = mid
     q_mid = axes(p_mid, d_mid, th_mid + shift, mid_lead)
-    bow = float(np.max(np.linalg.norm(q_mid - 0.5 * (base[1:] + base[:-1]), axis=1)))
+    bow = float(np.max(row_norms(q_mid - 0.5 * (base[1:] + base[:-1]))))
     if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
         return None
     factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
@@ -79,7 +80,7 @@ def densify_many(paths: SmoothPaths, numbers: list[int], passes: list[FiberPass]
     last = np.zeros(len(base), dtype=bool)
     last[np.cumsum(sizes) - 1] = True
     k = np.flatnonzero(~last)  # each interval's first point
-    err = np.linalg.norm(q_mid - 0.5 * (base[k + 1] + base[k]), axis=1)
+    err = row_norms(q_mid - 0.5 * (base[k + 1] + base[k]))
     bows = np.maximum.reduceat(err, np.cumsum(sizes - 1) - (sizes - 1))
     todo, us = [], []
     for i, (fp, n, bow) in enumerate(zip(passes, sizes, bows.tolist())):

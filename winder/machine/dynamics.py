@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from winder.config.machine import MACHINE_ROLES, MachineConfig
+from winder.geometry.measure import row_norms
 
 JUNCTION_JUMP = 0.02  # fraction of an axis' top speed its velocity may jump at a junction
 _EPS = 1e-12
@@ -80,7 +81,7 @@ def move_times(values: np.ndarray, fiber: np.ndarray, machine: MachineConfig, ro
     speed, acc = axis_limits(machine, robot)
     cols = speed.size
     delta = np.diff(values[:, :cols], axis=0) / speed  # (m - 1, k) scaled displacement
-    length = np.linalg.norm(delta, axis=1)
+    length = row_norms(delta)
     moving = length > _EPS
     n = np.where(moving[:, None], delta / np.where(moving, length, 1.0)[:, None], 0.0)
     big = np.max(np.abs(n), axis=1)

@@ -62,6 +62,7 @@ from winder.errors import ExportError
 from winder.geometry.surface import SweepSurface
 from winder.machine.envelope import EyeEnvelope, eye_envelope
 from winder.machine.leads import MAX_LEAD_FACTOR, first_crossing, lead_straight, unit_rows
+from winder.geometry.measure import row_norms
 
 CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
 PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
@@ -222,7 +223,7 @@ class _Guide:
             step = np.einsum("ij,ij->i", rel, tan) / np.where(slope > 0.1, slope, 1.0)
             z = np.clip(z + np.clip(step, -CURVE_STEP * 4, CURVE_STEP * 4), self.z[0], self.z[-1])
         x, _, _ = self.evaluate(z)
-        return z, np.linalg.norm(e - x, axis=1)
+        return z, row_norms(e - x)
 
 
 def robot_poses(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, machine: MachineConfig,

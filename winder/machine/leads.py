@@ -9,6 +9,7 @@ import numpy as np
 
 from winder.errors import ExportError
 from winder.machine.envelope import EyeEnvelope
+from winder.geometry.measure import row_norms
 
 MAX_LEAD_FACTOR = 10.0  # the free fiber is at most this times the largest envelope radius
 LEAD_SCAN = 32  # samples of the tangent line when bracketing the envelope crossing
@@ -17,7 +18,7 @@ ROOT_TOL = 1e-10  # mm: the eye's distance from its envelope
 
 
 def unit_rows(v: np.ndarray) -> np.ndarray:
-    n = np.linalg.norm(v, axis=1)
+    n = row_norms(v)
     n = np.where(n > 0.0, n, 1.0)
     return v / n[:, None]
 

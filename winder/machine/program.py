@@ -39,6 +39,7 @@ from winder.machine.kinematics import eye_path, make_guide
 from winder.machine.reduce import reduce_many, reduce_points  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
+from winder.geometry.measure import row_norms
 
 YAW_TOLERANCE_DEG = 0.5  # a yaw (or fiber direction) deviation this large counts as chord_tolerance
 
@@ -207,7 +208,7 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
             lifted = 0 if lift is None else lift.shape[0]
             rows.append(table[keep] if lift is None else np.vstack([lift, table[keep]]))
             indices.append(np.concatenate([np.full(lifted, -1.0), u[keep]]))
-            along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+            along = np.concatenate([[0.0], np.cumsum(row_norms(np.diff(points, axis=0)))])
             fibers.append(np.concatenate([np.zeros(lifted), np.diff(along[keep], prepend=along[keep[0]])]))
             capped = int(np.count_nonzero(~on_envelope))
             size = lifted + keep.size

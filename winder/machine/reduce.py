@@ -14,6 +14,7 @@ kept points are the same.
 from __future__ import annotations
 
 import numpy as np
+from winder.geometry.measure import row_norms
 
 
 def reduce_points(q: np.ndarray, tol: float) -> np.ndarray:
@@ -58,7 +59,7 @@ def reduce_many(polylines: list[np.ndarray], tols) -> list[np.ndarray]:
             u = np.clip(np.einsum("ij,ij->i", rel, seg_p) / len2_p, 0.0, 1.0)  # as rel @ seg
         u[~(len2_p > 0.0)] = 0.0
         rel -= u[:, None] * seg_p
-        dist = np.linalg.norm(rel, axis=1)
+        dist = row_norms(rel)
         top = np.maximum.reduceat(dist, first)
         # The first point at the largest distance (np.argmax's choice).
         at_top = np.where(dist == top[chord], np.arange(dist.size), dist.size)

@@ -11,6 +11,7 @@ import numpy as np
 from winder.geometry.index_spline import knot_slopes
 from winder.geometry.surface import SweepSurface
 from winder.winding.results import FiberPass, PassKind
+from winder.geometry.measure import row_norms
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
 
@@ -24,8 +25,8 @@ def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.n
     g = np.einsum("nki,nkj->nij", basis, basis)
     rhs = np.einsum("nki,nk->ni", basis, direction)
     ab = np.linalg.solve(g, rhs[..., None])[..., 0]
-    speed_plan = np.linalg.norm(np.einsum("nki,ni->nk", basis, ab), axis=1)
-    speed_spline = np.linalg.norm(ev.ps * ds[:, None] + ev.pt * dth[:, None], axis=1)
+    speed_plan = row_norms(np.einsum("nki,ni->nk", basis, ab))
+    speed_spline = row_norms(ev.ps * ds[:, None] + ev.pt * dth[:, None])
     scale = speed_spline / np.where(speed_plan > 0, speed_plan, 1.0)
     # A direction against the spline (never in a plan) would fold the curve: keep the spline there.
     sign = np.einsum("ni,ni->n", ab, np.column_stack([ds, dth]))
@@ -107,7 +108,7 @@ class SmoothPaths:
         s, th = self.st(u)
         ds, dth = self.st(u, 1)
         ev = self.surface.evaluate(s, th, order=1)
-        return np.linalg.norm(ev.ps * ds[:, None] + ev.pt * dth[:, None], axis=1)
+        return row_norms(ev.ps * ds[:, None] + ev.pt * dth[:, None])
 
     def point(self, u: np.ndarray):
         """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,)."""
@@ -122,7 +123,7 @@ class SmoothPaths:
         free = self.free[k]
         if np.any(free):  # the free fiber's direction on a dwell: between its nodes' directions
             d = np.where(free[:, None], (1.0 - h)[:, None] * self.d[k] + h[:, None] * self.d[k + 1], d)
-        n = np.linalg.norm(d, axis=1)
+        n = row_norms(d)
         return s, th, ev.p, d / np.where(n > 0, n, 1.0)[:, None]
 
     def arc_at(self, u: np.ndarray) -> np.ndarray:

@@ -24,6 +24,7 @@ import numpy as np
 
 from winder.errors import SolverError
 from winder.geometry.surface import SweepSurface
+from winder.geometry.measure import row_norms
 
 # numpy.polynomial.legendre.leggauss(8), bit for bit, as literals: numpy.polynomial costs ~4 ms to import.
 GAUSS_X = np.array([-0.9602898564975362, -0.7966664774136267, -0.525532409916329, -0.18343464249564978,
@@ -90,7 +91,7 @@ def _cylinder_theta(surface: SweepSurface, s0: float, theta0: np.ndarray, run: f
     ends, the same at every station. theta0 (k,) float; returns (k,)."""
     grid = np.linspace(0.0, 2.0 * np.pi, ARC_SAMPLES + 1)
     h = grid[1]
-    w = np.linalg.norm(surface.evaluate(np.full(grid.size, s0), grid, order=1).pt, axis=1)
+    w = row_norms(surface.evaluate(np.full(grid.size, s0), grid, order=1).pt)
     cum = np.concatenate([[0.0], np.cumsum(0.5 * h * (w[1:] + w[:-1]))])
     per = cum[-1]
     # the arc from theta = 0 to theta0, with the speed linear over each interval of the table

@@ -24,6 +24,7 @@ from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
 from winder.winding.laminate import turnaround_zone
 from winder.winding.results import FiberPass, PassKind
+from winder.geometry.measure import row_norms
 
 CELLS_PER_BAND = 16  # station cells per band width (the law's cell averages, the zone edges)
 MAX_CELLS = 4000  # over the whole station range
@@ -84,7 +85,7 @@ def pass_volumes(cells: StationCells, p: FiberPass, area: float) -> np.ndarray:
     out = np.zeros(cells.centres.size)
     if p.kind is PassKind.DWELL or np.ptp(p.s) <= 0.0:
         return out
-    seg = np.linalg.norm(np.diff(p.points, axis=0), axis=1)
+    seg = row_norms(np.diff(p.points, axis=0))
     ell = np.concatenate([[0.0], np.cumsum(seg)])
     ell *= p.length / ell[-1] if ell[-1] > 0.0 else 0.0
     idx = np.arange(p.s.size, dtype=float)
@@ -139,11 +140,11 @@ def area_rate(surface: SweepSurface, s: np.ndarray) -> np.ndarray:
     s = np.asarray(s, dtype=float)
     if surface.is_revolution:
         ev = surface.evaluate(s, np.zeros_like(s), order=1)
-        return 2.0 * np.pi * np.linalg.norm(np.cross(ev.ps, ev.pt), axis=1)
+        return 2.0 * np.pi * row_norms(np.cross(ev.ps, ev.pt))
     th = (np.arange(AREA_THETA_NODES) + 0.5) * 2.0 * np.pi / AREA_THETA_NODES
     ss, tt = np.repeat(s, th.size), np.tile(th, s.size)
     ev = surface.evaluate(ss, tt, order=1)
-    da = np.linalg.norm(np.cross(ev.ps, ev.pt), axis=1).reshape(s.size, th.size)
+    da = row_norms(np.cross(ev.ps, ev.pt)).reshape(s.size, th.size)
     return da.sum(axis=1) * 2.0 * np.pi / AREA_THETA_NODES
 
 
@@ -171,14 +172,14 @@ def share_around(surface: SweepSurface, passes: tuple[FiberPass, ...], band_widt
         th_x = th_spline(at)
         ev = surface.evaluate(s[k], th_x, order=1)
         d = ev.ps * s_spline(at, 1)[:, None] + ev.pt * th_spline(at, 1)[:, None]
-        d /= np.linalg.norm(d, axis=1)[:, None]
-        speed_th = np.linalg.norm(ev.pt, axis=1)
-        sin_beta = np.linalg.norm(np.cross(d, ev.pt / speed_th[:, None]), axis=1)
+        d /= row_norms(d)[:, None]
+        speed_th = row_norms(ev.pt)
+        sin_beta = row_norms(np.cross(d, ev.pt / speed_th[:, None]))
         half = 0.5 * band_width / (np.maximum(sin_beta, 1e-6) * speed_th)
         off = np.angle(np.exp(1j * (theta[None, :] - th_x[:, None])))  # (-pi, pi]
         count[k] += np.abs(off) <= np.minimum(half, np.pi)[:, None]
     ss, tt = np.repeat(s, theta.size), np.tile(theta, s.size)
-    weight = np.linalg.norm(surface.evaluate(ss, tt, order=1).pt, axis=1).reshape(count.shape)
+    weight = row_norms(surface.evaluate(ss, tt, order=1).pt).reshape(count.shape)
     mean = np.sum(count * weight, axis=1) / np.sum(weight, axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(mean[:, None] > 0.0, count / mean[:, None], 1.0)

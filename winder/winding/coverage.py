@@ -16,6 +16,7 @@ from winder.geometry.interp import interp_spline
 from winder.geometry.lapack import lapack as scipy_lapack
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
+from winder.geometry.measure import row_norms
 
 
 def pass_crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.ndarray,
@@ -150,9 +151,9 @@ def _bands(surface: SweepSurface, arcs: ArcMap, idx: np.ndarray, s_x: np.ndarray
         return idx, np.zeros(0), np.zeros(0)
     ev = surface.evaluate(s_x, th_x, order=1)
     d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
-    d /= np.linalg.norm(d, axis=1)[:, None]
-    e_t = ev.pt / np.linalg.norm(ev.pt, axis=1)[:, None]
-    sin_beta = np.linalg.norm(np.cross(d, e_t), axis=1)
+    d /= row_norms(d)[:, None]
+    e_t = ev.pt / row_norms(ev.pt)[:, None]
+    sin_beta = row_norms(np.cross(d, e_t))
     perimeter = surface.perimeter(s_x)
     return idx, arcs.fraction(th_x), 0.5 * band_width / np.maximum(sin_beta, 1e-12) / perimeter
 

@@ -20,6 +20,7 @@ from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_headi
 from winder.geometry.interp import InterpSpline
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SurfaceEval, SweepSurface
+from winder.geometry.measure import row_norms
 
 COVERAGE_STATIONS = 21
 DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
@@ -79,7 +80,7 @@ def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ev: Surf
     if ev is None:
         ev = surface.evaluate(s, theta, order=1)
     v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
-    return v / np.linalg.norm(v, axis=1)[:, None]
+    return v / row_norms(v)[:, None]
 
 
 def make_pass(surface: SweepSurface, layer: int, circuit: int, number: int, kind: PassKind,
@@ -196,7 +197,7 @@ def _tangents(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarray]],
     th = np.concatenate([path[1][::every] for path in paths])
     ev = surface.evaluate(s, th, order=1)
     v = ev.ps * rate[:, 0::2].T.reshape(-1)[:, None] + ev.pt * rate[:, 1::2].T.reshape(-1)[:, None]
-    v = v / np.linalg.norm(v, axis=1)[:, None]
+    v = v / row_norms(v)[:, None]
     return [v[j * q:(j + 1) * q] for j in range(len(paths))]
 
 
@@ -217,12 +218,12 @@ def dwell_pass(ctx: PlanContext, layer: int, circuit: int, number: int, s: float
     ss = np.full(m, s)
     if abs(heading_in - 90.0) <= HOOP_HEADING_TOL and abs(heading_out - 90.0) <= HOOP_HEADING_TOL:
         pt = ctx.surface.evaluate(ss, th, order=1).pt
-        direction = pt / np.linalg.norm(pt, axis=1)[:, None]
+        direction = pt / row_norms(pt)[:, None]
     else:
         swing = swing_headings(np.linspace(0.0, 1.0, m), heading_in, heading_out)
         direction = directions_of_heading(ctx.surface, ss, th, swing)
     pts = ctx.surface.points(ss, th)
-    length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+    length = float(np.sum(row_norms(np.diff(pts, axis=0))))
     return make_pass(ctx.surface, layer, circuit, number, PassKind.DWELL, ss, th, direction, length)
 
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from winder.config.winding import LayerType
 from winder.geometry.surface import SurfaceEval, SweepSurface
+from winder.geometry.measure import row_norms
 
 if TYPE_CHECKING:  # the laminate record builds on this module
     from winder.winding.wall import LayerLaminate
@@ -160,9 +161,9 @@ def winding_angle_deg(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
 
 def winding_angle_of(ev: SurfaceEval, direction: np.ndarray) -> np.ndarray:
     """winding_angle_deg from the surface's first derivatives at the points (an evaluation of order >= 1)."""
-    e_s = ev.ps / np.linalg.norm(ev.ps, axis=1)[:, None]
+    e_s = ev.ps / row_norms(ev.ps)[:, None]
     e_t = ev.pt - np.einsum("ij,ij->i", ev.pt, e_s)[:, None] * e_s
-    e_t /= np.linalg.norm(e_t, axis=1)[:, None]
+    e_t /= row_norms(e_t)[:, None]
     v_s = np.einsum("ij,ij->i", direction, e_s)
     v_t = np.einsum("ij,ij->i", direction, e_t)
     magnitude = np.degrees(np.arctan2(np.abs(v_t), np.abs(v_s)))

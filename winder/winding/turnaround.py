@@ -28,6 +28,7 @@ import numpy as np
 from winder.geometry.surface import SweepSurface
 from winder.paths.friction import trace_friction
 from winder.paths.ode import heading_of_velocity, velocity_of_heading
+from winder.geometry.measure import row_norms
 
 TURN_SLIP_SHARE = 0.9  # of the friction coefficient, used by a turnaround (a margin for its scatter)
 # Least dwell while the free fiber swings round an end that holds it, in degrees of a full turn of
@@ -84,7 +85,7 @@ def directions_of_heading(surface: SweepSurface, s: np.ndarray, theta: np.ndarra
     ds, dth = velocity_of_heading(surface, s, theta, np.radians(heading))
     ev = surface.evaluate(s, theta, order=1)
     d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
-    return d / np.linalg.norm(d, axis=1)[:, None]
+    return d / row_norms(d)[:, None]
 
 
 def swing_headings(fraction: np.ndarray, heading_in: float, heading_out: float) -> np.ndarray:
@@ -142,7 +143,7 @@ def leg_way(surface: SweepSurface, leg: Leg, theta0: float, back: bool):
         s, th, ds, dth = leg.s, theta0 + leg.dtheta, leg.ds, leg.dth
     ev = surface.evaluate(s, th, order=1)
     d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
-    return s, th, d / np.linalg.norm(d, axis=1)[:, None]
+    return s, th, d / row_norms(d)[:, None]
 
 
 def end_note(surface: SweepSurface, leg: Leg, end: str) -> str:

@@ -21,6 +21,7 @@ from winder.winding.passes import COVERAGE_STATIONS, PlanContext, dwell_pass, fi
 from winder.winding.pattern import close_open_pattern
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.turnaround import SWING_MIN_DEG, heading_deg
+from winder.geometry.measure import row_norms
 
 MIN_POINTS = 200  # points per pass at the least: the slip is measured from them
 COVERED_TARGET = 0.999
@@ -39,12 +40,12 @@ def _directions(ctx: PlanContext, t: np.ndarray, th: np.ndarray, d1: np.ndarray,
     ev = ctx.surface.evaluate(t, th, order=1)
     sign = 1.0 if forward else -1.0
     v = sign * (ev.ps + ev.pt * d1[:, None])
-    return v / np.linalg.norm(v, axis=1)[:, None]
+    return v / row_norms(v)[:, None]
 
 
 def _length(ctx: PlanContext, t: np.ndarray, th: np.ndarray, d1: np.ndarray) -> float:
     ev = ctx.surface.evaluate(t, th, order=1)
-    speed = np.linalg.norm(ev.ps + ev.pt * d1[:, None], axis=1)
+    speed = row_norms(ev.ps + ev.pt * d1[:, None])
     return float(abs(np.trapezoid(speed, t)))
 
 

@@ -19,6 +19,7 @@ from winder.errors import SolverError
 from winder.winding.passes import COVERAGE_STATIONS, PlanContext, finish_layer, make_pass
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.results import FiberPass, LayerPlan, PassKind
+from winder.geometry.measure import row_norms
 
 LEG_POINTS = 120  # samples per dome leg (the turnaround is inside it)
 
@@ -45,8 +46,8 @@ def _leg_points(surface, leg: Leg, s_eq: float, theta_eq: float, outward: bool, 
 
 def _directions(surface, s: np.ndarray, th: np.ndarray, alpha: np.ndarray) -> np.ndarray:
     ev = surface.evaluate(s, th, order=1)
-    e_s = ev.ps / np.linalg.norm(ev.ps, axis=1)[:, None]
-    e_t = ev.pt / np.linalg.norm(ev.pt, axis=1)[:, None]
+    e_s = ev.ps / row_norms(ev.ps)[:, None]
+    e_t = ev.pt / row_norms(ev.pt)[:, None]
     return np.cos(alpha)[:, None] * e_s + np.sin(alpha)[:, None] * e_t
 
 
@@ -145,6 +146,6 @@ def _passes(ctx: PlanContext, index: int, legs: list[Leg], domes, theta0: float,
             c_, s_ = math.cos(shift), math.sin(shift)
             turned = np.column_stack([c_ * d[:, 0] - s_ * d[:, 1], s_ * d[:, 0] + c_ * d[:, 1], d[:, 2]])
             pts = surf.points(s, th + shift)
-            length = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+            length = float(np.sum(row_norms(np.diff(pts, axis=0))))
             passes.append(make_pass(surf, index + 1, j + 1, number, kind, s, th + shift, turned, length))
     return passes

@@ -24,6 +24,7 @@ from winder.winding.passes import (
 )
 from winder.winding.pattern import circuits_for_coverage, close_vessel_pattern
 from winder.winding.results import LayerPlan, PassKind
+from winder.geometry.measure import row_norms
 
 QUAD_NODES = 200  # Gauss-Legendre nodes per dome for the turnaround advance
 
@@ -111,7 +112,7 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
     # Both ends lie on the turnaround parallels r = c, where the geodesic runs along the parallel
     # (Clairaut): exactly, so that the pass turning back there leaves in the same direction.
     pt = ctx.surface.evaluate(s[[0, -1]], th[[0, -1]], order=1).pt
-    d[[0, -1]] = pt / np.linalg.norm(pt, axis=1)[:, None]
+    d[[0, -1]] = pt / row_norms(pt)[:, None]
     return s, th, d, length
 
 

@@ -25,6 +25,7 @@ from winder.winding.passes import (
 )
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.turnaround import SWING_MIN_DEG, heading_deg, trace_leg
+from winder.geometry.measure import row_norms
 
 HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
 
@@ -65,7 +66,7 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         # Exact tangent of the constant-pitch path: d/dk Phi(s(t), theta(f)), both linear in k
         # (s = t on the cylindrical region).
         vel = ev.ps * (t[1] - t[0]) + ev.pt * (ctx.arcs.dtheta_dfrac(th) * (frac[1] - frac[0]))[:, None]
-        speed = np.linalg.norm(vel, axis=1)
+        speed = row_norms(vel)
         direction = vel / speed[:, None]
         length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
         passes.append(make_pass(surf, index + 1, k + 1, len(passes) + 1, PassKind.HOOP, s, th, direction, length))
