@@ -15,6 +15,7 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import ConfigError, SolverError
+from winder.paths.roots import bracketed_root
 
 
 def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:
@@ -86,8 +87,6 @@ def close_vessel_pattern(advance: Callable[[float], float], c0: float, c_lo: flo
     """
     a_lo, a_hi = advance(c_lo), advance(c_hi)
     a0 = advance(c0)
-    from scipy.optimize import brentq  # noqa: PLC0415 - slow to import: only vessels need it
-
     # Every skip offers the targets just above and below a0; advance(c) is smooth and increasing, so
     # the few targets nearest a0 hold the least |c - c0|: solve those alone.
     candidates = []
@@ -96,8 +95,8 @@ def close_vessel_pattern(advance: Callable[[float], float], c0: float, c_lo: flo
         candidates += [(abs(t - a0), k, t) for t in (up, up - 1.0) if a_lo <= t <= a_hi]
     best = None
     for _, k, target in sorted(candidates)[:4]:
-        c = c0 if abs(target - a0) < 1e-13 else brentq(lambda x: advance(x) - target, c_lo, c_hi,
-                                                        xtol=1e-13, rtol=1e-14)
+        c = c0 if abs(target - a0) < 1e-13 else bracketed_root(lambda x: advance(x) - target, c_lo, c_hi,
+                                                                xtol=1e-13, rtol=1e-14)
         if best is None or abs(c - c0) < abs(best[1] - c0):
             best = (k, c)
     if best is None:
