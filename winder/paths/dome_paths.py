@@ -26,7 +26,7 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import SolverError
-from winder.paths.rk import solve_rk
+from winder.geometry.rk import solve_rk
 
 RTOL = 1e-9
 SLIP_BOUND = 1.0  # the search for lambda stays within this (a friction coefficient)

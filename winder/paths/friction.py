@@ -28,7 +28,7 @@ import numpy as np
 
 from winder.errors import ConfigError, SolverError
 from winder.paths.ode import heading_of_velocity, velocity_of_heading
-from winder.paths.rk import solve_rk
+from winder.geometry.rk import solve_rk
 from winder.geometry.surface import SweepSurface
 
 Slip = float | Callable[[float], float]
@@ -116,7 +116,7 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
 
     slip : lambda = k_g / k_n, a number or a function of the arc length (mm) from the start; positive
         lambda turns the fiber toward larger heading (as shooting's heading: from the meridian toward
-        increasing theta). Dormand-Prince 8(5,3) (winder.paths.rk), dense output.
+        increasing theta). Dormand-Prince 8(5,3) (winder.geometry.rk), dense output.
     stop_at_ends : stop where s leaves [0, surface.length]. stop_at_turnaround : stop where the fiber
         first runs along the parallel (heading +-90 deg: the turnaround on a surface of revolution).
     """

@@ -15,7 +15,7 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import ConfigError, SolverError
-from winder.paths.roots import bracketed_root
+from winder.geometry.roots import bracketed_root
 
 
 def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:

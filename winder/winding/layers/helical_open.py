@@ -32,7 +32,7 @@ from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.slip import check as check_held
 from winder.paths.ode import trace
 from winder.geometry.surface import SweepSurface
-from winder.paths.roots import bracketed_root
+from winder.geometry.roots import bracketed_root
 from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
 from winder.winding.advance import reach_theta, turnaround_error
 

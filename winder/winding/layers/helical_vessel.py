@@ -15,7 +15,7 @@ import numpy as np
 from winder.config.winding import LayerConfig
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError, SolverError
-from winder.paths.roots import bracketed_root
+from winder.geometry.roots import bracketed_root
 from winder.winding.passes import (
     COVERAGE_STATIONS,
     PlanContext,

@@ -1,4 +1,4 @@
-"""winder.paths.roots.bracketed_root against closed-form roots."""
+"""winder.geometry.roots.bracketed_root against closed-form roots."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from winder.paths.roots import bracketed_root
+from winder.geometry.roots import bracketed_root
 
 ROOT_TOL = 1e-12
 

@@ -9,7 +9,7 @@ estimate mixing the embedded 5th- and 3rd-order ones,
 
 and a 7th-order dense output from 3 more stages per step. It exists because importing
 scipy.integrate costs half a second, far more than the few traces a job needs; results agree with
-scipy's DOP853 (the same pair) to the tolerance asked (tests/paths/test_rk.py).
+X
 
 solve_rk speaks solve_ivp's vocabulary (t, y, sol, t_events, y_events, status, message, nfev,
 success) for the calls winder makes: a scalar time, forward integration, terminal or recorded events
@@ -24,7 +24,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from winder.paths.roots import bracketed_root
+from winder.geometry.roots import bracketed_root
 
 SAFETY = 0.9  # of the step the error estimate asks for
 MIN_FACTOR, MAX_FACTOR = 0.2, 10.0  # step change per step
