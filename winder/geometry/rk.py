@@ -9,7 +9,8 @@ estimate mixing the embedded 5th- and 3rd-order ones,
 
 and a 7th-order dense output from 3 more stages per step. It exists because importing
 scipy.integrate costs half a second, far more than the few traces a job needs; results agree with
-X
+scipy's DOP853 (the same pair) to the tolerance asked (tests/geometry/test_rk.py,
+tests/paths/test_friction_rk.py).
 
 solve_rk speaks solve_ivp's vocabulary (t, y, sol, t_events, y_events, status, message, nfev,
 success) for the calls winder makes: a scalar time, forward integration, terminal or recorded events
