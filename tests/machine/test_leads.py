@@ -1,5 +1,6 @@
-"""The eye's lead in clearance mode: the bracket guessed from the envelope's cylinder gives the very
-lead of the full scan, and that lead is the ray's first crossing of the envelope."""
+"""The eye's lead in clearance mode: Newton steps from the envelope's cylinder give the lead of the
+full scan (with regula falsi or with Newton steps on its brackets) within the search's tolerance, and
+that lead is the ray's first crossing of the envelope."""
 
 from __future__ import annotations
 
@@ -16,6 +17,9 @@ from winder.machine.envelope import eye_envelope
 
 ROOT = Path(__file__).resolve().parents[2]
 SAMPLES = 400  # points along each ray before its lead, all inside the envelope
+# mm of envelope distance: each search stops within ROOT_TOL of the envelope, so two crossings differ
+# by at most twice that over the slope of the distance along the ray.
+LEAD_TOL = 2.0 * leads.ROOT_TOL
 
 
 @pytest.mark.parametrize("config", ["configs/ellipsoid_vessel.yaml", "samples/cone.yaml", "samples/pipe.yaml"])
@@ -32,22 +36,27 @@ def test_guessed_bracket_gives_the_scans_lead(config, monkeypatch):
     mix[:50, 1] = 1e-7  # nearly along the meridian (toward or away from the axis on a dome)
     d = ev.ps * mix[:, :1] + ev.pt * mix[:, 1:]
     lam, ok = leads.eye_leads(ev.p, d, env)
-    guessed = []
+    guessed, newton_scans = [], []
     plain = leads.first_crossing
 
-    def scan_only(f, n, lmax, guess=None, f0=None):  # f(0) found by the scan itself, too
-        guessed.append(guess is not None)
-        return plain(f, n, lmax)
+    def scan_only(f, n, lmax, guess=None, f0=None, fd=None):  # f(0) found by the scan itself, too
+        guessed.append(guess is not None and fd is not None)
+        newton_scans.append(plain(f, n, lmax, fd=fd))
+        return plain(f, n, lmax)  # the scan and regula falsi alone
 
     monkeypatch.setattr(leads, "first_crossing", scan_only)
     lam_scan, ok_scan = leads.eye_leads(ev.p, d, env)
     assert guessed == [True]
-    assert np.array_equal(lam, lam_scan) and np.array_equal(ok, ok_scan)
-    # The first crossing: on the envelope, and inside it all along the ray before.
     u = leads.unit_rows(d)
     e = ev.p + lam[:, None] * u
-    gap = np.hypot(e[:, 0], e[:, 1]) - env.at(e[:, 2])
-    assert np.all(np.abs(gap[ok]) <= leads.ROOT_TOL * 10)
+    r = np.hypot(e[:, 0], e[:, 1])
+    slope = (e[:, 0] * u[:, 0] + e[:, 1] * u[:, 1]) / r - env.slope(e[:, 2]) * u[:, 2]
+    for other, ok_other in [(lam_scan, ok_scan), newton_scans[0]]:
+        assert np.array_equal(ok, ok_other) and np.array_equal(lam[~ok], other[~ok])
+        assert np.all(np.abs(lam - other)[ok] * np.abs(slope[ok]) <= LEAD_TOL)
+    # The first crossing: on the envelope, and inside it all along the ray before.
+    gap = r - env.at(e[:, 2])
+    assert np.all(np.abs(gap[ok]) <= leads.ROOT_TOL)
     t = np.linspace(0.0, 1.0, SAMPLES, endpoint=False)[1:]
     for i in np.flatnonzero(ok)[:300]:
         pts = ev.p[i] + (t * lam[i])[:, None] * u[i]

@@ -55,6 +55,23 @@ class EyeEnvelope:
             out[after] = z[-1] + hi * (t[after] - x[-1])
         return np.maximum(out, 0.0, out=out)
 
+    def slope(self, t: np.ndarray) -> np.ndarray:
+        """dZ_env/dt at stations t (same shape as t): `at` is piecewise linear, so this is the slope of
+        the segment holding t (the right one at a table station), the end slopes past the table, 0
+        where `at` is clipped to 0 or constant. For Newton steps on the lead (winder.machine.leads)."""
+        t = np.asarray(t, dtype=float)
+        if self.constant is not None:
+            return np.zeros(t.shape)
+        x = self.stations if self.radius_stations is None else self.radius_stations
+        z = self.radius
+        # Segment j + 1 of (before the table, the table's segments, past it), so j = -1 .. k - 1.
+        table = np.concatenate([[self.end_slopes[0]], np.diff(z) / np.diff(x), [self.end_slopes[1]]])
+        out = table[np.searchsorted(x, t, side="right")]
+        past = (t < x[0]) | (t > x[-1])  # the table itself is positive: only its continuations reach 0
+        if past.any():
+            out[past] = np.where(self.at(t[past]) > 0.0, out[past], 0.0)
+        return out
+
     def mandrel_at(self, t: np.ndarray) -> np.ndarray:
         """r_max at stations t (clamped to the mandrel's ends)."""
         return np.interp(np.asarray(t, dtype=float), self.stations, self.mandrel_radius)

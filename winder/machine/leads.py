@@ -1,7 +1,9 @@
 """The eye's lead: the free-fiber length from a contact point along its fiber direction to the eye
 envelope (the rule is in winder.machine.kinematics' module docstring). Pointwise, so the leads of a
-whole plan's points are found in one call; a scan brackets each line's first crossing of the
-envelope and regula falsi closes the bracket (also for robot poses, around the guide curve)."""
+whole plan's points are found in one call. Around a straight axis, Newton steps (the envelope is
+piecewise linear, so its slope is exact) start from the crossing of the envelope's cylinder, which is
+mostly within ROOT_TOL already; a scan brackets the lines it fails on. For robot poses, around the
+guide curve, the scan's brackets are closed by regula falsi."""
 
 from __future__ import annotations
 
@@ -24,37 +26,37 @@ def unit_rows(v: np.ndarray) -> np.ndarray:
 
 
 def first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None,
-                   f0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                   f0: np.ndarray | None = None, fd=None) -> tuple[np.ndarray, np.ndarray]:
     """Smallest lambda in (0, lmax] with f(lambda) = 0 for each of m lines, f(0) < 0 (f vectorized
-    over (lambda (k,), line index (k,)), in mm). A scan brackets the first sign change, the Illinois
-    variant of regula falsi closes the bracket to ROOT_TOL. Returns (lambda, found); lambda = lmax
-    where the line does not reach the envelope.
+    over (lambda (k,), line index (k,)), in mm). A scan brackets the first sign change and the
+    bracket is closed to ROOT_TOL. Returns (lambda, found); lambda = lmax where the line does not
+    reach the envelope.
 
-    guess : (m,) estimates of the crossings, for lines whose f is negative before its crossing and
-    not after it (a ray leaving a convex region): the scan's bracket is then the grid interval around
-    the guess wherever f changes sign across it, two evaluations instead of the scan up to it (the
-    same bracket, so the same lambda); elsewhere the lines are scanned. f0 : (m,) f(0) of every
-    line, where the caller has it."""
-    grid = lmax * (np.arange(1, LEAD_SCAN + 1) / LEAD_SCAN) ** 2
+    fd : (lambda (k,), index (k,)) -> (f, df/dlambda), both (k,), where the caller has the slope: the
+    brackets are then closed by Newton steps kept inside them (else by the Illinois variant of regula
+    falsi). guess : (m,) estimates of the crossings (with fd), for lines whose f is negative before
+    its crossing and not after it (a ray leaving a convex region): Newton starts there, and the sign
+    of f at the guess is a bracket with 0 or with the next step, so those lines need no scan; lines
+    it fails on are scanned. f0 : (m,) f(0) of every line, where the caller has it."""
     lam = np.full(m, lmax)
+    found = np.zeros(m, dtype=bool)
+    f0 = f(np.zeros(m), np.arange(m)) if f0 is None else f0
+    pending = np.arange(m)
+    if guess is not None and fd is not None:
+        idx = np.flatnonzero(np.isfinite(guess) & (guess > 0.0) & (guess <= lmax))
+        g = guess[idx]
+        v, s = fd(g, idx)
+        up = v >= 0.0  # the crossing lies in (0, g], else past g (and below lmax if Newton finds it)
+        lost = _newton(fd, lam, idx, g, v, s, np.where(up, 0.0, g), np.where(up, g, lmax),
+                       np.where(up, f0[idx], v), np.where(up, v, np.nan))
+        found[idx] = True
+        found[lost] = False
+        pending = np.flatnonzero(~found)
+    grid = lmax * (np.arange(1, LEAD_SCAN + 1) / LEAD_SCAN) ** 2
     lo, hi = np.zeros(m), np.full(m, lmax)
     flo, fhi = np.zeros(m), np.zeros(m)
-    found = np.zeros(m, dtype=bool)
-    pending = np.arange(m)
-    prev_lam, prev_f = 0.0, (f(np.zeros(m), pending) if f0 is None else f0)
-    if guess is not None:
-        k = np.searchsorted(grid, np.where(np.isfinite(guess), guess, np.inf))  # grid[k - 1] < guess <= grid[k]
-        idx = np.flatnonzero(k < LEAD_SCAN)
-        k = k[idx]
-        below = np.where(k > 0, grid[np.maximum(k - 1, 0)], 0.0)
-        f_hi = f(grid[k], idx)
-        f_lo = np.where(k > 0, f(below, idx), prev_f[idx])
-        hit = (f_hi >= 0.0) & (f_lo < 0.0)
-        sel = idx[hit]
-        lo[sel], hi[sel], flo[sel], fhi[sel] = below[hit], grid[k[hit]], f_lo[hit], f_hi[hit]
-        found[sel] = True
-        pending = np.flatnonzero(~found)
-        prev_f = prev_f[pending]
+    scanned = np.zeros(m, dtype=bool)
+    prev_lam, prev_f = 0.0, f0[pending]
     for grid_lam in grid:
         if pending.size == 0:
             break
@@ -62,10 +64,61 @@ def first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None,
         hit = val >= 0.0
         sel = pending[hit]
         lo[sel], hi[sel], flo[sel], fhi[sel] = prev_lam, grid_lam, prev_f[hit], val[hit]
-        found[sel] = True
+        scanned[sel] = True
         pending, prev_f, prev_lam = pending[~hit], val[~hit], grid_lam
-    active = np.flatnonzero(found)
+    active = np.flatnonzero(scanned)
+    found |= scanned
     a, b, fa, fb = lo[active], hi[active], flo[active], fhi[active]
+    if fd is None or active.size == 0:
+        _illinois(f, lam, active, a, b, fa, fb)
+        return lam, found
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.clip(b - fb * (b - a) / (fb - fa), a, b)  # the bracket's secant point starts Newton
+    v, s = fd(c, active)
+    up = v >= 0.0
+    _newton(fd, lam, active, c, v, s, np.where(up, a, c), np.where(up, c, b), np.where(up, fa, v),
+            np.where(up, v, fb))
+    return lam, found
+
+
+def _newton(fd, lam: np.ndarray, act: np.ndarray, x: np.ndarray, fx: np.ndarray, sx: np.ndarray,
+            a: np.ndarray, b: np.ndarray, fa: np.ndarray, fb: np.ndarray) -> np.ndarray:
+    """Newton steps on the lines act (k,) from x (f there fx, slope sx), each kept inside its bracket
+    [a, b] (f(a) = fa < 0 <= fb = f(b)), bisecting where a step leaves it; the roots go to lam in
+    place. fb nan: no end with f >= 0 known yet (b an upper limit only), so a step leaving [a, b]
+    cannot be replaced: those lines are returned (sorted indices) for the caller to scan."""
+    lost = []
+    for _ in range(ROOT_ITER):
+        done = (np.abs(fx) <= ROOT_TOL) | (b - a <= ROOT_TOL)
+        if done.any():
+            lam[act[done]] = x[done]
+            keep = ~done
+            act, x, fx, sx, a, b, fa, fb = (u[keep] for u in (act, x, fx, sx, a, b, fa, fb))
+        if act.size == 0:
+            break
+        with np.errstate(divide="ignore", invalid="ignore"):
+            c = x - fx / sx
+        inside = (c > a) & (c < b)  # false for nan steps (a zero slope)
+        stuck = ~inside & np.isnan(fb)
+        if stuck.any():
+            lost.append(act[stuck])
+            keep = ~stuck
+            act, c, inside, a, b, fa, fb = (u[keep] for u in (act, c, inside, a, b, fa, fb))
+        x = np.where(inside, c, 0.5 * (a + b))
+        fx, sx = fd(x, act)
+        up = fx >= 0.0
+        a, fa = np.where(up, a, x), np.where(up, fa, fx)
+        b, fb = np.where(up, x, b), np.where(up, fx, fb)
+    known = ~np.isnan(fb)  # not converged within ROOT_ITER steps: the bracket's end with f >= 0
+    lam[act[known]] = b[known]
+    lost.append(act[~known])
+    return np.sort(np.concatenate(lost))
+
+
+def _illinois(f, lam: np.ndarray, active: np.ndarray, a: np.ndarray, b: np.ndarray, fa: np.ndarray,
+              fb: np.ndarray) -> None:
+    """The Illinois variant of regula falsi on the brackets [a, b] (k,) of the lines active (k,),
+    f(a) = fa < 0 <= fb = f(b), to ROOT_TOL; the roots go to lam in place."""
     side = np.zeros(active.size, dtype=np.int8)
     for _ in range(ROOT_ITER):
         if active.size == 0:
@@ -85,7 +138,6 @@ def first_crossing(f, m: int, lmax: float, guess: np.ndarray | None = None,
             keep = ~done
             active, a, b, fa, fb, side = active[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep]
     lam[active] = b  # not converged within ROOT_ITER steps: the bracket's end with f >= 0
-    return lam, found
 
 
 def _cylinder_lead(p: np.ndarray, d: np.ndarray, r0: np.ndarray, radius) -> np.ndarray:
@@ -124,12 +176,19 @@ def lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
         px, py, pz, dx, dy, dz = cols if i.size == m else (c[i] for c in cols)  # i: sorted line indices
         return np.hypot(px + lam * dx, py + lam * dy) - env.at(pz + lam * dz)
 
+    def fd(lam: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        px, py, pz, dx, dy, dz = cols if i.size == m else (c[i] for c in cols)
+        x, y, z = px + lam * dx, py + lam * dy, pz + lam * dz
+        r = np.hypot(x, y)
+        with np.errstate(divide="ignore", invalid="ignore"):  # r = 0: a nan slope, no Newton step
+            return r - env.at(z), (x * dx + y * dy) / r - env.slope(z) * dz
+
     # The region inside the envelope is convex (its profile concave), so the guess may bracket: the
     # crossing with the cylinder of the envelope's radius where that one would be crossed.
     with np.errstate(divide="ignore", invalid="ignore"):
         guess = _cylinder_lead(p, d, r0, at_p)
         guess = _cylinder_lead(p, d, r0, env.at(p[:, 2] + np.where(np.isfinite(guess), guess, 0.0) * d[:, 2]))
-    return first_crossing(f, m, lmax, guess, r0 - at_p)  # f(0): p + 0 d is p
+    return first_crossing(f, m, lmax, guess, r0 - at_p, fd)  # f(0): p + 0 d is p
 
 
 def eye_leads(points: np.ndarray, directions: np.ndarray, envelope: EyeEnvelope,
