@@ -1,5 +1,5 @@
 """The eye's lead by Newton steps (winder.machine.leads) against the bracket-and-regula-falsi search
-it replaced (kept here as the truth): the same 'found' flags and the same crossings within the
+it replaced (the scan and regula falsi, still first_crossing's way without a slope): the same 'found' flags and the same crossings within the
 search's tolerance, on random lines and on the points of real jobs; and the envelope's slope (the
 Newton steps' derivative) against differences of the envelope itself."""
 
@@ -28,61 +28,10 @@ CONFIGS = ["configs/ellipsoid_vessel.yaml", "configs/vessel_friction.yaml", "sam
            "samples/pipe.yaml"]
 
 
-def old_first_crossing(f, m, lmax, guess=None, f0=None):
-    """The search before Newton steps: the guess's grid interval or a scan brackets the crossing,
-    the Illinois variant of regula falsi closes the bracket."""
-    grid = lmax * (np.arange(1, leads.LEAD_SCAN + 1) / leads.LEAD_SCAN) ** 2
-    lam = np.full(m, lmax)
-    lo, hi = np.zeros(m), np.full(m, lmax)
-    flo, fhi = np.zeros(m), np.zeros(m)
-    found = np.zeros(m, dtype=bool)
-    pending = np.arange(m)
-    prev_lam, prev_f = 0.0, (f(np.zeros(m), pending) if f0 is None else f0)
-    if guess is not None:
-        k = np.searchsorted(grid, np.where(np.isfinite(guess), guess, np.inf))
-        idx = np.flatnonzero(k < leads.LEAD_SCAN)
-        k = k[idx]
-        below = np.where(k > 0, grid[np.maximum(k - 1, 0)], 0.0)
-        f_hi = f(grid[k], idx)
-        f_lo = np.where(k > 0, f(below, idx), prev_f[idx])
-        hit = (f_hi >= 0.0) & (f_lo < 0.0)
-        sel = idx[hit]
-        lo[sel], hi[sel], flo[sel], fhi[sel] = below[hit], grid[k[hit]], f_lo[hit], f_hi[hit]
-        found[sel] = True
-        pending = np.flatnonzero(~found)
-        prev_f = prev_f[pending]
-    for grid_lam in grid:
-        if pending.size == 0:
-            break
-        val = f(np.full(pending.size, grid_lam), pending)
-        hit = val >= 0.0
-        sel = pending[hit]
-        lo[sel], hi[sel], flo[sel], fhi[sel] = prev_lam, grid_lam, prev_f[hit], val[hit]
-        found[sel] = True
-        pending, prev_f, prev_lam = pending[~hit], val[~hit], grid_lam
-    active = np.flatnonzero(found)
-    a, b, fa, fb = lo[active], hi[active], flo[active], fhi[active]
-    side = np.zeros(active.size, dtype=np.int8)
-    for _ in range(leads.ROOT_ITER):
-        if active.size == 0:
-            break
-        c = np.clip(b - fb * (b - a) / (fb - fa), a, b)
-        fc = f(c, active)
-        done = (np.abs(fc) <= leads.ROOT_TOL) | (b - a <= leads.ROOT_TOL)
-        lam[active[done]] = c[done]
-        up = fc >= 0.0
-        fa = np.where(up & (side == 1), 0.5 * fa, np.where(up, fa, fc))
-        fb = np.where(~up & (side == -1), 0.5 * fb, np.where(up, fc, fb))
-        a, b = np.where(up, a, c), np.where(up, c, b)
-        side = np.where(up, 1, -1).astype(np.int8)
-        keep = ~done
-        active, a, b, fa, fb, side = active[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep]
-    lam[active] = b
-    return lam, found
-
-
 def old_lead_straight(p, d, env):
-    """The lead of the search before Newton steps (clearance mode), from the same cylinder guess."""
+    """The lead of the search before Newton steps (clearance mode): the full scan brackets each
+    crossing and the Illinois variant of regula falsi closes it (first_crossing without a slope; the
+    old guess only skipped the scan up to the same bracket)."""
     m = p.shape[0]
     r0 = np.hypot(p[:, 0], p[:, 1])
     at_p = env.at(p[:, 2])
@@ -90,10 +39,7 @@ def old_lead_straight(p, d, env):
     def f(lam, i):
         return np.hypot(p[i, 0] + lam * d[i, 0], p[i, 1] + lam * d[i, 1]) - env.at(p[i, 2] + lam * d[i, 2])
 
-    with np.errstate(divide="ignore", invalid="ignore"):
-        guess = leads._cylinder_lead(p, d, r0, at_p)
-        guess = leads._cylinder_lead(p, d, r0, env.at(p[:, 2] + np.where(np.isfinite(guess), guess, 0.0) * d[:, 2]))
-    return old_first_crossing(f, m, leads.MAX_LEAD_FACTOR * env.max_radius, guess, r0 - at_p)
+    return leads.first_crossing(f, m, leads.MAX_LEAD_FACTOR * env.max_radius, f0=r0 - at_p)
 
 
 def assert_same_leads(p, d, env):
