@@ -1,7 +1,8 @@
-"""The eye's lead by Newton steps (winder.machine.leads) against the bracket-and-regula-falsi search
-it replaced (the scan and regula falsi, still first_crossing's way without a slope): the same 'found' flags and the same crossings within the
-search's tolerance, on random lines and on the points of real jobs; and the envelope's slope (the
-Newton steps' derivative) against differences of the envelope itself."""
+"""The eye's lead by Newton steps (winder.machine.leads) against the search it replaced: a scan
+brackets each crossing and regula falsi closes it (still first_crossing's way without a slope). The
+same 'found' flags and the same crossings within the search's tolerance, on random lines and on the
+points of real jobs; and the envelope's slope (the Newton steps' derivative) against differences of
+the envelope itself."""
 
 from __future__ import annotations
 
