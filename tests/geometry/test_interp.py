@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from winder.geometry.interp import InterpSpline, interp_spline
+from winder.geometry.interp import InterpSpline, _knot_slopes, interp_spline, knot_slopes_runs
 
 EXACT = 1e-9  # a spline of degree k reproduces a polynomial of degree <= k (rounding of the solve only)
 SAME_AS_SCIPY = 1e-11  # relative: the same spline from another implementation
+CUBIC_REL = 1e-9  # not-a-knot slopes of a cubic's samples: its derivative (conditioning only)
 
 
 def _sites(n: int, seed: int = 0) -> np.ndarray:
@@ -80,3 +81,23 @@ def test_refuses_even_degrees_and_unsorted_sites():
         InterpSpline(np.arange(6.0), np.zeros(6), 4)
     with pytest.raises(ValueError, match="increase strictly"):
         InterpSpline(np.array([0.0, 2.0, 1.0, 3.0]), np.zeros(4), 3)
+
+
+def test_knot_slopes_of_runs_are_each_runs_alone():
+    rng = np.random.default_rng(7)
+    sizes = [4, 5, 9, 30, 4]
+    xs = [np.cumsum(rng.uniform(0.1, 2.0, n)) for n in sizes]
+    ys = [rng.normal(size=(n, 2)) for n in sizes]
+    first = np.cumsum(sizes) - np.array(sizes)
+    got = knot_slopes_runs(np.concatenate(xs), np.concatenate(ys), first, np.array(sizes))
+    want = np.concatenate([_knot_slopes(x, y) for x, y in zip(xs, ys)])
+    assert np.array_equal(got, want)
+
+
+def test_knot_slopes_of_a_cubic_are_its_derivative():
+    x = np.array([0.0, 0.3, 1.1, 1.5, 2.6, 3.0, 4.2])
+    y = np.column_stack([x ** 3 - 2.0 * x, 0.5 * x ** 2 + 1.0])
+    got = knot_slopes_runs(np.concatenate([x, x + 10.0]), np.concatenate([y, y]), np.array([0, 7]),
+                           np.array([7, 7]))
+    want = np.column_stack([3.0 * x ** 2 - 2.0, x])
+    assert np.allclose(got, np.concatenate([want, want]), rtol=CUBIC_REL, atol=CUBIC_REL)

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from winder.config.job import parse_config
-from winder.geometry.interp import _knot_slopes
 from winder.geometry.sections import arc_map
 from winder.winding import coverage
 from winder.winding.passes import make_pass, make_passes
@@ -16,7 +15,6 @@ from winder.winding.plan import plan
 from winder.winding.results import FiberPass, PassKind
 
 HELIX_ABS = 1e-12  # rad: a spline through samples of a line reproduces it (round-off only)
-CUBIC_REL = 1e-9  # not-a-knot slopes of a cubic's samples: its derivative (conditioning only)
 
 
 def _job(mandrel: dict, winding: dict):
@@ -51,26 +49,6 @@ def test_batched_crossings_are_the_pass_by_pass_ones(elliptic_layer, kind):
     assert batched is not None
     for got, want in zip(batched, _per_pass(passes, stations)):
         assert got.dtype == want.dtype and np.array_equal(got, want)
-
-
-def test_batched_knot_slopes_are_geometry_interps():
-    rng = np.random.default_rng(7)
-    sizes = [4, 5, 9, 30, 4]
-    xs = [np.cumsum(rng.uniform(0.1, 2.0, n)) for n in sizes]
-    ys = [rng.normal(size=(n, 2)) for n in sizes]
-    first = np.cumsum(sizes) - np.array(sizes)
-    got = coverage._knot_slopes_batched(np.concatenate(xs), np.concatenate(ys), first, np.array(sizes))
-    want = np.concatenate([_knot_slopes(x, y) for x, y in zip(xs, ys)])
-    assert np.array_equal(got, want)
-
-
-def test_knot_slopes_of_a_cubic_are_its_derivative():
-    x = np.array([0.0, 0.3, 1.1, 1.5, 2.6, 3.0, 4.2])
-    y = np.column_stack([x ** 3 - 2.0 * x, 0.5 * x ** 2 + 1.0])
-    got = coverage._knot_slopes_batched(np.concatenate([x, x + 10.0]), np.concatenate([y, y]), np.array([0, 7]),
-                                        np.array([7, 7]))
-    want = np.column_stack([3.0 * x ** 2 - 2.0, x])
-    assert np.allclose(got, np.concatenate([want, want]), rtol=CUBIC_REL, atol=CUBIC_REL)
 
 
 def test_helix_crossings_closed_form():

@@ -137,51 +137,71 @@ class NotAKnotCubic:
         shape = q.shape
         qf = q.reshape(-1)
         x, n = self.x, self.x.size
-        y, m = self.y.reshape(n, -1), self.m.reshape(n, -1)
         i = np.clip(np.searchsorted(x, qf, side="right") - 1, 0, n - 2)
-        h = (x[i + 1] - x[i])[:, None]
-        t = ((qf - x[i]) / h[:, 0])[:, None]
-        y0, y1, m0, m1 = y[i], y[i + 1], m[i], m[i + 1]
-        order = nu + self._nu
-        if order == 0:
-            t2 = t * t
-            out = ((2.0 * t - 3.0) * t2 + 1.0) * y0 + ((t - 2.0) * t + 1.0) * t * h * m0 \
-                + (3.0 - 2.0 * t) * t2 * y1 + (t - 1.0) * t2 * h * m1
-        elif order == 1:
-            out = 6.0 * (t - 1.0) * t * (y0 - y1) / h + ((3.0 * t - 4.0) * t + 1.0) * m0 + (3.0 * t - 2.0) * t * m1
-        elif order == 2:
-            out = ((12.0 * t - 6.0) * (y0 - y1) / h + (6.0 * t - 4.0) * m0 + (6.0 * t - 2.0) * m1) / h
-        elif order == 3:
-            out = (12.0 * (y0 - y1) / h + 6.0 * (m0 + m1)) / (h * h)
-        else:
-            out = np.zeros_like(y0)
+        out = hermite(x, self.y.reshape(n, -1), self.m.reshape(n, -1), i, qf, nu + self._nu)
         return out.reshape(shape + self.y.shape[1:])
 
 
 def _knot_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """dy/dx at the sites of the not-a-knot cubic through (x, y (n, c)): (n, c); n >= 4."""
-    h = np.diff(x)
-    d = np.diff(y, axis=0) / h[:, None]
-    n = x.size
-    diag = np.empty(n)
-    upper = np.empty(n - 1)
-    lower = np.empty(n - 1)
-    rhs = np.empty_like(y)
-    diag[1:-1] = 2.0 * (h[:-1] + h[1:])
-    upper[1:] = h[:-1]
-    lower[:-1] = h[1:]
-    rhs[1:-1] = 3.0 * (h[1:, None] * d[:-1] + h[:-1, None] * d[1:])
-    s0, s1 = h[0] + h[1], h[-1] + h[-2]
-    diag[0], upper[0] = h[1], s0
-    rhs[0] = ((h[0] + 2.0 * s0) * h[1] * d[0] + h[0] ** 2 * d[1]) / s0
-    diag[-1], lower[-1] = h[-2], s1
-    rhs[-1] = (h[-1] ** 2 * d[-2] + (2.0 * s1 + h[-1]) * h[-2] * d[-1]) / s1
-    lapack = scipy_lapack()
+    return knot_slopes_runs(x, y, np.array([0]), np.array([x.size]))
 
-    *_, slopes, info = lapack.dgtsv(lower, diag, upper, rhs, overwrite_b=True)
+
+def knot_slopes_runs(x: np.ndarray, y: np.ndarray, first: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """Knot slopes (N, c) of the not-a-knot cubics through the runs x[first_j : first_j + sizes_j]
+    (each >= 4 sites, increasing) of x (N,) with values y (N, c), in one tridiagonal solve: the runs'
+    systems stand one after the other with zero couplings, so elimination never mixes them and each
+    run gets the slopes it would get alone, to the bit."""
+    h = np.diff(x)
+    with np.errstate(all="ignore"):  # the differences across two passes' junction are not used
+        d = np.diff(y, axis=0) / h[:, None]
+    n = x.size
+    last = first + sizes - 1
+    inner = np.ones(n, dtype=bool)
+    inner[first] = inner[last] = False
+    r = np.nonzero(inner)[0]
+    diag = np.empty(n)
+    upper = np.zeros(n - 1)
+    lower = np.zeros(n - 1)
+    rhs = np.empty_like(y)
+    diag[r] = 2.0 * (h[r - 1] + h[r])
+    upper[r] = h[r - 1]
+    lower[r - 1] = h[r]
+    rhs[r] = 3.0 * (h[r, None] * d[r - 1] + h[r - 1, None] * d[r])
+    # h ** 2 of a numpy scalar, as the end rows were always written (its bits, not h * h's).
+    h0, h1, hl, hm = h[first], h[first + 1], h[last - 1], h[last - 2]
+    s0, s1 = h0 + h1, hl + hm
+    diag[first], upper[first] = h1, s0
+    sq0 = np.array([v ** 2 for v in h0])[:, None]
+    sql = np.array([v ** 2 for v in hl])[:, None]
+    rhs[first] = ((h0 + 2.0 * s0) * h1)[:, None] * d[first] + sq0 * d[first + 1]
+    rhs[first] /= s0[:, None]
+    diag[last], lower[last - 1] = hm, s1
+    rhs[last] = sql * d[last - 2] + ((2.0 * s1 + hl) * hm)[:, None] * d[last - 1]
+    rhs[last] /= s1[:, None]
+    *_, slopes, info = scipy_lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
     if info != 0:
         raise ArithmeticError(f"the spline's slope system is singular (LAPACK info {info})")
     return slopes
+
+
+def hermite(x: np.ndarray, y: np.ndarray, m: np.ndarray, i: np.ndarray, q: np.ndarray, order: int) -> np.ndarray:
+    """The order-th derivative at q (k,) of the cubic Hermite pieces through (x, y (n, c)) with slopes
+    m (n, c), q in piece i (k,) (x[i] <= q < x[i + 1], or the end pieces): (k, c)."""
+    h = (x[i + 1] - x[i])[:, None]
+    t = ((q - x[i]) / h[:, 0])[:, None]
+    y0, y1, m0, m1 = y[i], y[i + 1], m[i], m[i + 1]
+    if order == 0:
+        t2 = t * t
+        return ((2.0 * t - 3.0) * t2 + 1.0) * y0 + ((t - 2.0) * t + 1.0) * t * h * m0 \
+            + (3.0 - 2.0 * t) * t2 * y1 + (t - 1.0) * t2 * h * m1
+    if order == 1:
+        return 6.0 * (t - 1.0) * t * (y0 - y1) / h + ((3.0 * t - 4.0) * t + 1.0) * m0 + (3.0 * t - 2.0) * t * m1
+    if order == 2:
+        return ((12.0 * t - 6.0) * (y0 - y1) / h + (6.0 * t - 4.0) * m0 + (6.0 * t - 2.0) * m1) / h
+    if order == 3:
+        return (12.0 * (y0 - y1) / h + 6.0 * (m0 + m1)) / (h * h)
+    return np.zeros_like(y0)
 
 
 def interp_spline(x: np.ndarray, y: np.ndarray, k: int = 3) -> InterpSpline | NotAKnotCubic:

@@ -12,8 +12,7 @@ import numpy as np
 
 from winder.winding.bands import union_stats_many
 from winder.winding.results import Coverage, FiberPass, PassKind
-from winder.geometry.interp import interp_spline
-from winder.geometry.lapack import lapack as scipy_lapack
+from winder.geometry.interp import hermite, interp_spline, knot_slopes_runs
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
 from winder.geometry.measure import row_norms
@@ -93,54 +92,12 @@ def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray) -> 
     rise[first[1:] - 1] = True  # from one pass to the next
     if not np.all(rise):
         return None
-    slopes = _knot_slopes_batched(x, y, first, np.asarray(sizes))
+    slopes = knot_slopes_runs(x, y, first, np.asarray(sizes))
     i = np.concatenate(spans) + np.repeat(first, [a.size for a in spans])
     q = np.concatenate(sts)
-    h = (x[i + 1] - x[i])[:, None]
-    u = ((q - x[i]) / h[:, 0])[:, None]
-    y0, y1, m0, m1 = y[i], y[i + 1], slopes[i], slopes[i + 1]
-    u2 = u * u
-    val = ((2.0 * u - 3.0) * u2 + 1.0) * y0 + ((u - 2.0) * u + 1.0) * u * h * m0 \
-        + (3.0 - 2.0 * u) * u2 * y1 + (u - 1.0) * u2 * h * m1
-    der = 6.0 * (u - 1.0) * u * (y0 - y1) / h + ((3.0 * u - 4.0) * u + 1.0) * m0 + (3.0 * u - 2.0) * u * m1
+    val, der = hermite(x, y, slopes, i, q, 0), hermite(x, y, slopes, i, q, 1)
     return (np.concatenate(idxs), np.ascontiguousarray(val[:, 0]), np.ascontiguousarray(val[:, 1]),
             np.ascontiguousarray(der[:, 0]), np.ascontiguousarray(der[:, 1]))
-
-
-def _knot_slopes_batched(x: np.ndarray, y: np.ndarray, first: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """Knot slopes (N, c) of not-a-knot cubics through the runs x[first_j : first_j + sizes_j] (each
-    >= 4 sites, increasing) of x (N,) with values y (N, c): geometry.interp's _knot_slopes, one system."""
-    h = np.diff(x)
-    with np.errstate(all="ignore"):  # the differences across two passes' junction are not used
-        d = np.diff(y, axis=0) / h[:, None]
-    n = x.size
-    last = first + sizes - 1
-    inner = np.ones(n, dtype=bool)
-    inner[first] = inner[last] = False
-    r = np.nonzero(inner)[0]
-    diag = np.empty(n)
-    upper = np.zeros(n - 1)
-    lower = np.zeros(n - 1)
-    rhs = np.empty_like(y)
-    diag[r] = 2.0 * (h[r - 1] + h[r])
-    upper[r] = h[r - 1]
-    lower[r - 1] = h[r]
-    rhs[r] = 3.0 * (h[r, None] * d[r - 1] + h[r - 1, None] * d[r])
-    # The end rows as _knot_slopes writes them, its scalar powers included (h ** 2 of a numpy scalar).
-    h0, h1, hl, hm = h[first], h[first + 1], h[last - 1], h[last - 2]
-    s0, s1 = h0 + h1, hl + hm
-    diag[first], upper[first] = h1, s0
-    sq0 = np.array([v ** 2 for v in h0])[:, None]
-    sql = np.array([v ** 2 for v in hl])[:, None]
-    rhs[first] = ((h0 + 2.0 * s0) * h1)[:, None] * d[first] + sq0 * d[first + 1]
-    rhs[first] /= s0[:, None]
-    diag[last], lower[last - 1] = hm, s1
-    rhs[last] = sql * d[last - 2] + ((2.0 * s1 + hl) * hm)[:, None] * d[last - 1]
-    rhs[last] /= s1[:, None]
-    *_, slopes, info = scipy_lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
-    if info != 0:
-        raise ArithmeticError(f"the spline's slope system is singular (LAPACK info {info})")
-    return slopes
 
 
 def _bands(surface: SweepSurface, arcs: ArcMap, idx: np.ndarray, s_x: np.ndarray, th_x: np.ndarray,
