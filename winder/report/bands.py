@@ -8,7 +8,7 @@ is the same at every station and a band keeps its place when the mandrel narrows
 A pass crosses the station t once (it is monotone in t); its band, B wide across the fiber, covers
 B / sin(beta) of the perimeter there, beta the angle between the fiber and the section curve, centred on
 the crossing (MATH.md 5, the definition winder.coverage measures). The crossing and the fiber direction
-come from winder.winding.coverage.pass_crossings, the same crossings the summary's coverage counts.
+come from winder.winding.coverage.crossings_many, the same crossings the summary's coverage counts.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import numpy as np
 
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
-from winder.winding.coverage import pass_crossings
+from winder.winding.coverage import crossings_many
 from winder.winding.results import FiberPass, PassKind
 
 
@@ -52,11 +52,7 @@ def coverage_groups(passes: tuple[FiberPass, ...]) -> list[list[FiberPass]]:
 def crossings(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass], rows: np.ndarray,
               band_width: float) -> Crossings:
     """The crossings of the passes with the stations rows ((n,) float, mm), as coverage finds them."""
-    parts = [pass_crossings(surface, arcs, p, rows, band_width) for p in passes]
-    parts = [part for part in parts if part[0].size]
-    if not parts:
-        return Crossings(np.zeros(0, int), np.zeros(0), np.zeros(0))
-    row, frac, half = (np.concatenate(k) for k in zip(*parts))
+    row, frac, half = crossings_many(surface, arcs, passes, rows, band_width)
     return Crossings(row, np.mod(frac, 1.0), half)
 
 

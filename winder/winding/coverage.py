@@ -18,20 +18,16 @@ from winder.geometry.surface import SweepSurface
 from winder.geometry.measure import row_norms
 
 
-def pass_crossings(surface: SweepSurface, arcs: ArcMap, p: FiberPass, stations: np.ndarray,
-                   band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Where a pass crosses the stations: (station index, perimeter fraction, band half-width / P).
-
-    Cubic splines of s and theta against t (monotone along a pass) give the crossing and the local
-    direction Phi_s s'(t) + Phi_theta theta'(t) to O(h^4), far below a band's width.
-    """
-    return _bands(surface, arcs, *_spline_crossings(p, stations), band_width)
-
-
 def crossings_many(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass], stations: np.ndarray,
                    band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """pass_crossings of every pass, concatenated in pass order: the splines pass by pass, the
-    surface (pointwise) in one evaluation."""
+    """Where the passes cross the stations, concatenated in pass order: (station index, perimeter
+    fraction, band half-width / P).
+
+    Cubic splines of s and theta against t (monotone along a pass) give the crossing and the local
+    direction Phi_s s'(t) + Phi_theta theta'(t) to O(h^4), far below a band's width: one slope
+    system for all the passes where each has four points or more, the surface (pointwise) in one
+    evaluation.
+    """
     if not passes:
         return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0)
     batched = _spline_crossings_batched(passes, stations)
