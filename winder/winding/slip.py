@@ -74,8 +74,6 @@ def _curvatures(surface: SweepSurface, passes: list[FiberPass]) -> list[tuple[np
     """polyline_curvatures of each pass (>= 3 points), from one call over the passes one after the
     other: its values at a vertex come from that vertex and its two neighbours, so those of each
     pass's interior are its own; the two at each junction between passes are dropped."""
-    if not passes:
-        return []
     sizes = np.array([p.s.size for p in passes])
     with np.errstate(all="ignore"):  # a junction's segment may have no length (a pass starts where one ended)
         k_n, k_g = polyline_curvatures(surface, np.concatenate([p.s for p in passes]),
@@ -88,9 +86,9 @@ def _curvatures(surface: SweepSurface, passes: list[FiberPass]) -> list[tuple[np
 def measure(surface: SweepSurface, passes: list[FiberPass] | tuple[FiberPass, ...]) -> LayerSlip:
     """The layer's slip and bridging margin, from the points of every laid (non-dwell) pass."""
     laid = [p for p in passes if p.kind is not PassKind.DWELL and p.s.size >= 3]
-    curves = _curvatures(surface, laid)
     if not laid:
         return LayerSlip(0.0, np.inf, 0.0, 0.0, 0, 0.0, 0)
+    curves = _curvatures(surface, laid)
     k_n, k_g = (np.concatenate(c) for c in zip(*curves))
     if not (np.all(np.isfinite(k_n)) and np.all(np.isfinite(k_g))):
         return _measure_each(laid, curves)
