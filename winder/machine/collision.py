@@ -40,7 +40,7 @@ def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarra
     best = d0.copy()
     width = hi - lo + 1
     wide = width > SLAB_SEGMENTS
-    for w in np.unique(width[~wide & (width > 1)]):
+    for w in np.flatnonzero(np.bincount(width[~wide & (width > 1)])):  # np.unique imports numpy.ma
         rows = np.flatnonzero(width == w)
         for chunk in np.array_split(rows, max(1, rows.size * int(w) // SEGMENT_BLOCK)):
             j = lo[chunk, None] + np.arange(w)
