@@ -7,9 +7,12 @@ runs, it handles both itself (winder.app.interrupts).
 
 from __future__ import annotations
 
+import gc
 import os
 import signal
 import sys
+
+GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes (Python's default: 700)
 
 
 def _starting(signum: int, frame) -> None:
@@ -20,9 +23,19 @@ def _starting(signum: int, frame) -> None:
 def main() -> None:
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, _starting)
+    # One run, one short-lived process. The cyclic collector's young passes (every 700 allocations by
+    # default) mostly walk what the imports build, tens of thousands of objects that live to the end,
+    # while a job leaves a few dozen objects of cyclic garbage: they run less often. At the end
+    # whatever is alive is frozen, so that the interpreter's exit does not walk it all once more just
+    # before the process frees it. Measured on a small job: 5 % of its instructions, and 30-40 ms of
+    # wall time at its exit.
+    gc.set_threshold(GC_YOUNG_THRESHOLD)
     from winder.cli import main as cli  # noqa: PLC0415 - after the handlers: the import takes a while
 
-    cli()
+    try:
+        cli()
+    finally:
+        gc.freeze()
 
 
 if __name__ == "__main__":
