@@ -8,6 +8,8 @@ equation of each outline; the ellipse as the superellipse with p = 2.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -243,13 +245,48 @@ def test_make_section_maps_configs():
     assert make_section(SuperellipseSection(3.0, 2.0, 4.0)) == Superellipse(3.0, 2.0, 4.0)
 
 
-def test_ellipse_from_cos_sin_is_its_polar_radius_bit_for_bit():
-    """The surface hands the ellipse its angle's cosine and sine and asks only the derivatives it needs."""
-    ell = Ellipse(60.0, 35.0)
-    th = np.linspace(-7.0, 7.0, 101)
-    full = ell.polar(th)
+def _rounded_rectangle_reference(rr: RoundedRectangle, theta: np.ndarray) -> tuple[np.ndarray, ...]:
+    """rho, rho', rho'' one point at a time: the side x = w/2, the corner circle or the side y = h/2."""
+    hw, hh, rc = rr.width / 2.0, rr.height / 2.0, rr.corner_radius
+    cx, cy = hw - rc, hh - rc
+    out = []
+    for th in theta:
+        c, s = math.cos(th), math.sin(th)
+        ac, as_ = abs(c), abs(s)
+        phi = math.atan2(as_, ac)
+        if phi < math.atan2(cy, hw):
+            rho, d1, d2 = hw / ac, hw * as_ / ac**2, hw * (1.0 + as_**2) / ac**3
+        elif phi > math.atan2(hh, cx):
+            rho, d1, d2 = hh / as_, -hh * ac / as_**2, hh * (1.0 + ac**2) / as_**3
+        else:
+            aa, bb = cx * ac + cy * as_, -cx * as_ + cy * ac
+            q = math.sqrt(rc * rc - bb * bb)
+            rho, d1, d2 = aa + q, bb + aa * bb / q, -aa + (bb * bb - aa * aa) / q - aa * aa * bb * bb / q**3
+        out.append((rho, math.copysign(1.0, c * s) * d1 if c * s != 0.0 else 0.0, d2))
+    return tuple(np.array(v) for v in zip(*out))
+
+
+@pytest.mark.parametrize("name", [k for k in SECTIONS if k.startswith("rounded") or k == "stadium"])
+def test_rounded_rectangle_pieces_are_each_points_own(name):
+    """Each point takes its own piece's formula (the pieces are gathered once in polar_cs)."""
+    rr = SECTIONS[name]
+    for got, want in zip(rr.polar(THETA), _rounded_rectangle_reference(rr, THETA)):
+        np.testing.assert_allclose(got, want, rtol=EXACT_RTOL, atol=EXACT_RTOL * rr.width)
+    # At the joints rho and rho' are continuous (rho'' jumps): either piece's value there will do.
+    joints = rr_joint_angles(rr)
+    for got, want in zip(rr.polar(joints)[:2], _rounded_rectangle_reference(rr, joints)[:2]):
+        np.testing.assert_allclose(got, want, rtol=EXACT_RTOL, atol=EXACT_RTOL * rr.width)
+
+
+@pytest.mark.parametrize("name", [k for k in SECTIONS if k != "circle"])
+def test_polar_from_cos_sin_is_the_polar_radius_bit_for_bit(name):
+    """The surface hands a section its angle's cosine and sine and asks only the derivatives it needs:
+    the same numbers as polar(theta), bit for bit, at every order (a NaN angle stays NaN)."""
+    section = SECTIONS[name]
+    th = np.concatenate([np.linspace(-7.0, 7.0, 101), [np.nan]])
+    full = section.polar(th)
     for order in (0, 1, 2):
-        part = ell.polar_cs(np.cos(th), np.sin(th), order)
+        part = section.polar_cs(np.cos(th), np.sin(th), order)
         for k in range(3):
             if k <= order:
                 np.testing.assert_array_equal(part[k], full[k])

@@ -20,6 +20,11 @@ class Section(Protocol):
         """rho, rho', rho'' at theta (radians), each (m,) float."""
         ...
 
+    def polar_cs(self, c: np.ndarray, s: np.ndarray, order: int = 2) -> tuple:
+        """polar from cos(theta) and sin(theta) (m,), which the surface has already; the derivatives
+        beyond `order` are None."""
+        ...
+
     def perimeter(self) -> float: ...
 
 
@@ -85,7 +90,9 @@ class Superellipse:
     is_circle: bool = False
 
     def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        c, s = np.cos(theta), np.sin(theta)
+        return self.polar_cs(np.cos(theta), np.sin(theta))
+
+    def polar_cs(self, c: np.ndarray, s: np.ndarray, order: int = 2):
         p = self.p
         ac, as_ = np.abs(c) / self.a, np.abs(s) / self.b
         sc, ss = np.sign(c), np.sign(s)
@@ -93,15 +100,21 @@ class Superellipse:
         # ac^p alone underflows for large p or large semi-axes (p = 100, a = 1e5: 1e-500).
         m = np.maximum(ac, as_)
         u, v = ac / m, as_ / m
-        g = u**p + v**p  # in [1, 2]
+        up, vp = u**p, v**p  # the powers are most of the cost: each is taken once
+        g = up + vp  # in [1, 2]
+        rho = g ** (-1.0 / p) / m
+        if order == 0:
+            return rho, None, None
         # g1 = f' / m^(p-1), g2 = f'' / m^(p-2); derivative of |cos|^p is -p |cos|^(p-1) sign(cos) sin
         g1 = p * (-(u ** (p - 1)) * sc * s / self.a + v ** (p - 1) * ss * c / self.b)
-        g2 = p * ((p - 1) * u ** (p - 2) * s * s / self.a**2 - m * m * u**p
-                  + (p - 1) * v ** (p - 2) * c * c / self.b**2 - m * m * v**p)
-        rho = g ** (-1.0 / p) / m
-        d1 = -(1.0 / p) * g ** (-1.0 / p - 1.0) * g1 / (m * m)
+        gd = g ** (-1.0 / p - 1.0)
+        d1 = -(1.0 / p) * gd * g1 / (m * m)
+        if order == 1:
+            return rho, d1, None
+        g2 = p * ((p - 1) * u ** (p - 2) * s * s / self.a**2 - m * m * up
+                  + (p - 1) * v ** (p - 2) * c * c / self.b**2 - m * m * vp)
         d2 = ((1.0 / p) * (1.0 / p + 1.0) * g ** (-1.0 / p - 2.0) * g1 * g1
-              - (1.0 / p) * g ** (-1.0 / p - 1.0) * g2) / (m * m * m)
+              - (1.0 / p) * gd * g2) / (m * m * m)
         return rho, d1, d2
 
     def perimeter(self) -> float:
@@ -119,36 +132,39 @@ class RoundedRectangle:
 
     def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         theta = np.asarray(theta, dtype=float)
+        return self.polar_cs(np.cos(theta), np.sin(theta))
+
+    def polar_cs(self, c: np.ndarray, s: np.ndarray, order: int = 2):
         hw, hh, rc = 0.5 * self.width, 0.5 * self.height, self.corner_radius
         # Fold into the first quadrant; the shape is symmetric about both axes.
-        c, s = np.cos(theta), np.sin(theta)
-        sgn = np.sign(c * s)  # rho' flips sign under each reflection, rho'' does not
         ac, as_ = np.abs(c), np.abs(s)
         cx, cy = hw - rc, hh - rc
         # Corner arc spans the polar angles between the side tangency points.
         side_x = np.arctan2(cy, hw)  # below: the vertical side x = hw
         side_y = np.arctan2(hh, cx)  # above: the horizontal side y = hh
         phi = np.arctan2(as_, ac)
-        rho = np.empty_like(theta)
-        d1 = np.empty_like(theta)
-        d2 = np.empty_like(theta)
         # Strict: a joint belongs to the corner, so a zero-length side (corner_radius = height / 2 or
         # width / 2) never wins there; corner_radius > 0 (config) keeps the corner formula finite.
-        m1 = phi < side_x
-        m3 = phi > side_y
-        m2 = ~(m1 | m3)
-        rho[m1] = hw / ac[m1]
-        d1[m1] = hw * as_[m1] / ac[m1] ** 2
-        d2[m1] = hw * (1.0 + as_[m1] ** 2) / ac[m1] ** 3
-        rho[m3] = hh / as_[m3]
-        d1[m3] = -hh * ac[m3] / as_[m3] ** 2
-        d2[m3] = hh * (1.0 + ac[m3] ** 2) / as_[m3] ** 3
-        aa = cx * ac[m2] + cy * as_[m2]  # centre . u
-        bb = -cx * as_[m2] + cy * ac[m2]  # centre . u_perp
+        # Each piece's points are gathered once, and each formula is taken on its own points only.
+        on_x, on_y = phi < side_x, phi > side_y
+        side, top, corner = np.flatnonzero(on_x), np.flatnonzero(on_y), np.flatnonzero(~(on_x | on_y))
+        a1, s1, a3, s3 = ac[side], as_[side], ac[top], as_[top]
+        aa = cx * ac[corner] + cy * as_[corner]  # centre . u
+        bb = -cx * as_[corner] + cy * ac[corner]  # centre . u_perp
         q = np.sqrt(rc * rc - bb * bb)
-        rho[m2] = aa + q
-        d1[m2] = bb + aa * bb / q
-        d2[m2] = -aa + (bb * bb - aa * aa) / q - aa * aa * bb * bb / q**3
+        rho = np.empty_like(ac)
+        rho[side], rho[corner], rho[top] = hw / a1, aa + q, hh / s3
+        if order == 0:
+            return rho, None, None
+        d1 = np.empty_like(ac)
+        d1[side], d1[corner], d1[top] = hw * s1 / a1**2, bb + aa * bb / q, -hh * a3 / s3**2
+        sgn = np.sign(c * s)  # rho' flips sign under each reflection, rho'' does not
+        if order == 1:
+            return rho, sgn * d1, None
+        d2 = np.empty_like(ac)
+        d2[side] = hw * (1.0 + s1**2) / a1**3
+        d2[corner] = -aa + (bb * bb - aa * aa) / q - aa * aa * bb * bb / q**3
+        d2[top] = hh * (1.0 + a3**2) / s3**3
         return rho, sgn * d1, d2
 
     def perimeter(self) -> float:

@@ -24,7 +24,7 @@ import numpy as np
 
 from winder.geometry.curves import SPLINE_GRID, Arc, GuideCurve, Line, Path, SplineCurve
 from winder.geometry.profiles import AxialProfile, Profile
-from winder.geometry.sections import Circle, Ellipse, Section
+from winder.geometry.sections import Circle, Section
 
 
 class SurfaceEval(NamedTuple):
@@ -156,9 +156,8 @@ class SweepSurface:
         if isinstance(self.section, Circle):
             q, q1, q2 = self.section.radius / self.section_scale, 0.0, 0.0
         else:
-            # An ellipse takes the angle's cosine and sine from here, and only the derivatives asked.
-            rho = (self.section.polar_cs(c, sn, order) if isinstance(self.section, Ellipse)
-                   else self.section.polar(theta))
+            # The section takes the angle's cosine and sine from here, and only the derivatives asked.
+            rho = self.section.polar_cs(c, sn, order)
             q, q1, q2 = (a / self.section_scale if a is not None else None for a in rho)
         line, arc = self._line_frame, self._arc_frame
         with_point = with_point or order == 0
