@@ -13,6 +13,10 @@ import signal
 import sys
 
 GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes (Python's default: 700)
+# winder's linear algebra is banded solves and small products, which BLAS does not split over threads;
+# its idle worker threads only spin (a core each for a while after numpy loads and after every call),
+# taking that core from the job, or from the batch's other jobs. A value the user set is kept.
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
 
 
 def _starting(signum: int, frame) -> None:
@@ -23,6 +27,8 @@ def _starting(signum: int, frame) -> None:
 def main() -> None:
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, _starting)
+    for name in BLAS_THREAD_VARIABLES:  # before numpy loads (the commands import it), and for the workers
+        os.environ.setdefault(name, "1")
     # One run, one short-lived process. The cyclic collector's young passes (every 700 allocations by
     # default) mostly walk what the imports build, tens of thousands of objects that live to the end,
     # while a job leaves a few dozen objects of cyclic garbage: they run less often. At the end

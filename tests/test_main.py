@@ -1,0 +1,48 @@
+"""The executable (winder/__main__.py): what it sets up before the command line runs.
+
+Truths used: the environment and collector settings a child interpreter reports after main() ran.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+from winder.__main__ import BLAS_THREAD_VARIABLES, GC_YOUNG_THRESHOLD
+
+# Run main() on `--version`, then report what the process looks like after it.
+PROBE = """
+import gc, json, os, sys
+import winder.__main__ as m
+sys.argv = ["winder", "--version"]
+try:
+    m.main()
+except SystemExit:
+    pass
+print(json.dumps({"env": {k: os.environ.get(k) for k in m.BLAS_THREAD_VARIABLES},
+                  "threshold": gc.get_threshold()[0], "frozen": gc.get_freeze_count()}))
+"""
+
+
+def _probe(env: dict[str, str]) -> dict:
+    import json  # noqa: PLC0415
+
+    proc = subprocess.run([sys.executable, "-c", PROBE], capture_output=True, text=True, env=env, check=True)
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def _clean_env() -> dict[str, str]:
+    return {k: v for k, v in os.environ.items() if k not in BLAS_THREAD_VARIABLES}
+
+
+def test_blas_runs_one_thread_unless_the_user_says_otherwise():
+    assert _probe(_clean_env())["env"] == {k: "1" for k in BLAS_THREAD_VARIABLES}
+    mine = {**_clean_env(), "OPENBLAS_NUM_THREADS": "2"}
+    assert _probe(mine)["env"]["OPENBLAS_NUM_THREADS"] == "2"
+
+
+def test_collector_runs_less_often_and_what_is_alive_at_the_end_is_frozen():
+    out = _probe(_clean_env())
+    assert out["threshold"] == GC_YOUNG_THRESHOLD
+    assert out["frozen"] > 1000  # the interpreter's, click's and winder's objects, left to the exit
