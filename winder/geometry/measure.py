@@ -36,7 +36,7 @@ def polyline_length(points: np.ndarray) -> float:
 
 
 def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
-                  knots: tuple[np.ndarray, np.ndarray] | None = None) -> float:
+                  knots: tuple[np.ndarray, np.ndarray] | None = None, gauss_segments: int = GAUSS_SEGMENTS) -> float:
     """Length of the smooth surface curve through the vertices (the super-convergent length).
 
     A cubic spline through (s_i, theta_i) against the index i, mapped onto the surface; its speed
@@ -48,12 +48,13 @@ def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     O(h^6) error is then below 1e-12 of the length (measured against 5-point Gauss on the reference
     mandrels: elliptic tube, two rounds, 400 segments: 5e-13).
     s, theta : (m,) float. knots : (Phi_s, Phi_theta) at the m vertices, each (m, 3), when the
-    caller has them (the solver does); otherwise they are evaluated here.
+    caller has them (the solver does); otherwise they are evaluated here. gauss_segments : the
+    longest path given the 5-point rule (0: Gauss-Lobatto at every n).
     """
     y = np.stack([s, theta], axis=1)
     dy = knot_slopes(y)
     m = s.shape[0]
-    if m - 1 <= GAUSS_SEGMENTS:
+    if m - 1 <= gauss_segments:
         u, du = segment_nodes(y, dy, 0.5 + 0.5 * GAUSS_X)
         ev = surface.evaluate(u[:, 0], u[:, 1], order=1, with_point=False)
         vel = ev.ps * du[:, :1] + ev.pt * du[:, 1:]

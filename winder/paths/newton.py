@@ -34,10 +34,22 @@ PREDICTED_MARGIN = 5e-2
 CHORD_STEP = 1e-3  # a Newton step below this fraction of the segment: the next step reuses the factor
 ENERGY_NOISE = 1.4e-14  # E's relative roundoff per sqrt(point) (64 ulp): smaller decreases are noise
 BOUNDARY_TOL = 1e-9  # a vertex this close (mm) to an end of the mandrel is on it
+# With a length tolerance (tolerance mode) a solve may stop once the vertices' remaining error can no
+# longer move the smooth length by LENGTH_SHARE of it. The smooth length is stationary at the geodesic,
+# so an error of e segments moves it by about L (c2 e^2 + c1 (h k)^3 e), h k = max |y_{i-1} - 2 y_i +
+# y_{i+1}| / h the chain's turn per segment: measured on the reference mandrels (bend and elliptic tube,
+# n = 31 to 10,323), c2 <= 0.3 and c1 <= 3.7e-3: SETTLE_SECOND and SETTLE_FIRST hold them with a 3x margin,
+# and LENGTH_SHARE keeps what they miss far below the tolerance.
+LENGTH_SHARE = 1e-2
+SETTLE_SECOND = 1.0
+SETTLE_FIRST = 1e-2
+SETTLE_MAX = 1e-2  # only inside Newton's quadratic range (measured: from 3e-2 of a segment on)
+SETTLE_PREDICTED = 3.0  # margin on the predicted next step (Newton's disp^3 / prev^2) as the error
 
 
 class StopReason(Enum):
     STEP = "the Newton step fell below the step tolerance"
+    LENGTH = "the remaining Newton step moves the length by far less than its tolerance"
     ROUNDOFF = "no further decrease of the energy at machine precision"
     LBFGS = "L-BFGS-B stopped on its tolerances"
     MAX_ITER = "the iteration limit was reached"
@@ -94,12 +106,28 @@ def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float) -> float:
     return float(min(1.0, np.min(lim))) if lim.size else 1.0
 
 
+def _settled(err: float, p: np.ndarray, ends: np.ndarray, h: float, length_tol: float) -> bool:
+    """Whether a vertex error of err segments moves the smooth length of the chain p (n, 3) between
+    ends (2, 3), mean segment h (mm), by at most LENGTH_SHARE length_tol (mm); see SETTLE_FIRST."""
+    if err > SETTLE_MAX:
+        return False
+    budget = LENGTH_SHARE * length_tol / (h * (p.shape[0] + 1))
+    if SETTLE_SECOND * err * err > budget:
+        return False
+    y = np.concatenate([ends[:1], p, ends[1:]])
+    a = y[:-2] - 2.0 * y[1:-1] + y[2:]
+    turn = math.sqrt(float(np.max(np.einsum("ij,ij->i", a, a)))) / h
+    return SETTLE_SECOND * err * err + SETTLE_FIRST * turn**3 * err <= budget
+
+
 def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: float,
             max_iter: int = MAX_NEWTON, ends: SurfaceEval | None = None,
-            predicted_tol: float | None = None) -> PathSolve:
+            predicted_tol: float | None = None, length_tol: float | None = None) -> PathSolve:
     """Newton from (s, th) (n + 2,) to a step below step_tol of the mean segment; predicted_tol: stop
     after a step once the predicted next one is below this fraction of a segment (default
-    PREDICTED_MARGIN step_tol)."""
+    PREDICTED_MARGIN step_tol). length_tol (mm): also stop once the remaining step cannot move the
+    smooth length by LENGTH_SHARE of it (_settled): without taking a step that small, or after a
+    step whose predicted successor is."""
     predicted_tol = PREDICTED_MARGIN * step_tol if predicted_tol is None else predicted_tol
     s, th = s.copy(), th.copy()
     s_max = surface.length
@@ -143,6 +171,10 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
             # Already converged: this step is below the tolerance (and usually at roundoff).
             converged, reason = True, StopReason.STEP
             break
+        if length_tol is not None and newton and _settled(disp / h, ev.p, ends.p, h, length_tol):
+            # The step is the iterate's error to second order: the length no longer needs it.
+            converged, reason = True, StopReason.LENGTH
+            break
         contracting = newton and disp < 0.5 * prev_disp < np.inf
         # Newton's error squares per step (the next step is about disp^3 / prev_disp^2); a chord step's
         # contracts by a factor of about disp / prev_disp. Stop after this step when the predicted next
@@ -150,6 +182,9 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
         # saves the last, roundoff-only iteration.
         predicted = disp**2 / prev_disp if chord else disp**3 / prev_disp**2
         last = disp <= step_tol * h or (contracting and predicted <= predicted_tol * h)
+        settle = (length_tol is not None and not last and contracting
+                  and _settled(SETTLE_PREDICTED * predicted / h, ev.p, ends.p, h, length_tol))
+        last = last or settle
         # A step this small hardly changes the Hessian: the next iteration reuses its factor.
         chord_next = newton and not last and disp <= CHORD_STEP * h
         order = 1 if last or chord_next else 2
@@ -190,7 +225,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
                 break
             s, th, ev = s_try, th_try, ev_try
         if alpha == 1.0 and last:
-            converged, reason = True, StopReason.STEP
+            converged, reason = True, StopReason.LENGTH if settle else StopReason.STEP
             break
         prev_disp = disp if alpha == 1.0 else np.inf
         factor = factor if chord_next and alpha == 1.0 else None
