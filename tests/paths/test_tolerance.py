@@ -95,3 +95,21 @@ def test_prediction_makes_one_pair_after_the_coarsest_solve(tube_case):
     s0, s1 = (float(v) for v in surface.s_of_t(np.array([a[0], b[0]])))
     coarse = solve_path(surface, *straight_path(s0, a[1], s1, b[1] + 2 * np.pi * rounds, n0), n0)
     assert _predicted_points(coarse, 1e-9 * truth) == pytest.approx(res.n, rel=0.02)
+
+
+def test_path_measures_keep_numpys_norms_bit_for_bit():
+    """polyline_length, spacing_deviation and geodesic_curvature take row_norms for np.linalg.norm."""
+    from winder.geometry.measure import geodesic_curvature, polyline_length, spacing_deviation  # noqa: PLC0415
+
+    rng = np.random.default_rng(5)
+    pts = np.cumsum(rng.normal(size=(257, 3)), axis=0)
+    lens = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    assert polyline_length(pts) == float(np.sum(lens))
+    assert spacing_deviation(pts) == float(np.max(np.abs(lens / lens.mean() - 1.0)))
+    jac = (rng.normal(size=(255, 3)), rng.normal(size=(255, 3)))
+    seg = np.diff(pts, axis=0)
+    d = seg / lens[:, None]
+    nrm = np.cross(jac[1], jac[0])
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    turn = np.einsum("ij,ij->i", np.cross(d[:-1], d[1:]), nrm) / (0.5 * (lens[:-1] + lens[1:]))
+    assert np.array_equal(geodesic_curvature(None, None, None, pts, jac=jac), turn)

@@ -32,7 +32,7 @@ def row_norms(v: np.ndarray) -> np.ndarray:
 
 def polyline_length(points: np.ndarray) -> float:
     """Length of the polyline through points (m, 3)."""
-    return float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
+    return float(np.sum(row_norms(np.diff(points, axis=0))))
 
 
 def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
@@ -95,20 +95,20 @@ def geodesic_curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, 
     vertices, each (m - 2, 3), when the caller has them. Returns (m - 2,) float.
     """
     seg = np.diff(points, axis=0)
-    lens = np.linalg.norm(seg, axis=1)
+    lens = row_norms(seg)
     d = seg / lens[:, None]
     if jac is None:
         nrm = surface.normals(s[1:-1], theta[1:-1])
     else:
         nrm = cross(jac[1], jac[0])
-        nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+        nrm /= row_norms(nrm)[:, None]
     turn = np.einsum("ij,ij->i", cross(d[:-1], d[1:]), nrm)
     return turn / (0.5 * (lens[:-1] + lens[1:]))
 
 
 def spacing_deviation(points: np.ndarray) -> float:
     """max |segment length / mean - 1|: 0 for an exactly equally spaced polyline."""
-    lens = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    lens = row_norms(np.diff(points, axis=0))
     return float(np.max(np.abs(lens / lens.mean() - 1.0)))
 
 

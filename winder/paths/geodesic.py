@@ -65,8 +65,8 @@ MAX_REFINE = 12
 # bound still comes from that pair (n, 2n + 1), and a pair that misses predicts the next from its
 # measured rate. Where the prediction is at most 2n + 1 the coarsest pair is solved first, and so it
 # is beyond PREDICT_MAX_POINTS: there a solve's cost grows with n, and the cheap coarse pair's measured
-# rate costs less than the prediction's overshoot (quarter bend at 1e-12: 1549 points predicted, 1042
-# from the pair, 18 against 22 ms).
+# rate costs less than the prediction's overshoot (quarter bend at 1e-12: 1303 points predicted, 1042
+# from the pair's rate).
 PREDICT_ERROR = 3e-4
 PREDICT_MAX_POINTS = 1000
 ROUNDOFF_FLOOR = 1e-15  # relative: about 4 ulp, the roundoff of a length in double precision
@@ -367,6 +367,8 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         s_init, th_init = straight_path(s0, th0, s1, th1, 1)
         if tolerance is not None:
             n = min(n, coarsest_points(swept))
+            if n == coarsest_points(swept):  # one level: the straight path at n, not resampled to it
+                s_init, th_init = straight_path(s0, th0, s1, th1, n)
     sol = solve_path(surface, s_init, th_init, n, method, warm=init is not None, length_tol=tolerance,
                      loose=tolerance is not None and method is Method.NEWTON)
     if estimate or tolerance is not None:

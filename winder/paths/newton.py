@@ -207,8 +207,9 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
             while True:
                 s_try = s.copy()
                 th_try = th.copy()
-                s_try[1:-1] += alpha * step[:, 0]
-                th_try[1:-1] += alpha * step[:, 1]
+                # 1.0 * x is x: the full step (the usual one) skips the products
+                s_try[1:-1] += alpha * step[:, 0] if alpha != 1.0 else step[:, 0]
+                th_try[1:-1] += alpha * step[:, 1] if alpha != 1.0 else step[:, 1]
                 # A full step is the usual one and is usually accepted: its evaluation then serves the
                 # next iteration (with second derivatives unless that one is a chord step or none).
                 ev_try = surface.evaluate(s_try[1:-1], th_try[1:-1], order=order if alpha == 1.0 else 0)
