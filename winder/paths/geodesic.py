@@ -253,15 +253,17 @@ def _refine(surface: SweepSurface, sol: PathSolve, n: int, tolerance: float | No
         # The first solve stopped on the coarse levels' tolerances: a jump to the predicted n needs no
         # more of it; staying at n, its Newton goes on to the length's tolerance.
         n_next = _predicted_points(sol, tolerance)
-        jump = 2 * n + 1 < n_next <= min(PREDICT_MAX_POINTS, max_points)
-        sol, n = solve_path(surface, sol.s, sol.theta, n_next if jump else n, method, warm=True, ends=sol.ends,
-                            length_tol=tolerance), n_next if jump else n
+        if 2 * n + 1 < n_next <= min(PREDICT_MAX_POINTS, max_points):
+            sol, n = solve_path(surface, sol.s, sol.theta, n_next, method, warm=True, ends=sol.ends,
+                                length_tol=tolerance), n_next
+            levels += sol.levels
+        else:  # one solve at n, in two legs: the second from the first's end, a chord step first
+            sol = _newton(surface, sol.s, sol.theta, STEP_TOL, ends=sol.ends, length_tol=tolerance, ev=sol.ev,
+                          factor=sol.factor)
+            levels[-1] = replace(levels[-1], iterations=levels[-1].iterations + sol.iterations,
+                                 converged=sol.converged)
         iterations += sol.iterations
         nfev += sol.nfev
-        if jump:
-            levels += sol.levels
-        else:  # one solve at n, in two legs
-            levels[-1] = replace(sol.levels[0], iterations=levels[-1].iterations + sol.iterations)
     while True:
         sol = _with_eval(surface, sol)
         fine = _with_eval(surface, solve_path(surface, sol.s, sol.theta, 2 * n + 1, method, warm=True, ends=sol.ends,

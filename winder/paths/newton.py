@@ -83,6 +83,7 @@ class PathSolve:
     ev: SurfaceEval | None = None  # interior vertices, order >= 1
     ends: SurfaceEval | None = None  # the two end points, order 1
     levels: tuple[Level, ...] = ()
+    factor: np.ndarray | None = None  # the last Newton Hessian's banded Cholesky factor, if any
 
     def jacobians(self) -> tuple[np.ndarray, np.ndarray]:
         """(Phi_s, Phi_theta) at all n + 2 vertices, each (n + 2, 3), from the solver's last evaluation."""
@@ -122,12 +123,14 @@ def _settled(err: float, p: np.ndarray, ends: np.ndarray, h: float, length_tol: 
 
 def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: float,
             max_iter: int = MAX_NEWTON, ends: SurfaceEval | None = None,
-            predicted_tol: float | None = None, length_tol: float | None = None) -> PathSolve:
+            predicted_tol: float | None = None, length_tol: float | None = None,
+            ev: SurfaceEval | None = None, factor: np.ndarray | None = None) -> PathSolve:
     """Newton from (s, th) (n + 2,) to a step below step_tol of the mean segment; predicted_tol: stop
     after a step once the predicted next one is below this fraction of a segment (default
     PREDICTED_MARGIN step_tol). length_tol (mm): also stop once the remaining step cannot move the
     smooth length by LENGTH_SHARE of it (_settled): without taking a step that small, or after a
-    step whose predicted successor is."""
+    step whose predicted successor is. ev, factor : the surface at (s, th) (order >= 1) and a Newton
+    factor from near it, to go on from an earlier solve's end: its first step is then a chord step."""
     predicted_tol = PREDICTED_MARGIN * step_tol if predicted_tol is None else predicted_tol
     s, th = s.copy(), th.copy()
     s_max = surface.length
@@ -136,11 +139,12 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
     converged = False
     it = 0
     prev_disp = np.inf
-    factor = None  # the last Newton Hessian's Cholesky factor, while a chord step can reuse it
+    # factor: the last Newton Hessian's Cholesky factor, while a chord step can reuse it
     if ends is None:
         ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)
-    ev = surface.evaluate(s[1:-1], th[1:-1], order=2)
-    nfev = 1
+    nfev = 0
+    if ev is None:
+        ev, nfev, factor = surface.evaluate(s[1:-1], th[1:-1], order=2), 1, None
     for it in range(1, max_iter + 1):
         chord = factor is not None
         if not chord and ev.pss is None:  # a damped trial point, evaluated for its energy only
@@ -235,7 +239,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
         _raise_left(surface, s)
     if ev.ps is None:
         ev = surface.evaluate(s[1:-1], th[1:-1], order=1)
-    return PathSolve(s, th, it, converged, reason, np.array(history), nfev, ev, ends)
+    return PathSolve(s, th, it, converged, reason, np.array(history), nfev, ev, ends, factor=factor)
 
 
 def _raise_left(surface: SweepSurface, s: np.ndarray) -> None:
