@@ -63,10 +63,8 @@ MAX_REFINE = 12
 # bend, 2.2e-4 to 3.0e-4 on the elliptic tube; the larger is taken, so the prediction errs toward a
 # larger n (the bend's comes out 1.25x the n of its measured rate). It only picks the first pair; the
 # bound still comes from that pair (n, 2n + 1), and a pair that misses predicts the next from its
-# measured rate. Where the prediction is at most 2n + 1 the coarsest pair is solved first, and so it
-# is beyond PREDICT_MAX_POINTS: there a solve's cost grows with n, and the cheap coarse pair's measured
-# rate costs less than the prediction's overshoot (quarter bend at 1e-12: 1303 points predicted, 1042
-# from the pair's rate).
+# measured rate. Where the prediction is at most 2n + 1 the coarsest pair is solved first, and so it is
+# beyond PREDICT_MAX_POINTS, where the cheap pair's rate costs less than the prediction's overshoot.
 PREDICT_ERROR = 3e-4
 PREDICT_MAX_POINTS = 1000
 ROUNDOFF_FLOOR = 1e-15  # relative: about 4 ulp, the roundoff of a length in double precision
