@@ -47,3 +47,26 @@ def test_batch_matches_one_pass_reference():
     assert got[-1].tolist() == [0, 49]
     assert got[-2].tolist() == [0, 8]
     assert reduce_many([], []) == []
+
+
+def test_column_dot_is_einsums_bit_for_bit():
+    from winder.machine.reduce import _dot
+
+    rng = np.random.default_rng(5)
+    for width in (2, 4, 6):
+        rel = rng.normal(size=(3001, width)) * rng.uniform(1e-3, 1e3, size=(3001, 1))
+        seg = rng.normal(size=(3001, width)) * 10.0
+        got = _dot([np.ascontiguousarray(c) for c in rel.T], [np.ascontiguousarray(c) for c in seg.T])
+        assert np.array_equal(got.view(np.int64), np.einsum("ij,ij->i", rel, seg).view(np.int64)), width
+
+
+def test_table_is_the_polylines_one_after_the_other():
+    from winder.machine.reduce import reduce_table
+
+    rng = np.random.default_rng(8)
+    sizes = [3, 0, 250, 1, 2, 97, 600]
+    lines = [np.cumsum(rng.normal(size=(n, 6)) * 0.03, axis=0) for n in sizes]
+    tols = rng.uniform(0.01, 0.1, size=len(lines))
+    got = reduce_table(np.concatenate(lines), np.array(sizes), tols)
+    for q, tol, keep in zip(lines, tols, got):
+        assert keep.tolist() == _recursive(q, tol)

@@ -12,6 +12,8 @@ by pass.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from winder.config.machine import MachineConfig
@@ -44,9 +46,10 @@ class _Turns:
         """(the pass's program angles, whether it starts away from where the last pass ended);
         first: the pass's first contact point."""
         jumped = False
-        if self.end is not None:
-            self.offset += _TWO_PI * np.round((self.end - (theta[0] + self.offset)) / _TWO_PI)
-            gap = theta[0] + self.offset - self.end
+        if self.end is not None:  # on Python floats: the same arithmetic as numpy's, without its per-call cost
+            t0 = float(theta[0])
+            self.offset += _TWO_PI * _rint((self.end - (t0 + self.offset)) / _TWO_PI)
+            gap = t0 + self.offset - self.end
             jumped = abs(gap) > _CONTINUITY_TOL or float(np.linalg.norm(first - self.end_point)) > _POINT_TOL
             if abs(gap) > _CONTINUITY_TOL and gap * self.sense < 0.0:
                 self.offset += _TWO_PI * self.sense
@@ -58,10 +61,17 @@ class _Turns:
         return theta + self.offset
 
     def done(self, cum: np.ndarray, last: np.ndarray) -> None:
-        if cum[-1] != cum[0]:
-            self.sense = float(np.sign(cum[-1] - cum[0]))
-        self.end = float(cum[-1])
+        lo, hi = float(cum[0]), float(cum[-1])
+        if hi != lo:
+            self.sense = float(np.sign(hi - lo)) if math.isnan(hi - lo) else math.copysign(1.0, hi - lo)
+        self.end = hi
         self.end_point = np.asarray(last, dtype=float)
+
+
+def _rint(x: float) -> float:
+    """np.rint of one float (halves to even, the sign of a zero result kept): Python's round on a
+    finite value, numpy's elsewhere."""
+    return math.copysign(float(round(x)), x) if math.isfinite(x) else float(np.rint(x))
 
 
 def straight_axes(passes: list[FiberPass], wheres: list[str], leads: list, dense: list, env: EyeEnvelope,
@@ -94,47 +104,58 @@ def straight_axes(passes: list[FiberPass], wheres: list[str], leads: list, dense
     path, phi_raw = eye_frames(p, d, (np.concatenate(lams), np.concatenate(oks)), sense, sizes)
     last = np.cumsum(sizes) - 1
     first = last - sizes + 1
-    shift, b_shift, jumped = _turn_counts(passes, dense, phi_raw[first], phi_raw[last], path.b_deg[first],
-                                          path.b_deg[last])
+    shift, b_shift, jumped = turn_counts(passes, [None if dn is None else dn[2][-1] for dn in dense],
+                                         phi_raw[first], phi_raw[last], path.b_deg[first], path.b_deg[last])
     theta = np.concatenate(base) + np.repeat(shift, sizes)
     a_deg = rotation_deg(phi_raw, theta)
     b_deg = path.b_deg + np.repeat(b_shift, sizes)
     whole = EyePath(path.x, a_deg, path.z, b_deg, path.eye_xyz, path.lead, path.on_envelope)
-    try:
-        check_limits(whole, machine, "")
-    except ExportError:  # name the first pass (in program order) that leaves the limits
-        for k, where in enumerate(wheres):
-            run = slice(first[k], last[k] + 1)
-            check_limits(EyePath(path.x[run], a_deg[run], path.z[run], b_deg[run], path.eye_xyz[run],
-                                 path.lead[run], path.on_envelope[run]), machine, where)
-        raise
+    checked(whole, sizes, wheres, machine)
     return whole, sizes, jumped
 
 
-def _turn_counts(passes: list[FiberPass], dense: list, phi_first: np.ndarray, phi_last: np.ndarray,
-                 b_first: np.ndarray, b_last: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[bool]]:
+def checked(whole: EyePath, sizes: np.ndarray, wheres: list[str], machine: MachineConfig) -> None:
+    """Refuses axis values of the passes (consecutive runs of `sizes`) outside machine.limits, naming
+    the first pass in program order that leaves them."""
+    try:
+        check_limits(whole, machine, "")
+    except ExportError:
+        last = np.cumsum(sizes) - 1
+        first = last - sizes + 1
+        for k, where in enumerate(wheres):
+            run = slice(first[k], last[k] + 1)
+            check_limits(EyePath(whole.x[run], whole.a_deg[run], whole.z[run], whole.b_deg[run],
+                                 whole.eye_xyz[run], whole.lead[run], whole.on_envelope[run]), machine, where)
+        raise
+
+
+def turn_counts(passes: list[FiberPass], dense_last: list, phi_first: np.ndarray, phi_last: np.ndarray,
+                b_first: np.ndarray, b_last: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[bool]]:
     """What each pass adds to its contact angles (rad) and to its yaw (deg) so that A and B continue
     over the program, and whether it jumped; from each pass's first and last eye angle phi_raw and
-    yaw (deg, continuous within the pass)."""
+    yaw (deg, continuous within the pass). dense_last: per pass the last dense contact angle at the
+    plan's turn count, None where the pass keeps its planned points."""
     turns = _Turns()
-    a_end: float | None = None
+    a_end: tuple[float, float] | None = None  # (phi_raw, theta) of the last eye: A only where a pass jumps
     b_end: float | None = None
     shift, b_shift, jumped = np.zeros(len(passes)), np.zeros(len(passes)), []
-    for k, (fp, dn) in enumerate(zip(passes, dense)):
-        planned = np.asarray(fp.theta, dtype=float)
-        ends = planned[[0, -1]]
+    phi_first, phi_last = phi_first.tolist(), phi_last.tolist()
+    b_first, b_last = b_first.tolist(), b_last.tolist()
+    for k, (fp, dn) in enumerate(zip(passes, dense_last)):
+        theta_k = fp.theta
+        ends = np.array([theta_k[0], theta_k[-1]], dtype=float)
         theta, jump = turns.place(ends, np.asarray(fp.points[0], float))
-        if jump and a_end is not None and (_a_at(phi_first[k], theta[0]) - a_end) * turns.sense > TURN_BACK_DEG:
+        if jump and a_end is not None and (_a_at(phi_first[k], theta[0]) - _a_at(*a_end)) * turns.sense > TURN_BACK_DEG:
             # A runs against theta: the eye would turn back on the way to this pass.
             theta = turns.turn_on(ends)
         if dn is None:
             shift[k] = turns.offset
-            a_end = _a_at(phi_last[k], planned[-1] + turns.offset)
+            a_end = (phi_last[k], ends[1] + turns.offset)
         else:  # the dense angles are at the plan's turn count: add the program's whole turns
-            shift[k] = float(theta[0] - planned[0])
-            a_end = _a_at(phi_last[k], dn[2][-1] + shift[k])
+            shift[k] = float(theta[0] - ends[0])
+            a_end = (phi_last[k], dn + shift[k])
         # The first pass keeps its yaw: -0.0 adds nothing to any value, -0.0 included.
-        b_shift[k] = -0.0 if b_end is None else 360.0 * np.round((b_end - b_first[k]) / 360.0)
+        b_shift[k] = -0.0 if b_end is None else 360.0 * _rint((b_end - b_first[k]) / 360.0)
         b_end = float(b_last[k] + b_shift[k])
         turns.done(theta, fp.points[-1])
         jumped.append(jump)

@@ -25,6 +25,20 @@ MAX_FACTOR = 64  # dense points per planned interval, at most
 DENSE_SHARE = 0.25  # of the chord tolerance, left to the dense polyline's own bow
 
 
+def dense_index(n: int, bow: float, tol: float) -> tuple[int, np.ndarray] | None:
+    """(factor, u ((n - 1) factor + 1,) the dense fractional point indices, the planned points exactly
+    every factor-th) of a pass of n points whose intervals bow up to `bow` off their chords, or None
+    where the planned points suffice (module docstring)."""
+    if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
+        return None
+    factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
+    if factor <= 1:
+        return None
+    u = np.linspace(0.0, n - 1.0, (n - 1) * factor + 1)
+    u[::factor] = np.arange(n)  # the planned points exactly
+    return factor, u
+
+
 def midpoints(paths: SmoothPaths, j: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(points (n-1, 3), directions (n-1, 3), theta (n-1,)) on the smooth path of pass j (n points)
     halfway between its planned points."""
@@ -51,14 +65,10 @@ def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: 
     else:
         p_mid, d_mid, th_mid, mid_lead = mid
     q_mid = axes(p_mid, d_mid, th_mid + shift, mid_lead)
-    bow = float(np.max(row_norms(q_mid - 0.5 * (base[1:] + base[:-1]))))
-    if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
+    found = dense_index(n, float(np.max(row_norms(q_mid - 0.5 * (base[1:] + base[:-1])))), tol)
+    if found is None:
         return None
-    factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
-    if factor <= 1:
-        return None
-    u = np.linspace(0.0, n - 1.0, (n - 1) * factor + 1)
-    u[::factor] = np.arange(n)  # the planned points exactly
+    factor, u = found
     _, th, p, d = paths.point(paths.offset[j] + u)
     p[::factor], d[::factor], th[::factor] = fp.points, fp.direction, fp.theta
     return p, d, th + shift, u
@@ -84,13 +94,10 @@ def densify_many(paths: SmoothPaths, numbers: list[int], passes: list[FiberPass]
     bows = np.maximum.reduceat(err, np.cumsum(sizes - 1) - (sizes - 1))
     todo, us = [], []
     for i, (fp, n, bow) in enumerate(zip(passes, sizes, bows.tolist())):
-        if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
+        found = dense_index(n, bow, tol)
+        if found is None:
             continue
-        factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
-        if factor <= 1:
-            continue
-        u = np.linspace(0.0, n - 1.0, (n - 1) * factor + 1)
-        u[::factor] = np.arange(n)  # the planned points exactly
+        factor, u = found
         todo.append((i, factor, u))
         us.append(paths.offset[numbers[i]] + u)
     out: list = [None] * len(passes)

@@ -157,17 +157,42 @@ def eye_frames(p: np.ndarray, d: np.ndarray, lead: tuple[np.ndarray, np.ndarray]
     phi_raw (m,) (rad, in (-pi, pi]) from which rotation_deg makes A once theta is known. Pointwise
     but for B's continuity (per run of `sizes`), so a whole program's passes go in one call."""
     lam, ok = lead
+    e, phi_raw, zr, d_u = _eye(p, d, lam)
+    if sense is None:
+        sense = -1.0 if np.sum(d_u) < 0.0 else 1.0
+    b = yaw_raw(d, d_u, sense)
+    b = np.unwrap(b) if sizes is None else _unwrap_each(b, np.asarray(sizes, dtype=int))
+    return EyePath(x=e[:, 2].copy(), a_deg=np.zeros(0), z=zr, b_deg=np.degrees(b), eye_xyz=e,
+                   lead=lam, on_envelope=ok), phi_raw
+
+
+def _eye(p: np.ndarray, d: np.ndarray, lam: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(eye e (m, 3), its polar angle phi_raw (m,), cross-feed |e_xy| (m,), d's tangential
+    component d_u (m,)) of contact points p with unit directions d and leads lam: pointwise."""
     e = p + lam[:, None] * d
     phi_raw = np.arctan2(e[:, 1], e[:, 0])
     zr = np.hypot(e[:, 0], e[:, 1])
     d_u = -np.sin(phi_raw) * d[:, 0] + np.cos(phi_raw) * d[:, 1]
-    if sense is None:
-        sense = -1.0 if np.sum(d_u) < 0.0 else 1.0
+    return e, phi_raw, zr, d_u
+
+
+def yaw_raw(d: np.ndarray, d_u: np.ndarray, sense: float) -> np.ndarray:
+    """B (rad, in (-pi, pi], not yet made continuous) of unit directions d (m, 3) with tangential
+    components d_u (m,) for the winding sense `sense`: pointwise."""
     sigma = -1.0 if sense < 0.0 else 1.0
-    b = np.arctan2(sigma * d[:, 2], sigma * d_u)
-    b = np.unwrap(b) if sizes is None else _unwrap_each(b, np.asarray(sizes, dtype=int))
-    return EyePath(x=e[:, 2].copy(), a_deg=np.zeros(0), z=zr, b_deg=np.degrees(b), eye_xyz=e,
-                   lead=lam, on_envelope=ok), phi_raw
+    return np.arctan2(sigma * d[:, 2], sigma * d_u)
+
+
+def eye_points(p: np.ndarray, d: np.ndarray, lam: np.ndarray, sense: float) -> tuple[np.ndarray, ...]:
+    """eye_frames' pointwise values: (e (m, 3), phi_raw (m,), cross-feed (m,), B (m,) rad before
+    unwrapping), so that points placed by several steps of a program are computed once."""
+    e, phi_raw, zr, d_u = _eye(p, d, lam)
+    return e, phi_raw, zr, yaw_raw(d, d_u, sense)
+
+
+def unwrap_each(b: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """B made continuous within each consecutive run of the given sizes (eye_frames' own rule)."""
+    return _unwrap_each(b, np.asarray(sizes, dtype=int))
 
 
 def rotation_deg(phi_raw: np.ndarray, theta: np.ndarray) -> np.ndarray:

@@ -36,8 +36,9 @@ from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.envelope import eye_envelope
 from winder.machine.axis_batch import TURN_BACK_DEG, straight_axes  # noqa: F401 - TURN_BACK_DEG: docstring
 from winder.machine.kinematics import eye_path, make_guide
-from winder.machine.reduce import reduce_many, reduce_points  # noqa: F401 - reduce_points: the one-pass form
+from winder.machine.reduce import reduce_many, reduce_points, reduce_table  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
+from winder.machine.straight import straight_passes
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 from winder.geometry.measure import row_norms
 
@@ -130,6 +131,32 @@ def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | 
                      [first[0], last[1] + 2.0 * da / 3.0, clear, first[3]]])
 
 
+def _stepwise(plan: WindingPlan, nonempty: list[FiberPass], wheres: list[str], env, machine: MachineConfig,
+              sense: float, surface, tol: float, scaled) -> tuple:
+    """straight_passes' result step by step: the leads, the densify check and the dense points of
+    winder.machine.batch, then axis_batch.straight_axes; a refusal names its pass."""
+    leads = all_leads(plan, env)
+    lead_of = {id(fp): lead for fp, lead in zip(nonempty, leads)}
+    # Each layer's smooth paths lie on the surface it was wound on (the mandrel grown by the layers below).
+    smooth = {layer.index: SmoothPaths(plan.surface_of(layer.index), list(layer.passes)) for layer in plan.layers}
+    number = {id(fp): j for layer in plan.layers for j, fp in enumerate(layer.passes)}
+    mids = all_midpoints(plan, smooth, number, env)
+
+    def axes_of(fp: FiberPass):
+        where = pass_where(plan, fp)
+        return lambda p, d, th, ld: scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense,
+                                                    where=where, lead=ld))
+
+    def axes_many(p, d, th, ld, sizes) -> np.ndarray:
+        return scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, lead=ld, sizes=sizes))
+
+    dense_of = all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol, axes_many)
+    dense = [dense_of.get(id(fp)) for fp in nonempty]
+    path, sizes, jumped = straight_axes(nonempty, wheres, leads, dense, env, machine, sense)
+    return (path, sizes, jumped, [None if dn is None else dn[3] for dn in dense],
+            [fp.points if dn is None else dn[0] for fp, dn in zip(nonempty, dense)])
+
+
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
@@ -156,46 +183,31 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     nonempty = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
     wheres = [pass_where(plan, fp) for fp in nonempty]
     laid: list[tuple] = []  # per non-empty pass: (table, scaled axes, u, points, lift, on_envelope, lead)
+    whole = None  # the scaled axes of all passes, one after the other, and each pass's rows
     if robot:
         for fp, pose in zip(nonempty, all_poses(plan, machine, env, guide)):
             laid.append((np.column_stack([pose.position, pose.direction]),
                          np.column_stack([pose.position, angle_scale * pose.direction]),
                          np.arange(len(fp.points), dtype=float), fp.points, None, pose.on_envelope, pose.lead))
     elif nonempty:
-        leads = all_leads(plan, env)
-        lead_of = {id(fp): lead for fp, lead in zip(nonempty, leads)}
-        # Each layer's smooth paths lie on the surface it was wound on (the mandrel grown by the layers below).
-        smooth = {layer.index: SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
-                  for layer in plan.layers}
-        number = {id(fp): j for layer in plan.layers for j, fp in enumerate(layer.passes)}
-        mids = all_midpoints(plan, smooth, number, env)
-
-        def axes_of(fp: FiberPass):
-            where = pass_where(plan, fp)
-            return lambda p, d, th, ld: scaled(eye_path(p, d, surface, machine, theta=th, envelope=env,
-                                                        sense=sense, where=where, lead=ld))
-
-        def axes_many(p, d, th, ld, sizes) -> np.ndarray:
-            return scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, lead=ld,
-                                   sizes=sizes))
-
-        dense_of = all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol, axes_many)
-        dense = [dense_of.get(id(fp)) for fp in nonempty]
-        path, sizes, jumped = straight_axes(nonempty, wheres, leads, dense, env, machine, sense)
+        found = straight_passes(plan, nonempty, wheres, env, machine, sense, arc_radius, angle_scale, tol)
+        path, sizes, jumped, us, contacts = found if found is not None else _stepwise(
+            plan, nonempty, wheres, env, machine, sense, surface, tol, scaled)
         table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
         cuts = np.cumsum(sizes)[:-1]
-        parts = zip(np.split(table, cuts), np.split(scaled(path), cuts), np.split(path.on_envelope, cuts),
+        whole = (scaled(path), sizes)
+        parts = zip(np.split(table, cuts), np.split(whole[0], cuts), np.split(path.on_envelope, cuts),
                     np.split(path.lead, cuts))
         last_row: np.ndarray | None = None
-        for fp, dn, jump, (tab, q, on_envelope, lead) in zip(nonempty, dense, jumped, parts):
+        for fp, u, points, jump, (tab, q, on_envelope, lead) in zip(nonempty, us, contacts, jumped, parts):
             lift = None if not jump or last_row is None else approach(last_row, tab[0], env.max_radius)
             last_row = tab[-1]
-            u, points = (np.arange(len(fp.points), dtype=float), fp.points) if dn is None else (dn[3], dn[0])
+            u = np.arange(len(fp.points), dtype=float) if u is None else u
             laid.append((tab, q, u, points, lift, on_envelope, lead))
     # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
     tols = [tol if t[2].size == len(fp.points) else tol * (1.0 - DENSE_SHARE) for fp, t in zip(nonempty, laid)]
     # Every pass's point reduction in one batch (winder.machine.reduce); the rows in pass order.
-    kept = iter(reduce_many([t[1] for t in laid], tols))
+    kept = iter(reduce_table(*whole, tols) if whole is not None else reduce_many([t[1] for t in laid], tols))
     laid_of = iter(laid)
     for layer in plan.layers:
         segments: list[Segment] = []

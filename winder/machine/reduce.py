@@ -30,42 +30,81 @@ def reduce_many(polylines: list[np.ndarray], tols) -> list[np.ndarray]:
     if sizes.size == 0:
         return []
     width = max((np.asarray(q).shape[1] for q in polylines if len(q)), default=1)
-    q = np.concatenate([np.asarray(p, dtype=float).reshape(-1, width) for p in polylines])
-    start = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    return reduce_table(np.concatenate([np.asarray(p, dtype=float).reshape(-1, width) for p in polylines]), sizes, tols)
+
+
+def _dot(rel: list[np.ndarray], seg: list[np.ndarray]) -> np.ndarray:
+    """The row dot products of the columns rel and seg, as np.einsum("ij,ij->i") sums them: its
+    two lanes (the even columns' products and the odd ones', each in order), then their sum."""
+    prods = [r * t for r, t in zip(rel, seg)]
+    even, odd = prods[0::2], prods[1::2]
+    total = even[0]
+    for p in even[1:]:
+        total = total + p
+    if odd:
+        rest = odd[0]
+        for p in odd[1:]:
+            rest = rest + p
+        total = total + rest
+    return total
+
+
+def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
+    """reduce_many of the polylines stored one after the other in q (sum(sizes), k), polyline i
+    sizes[i] rows long: the kept indices (into each polyline) of each.
+
+    The rows are worked on a column at a time (each a contiguous array): per point, the arithmetic
+    of the row-wise form (the products and sums of rel @ seg in einsum's order, row_norms' sum)."""
+    q = np.asarray(q, dtype=float)
+    sizes = np.asarray(sizes, dtype=int)
+    if sizes.size == 0:
+        return []
+    width = q.shape[1] if q.ndim == 2 else 1
+    q = q.reshape(-1, width)
+    lanes = width % 2 == 0 and width > 0  # einsum's two lanes cover the row: _dot is its sum
+    cols = [np.ascontiguousarray(q[:, c]) for c in range(width)]
+    start = np.cumsum(sizes) - sizes
     keep = np.zeros(q.shape[0], dtype=bool)
     some = sizes > 0
     keep[start[some]] = True
     keep[(start + sizes - 1)[some]] = True
     tol_of = np.repeat(np.asarray(tols, dtype=float), sizes)  # per point: the tolerance of its pass
-    lo, hi = start[sizes > 2], (start + sizes - 1)[sizes > 2]  # the open chords
+    lo, hi = start[sizes > 2], (start + sizes - 1)[sizes > 2]  # the open chords, in point order
     while lo.size:
         n = hi - lo - 1  # interior points of each chord
         open_ = n > 0
         lo, hi, n = lo[open_], hi[open_], n[open_]
         if lo.size == 0:
             break
-        order = np.argsort(lo, kind="stable")  # chords in point order: the gathers below run forward
-        lo, hi, n = lo[order], hi[order], n[order]
-        first = np.concatenate([[0], np.cumsum(n)[:-1]])
-        chord = np.repeat(np.arange(lo.size), n)
-        idx = np.arange(int(n.sum())) + np.repeat(lo + 1 - first, n)
+        first = np.cumsum(n) - n
+        idx = np.arange(int(first[-1] + n[-1])) + np.repeat(lo + 1 - first, n)
         a = q[lo]
         seg = q[hi] - a
         len2 = np.matmul(seg[:, None, :], seg[:, :, None])[:, 0, 0]  # as seg @ seg, bit for bit
-        rel = q.take(idx, axis=0) - a.take(chord, axis=0)
-        seg_p = seg.take(chord, axis=0)
-        len2_p = len2[chord]
+        rel = [c.take(idx) - np.repeat(a[:, k], n) for k, c in enumerate(cols)]
+        seg_p = [np.repeat(seg[:, k], n) for k in range(width)]
+        len2_p = np.repeat(len2, n)
+        if lanes:
+            dot = _dot(rel, seg_p)
+        else:
+            dot = np.einsum("ij,ij->i", np.column_stack(rel), np.column_stack(seg_p))
         with np.errstate(divide="ignore", invalid="ignore"):
-            u = np.clip(np.einsum("ij,ij->i", rel, seg_p) / len2_p, 0.0, 1.0)  # as rel @ seg
+            u = np.clip(dot / len2_p, 0.0, 1.0)  # as rel @ seg
         u[~(len2_p > 0.0)] = 0.0
-        rel -= u[:, None] * seg_p
-        dist = row_norms(rel)
+        total = None
+        for r, t in zip(rel, seg_p):  # row_norms of rel - u seg, a column at a time
+            r -= u * t
+            total = r * r if total is None else total + r * r
+        dist = np.sqrt(total)
         top = np.maximum.reduceat(dist, first)
         # The first point at the largest distance (np.argmax's choice).
-        at_top = np.where(dist == top[chord], np.arange(dist.size), dist.size)
+        at_top = np.where(dist == np.repeat(top, n), np.arange(dist.size), dist.size)
         j = idx[np.minimum.reduceat(at_top, first)]
         split = top > tol_of[lo]
         j, lo, hi = j[split], lo[split], hi[split]
         keep[j] = True
-        lo, hi = np.concatenate([lo, j]), np.concatenate([j, hi])
-    return [np.flatnonzero(keep[s:s + m]) for s, m in zip(start, sizes)]
+        # Each split chord's halves side by side: the chords stay in point order.
+        lo, hi = np.column_stack([lo, j]).ravel(), np.column_stack([j, hi]).ravel()
+    kept = np.flatnonzero(keep)
+    cuts = np.searchsorted(kept, start + sizes)
+    return [kept[a:b] - s for a, b, s in zip(np.concatenate([[0], cuts[:-1]]).tolist(), cuts.tolist(), start.tolist())]

@@ -45,29 +45,29 @@ class SmoothPaths:
 
     def __init__(self, surface: SweepSurface, passes: list[FiberPass]) -> None:
         self.surface = surface
-        s, th, ds, dth, offsets, last, free, d, along = [], [], [], [], [], [], [], [], []
-        count = 0
-        for fp in passes:
-            n = len(fp.s)
-            offsets.append(count)
-            last.append(count + max(n - 1, 0))
-            s.append(fp.s)
-            th.append(fp.theta)
-            free.append(np.full(n, fp.kind is PassKind.DWELL))
-            d.append(np.asarray(fp.direction, dtype=float).reshape(n, 3))
-            # The not-a-knot cubic spline's slopes against the point index (index_spline); a dwell's
-            # directions are the free fiber's swing, not its parallel's tangent: the slopes stay.
-            slopes = knot_slopes(np.column_stack([fp.s, fp.theta])) if n >= 2 else np.zeros((n, 2))
-            ds.append(slopes[:, 0])
-            dth.append(slopes[:, 1])
-            along.append(np.full(n, n >= 2 and fp.kind is not PassKind.DWELL))
-            count += n
-        self.s, self.th = np.concatenate(s), np.concatenate(th)
-        self.ds, self.dth = np.concatenate(ds), np.concatenate(dth)
-        self.offset, self.last = np.array(offsets), np.array(last)
-        self.free = np.concatenate(free) if free else np.zeros(0, dtype=bool)
-        self.d = np.concatenate(d) if d else np.zeros((0, 3))
-        on = np.flatnonzero(np.concatenate(along)) if along else np.zeros(0, dtype=int)
+        sizes = np.array([len(fp.s) for fp in passes], dtype=int)
+        count = int(sizes.sum())
+        self.offset = np.cumsum(sizes) - sizes
+        self.last = self.offset + np.maximum(sizes - 1, 0)
+        self.s = np.concatenate([fp.s for fp in passes])
+        self.th = np.concatenate([fp.theta for fp in passes])
+        dwell = np.array([fp.kind is PassKind.DWELL for fp in passes], dtype=bool)
+        self.free = np.repeat(dwell, sizes)
+        self.d = (np.concatenate([np.asarray(fp.direction, dtype=float).reshape(n, 3) for fp, n in zip(passes, sizes)])
+                  if passes else np.zeros((0, 3)))
+        # The not-a-knot cubic spline's slopes against the point index (index_spline), the passes of one
+        # size in one solve (a column each: the same slopes as pass by pass); a dwell's directions are
+        # the free fiber's swing, not its parallel's tangent: the slopes stay.
+        self.ds, self.dth = np.zeros(count), np.zeros(count)
+        by_size: dict[int, list[int]] = {}
+        for i, n in enumerate(sizes.tolist()):
+            if n >= 2:
+                by_size.setdefault(n, []).append(i)
+        for n, group in by_size.items():
+            slopes = knot_slopes(np.concatenate([np.column_stack([passes[i].s, passes[i].theta]) for i in group], axis=1))
+            rows = (self.offset[group][:, None] + np.arange(n)).T  # (n, passes of the group)
+            self.ds[rows], self.dth[rows] = slopes[:, 0::2], slopes[:, 1::2]
+        on = np.flatnonzero(np.repeat((sizes >= 2) & ~dwell, sizes))
         if on.size:  # every pass's nodes in one call
             self.ds[on], self.dth[on] = _along(surface, self.s[on], self.th[on], self.d[on], self.ds[on], self.dth[on])
         self._is_last = np.zeros(count + 1, dtype=bool)  # a table, not np.isin: _interval runs per lookup

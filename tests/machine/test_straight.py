@@ -1,0 +1,50 @@
+"""The straight-axis program with each contact point's eye found once (winder.machine.straight)
+against the program's steps (batch.all_dense, then axis_batch.straight_axes): the same program, bit
+for bit, on samples whose passes densify by even factors (dense points at the midpoints), odd ones
+(none there) and not at all."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from winder.config.job import load_config
+from winder.machine import program, straight
+from winder.winding.plan import plan as plan_job
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _bits(a: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(a).view(np.uint8)
+
+
+@pytest.mark.parametrize("sample", ["cone", "pipe", "elliptic_tube", "vessel_isotensoid"])
+def test_gathered_program_is_the_steps(sample, monkeypatch):
+    job = load_config(ROOT / "samples" / f"{sample}.yaml")
+    plan = plan_job(job)
+    calls = []
+    real = straight.straight_passes
+    monkeypatch.setattr(program, "straight_passes", lambda *a: calls.append(1) or real(*a))
+    gathered = program.build_program(plan, job.machine)
+    monkeypatch.setattr(program, "straight_passes", lambda *args: None)
+    steps = program.build_program(plan, job.machine)
+    assert calls == [1]
+    for name in ("values", "index", "fiber", "feed"):
+        assert np.array_equal(_bits(getattr(gathered, name)), _bits(getattr(steps, name))), name
+    assert gathered.segments == steps.segments
+
+
+def test_a_lead_that_fails_leaves_it_to_the_steps(monkeypatch):
+    job = load_config(ROOT / "samples" / "pipe.yaml")
+    plan = plan_job(job)
+
+    def refuse(*args, **kwargs):
+        raise straight.ExportError("no lead")
+
+    monkeypatch.setattr(straight, "eye_leads", refuse)
+    env = program.eye_envelope(plan.outer_surface, job.machine)
+    passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    assert straight.straight_passes(plan, passes, [""] * len(passes), env, job.machine, 1.0, 1.0, 1.0, 0.05) is None

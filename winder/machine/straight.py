@@ -1,0 +1,169 @@
+"""The axes of a straight-axis program with every contact point's eye found once (winder.machine.program).
+
+Three steps of the program ask for the eye at contact points: the densify check (winder.machine.densify:
+the planned points and the smooth path's interval midpoints), the dense resampling of the passes it
+flags, and the axes of the program (winder.machine.axis_batch). They share most of their points: a
+densified pass keeps its planned points, and where its dense spacing halves an interval (an even
+factor: the dense index is exactly k + 1/2) its point is the check's midpoint. The lead, the eye, its
+angle and B before unwrapping are pointwise (winder.machine.kinematics.eye_points), so each point's
+are computed once and gathered into the program's rows; B is made continuous per pass afterwards,
+and A reuses the check's values wherever the program adds no turn. The values are the same, bit for
+bit, as those of batch.all_dense followed by axis_batch.straight_axes.
+
+Where a lead cannot be found in a batch (the eye does not clear the mandrel), this returns None and
+the program takes those steps instead, which name the pass in their refusal.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from winder.config.machine import MachineConfig
+from winder.errors import ExportError
+from winder.machine.axis_batch import checked, turn_counts
+from winder.machine.densify import dense_index
+from winder.machine.envelope import EyeEnvelope
+from winder.machine.kinematics import EyePath, eye_points, rotation_deg, unwrap_each
+from winder.machine.leads import eye_leads, unit_rows
+from winder.machine.smooth import SmoothPaths
+from winder.winding.results import FiberPass, WindingPlan
+from winder.geometry.measure import row_norms
+
+
+class _Points:
+    """Contact points with their eyes: p, the unit directions' eyes (e, phi_raw, cross-feed zr, raw
+    B), leads lam and on_envelope ok, the contact angles theta."""
+
+    def __init__(self, p: np.ndarray, d: np.ndarray, theta: np.ndarray, env: EyeEnvelope, sense: float) -> None:
+        self.lam, self.ok = eye_leads(p, d, env)  # ExportError: the eye does not clear the mandrel
+        self.p, self.theta = p, theta
+        self.e, self.phi, self.zr, self.b = eye_points(p, unit_rows(d), self.lam, sense)
+
+    def scaled(self, theta: np.ndarray, sizes: np.ndarray, arc_radius: float, angle_scale: float):
+        """(A (deg) at the contact angles theta, the scaled axes (m, 4) of the point reduction with B
+        continuous per run of sizes): what densify's check compares."""
+        a = rotation_deg(self.phi, theta)
+        b = np.degrees(unwrap_each(self.b, sizes))
+        return a, np.column_stack([self.e[:, 2], self.zr, np.radians(a) * arc_radius, np.radians(b) * angle_scale])
+
+
+def straight_passes(plan: WindingPlan, passes: list[FiberPass], wheres: list[str], env: EyeEnvelope,
+                    machine: MachineConfig, sense: float, arc_radius: float, angle_scale: float, tol: float):
+    """(path, sizes, jumped, us, points) of the non-empty passes in program order, as straight_axes
+    gives them after all_dense: the EyePath of every row, each pass's rows, whether it jumped, its
+    fractional point indices u (None where not densified) and its contact points; None where a lead
+    batch fails. arc_radius, angle_scale: the scaled axes of the point reduction (program.py)."""
+    try:
+        return _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale, tol)
+    except _NoLead:
+        return None
+
+
+class _NoLead(Exception):
+    pass
+
+
+def _points(p, d, theta, env, sense) -> _Points:
+    try:
+        return _Points(p, d, theta, env, sense)
+    except ExportError as exc:
+        raise _NoLead from exc
+
+
+def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale, tol):
+    sizes = np.array([len(fp.points) for fp in passes])
+    starts = np.cumsum(sizes) - sizes
+    base = _points(np.asarray(np.concatenate([fp.points for fp in passes]), dtype=float).reshape(-1, 3),
+                   np.asarray(np.concatenate([fp.direction for fp in passes]), dtype=float).reshape(-1, 3),
+                   np.concatenate([np.asarray(fp.theta, dtype=float) for fp in passes]), env, sense)
+    # The densify check's midpoints, a layer's in one call each (the smooth path of the surface it was wound on).
+    smooth: dict[int, SmoothPaths] = {}
+    index_of = {id(fp): k for k, fp in enumerate(passes)}
+    two, found = [], []  # (pass, its number in its layer, the layer) of the passes of >= 2 points; their midpoints
+    for layer in plan.layers:
+        own = [(j, fp) for j, fp in enumerate(layer.passes) if len(fp.points) >= 2]
+        if not own:
+            continue
+        paths = smooth[layer.index] = SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
+        found.append(paths.point(np.concatenate([paths.offset[j] + np.arange(len(fp.points) - 1) + 0.5
+                                                 for j, fp in own]))[1:])
+        two += [(index_of[id(fp)], j, layer.index) for j, fp in own]
+    if not two:
+        return _assemble(passes, wheres, machine, (base, None, None), sizes, starts, [None] * len(passes), None)
+    th, p, d = (np.concatenate(a) for a in zip(*found))
+    mid = _points(p, d, th + 0.0, env, sense)  # + 0.0: densify's zero shift
+    k_two = np.array([k for k, _, _ in two])
+    n_mid = sizes[k_two] - 1
+    mid_start = np.cumsum(n_mid) - n_mid
+    a_base, q_base = base.scaled(base.theta, sizes, arc_radius, angle_scale)
+    a_mid, q_mid = mid.scaled(mid.theta, n_mid, arc_radius, angle_scale)
+    first = np.repeat(starts[k_two] - mid_start, n_mid) + np.arange(q_mid.shape[0])  # each interval's first point
+    bows = np.maximum.reduceat(row_norms(q_mid - 0.5 * (q_base[first + 1] + q_base[first])), mid_start)
+    # Which passes densify, and how (densify.densify_many's rule); the dense points neither planned nor midpoints.
+    dense: list = [None] * len(passes)
+    extra_u: dict[int, list] = {}
+    for (k, j, layer), n, bow, m0 in zip(two, (n_mid + 1).tolist(), bows.tolist(), mid_start.tolist()):
+        found = dense_index(n, bow, tol)
+        if found is None:
+            continue
+        factor, u = found
+        interval = np.arange(u.size) // factor
+        planned = np.arange(u.size) % factor == 0
+        at_mid = ~planned & (u == interval + 0.5)
+        others = ~planned & ~at_mid
+        dense[k] = [u, planned, at_mid, others, interval, m0, 0]
+        if others.any():
+            extra_u.setdefault(layer, []).append((k, smooth[layer].offset[j] + u[others]))
+    extra = None
+    if extra_u:
+        items = [item for group in extra_u.values() for item in group]
+        th, p, d = (np.concatenate(a) for a in zip(*(smooth[layer].point(np.concatenate([v for _, v in group]))[1:]
+                                                      for layer, group in extra_u.items())))
+        extra = _points(p, d, th + 0.0, env, sense)
+        counts = np.array([v.size for _, v in items])
+        for (k, _), off in zip(items, (np.cumsum(counts) - counts).tolist()):
+            dense[k][6] = off
+    return _assemble(passes, wheres, machine, (base, mid, extra), sizes, starts, dense, (a_base, a_mid))
+
+
+def _assemble(passes, wheres, machine, pools, sizes, starts, dense, checked_a):
+    """The program's rows, each point's values gathered from the pools (planned points, midpoints,
+    other dense points; see the module docstring): straight_passes' result."""
+    base, mid, extra = pools
+    n_base, n_mid = base.theta.size, (0 if mid is None else mid.theta.size)
+    gather = []
+    for n, start, dn in zip(sizes.tolist(), starts.tolist(), dense):
+        if dn is None:
+            gather.append(np.arange(start, start + n))
+            continue
+        u, planned, at_mid, others, interval, m0, x0 = dn
+        rows = np.empty(u.size, dtype=np.int64)
+        rows[planned] = start + interval[planned]
+        rows[at_mid] = n_base + m0 + interval[at_mid]
+        rows[others] = n_base + n_mid + x0 + np.arange(int(np.count_nonzero(others)))
+        gather.append(rows)
+    used = [q for q in pools if q is not None]
+    g = np.concatenate(gather)
+    final = np.array([r.size for r in gather])
+    e, phi, zr, lam, ok, p, theta, b = (np.concatenate([getattr(q, name) for q in used])[g]
+                                        for name in ("e", "phi", "zr", "lam", "ok", "p", "theta", "b"))
+    on_dense = np.repeat([dn is not None for dn in dense], final)
+    theta[on_dense] += 0.0  # a dense pass's angles carry densify's zero shift (-0.0 becomes 0.0)
+    b = np.degrees(unwrap_each(b, final))
+    last = np.cumsum(final) - 1
+    first = last - final + 1
+    dense_last = [None if dn is None else theta[last[k]] for k, dn in enumerate(dense)]
+    shift, b_shift, jumped = turn_counts(passes, dense_last, phi[first], phi[last], b[first], b[last])
+    theta = theta + np.repeat(shift, final)
+    a = np.empty(theta.size)
+    same = np.zeros(theta.size, dtype=bool)
+    if checked_a is not None:  # A of the densify check, where the program's angle is the check's to the bit
+        pad = [] if extra is None else [np.full(extra.theta.size, np.nan)]
+        before = np.concatenate([base.theta, mid.theta] + pad)[g]
+        same = theta.view(np.int64) == before.view(np.int64)
+        a[same] = np.concatenate([*checked_a] + pad)[g[same]]
+    a[~same] = rotation_deg(phi[~same], theta[~same])
+    whole = EyePath(e[:, 2].copy(), a, zr, b + np.repeat(b_shift, final), e, lam, ok)
+    checked(whole, final, wheres, machine)
+    us = [None if dn is None else dn[0] for dn in dense]
+    return whole, final, jumped, us, np.split(p, np.cumsum(final)[:-1])
