@@ -44,3 +44,24 @@ def test_table_text_matches_python_formatting(seed):
 def test_table_text_single_and_wide_rows():
     columns = [(np.array([7]), 0), (np.array([-123456789.25]), 6), (np.array([0.0]), 0)]
     assert table_text(columns, np.array([0]), ["hoop"]) == "7,-123456789.250000,0,hoop\n"
+
+
+@pytest.mark.parametrize("decimals", [1, 3, 6])
+def test_fixed_rows_and_printed_match_python(decimals):
+    from winder.export.fixed_text import fixed_rows, printed
+
+    rng = np.random.default_rng(decimals)
+    cols = [_values(rng, 4000) for _ in range(3)]
+    cols[1][:50] = np.round(cols[1][:50], decimals) + 0.5 * 10.0**-decimals  # exact-looking halves
+    got = fixed_rows([(c, decimals) for c in cols], ["X", "AB", ""])
+    for i, line in enumerate(got):
+        words = []
+        for prefix, c in zip(["X", "AB", ""], cols):
+            word = f"%.{decimals}f" % float(c[i])
+            words.append(prefix + (word[1:] if word.strip("-0.") == "" and word.startswith("-") else word))
+        assert line == " ".join(words)
+    for c in cols:
+        want = np.array([float(f"%.{decimals}f" % v) for v in c.tolist()])
+        assert np.array_equal(np.abs(printed(c, decimals)).view(np.int64), np.abs(want).view(np.int64))
+        assert np.array_equal(printed(c, decimals), want)
+    assert len(got) == 4000 and fixed_rows([(np.array([1.0, np.nan]), 3)], [""]) is None

@@ -97,3 +97,36 @@ def table_text(columns: list[tuple[np.ndarray, int]], tail: np.ndarray, tails: l
         chars[lo:lo + _BLOCK] = rows[:, lo:lo + _BLOCK].T
     flat = chars.reshape(-1)
     return flat[flat != 0].tobytes().decode("ascii")
+
+
+def printed(values: np.ndarray, decimals: int) -> np.ndarray:
+    """The values as "%.{decimals}f" prints them, read back (float(text) of each, bit for bit): the
+    printed digits as an integer over 10^decimals, both exact, one correctly rounded division."""
+    return _scaled(np.asarray(values, dtype=float), decimals) / 10.0**decimals
+
+
+def fixed_rows(columns: list[tuple[np.ndarray, int]], prefixes: list[str], sep: str = " ") -> list[str] | None:
+    """Lines "p_0c_0 p_1c_1 ..." (prefixes[j] before column j's numbers, sep between the fields), each
+    number as "%.{d}f" with d >= 1 decimals, "-0.000" written without its sign: a whole program's
+    words at once. None where a value is not finite (the caller formats those one by one)."""
+    if not columns or any(d < 1 for _, d in columns) or any(not np.all(np.isfinite(v)) for v, _ in columns):
+        return None
+    m = len(columns[0][0])
+    fields = [_Field(values, decimals) for values, decimals in columns]
+    width = sum(len(p) + f.width + 1 for p, f in zip(prefixes, fields))
+    rows = np.zeros((width, m), dtype=np.uint8)
+    end = 0
+    for p, f in zip(prefixes, fields):
+        for ch in p.encode("ascii"):
+            rows[end] = ch
+            end += 1
+        end += f.width
+        f.write(rows, end)
+        rows[end] = ord(sep)
+        end += 1
+    rows[end - 1] = ord("\n")
+    chars = np.empty((m, width), dtype=np.uint8)
+    for lo in range(0, m, _BLOCK):
+        chars[lo:lo + _BLOCK] = rows[:, lo:lo + _BLOCK].T
+    flat = chars.reshape(-1)
+    return flat[flat != 0].tobytes().decode("ascii").split("\n")[:-1]

@@ -13,6 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
+from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
 from winder.winding.results import LayerPlan, PassKind
@@ -104,8 +105,13 @@ def fmt(value: float, decimals: int = DECIMALS) -> str:
 
 
 def fmt_column(values: np.ndarray, decimals: int = DECIMALS) -> list[str]:
-    """fmt of every value of a column (k,), a whole program's at once (no regex per number)."""
-    text = [f"%.{decimals}f" % v for v in np.asarray(values, dtype=float).tolist()]
+    """fmt of every value of a column (k,), a whole program's at once (no regex per number; the
+    digits of finite values from winder.export.fixed_text, the others one by one)."""
+    found = fixed_rows([(np.asarray(values, dtype=float), decimals)], [""])
+    if found is not None:
+        return found
+    rule = f"%.{decimals}f"
+    text = [rule % v for v in np.asarray(values, dtype=float).tolist()]
     if decimals <= 0:
         return text
     zero = "-0." + "0" * decimals  # the only negative zero fmt's pattern matches in a lone number
@@ -143,10 +149,14 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
     lines alone, the moves list left empty)."""
     letters, decimals = dialect.letters(program), dialect.decimals(program)
     columns = dialect.columns(program)
-    # Every row's words as written, one column at a time; the values as written parsed back once.
-    texts = [fmt_column(columns[:, j], n) for j, n in enumerate(decimals)] if len(columns) else []
-    written = list(map(" ".join, zip(*[[c + t for t in col] for c, col in zip(letters, texts)])))
-    values = np.array(texts, dtype=float).T.tolist() if texts else []
+    # Every row's words as written, all at once; the values as written read back.
+    written = fixed_rows([(columns[:, j], n) for j, n in enumerate(decimals)], list(letters)) if len(columns) else []
+    if written is None:  # a value that is not finite: one number at a time
+        texts = [fmt_column(columns[:, j], n) for j, n in enumerate(decimals)]
+        written = list(map(" ".join, zip(*[[c + t for t in col] for c, col in zip(letters, texts)])))
+        values = np.array(texts, dtype=float).T.tolist()
+    else:
+        values = np.column_stack([printed(columns[:, j], n) for j, n in enumerate(decimals)]).tolist()
     lines = dialect.first_lines(program) + _header(program, dialect) + dialect.preamble(program)
     found: list[Move] = []
     last_words: str | None = None
