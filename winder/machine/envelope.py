@@ -3,6 +3,7 @@ mandrel (the rule is in winder.machine.kinematics' module docstring, which uses 
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +32,15 @@ class EyeEnvelope:
     clearance: float | None
     radius_stations: np.ndarray | None = None  # where `radius` is tabulated (default: stations)
     end_slopes: tuple[float, float] = (0.0, 0.0)  # dZ/dX past the table's first and last station
+
+    @functools.cached_property
+    def level(self) -> float | None:
+        """The table's one value where it is level with level continuations (a cylinder's clearance):
+        then `at` is that value at every finite station and `slope` 0. None otherwise."""
+        if self.constant is not None or tuple(self.end_slopes) != (0.0, 0.0) or self.radius.size == 0:
+            return None
+        v = self.radius[0]
+        return float(v) if v > 0.0 and bool(np.all(self.radius == v)) else None
 
     @property
     def max_radius(self) -> float:

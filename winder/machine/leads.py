@@ -171,23 +171,33 @@ def lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
         return np.where(ok, lam, lmax), ok
 
     cols = (*p.T, *d.T)  # gathered per column: fancy indexing rows of (m, 3) costs more than the rest of f
+    # A level table (a cylinder's clearance) is its one value at every finite station, with slope 0:
+    # the same numbers without the table look-ups (finite points and directions keep the stations finite).
+    level = env.level if np.isfinite(p).all() and np.isfinite(d).all() else None
 
     def f(lam: np.ndarray, i: np.ndarray) -> np.ndarray:
         px, py, pz, dx, dy, dz = cols if i.size == m else (c[i] for c in cols)  # i: sorted line indices
-        return np.hypot(px + lam * dx, py + lam * dy) - env.at(pz + lam * dz)
+        r = np.hypot(px + lam * dx, py + lam * dy)
+        return r - level if level is not None else r - env.at(pz + lam * dz)
 
     def fd(lam: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         px, py, pz, dx, dy, dz = cols if i.size == m else (c[i] for c in cols)
-        x, y, z = px + lam * dx, py + lam * dy, pz + lam * dz
+        x, y = px + lam * dx, py + lam * dy
         r = np.hypot(x, y)
+        if level is not None:
+            at, slope = level, 0.0
+        else:
+            z = pz + lam * dz
+            at, slope = env.at(z), env.slope(z)
         with np.errstate(divide="ignore", invalid="ignore"):  # r = 0: a nan slope, no Newton step
-            return r - env.at(z), (x * dx + y * dy) / r - env.slope(z) * dz
+            return r - at, (x * dx + y * dy) / r - slope * dz
 
     # The region inside the envelope is convex (its profile concave), so the guess may bracket: the
     # crossing with the cylinder of the envelope's radius where that one would be crossed.
     with np.errstate(divide="ignore", invalid="ignore"):
         guess = _cylinder_lead(p, d, r0, at_p)
-        guess = _cylinder_lead(p, d, r0, env.at(p[:, 2] + np.where(np.isfinite(guess), guess, 0.0) * d[:, 2]))
+        if level is None:  # else the envelope's radius there is at_p's own
+            guess = _cylinder_lead(p, d, r0, env.at(p[:, 2] + np.where(np.isfinite(guess), guess, 0.0) * d[:, 2]))
     return first_crossing(f, m, lmax, guess, r0 - at_p, fd)  # f(0): p + 0 d is p
 
 
