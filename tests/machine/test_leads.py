@@ -73,3 +73,22 @@ def test_unwrap_each_is_np_unwrap_per_run():
         want = np.concatenate([np.unwrap(b[e - n:e]) for e, n in zip(ends, sizes)])
         got = kinematics._unwrap_each(b, sizes)
         assert np.array_equal(want.view(np.int64), got.view(np.int64))  # bit for bit, signed zeros too
+
+
+def test_level_envelope_leads_are_the_tables_bit_for_bit(monkeypatch):
+    """A cylinder's clearance envelope is level: its leads without the table look-ups are the same numbers."""
+    job = load_config(ROOT / "samples/pipe.yaml")
+    surface = build_surface(job.mandrel, job.source, job.name)
+    env = eye_envelope(surface, MachineConfig(eye_clearance=20.0, eye_radius=None))
+    assert env.level is not None and env.constant is None
+    rng = np.random.default_rng(4)
+    m = 5000
+    ev = surface.evaluate(rng.uniform(0.0, surface.length, m), rng.uniform(0.0, 2.0 * np.pi, m), order=1)
+    mix = rng.normal(size=(m, 2))
+    mix[:100, 1] = rng.choice([0.0, 1e-9, -1e-12], 100)  # along the axis: no crossing within the largest lead
+    d = ev.ps * mix[:, :1] + ev.pt * mix[:, 1:]
+    lam, ok = leads.eye_leads(ev.p, d, env)
+    monkeypatch.setattr(type(env), "level", property(lambda self: None))
+    lam_table, ok_table = leads.eye_leads(ev.p, d, env)
+    assert np.array_equal(ok, ok_table) and not ok.all()
+    assert np.array_equal(lam.view(np.int64), lam_table.view(np.int64))
