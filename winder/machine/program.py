@@ -157,6 +157,48 @@ def _stepwise(plan: WindingPlan, nonempty: list[FiberPass], wheres: list[str], e
             [fp.points if dn is None else dn[0] for fp, dn in zip(nonempty, dense)])
 
 
+def _moves(laid: list[tuple], kept: list[np.ndarray], width: int) -> tuple[np.ndarray, ...]:
+    """The program's rows from the laid passes (build_program's tuples) and the rows each keeps:
+    (values (m, width), index (m,), fiber (m,); per pass its approach rows, its capped points and
+    its largest lead), every pass at once. The fiber of a row is the polyline length along the
+    pass's contact points since its last kept row, from each pass's own running sum (the same sums
+    as pass by pass: the passes of one size are rows of one cumsum)."""
+    if not laid:
+        return np.zeros((0, width)), np.zeros(0), np.zeros(0), *(np.zeros(0, dtype=int),) * 2, np.zeros(0)
+    n = np.array([len(t[3]) for t in laid], dtype=int)
+    start = np.cumsum(n) - n
+    points = np.concatenate([t[3] for t in laid])
+    step = row_norms(points[1:] - points[:-1])  # np.diff per pass (and across passes, unused)
+    along = np.zeros(points.shape[0])
+    by_size: dict[int, list[int]] = {}
+    for i, k in enumerate(n.tolist()):
+        if k >= 2:
+            by_size.setdefault(k, []).append(i)
+    for k, group in by_size.items():
+        at = start[group][:, None] + np.arange(k - 1)
+        along[at + 1] = np.cumsum(step[at], axis=1)
+    rows = np.concatenate([keep + s for keep, s in zip(kept, start.tolist())])
+    counts = np.array([keep.size for keep in kept], dtype=int)
+    first = np.cumsum(counts) - counts
+    at_kept = along[rows]
+    fiber = np.empty(at_kept.size)
+    fiber[1:] = at_kept[1:] - at_kept[:-1]
+    fiber[first] = at_kept[first] - at_kept[first]  # each pass's first row lays nothing (as np.diff's prepend)
+    values = np.concatenate([t[0] for t in laid])[rows]
+    index = np.concatenate([t[2] for t in laid])[rows]
+    lifts = [(i, t[4]) for i, t in enumerate(laid) if t[4] is not None]
+    lifted = np.zeros(len(laid), dtype=int)
+    if lifts:  # a pass's approach rows go before its first kept row: no fiber, index -1
+        at = np.concatenate([np.full(lift.shape[0], first[i]) for i, lift in lifts])
+        values = np.insert(values, at, np.concatenate([lift for _, lift in lifts]), axis=0)
+        index, fiber = np.insert(index, at, -1.0), np.insert(fiber, at, 0.0)
+        lifted[[i for i, _ in lifts]] = [lift.shape[0] for _, lift in lifts]
+    off = ~np.concatenate([t[5] for t in laid])
+    capped = np.add.reduceat(off.astype(int), start)
+    max_lead = np.maximum.reduceat(np.concatenate([t[6] for t in laid]).astype(float), start)
+    return values, index, fiber, lifted, capped, max_lead
+
+
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
@@ -172,9 +214,6 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
         return np.column_stack([path.x, path.z, np.radians(path.a_deg) * arc_radius,
                                 np.radians(path.b_deg) * angle_scale])
 
-    rows: list[np.ndarray] = []
-    indices: list[np.ndarray] = []
-    fibers: list[np.ndarray] = []
     layer_segments: list[tuple[Segment, ...]] = []
     count = 0
     progress = sum(float(fp.theta[-1] - fp.theta[0]) for layer in plan.layers for fp in layer.passes
@@ -207,30 +246,23 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
     tols = [tol if t[2].size == len(fp.points) else tol * (1.0 - DENSE_SHARE) for fp, t in zip(nonempty, laid)]
     # Every pass's point reduction in one batch (winder.machine.reduce); the rows in pass order.
-    kept = iter(reduce_table(*whole, tols) if whole is not None else reduce_many([t[1] for t in laid], tols))
-    laid_of = iter(laid)
+    kept = reduce_table(*whole, tols) if whole is not None else reduce_many([t[1] for t in laid], tols)
+    width = len(POSE_AXES if robot else AXES)
+    values, index, fiber, lifted, capped, max_lead = _moves(laid, kept, width)
+    sizes_of = iter((lifted + np.array([k.size for k in kept], dtype=int)).tolist() if laid else [])
+    per_pass = iter(zip(lifted.tolist(), capped.tolist(), max_lead.tolist()))
     for layer in plan.layers:
         segments: list[Segment] = []
         for fp in layer.passes:
             if len(fp.points) == 0:
                 segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count))
                 continue
-            table, _, u, points, lift, on_envelope, lead = next(laid_of)
-            keep = next(kept)
-            lifted = 0 if lift is None else lift.shape[0]
-            rows.append(table[keep] if lift is None else np.vstack([lift, table[keep]]))
-            indices.append(np.concatenate([np.full(lifted, -1.0), u[keep]]))
-            along = np.concatenate([[0.0], np.cumsum(row_norms(np.diff(points, axis=0)))])
-            fibers.append(np.concatenate([np.zeros(lifted), np.diff(along[keep], prepend=along[keep[0]])]))
-            capped = int(np.count_nonzero(~on_envelope))
-            size = lifted + keep.size
-            segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count + size, capped,
-                                    float(np.max(lead)) if capped else 0.0, lifted))
+            size = next(sizes_of)
+            lift, cap, top = next(per_pass)
+            segments.append(Segment(fp.layer, fp.circuit, fp.number, fp.kind, count, count + size, cap,
+                                    top if cap else 0.0, lift))
             count += size
         layer_segments.append(tuple(segments))
-    width = len(POSE_AXES if robot else AXES)
-    values = np.concatenate(rows) if rows else np.zeros((0, width))
-    fiber = np.concatenate(fibers) if fibers else np.zeros(0)
     if not robot:
         starts = [(seg.start, seg) for segs in layer_segments for seg in segs if seg.stop > seg.start]
 
@@ -244,6 +276,6 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
         total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,
         envelope_clearance=env.clearance, values=values, feed=times.feed,
-        index=np.concatenate(indices) if indices else np.zeros(0),
+        index=index,
         segments=tuple(layer_segments), fiber=fiber, times=times,
         mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(surface.axial_length))
