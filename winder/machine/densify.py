@@ -25,18 +25,27 @@ MAX_FACTOR = 64  # dense points per planned interval, at most
 DENSE_SHARE = 0.25  # of the chord tolerance, left to the dense polyline's own bow
 
 
-def dense_index(n: int, bow: float, tol: float) -> tuple[int, np.ndarray] | None:
-    """(factor, u ((n - 1) factor + 1,) the dense fractional point indices, the planned points exactly
-    every factor-th) of a pass of n points whose intervals bow up to `bow` off their chords, or None
-    where the planned points suffice (module docstring)."""
+def dense_factor(bow: float, tol: float) -> int | None:
+    """The dense points per planned interval of a pass whose intervals bow up to `bow` off their
+    chords, or None where the planned points suffice (module docstring)."""
     if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
         return None
     factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
-    if factor <= 1:
-        return None
+    return None if factor <= 1 else factor
+
+
+def dense_u(n: int, factor: int) -> np.ndarray:
+    """((n - 1) factor + 1,) the dense fractional point indices of a pass of n points, the planned
+    points exactly every factor-th."""
     u = np.linspace(0.0, n - 1.0, (n - 1) * factor + 1)
     u[::factor] = np.arange(n)  # the planned points exactly
-    return factor, u
+    return u
+
+
+def dense_index(n: int, bow: float, tol: float) -> tuple[int, np.ndarray] | None:
+    """(factor, dense_u) of a pass of n points whose intervals bow up to `bow`, or None."""
+    factor = dense_factor(bow, tol)
+    return None if factor is None else (factor, dense_u(n, factor))
 
 
 def midpoints(paths: SmoothPaths, j: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

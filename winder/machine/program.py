@@ -154,20 +154,20 @@ def _stepwise(plan: WindingPlan, nonempty: list[FiberPass], wheres: list[str], e
     dense = [dense_of.get(id(fp)) for fp in nonempty]
     path, sizes, jumped = straight_axes(nonempty, wheres, leads, dense, env, machine, sense)
     return (path, sizes, jumped, [None if dn is None else dn[3] for dn in dense],
-            [fp.points if dn is None else dn[0] for fp, dn in zip(nonempty, dense)])
+            np.concatenate([fp.points if dn is None else dn[0] for fp, dn in zip(nonempty, dense)]))
 
 
-def _moves(laid: list[tuple], kept: list[np.ndarray], width: int) -> tuple[np.ndarray, ...]:
-    """The program's rows from the laid passes (build_program's tuples) and the rows each keeps:
-    (values (m, width), index (m,), fiber (m,); per pass its approach rows, its capped points and
-    its largest lead), every pass at once. The fiber of a row is the polyline length along the
-    pass's contact points since its last kept row, from each pass's own running sum (the same sums
-    as pass by pass: the passes of one size are rows of one cumsum)."""
-    if not laid:
+def _moves(laid: tuple, kept: list[np.ndarray], width: int) -> tuple[np.ndarray, ...]:
+    """The program's rows from the laid passes (build_program's arrays of all passes, one after the
+    other: table, u, contact points, on_envelope, lead; each pass's rows; its approach rows) and the
+    rows each keeps: (values (m, width), index (m,), fiber (m,); per pass its approach rows, its
+    capped points and its largest lead), every pass at once. The fiber of a row is the polyline
+    length along the pass's contact points since its last kept row, from each pass's own running sum
+    (the same sums as pass by pass: the passes of one size are rows of one cumsum)."""
+    table, u, points, on_envelope, lead, n, lifts = laid
+    if n.size == 0:
         return np.zeros((0, width)), np.zeros(0), np.zeros(0), *(np.zeros(0, dtype=int),) * 2, np.zeros(0)
-    n = np.array([len(t[3]) for t in laid], dtype=int)
     start = np.cumsum(n) - n
-    points = np.concatenate([t[3] for t in laid])
     step = row_norms(points[1:] - points[:-1])  # np.diff per pass (and across passes, unused)
     along = np.zeros(points.shape[0])
     by_size: dict[int, list[int]] = {}
@@ -184,18 +184,15 @@ def _moves(laid: list[tuple], kept: list[np.ndarray], width: int) -> tuple[np.nd
     fiber = np.empty(at_kept.size)
     fiber[1:] = at_kept[1:] - at_kept[:-1]
     fiber[first] = at_kept[first] - at_kept[first]  # each pass's first row lays nothing (as np.diff's prepend)
-    values = np.concatenate([t[0] for t in laid])[rows]
-    index = np.concatenate([t[2] for t in laid])[rows]
-    lifts = [(i, t[4]) for i, t in enumerate(laid) if t[4] is not None]
-    lifted = np.zeros(len(laid), dtype=int)
+    values, index = table[rows], u[rows]
+    lifted = np.zeros(n.size, dtype=int)
     if lifts:  # a pass's approach rows go before its first kept row: no fiber, index -1
         at = np.concatenate([np.full(lift.shape[0], first[i]) for i, lift in lifts])
         values = np.insert(values, at, np.concatenate([lift for _, lift in lifts]), axis=0)
         index, fiber = np.insert(index, at, -1.0), np.insert(fiber, at, 0.0)
         lifted[[i for i, _ in lifts]] = [lift.shape[0] for _, lift in lifts]
-    off = ~np.concatenate([t[5] for t in laid])
-    capped = np.add.reduceat(off.astype(int), start)
-    max_lead = np.maximum.reduceat(np.concatenate([t[6] for t in laid]).astype(float), start)
+    capped = np.add.reduceat((~on_envelope).astype(int), start)
+    max_lead = np.maximum.reduceat(np.asarray(lead, dtype=float), start)
     return values, index, fiber, lifted, capped, max_lead
 
 
@@ -221,35 +218,45 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     sense = -1.0 if progress < 0.0 else 1.0  # the winding sense of the whole program (for B)
     nonempty = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
     wheres = [pass_where(plan, fp) for fp in nonempty]
-    laid: list[tuple] = []  # per non-empty pass: (table, scaled axes, u, points, lift, on_envelope, lead)
-    whole = None  # the scaled axes of all passes, one after the other, and each pass's rows
+    # The laid passes, one after the other: axis table, scaled axes, fractional point index u, contact
+    # points, on_envelope, lead; each pass's rows, whether it was densified; its approach rows.
+    sizes = np.array([len(fp.points) for fp in nonempty], dtype=int)
+    dense = np.zeros(len(nonempty), dtype=bool)
+    lifts: list[tuple[int, np.ndarray]] = []
     if robot:
-        for fp, pose in zip(nonempty, all_poses(plan, machine, env, guide)):
-            laid.append((np.column_stack([pose.position, pose.direction]),
-                         np.column_stack([pose.position, angle_scale * pose.direction]),
-                         np.arange(len(fp.points), dtype=float), fp.points, None, pose.on_envelope, pose.lead))
+        poses = all_poses(plan, machine, env, guide)
+        cat = (lambda f: np.concatenate([f(p) for p in poses])) if poses else (lambda f: np.zeros((0, 3)))  # noqa: E731
+        position, direction = cat(lambda p: p.position), cat(lambda p: p.direction)
+        table = np.column_stack([position, direction])
+        q = np.column_stack([position, angle_scale * direction])
+        u = np.concatenate([np.arange(k, dtype=float) for k in sizes.tolist()]) if poses else np.zeros(0)
+        contacts = np.concatenate([fp.points for fp in nonempty]) if poses else np.zeros((0, 3))
+        on_envelope = cat(lambda p: p.on_envelope).astype(bool).ravel() if poses else np.zeros(0, dtype=bool)
+        lead = cat(lambda p: p.lead).ravel() if poses else np.zeros(0)
     elif nonempty:
         found = straight_passes(plan, nonempty, wheres, env, machine, sense, arc_radius, angle_scale, tol)
         path, sizes, jumped, us, contacts = found if found is not None else _stepwise(
             plan, nonempty, wheres, env, machine, sense, surface, tol, scaled)
         table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
-        cuts = np.cumsum(sizes)[:-1]
-        whole = (scaled(path), sizes)
-        parts = zip(np.split(table, cuts), np.split(whole[0], cuts), np.split(path.on_envelope, cuts),
-                    np.split(path.lead, cuts))
-        last_row: np.ndarray | None = None
-        for fp, u, points, jump, (tab, q, on_envelope, lead) in zip(nonempty, us, contacts, jumped, parts):
-            lift = None if not jump or last_row is None else approach(last_row, tab[0], env.max_radius)
-            last_row = tab[-1]
-            u = np.arange(len(fp.points), dtype=float) if u is None else u
-            laid.append((tab, q, u, points, lift, on_envelope, lead))
+        q, on_envelope, lead = scaled(path), path.on_envelope, path.lead
+        dense = np.array([u is not None for u in us], dtype=bool)
+        u = np.concatenate([np.arange(k, dtype=float) if v is None else v for k, v in zip(sizes.tolist(), us)])
+        last = np.cumsum(sizes) - 1
+        for k in np.flatnonzero(jumped).tolist():
+            lift = approach(table[last[k - 1]], table[last[k] - sizes[k] + 1], env.max_radius) if k else None
+            if lift is not None:
+                lifts.append((k, lift))
+    else:
+        table = q = np.zeros((0, 4))
+        u, contacts, on_envelope, lead = np.zeros(0), np.zeros((0, 3)), np.zeros(0, dtype=bool), np.zeros(0)
     # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
-    tols = [tol if t[2].size == len(fp.points) else tol * (1.0 - DENSE_SHARE) for fp, t in zip(nonempty, laid)]
+    tols = np.where(dense, tol * (1.0 - DENSE_SHARE), tol)
     # Every pass's point reduction in one batch (winder.machine.reduce); the rows in pass order.
-    kept = reduce_table(*whole, tols) if whole is not None else reduce_many([t[1] for t in laid], tols)
+    kept = reduce_table(q, sizes, tols)
     width = len(POSE_AXES if robot else AXES)
-    values, index, fiber, lifted, capped, max_lead = _moves(laid, kept, width)
-    sizes_of = iter((lifted + np.array([k.size for k in kept], dtype=int)).tolist() if laid else [])
+    values, index, fiber, lifted, capped, max_lead = _moves((table, u, contacts, on_envelope, lead, sizes, lifts),
+                                                            kept, width)
+    sizes_of = iter((lifted + np.array([k.size for k in kept], dtype=int)).tolist())
     per_pass = iter(zip(lifted.tolist(), capped.tolist(), max_lead.tolist()))
     for layer in plan.layers:
         segments: list[Segment] = []

@@ -16,12 +16,14 @@ the program takes those steps instead, which name the pass in their refusal.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.axis_batch import checked, turn_counts
-from winder.machine.densify import dense_index
+from winder.machine.densify import dense_factor, dense_u
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.kinematics import EyePath, eye_points, rotation_deg, unwrap_each
 from winder.machine.leads import eye_leads, unit_rows
@@ -51,7 +53,7 @@ def straight_passes(plan: WindingPlan, passes: list[FiberPass], wheres: list[str
                     machine: MachineConfig, sense: float, arc_radius: float, angle_scale: float, tol: float):
     """(path, sizes, jumped, us, points) of the non-empty passes in program order, as straight_axes
     gives them after all_dense: the EyePath of every row, each pass's rows, whether it jumped, its
-    fractional point indices u (None where not densified) and its contact points; None where a lead
+    fractional point indices u (None where not densified); the contact points of every row); None where a lead
     batch fails. arc_radius, angle_scale: the scaled axes of the point reduction (program.py)."""
     try:
         return _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale, tol)
@@ -103,14 +105,10 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
     dense: list = [None] * len(passes)
     extra_u: dict[int, list] = {}
     for (k, j, layer), n, bow, m0 in zip(two, (n_mid + 1).tolist(), bows.tolist(), mid_start.tolist()):
-        found = dense_index(n, bow, tol)
+        found = dense_factor(bow, tol)
         if found is None:
             continue
-        factor, u = found
-        interval = np.arange(u.size) // factor
-        planned = np.arange(u.size) % factor == 0
-        at_mid = ~planned & (u == interval + 0.5)
-        others = ~planned & ~at_mid
+        u, planned, at_mid, others, interval = _dense_rows(n, found)
         dense[k] = [u, planned, at_mid, others, interval, m0, 0]
         if others.any():
             extra_u.setdefault(layer, []).append((k, smooth[layer].offset[j] + u[others]))
@@ -124,6 +122,21 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
         for (k, _), off in zip(items, (np.cumsum(counts) - counts).tolist()):
             dense[k][6] = off
     return _assemble(passes, wheres, machine, (base, mid, extra), sizes, starts, dense, (a_base, a_mid))
+
+
+@functools.lru_cache(maxsize=64)
+def _dense_rows(n: int, factor: int) -> tuple[np.ndarray, ...]:
+    """(u, planned, at_mid, others, interval) of a pass of n points densified by factor: the dense
+    point indices, which are planned points, which fall exactly on an interval's midpoint, which are
+    neither, and each one's interval; read-only, shared by the passes of one size and factor."""
+    u = dense_u(n, factor)
+    interval = np.arange(u.size) // factor
+    planned = np.arange(u.size) % factor == 0
+    at_mid = ~planned & (u == interval + 0.5)
+    out = (u, planned, at_mid, ~planned & ~at_mid, interval)
+    for a in out:
+        a.flags.writeable = False
+    return out
 
 
 def _assemble(passes, wheres, machine, pools, sizes, starts, dense, checked_a):
@@ -166,4 +179,4 @@ def _assemble(passes, wheres, machine, pools, sizes, starts, dense, checked_a):
     whole = EyePath(e[:, 2].copy(), a, zr, b + np.repeat(b_shift, final), e, lam, ok)
     checked(whole, final, wheres, machine)
     us = [None if dn is None else dn[0] for dn in dense]
-    return whole, final, jumped, us, np.split(p, np.cumsum(final)[:-1])
+    return whole, final, jumped, us, p
