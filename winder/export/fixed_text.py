@@ -68,7 +68,12 @@ class _Field:
         while row >= end - self.width:
             nxt = rest // 10
             used = rest > 0
-            rows[row] = np.where(used, rest - 10 * nxt + _ZERO, np.where(signed, _MINUS, 0))
+            # A place past the leading digit has rest = 0 (its digit 0) and holds the sign or NUL; the
+            # sign's place is never a digit's, so digit + '0' where used + '-' where signed is the text.
+            place = rows[row]
+            place[...] = rest - 10 * nxt
+            place += used.view(np.uint8) * np.uint8(_ZERO)
+            place += signed.view(np.uint8) * np.uint8(_MINUS)
             signed = self.neg & used & (nxt == 0)
             rest, row = nxt, row - 1
 

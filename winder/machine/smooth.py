@@ -91,22 +91,27 @@ class SmoothPaths:
         k = np.maximum(k, 0)
         return k, u - k
 
-    def st(self, u: np.ndarray, order: int = 0) -> tuple[np.ndarray, np.ndarray]:
-        k, h = self._interval(u)
-        h2, h3 = h**2, h**3
-        if order == 0:  # the Hermite basis, shared by s and theta
-            c = (2 * h3 - 3 * h2 + 1, h3 - 2 * h2 + h, -2 * h3 + 3 * h2, h3 - h2)
-        else:
-            c = (6 * h2 - 6 * h, 3 * h2 - 4 * h + 1, -6 * h2 + 6 * h, 3 * h2 - 2 * h)
-        out = [c[0] * v[k] + c[1] * dv[k] + c[2] * v[k + 1] + c[3] * dv[k + 1]
-               for v, dv in ((self.s, self.ds), (self.th, self.dth))]
-        return out[0], out[1]
+    def _hermite(self, at: tuple[np.ndarray, np.ndarray], orders) -> list[tuple[np.ndarray, np.ndarray]]:
+        """(s, theta) of each order asked (0: values, 1: derivatives) in the intervals at = (k, h),
+        the node values looked up once for both."""
+        k, h = at
+        ends = [(v[k], dv[k], v[k + 1], dv[k + 1]) for v, dv in ((self.s, self.ds), (self.th, self.dth))]
+        h2 = h**2
+        found = []
+        for order in orders:
+            if order == 0:  # the Hermite basis, shared by s and theta
+                h3 = h**3
+                c = (2 * h3 - 3 * h2 + 1, h3 - 2 * h2 + h, -2 * h3 + 3 * h2, h3 - h2)
+            else:
+                c = (6 * h2 - 6 * h, 3 * h2 - 4 * h + 1, -6 * h2 + 6 * h, 3 * h2 - 2 * h)
+            out = [c[0] * v0 + c[1] * d0 + c[2] * v1 + c[3] * d1 for v0, d0, v1, d1 in ends]
+            found.append((out[0], out[1]))
+        return found
 
     def speed(self, u: np.ndarray) -> np.ndarray:
         if self.s.size < 2:
             return np.zeros(np.shape(u))
-        s, th = self.st(u)
-        ds, dth = self.st(u, 1)
+        (s, th), (ds, dth) = self._hermite(self._interval(u), (0, 1))
         ev = self.surface.evaluate(s, th, order=1)
         return row_norms(ev.ps * ds[:, None] + ev.pt * dth[:, None])
 
@@ -115,11 +120,10 @@ class SmoothPaths:
         if self.s.size < 2:
             s, th = self.s[np.zeros(len(u), int)], self.th[np.zeros(len(u), int)]
             return s, th, self.surface.points(s, th), np.zeros((len(u), 3))
-        s, th = self.st(u)
-        ds, dth = self.st(u, 1)
+        k, h = self._interval(u)
+        (s, th), (ds, dth) = self._hermite((k, h), (0, 1))
         ev = self.surface.evaluate(s, th, order=1)
         d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
-        k, h = self._interval(u)
         free = self.free[k]
         if np.any(free):  # the free fiber's direction on a dwell: between its nodes' directions
             d = np.where(free[:, None], (1.0 - h)[:, None] * self.d[k] + h[:, None] * self.d[k + 1], d)
