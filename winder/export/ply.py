@@ -16,6 +16,7 @@ int32 indices): importing trimesh costs a whole job's worth of time on a small m
 from __future__ import annotations
 
 import colorsys
+import functools
 import math
 
 import numpy as np
@@ -38,6 +39,7 @@ KIND_SHADE = {  # (saturation, value) of HSV
 }
 
 
+@functools.lru_cache(maxsize=256)
 def band_color(layer: int, kind: PassKind) -> tuple[int, int, int, int]:
     """RGBA (0-255) of a band of the given layer (1-based) and pass kind."""
     hue = ((layer - 1) * GOLDEN) % 1.0
@@ -97,8 +99,10 @@ def _ribbons(plan: WindingPlan, passes: list[FiberPass], band_width: float) -> t
     start = np.repeat(2 * (np.cumsum(n) - n), n)
     i = np.arange(k.size) - np.repeat(np.cumsum(n) - n, n)
     faces = np.empty((2 * k.size, 3), dtype=np.int64)
-    faces[start + i] = np.column_stack([lo, rn, ro])
-    faces[start + np.repeat(n, n) + i] = np.column_stack([lo, ln, rn])
+    first, second = start + i, start + np.repeat(n, n) + i
+    for col, (a, b) in enumerate(((lo, lo), (rn, ln), (ro, rn))):  # a column at a time: no (k, 3) temporaries
+        faces[first, col] = a
+        faces[second, col] = b
     return verts, faces
 
 
@@ -136,7 +140,7 @@ def ply_bytes(plan: WindingPlan, band_width: float) -> bytes:
     vertex["xyz"], vertex["rgba"] = verts, colors
     face = np.empty(len(faces), dtype=[("count", "u1"), ("index", "<i4", (3,))])
     face["count"], face["index"] = 3, faces
-    return _HEADER.format(v=len(verts), f=len(faces)).encode("ascii") + vertex.tobytes() + face.tobytes()
+    return b"".join([_HEADER.format(v=len(verts), f=len(faces)).encode("ascii"), vertex.data, face.data])
 
 
 def export(plan: WindingPlan, job) -> bytes:
