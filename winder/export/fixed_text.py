@@ -16,6 +16,7 @@ import numpy as np
 _ULPS = 8.0 * np.finfo(float).eps  # how close to a rounding half the scaled product may be trusted
 _ZERO, _POINT, _MINUS, _COMMA = ord("0"), ord("."), ord("-"), ord(",")
 _BLOCK = 4096  # table rows per block of the final transposed copy
+SMALL = 200  # rows: fewer are formatted one by one (fixed_rows)
 
 
 def _scaled(v: np.ndarray, decimals: int) -> np.ndarray:
@@ -113,8 +114,11 @@ def printed(values: np.ndarray, decimals: int) -> np.ndarray:
 def fixed_rows(columns: list[tuple[np.ndarray, int]], prefixes: list[str], sep: str = " ") -> list[str] | None:
     """Lines "p_0c_0 p_1c_1 ..." (prefixes[j] before column j's numbers, sep between the fields), each
     number as "%.{d}f" with d >= 1 decimals, "-0.000" written without its sign: a whole program's
-    words at once. None where a value is not finite (the caller formats those one by one)."""
-    if not columns or any(d < 1 for _, d in columns) or any(not np.all(np.isfinite(v)) for v, _ in columns):
+    words at once. None where a value is not finite, or for fewer than SMALL rows (where one by one
+    costs less than the arrays' set-up): the caller formats those one by one."""
+    if not columns or len(columns[0][0]) < SMALL or any(d < 1 for _, d in columns):
+        return None
+    if any(not np.all(np.isfinite(v)) for v, _ in columns):
         return None
     m = len(columns[0][0])
     fields = [_Field(values, decimals) for values, decimals in columns]
