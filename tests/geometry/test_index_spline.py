@@ -47,3 +47,30 @@ def test_segment_nodes_values_and_slopes_are_scipys() -> None:
     scale = np.max(np.abs(y))
     assert np.max(np.abs(vals - spline(x))) <= SPLINE_TOL * scale
     assert np.max(np.abs(ders - spline(x, 1))) <= SPLINE_TOL * scale
+
+
+@pytest.mark.parametrize("m", [4, 33, 1001])
+@pytest.mark.parametrize("factor", [2, 8, None])
+def test_resample_and_nodes_are_hermites_bit_for_bit(m: int, factor: int | None) -> None:
+    # The component-major layouts compute each node with _hermite's own arithmetic, point by point.
+    from winder.geometry.index_spline import _hermite  # noqa: PLC0415
+
+    y = _data(m)
+    dy = knot_slopes(y)
+    count = 8 * m + 3 if factor is None else factor * (m - 1) + 1
+    x = np.linspace(0.0, m - 1.0, count)
+    k = np.minimum(x.astype(int), m - 2)
+    ref = _hermite(y[k], dy[k], y[k + 1], dy[k + 1], (x - k)[:, None])
+    ref[[0, -1]] = y[[0, -1]]
+    if factor is not None:  # the refinement's fractions j / factor, each segment from its left knot
+        t = np.tile(np.arange(factor) / factor, m - 1)
+        k = np.repeat(np.arange(m - 1), factor)
+        ref[:-1] = _hermite(y[k], dy[k], y[k + 1], dy[k + 1], t[:, None])
+        ref[0] = y[0]
+    assert np.array_equal(resample_index(y, count), ref)
+    fractions = np.array([0.2, 0.5, 0.7])
+    t = np.tile(fractions, m - 1)[:, None]
+    k = np.repeat(np.arange(m - 1), 3)
+    vals, ders = segment_nodes(y, dy, fractions)
+    assert np.array_equal(vals, _hermite(y[k], dy[k], y[k + 1], dy[k + 1], t))
+    assert np.array_equal(ders, _hermite(y[k], dy[k], y[k + 1], dy[k + 1], t, derivative=True))

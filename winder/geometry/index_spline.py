@@ -83,12 +83,15 @@ def resample_index(y: np.ndarray, count: int) -> np.ndarray:
         # A power-of-two refinement (the solver's levels): the fractions j / ratio are exact, the
         # same as linspace's, so every segment takes them from one cached basis, no per-point gather.
         a, b, c, d = _basis(tuple(j / ratio for j in range(ratio)))[:4]
-        inner = a * y[:-1, None] + b * dy[:-1, None] + c * y[1:, None] + d * dy[1:, None]
-        out = np.concatenate([inner.reshape(-1, y.shape[1]), y[-1:]])
+        yt, dt = _columns(y), _columns(dy)
+        inner = a * yt[:, None, :-1] + b * dt[:, None, :-1] + c * yt[:, None, 1:] + d * dt[:, None, 1:]
+        out = np.concatenate([_path_order(inner), y[-1:]])
     else:
         x = np.linspace(0.0, m - 1.0, count)
         k = np.minimum(x.astype(int), m - 2)
-        out = _hermite(y[k], dy[k], y[k + 1], dy[k + 1], (x - k)[:, None])
+        # Along (k, count) rows: numpy's inner loops then run over the points, not the k columns.
+        yt, dt = _columns(y), _columns(dy)
+        out = _hermite(yt[:, k], dt[:, k], yt[:, k + 1], dt[:, k + 1], x - k).T
     out[[0, -1]] = y[[0, -1]]
     return out
 
@@ -99,20 +102,38 @@ def segment_nodes(y: np.ndarray, dy: np.ndarray, fractions: np.ndarray) -> tuple
     y, dy : (m, k) knot values and slopes. Returns two ((m - 1) q, k) float arrays, the nodes in
     path order.
     """
-    # One broadcast pass over (m - 1, q, k) with the basis weights of the fractions computed once
-    # (the arithmetic and its order are _hermite's, so the nodes are bit for bit the same).
+    # One broadcast pass over (k, q, m - 1) with the basis weights of the fractions computed once
+    # (the arithmetic and its order are _hermite's, so the nodes are bit for bit the same). The
+    # segments run along the last axis: over (m - 1, q, k) numpy's inner loop would be k = 2 long,
+    # several times slower (measured: 230 -> 40 us at m = 1001, q = 2).
     a, b, c, d, e, f, g = _basis(tuple(float(t) for t in fractions))
-    y0, y1, d0, d1 = y[:-1, None], y[1:, None], dy[:-1, None], dy[1:, None]
+    yt, dt = _columns(y), _columns(dy)
+    y0, y1, d0, d1 = yt[:, None, :-1], yt[:, None, 1:], dt[:, None, :-1], dt[:, None, 1:]
     vals = a * y0 + b * d0 + c * y1 + d * d1
     ders = e * (y0 - y1) + f * d0 + g * d1
-    return vals.reshape(-1, y.shape[1]), ders.reshape(-1, y.shape[1])
+    return _path_order(vals), _path_order(ders)
+
+
+def _columns(y: np.ndarray) -> np.ndarray:
+    """y (m, k) as contiguous (k, m) rows."""
+    return np.ascontiguousarray(y.T)
+
+
+def _path_order(v: np.ndarray) -> np.ndarray:
+    """(k, q, m - 1) node values as ((m - 1) q, k) rows in path order (segment, then fraction): a view
+    of (k, (m - 1) q) storage, filled a fraction at a time (numpy's transposing copy is 4x slower)."""
+    k, q, segments = v.shape
+    out = np.empty((k, segments, q))
+    for j in range(q):
+        out[:, :, j] = v[:, j]
+    return out.reshape(k, -1).T
 
 
 @functools.lru_cache(maxsize=16)
 def _basis(fractions: tuple[float, ...]) -> tuple[np.ndarray, ...]:
-    """The cubic Hermite weights at the fractions, each (1, q, 1): of y0, d0, y1, d1 for the value,
+    """The cubic Hermite weights at the fractions, each (q, 1): of y0, d0, y1, d1 for the value,
     of y0 - y1, d0, d1 for the slope."""
-    t = np.array(fractions)[None, :, None]
+    t = np.array(fractions)[:, None]
     t2 = t * t
     t3 = t2 * t
     return (2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + t, 3.0 * t2 - 2.0 * t3, t3 - t2,
