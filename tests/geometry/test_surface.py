@@ -438,3 +438,25 @@ def test_row_cross_product_is_numpys():
     a, b = storage[0].T, storage[1].T  # (m, 3) views of (3, m) storage, like an evaluation's fields
     np.testing.assert_array_equal(cross(a, b), np.cross(a, b))
     np.testing.assert_array_equal(cross(a[:-1], b[1:]), np.cross(a[:-1], b[1:]))
+
+
+@pytest.mark.parametrize("axis,section,prof", MATRIX, ids=["-".join(c) for c in MATRIX])
+def test_vanishing_terms_left_out_change_no_value(axis, section, prof, monkeypatch):
+    # evaluate skips terms with an exact 0.0 coefficient and factors of 1.0: against every term
+    # computed, the same values (only an exact zero's sign may differ)
+    import winder.geometry.surface as surface_module  # noqa: PLC0415
+
+    cfg = mandrel(axis, section, prof)
+    surf = surface_of(axis, section, prof)
+    s, th = samples(surf, cfg.axis, cfg.section, [])
+    for m in (1, s.size):
+        fast = [surf.evaluate(s[:m], th[:m], order=k) for k in (0, 1, 2)]
+        with monkeypatch.context() as patch:
+            patch.setattr(surface_module, "_zero", lambda v: False)
+            patch.setattr(surface_module, "_times", lambda a, b: a * b)
+            full = [surf.evaluate(s[:m], th[:m], order=k) for k in (0, 1, 2)]
+        for a, b in zip(fast, full):
+            for x, y in zip(a, b):
+                assert (x is None) == (y is None)
+                if x is not None:
+                    assert x.shape == y.shape and np.array_equal(x, y)

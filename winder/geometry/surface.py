@@ -185,9 +185,14 @@ class SweepSurface:
             m = c * e3 - sn * e2
             kn = 0.0 if straight else np.einsum("ij,ij->j", kap, n)
         r_s, r_t = p1 * q, p * q1
-        stretch = z1 * (1.0 - r * kn)  # Phi_s . T: the section's point runs faster outside a bend
-        ps = stretch * tan + r_s * n
-        pt = r_t * n + r * m
+        # Terms whose coefficient is an exact 0.0 (a constant radius, a circle, an arc's K' . n) are
+        # left out, and factors of an exact 1.0 (z = s): adding +-0 or multiplying by 1 changes no
+        # value (at most the sign of an exact zero), and at n ~ 1000 each skipped (3, m) product is a
+        # few percent of the evaluation.
+        stretch = _times(z1, 1.0 - r * kn)  # Phi_s . T: the section's point runs faster outside a bend
+        full = np.ndim(stretch) > 0 or np.ndim(tan) > 1 and tan.shape[1] > 1
+        ps = stretch * tan if _zero(r_s) and full else stretch * tan + r_s * n
+        pt = r * m if _zero(r_t) else r_t * n + r * m
         if order == 1:
             return SurfaceEval(point, ps.T, pt.T)
         if arc is not None:
@@ -195,10 +200,15 @@ class SweepSurface:
         else:
             km = 0.0 if straight else np.einsum("ij,ij->j", kap, m)
             kdn = 0.0 if straight else np.einsum("ij,ij->j", d3, n)
-        pss = ((z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + (z1 * stretch) * kap
-               + (p2 * q) * n)
-        pst = (p1 * q1) * n + r_s * m - (z1 * (r_t * kn + r * km)) * tan
-        ptt = (p * q2 - r) * n + (2.0 * r_t) * m
+        bend = _times(z1, stretch) * kap
+        if not (_zero(z2) and _zero(r_s) and _zero(kdn)):
+            bend = (z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + bend
+        pss = bend if _zero(p2 * q) and arc is not None else bend + (p2 * q) * n
+        twist = _times(z1, r * km if _zero(r_t) else r_t * kn + r * km) * tan
+        pst = r_s * m - twist if _zero(p1 * q1) else (p1 * q1) * n + r_s * m - twist
+        if _zero(r_s) and arc is not None:
+            pst = -twist
+        ptt = (p * q2 - r) * n if _zero(r_t) else (p * q2 - r) * n + (2.0 * r_t) * m
         return SurfaceEval(point, ps.T, pt.T, pss.T, pst.T, ptt.T)
 
     def points(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
@@ -221,6 +231,16 @@ class SweepSurface:
         arr = np.atleast_1d(np.asarray(s, dtype=float))
         per = self._profile(arr)[3] * self._unit_perimeter
         return float(per[0]) if np.ndim(s) == 0 else per
+
+
+def _zero(v) -> bool:
+    """v is an exact scalar 0.0 (a term that vanishes on this surface), not an array."""
+    return isinstance(v, float) and v == 0.0
+
+
+def _times(a, b):
+    """a * b, or b itself where a is the scalar 1.0 (the same values)."""
+    return b if isinstance(a, float) and a == 1.0 else a * b
 
 
 # -- building from a config -----------------------------------------------------------------------
