@@ -95,7 +95,12 @@ def geodesic_curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, 
     vertices, each (m - 2, 3), when the caller has them. Returns (m - 2,) float.
     """
     seg = np.diff(points, axis=0)
-    lens = row_norms(seg)
+    return _curvature(surface, s, theta, seg, row_norms(seg), jac)
+
+
+def _curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, seg: np.ndarray, lens: np.ndarray,
+               jac: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
+    """geodesic_curvature from the segments seg (m - 1, 3) and their lengths lens (m - 1,)."""
     d = seg / lens[:, None]
     if jac is None:
         nrm = surface.normals(s[1:-1], theta[1:-1])
@@ -108,8 +113,20 @@ def geodesic_curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, 
 
 def spacing_deviation(points: np.ndarray) -> float:
     """max |segment length / mean - 1|: 0 for an exactly equally spaced polyline."""
-    lens = row_norms(np.diff(points, axis=0))
+    return _spacing(row_norms(np.diff(points, axis=0)))
+
+
+def _spacing(lens: np.ndarray) -> float:
     return float(np.max(np.abs(lens / lens.mean() - 1.0)))
+
+
+def path_measures(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, points: np.ndarray,
+                  jac: tuple[np.ndarray, np.ndarray]) -> tuple[float, np.ndarray, float]:
+    """(polyline_length, geodesic_curvature, spacing_deviation) of one path, bit for bit, from one
+    set of segments and lengths instead of three. jac : as geodesic_curvature's."""
+    seg = np.diff(points, axis=0)
+    lens = row_norms(seg)
+    return float(np.sum(lens)), _curvature(surface, s, theta, seg, lens, jac), _spacing(lens)
 
 
 def richardson(l_n: float, l_2n: float) -> tuple[float, float]:

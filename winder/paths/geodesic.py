@@ -24,8 +24,7 @@ import numpy as np
 from winder.config.winding import DEFAULT_POINTS
 from winder.errors import ConfigError, SolverError
 from winder.geometry.index_spline import resample_index
-from winder.geometry.measure import (GAUSS_SEGMENTS, geodesic_curvature, polyline_length, richardson,
-                                     smooth_length, spacing_deviation)
+from winder.geometry.measure import GAUSS_SEGMENTS, path_measures, polyline_length, richardson, smooth_length
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.paths.energy import energy_terms
 from winder.paths.lbfgs import _lbfgs
@@ -380,20 +379,19 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         length, smooth_err, levels = _lengths(surface, sol), float("nan"), sol.levels
         iterations, nfev = sol.iterations, sol.nfev
     pts = sol.points()
-    poly = polyline_length(pts)
+    poly, kg, spacing = path_measures(surface, sol.s, sol.theta, pts, (sol.ev.ps, sol.ev.pt))
     refined = (None, None)
     if fine is not None:
         refined = extrapolate_vertices(sol, fine)
         extrapolated, err = richardson(poly, polyline_length(fine.points()))
     else:
         extrapolated, err = float("nan"), float("nan")
-    kg = geodesic_curvature(surface, sol.s, sol.theta, pts, jac=(sol.ev.ps, sol.ev.pt))
     converged = sol.converged and (fine is None or fine.converged)
     return GeodesicResult(
         t=surface.t_of_s(sol.s), s=sol.s, theta=sol.theta, points=pts, length=length,
         polyline_length=poly, length_extrapolated=extrapolated, error_estimate=err,
         smooth_error_estimate=smooth_err, n=n, iterations=iterations, converged=converged,
-        reason=sol.reason, method=method, spacing_deviation=spacing_deviation(pts),
+        reason=sol.reason, method=method, spacing_deviation=spacing,
         max_geodesic_curvature=float(np.max(np.abs(kg))) if kg.size else 0.0,
         seconds=time.perf_counter() - t0, history=sol.history, refined_s=refined[0], refined_theta=refined[1],
         nfev=nfev, levels=levels, message=_message(sol, levels, swept, n))
