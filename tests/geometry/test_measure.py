@@ -30,3 +30,33 @@ def test_row_norms_are_numpys_bit_for_bit() -> None:
     w = rng.normal(size=(50, 6))[:, ::2]  # not contiguous
     assert np.array_equal(row_norms(w), np.linalg.norm(w, axis=1))
     assert row_norms(np.zeros((0, 3))).shape == (0,)
+
+
+def test_speed_along_rows_sums_the_components_in_order() -> None:
+    # v_x^2 + v_y^2 + v_z^2 left to right, as row_norms; einsum over C-ordered (q, 3) rows may group
+    # the three terms otherwise (1 ulp on random data), so the solver's lengths are checked below
+    from winder.geometry.measure import _speed  # noqa: PLC0415
+
+    rng = np.random.default_rng(3)
+    ps, pt, du = rng.normal(size=(3, 2003)), rng.normal(size=(3, 2003)), rng.normal(size=(2, 2003))
+    vel = ps * du[0] + pt * du[1]
+    assert np.array_equal(_speed(ps, pt, du), np.sqrt(vel[0] * vel[0] + vel[1] * vel[1] + vel[2] * vel[2]))
+
+
+def test_smooth_length_on_the_quarter_bend_is_the_row_wise_formulas(quarter_bend) -> None:
+    from winder.geometry.index_spline import LOBATTO_T, LOBATTO_W_END, LOBATTO_W_MID, knot_slopes, segment_nodes  # noqa: PLC0415
+    from winder.geometry.measure import smooth_length  # noqa: PLC0415
+    from winder.paths.geodesic import geodesic  # noqa: PLC0415
+
+    surface = quarter_bend
+    res = geodesic(surface, (10.0, 0.3), (220.0, 2.0), rounds=1, n=1000, estimate=False)
+    y = np.stack([res.s, res.theta], axis=1)
+    dy = knot_slopes(y)
+    u, du = segment_nodes(y, dy, LOBATTO_T)
+    ev = surface.evaluate(np.concatenate([res.s, u[:, 0]]), np.concatenate([res.theta, u[:, 1]]), order=1)
+    d = np.concatenate([dy, du])
+    vel = np.ascontiguousarray(ev.ps) * d[:, :1] + np.ascontiguousarray(ev.pt) * d[:, 1:]
+    speed = np.sqrt(np.einsum("ij,ij->i", vel, vel))
+    m = res.s.shape[0]
+    ref = float(LOBATTO_W_END * (2.0 * np.sum(speed[:m]) - speed[0] - speed[m - 1]) + LOBATTO_W_MID * np.sum(speed[m:]))
+    assert smooth_length(surface, res.s, res.theta, gauss_segments=0) == ref

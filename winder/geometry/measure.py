@@ -57,22 +57,27 @@ def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     if m - 1 <= gauss_segments:
         u, du = segment_nodes(y, dy, 0.5 + 0.5 * GAUSS_X)
         ev = surface.evaluate(u[:, 0], u[:, 1], order=1, with_point=False)
-        vel = ev.ps * du[:, :1] + ev.pt * du[:, 1:]
-        speed = np.sqrt(np.einsum("ij,ij->i", vel, vel)).reshape(-1, GAUSS_NODES)
+        speed = _speed(ev.ps.T, ev.pt.T, du.T).reshape(-1, GAUSS_NODES)
         return float(0.5 * np.sum(speed @ GAUSS_W))
     u, du = segment_nodes(y, dy, LOBATTO_T)
     if knots is None:
         ev = surface.evaluate(np.concatenate([s, u[:, 0]]), np.concatenate([theta, u[:, 1]]), order=1,
                               with_point=False)
-        ps, pt = ev.ps, ev.pt
+        ps, pt = ev.ps.T, ev.pt.T
     else:
         ev = surface.evaluate(u[:, 0], u[:, 1], order=1, with_point=False)
-        ps, pt = np.concatenate([knots[0], ev.ps]), np.concatenate([knots[1], ev.pt])
-    du = np.concatenate([dy, du])
-    vel = ps * du[:, :1] + pt * du[:, 1:]
-    speed = np.sqrt(np.einsum("ij,ij->i", vel, vel))
+        ps, pt = np.concatenate([knots[0].T, ev.ps.T], axis=1), np.concatenate([knots[1].T, ev.pt.T], axis=1)
+    speed = _speed(ps, pt, np.concatenate([dy.T, du.T], axis=1))
     return float(LOBATTO_W_END * (2.0 * np.sum(speed[:m]) - speed[0] - speed[m - 1])
                  + LOBATTO_W_MID * np.sum(speed[m:]))
+
+
+def _speed(ps: np.ndarray, pt: np.ndarray, du: np.ndarray) -> np.ndarray:
+    """|Phi_s s' + Phi_theta theta'| from (3, q) rows ps, pt and (2, q) rows du (s', theta'): (q,).
+    Along rows the products run over the q nodes (over (q, 3) the inner loops are 3 long); the
+    same products and the same three-term sums as on (q, 3) rows."""
+    vel = ps * du[0] + pt * du[1]
+    return np.sqrt(np.einsum("ji,ji->i", vel, vel))
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
