@@ -184,7 +184,7 @@ def _moves(laid: tuple, kept: list[np.ndarray], width: int) -> tuple[np.ndarray,
     fiber = np.empty(at_kept.size)
     fiber[1:] = at_kept[1:] - at_kept[:-1]
     fiber[first] = at_kept[first] - at_kept[first]  # each pass's first row lays nothing (as np.diff's prepend)
-    values, index = table[rows], u[rows]
+    values, index = table.take(rows, axis=0), u[rows]  # take: fancy indexing of rows costs several times more
     lifted = np.zeros(n.size, dtype=int)
     if lifts:  # a pass's approach rows go before its first kept row: no fiber, index -1
         at = np.concatenate([np.full(lift.shape[0], first[i]) for i, lift in lifts])

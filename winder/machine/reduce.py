@@ -49,6 +49,13 @@ def _dot(rel: list[np.ndarray], seg: list[np.ndarray]) -> np.ndarray:
     return total
 
 
+def _interleave(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """x[0], y[0], x[1], y[1], ...: np.column_stack([x, y]).ravel() without its per-call cost."""
+    out = np.empty(2 * x.size, dtype=np.result_type(x, y))
+    out[0::2], out[1::2] = x, y
+    return out
+
+
 def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
     """reduce_many of the polylines stored one after the other in q (sum(sizes), k), polyline i
     sizes[i] rows long: the kept indices (into each polyline) of each.
@@ -78,8 +85,8 @@ def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
             break
         first = np.cumsum(n) - n
         idx = np.arange(int(first[-1] + n[-1])) + np.repeat(lo + 1 - first, n)
-        a = q[lo]
-        seg = q[hi] - a
+        a = q.take(lo, axis=0)  # take: the rows of q[lo], without fancy indexing's cost
+        seg = q.take(hi, axis=0) - a
         len2 = np.matmul(seg[:, None, :], seg[:, :, None])[:, 0, 0]  # as seg @ seg, bit for bit
         rel = [c.take(idx) - np.repeat(a[:, k], n) for k, c in enumerate(cols)]
         seg_p = [np.repeat(seg[:, k], n) for k in range(width)]
@@ -104,7 +111,7 @@ def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
         j, lo, hi = j[split], lo[split], hi[split]
         keep[j] = True
         # Each split chord's halves side by side: the chords stay in point order.
-        lo, hi = np.column_stack([lo, j]).ravel(), np.column_stack([j, hi]).ravel()
+        lo, hi = _interleave(lo, j), _interleave(j, hi)
     kept = np.flatnonzero(keep)
     cuts = np.searchsorted(kept, start + sizes)
     return [kept[a:b] - s for a, b, s in zip(np.concatenate([[0], cuts[:-1]]).tolist(), cuts.tolist(), start.tolist())]

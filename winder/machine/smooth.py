@@ -64,7 +64,10 @@ class SmoothPaths:
             if n >= 2:
                 by_size.setdefault(n, []).append(i)
         for n, group in by_size.items():
-            slopes = knot_slopes(np.concatenate([np.column_stack([passes[i].s, passes[i].theta]) for i in group], axis=1))
+            y = np.empty((n, 2 * len(group)))  # the columns s, theta of each pass in turn
+            y[:, 0::2] = np.array([passes[i].s for i in group], dtype=float).T
+            y[:, 1::2] = np.array([passes[i].theta for i in group], dtype=float).T
+            slopes = knot_slopes(y)
             rows = (self.offset[group][:, None] + np.arange(n)).T  # (n, passes of the group)
             self.ds[rows], self.dth[rows] = slopes[:, 0::2], slopes[:, 1::2]
         on = np.flatnonzero(np.repeat((sizes >= 2) & ~dwell, sizes))

@@ -100,7 +100,7 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
     a_base, q_base = base.scaled(base.theta, sizes, arc_radius, angle_scale)
     a_mid, q_mid = mid.scaled(mid.theta, n_mid, arc_radius, angle_scale)
     first = np.repeat(starts[k_two] - mid_start, n_mid) + np.arange(q_mid.shape[0])  # each interval's first point
-    bows = np.maximum.reduceat(row_norms(q_mid - 0.5 * (q_base[first + 1] + q_base[first])), mid_start)
+    bows = np.maximum.reduceat(row_norms(q_mid - 0.5 * (q_base.take(first + 1, axis=0) + q_base.take(first, axis=0))), mid_start)
     # Which passes densify, and how (densify.densify_many's rule); the dense points neither planned nor midpoints.
     dense: list = [None] * len(passes)
     extra_u: dict[int, list] = {}
@@ -108,8 +108,8 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
         found = dense_factor(bow, tol)
         if found is None:
             continue
-        u, planned, at_mid, others, interval = _dense_rows(n, found)
-        dense[k] = [u, planned, at_mid, others, interval, m0, 0]
+        u, planned, at_mid, others, interval, local, pool = _dense_rows(n, found)
+        dense[k] = [u, planned, at_mid, others, interval, m0, 0, local, pool]
         if others.any():
             extra_u.setdefault(layer, []).append((k, smooth[layer].offset[j] + u[others]))
     extra = None
@@ -126,14 +126,28 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
 
 @functools.lru_cache(maxsize=64)
 def _dense_rows(n: int, factor: int) -> tuple[np.ndarray, ...]:
-    """(u, planned, at_mid, others, interval) of a pass of n points densified by factor: the dense
-    point indices, which are planned points, which fall exactly on an interval's midpoint, which are
-    neither, and each one's interval; read-only, shared by the passes of one size and factor."""
+    """(u, planned, at_mid, others, interval, local, pool) of a pass of n points densified by factor:
+    the dense point indices, which are planned points, which fall exactly on an interval's midpoint,
+    which are neither, each one's interval, and each one's pool (0 planned, 1 midpoints, 2 others) and
+    place in the pass's share of it; read-only, shared by the passes of one size and factor."""
     u = dense_u(n, factor)
     interval = np.arange(u.size) // factor
     planned = np.arange(u.size) % factor == 0
     at_mid = ~planned & (u == interval + 0.5)
-    out = (u, planned, at_mid, ~planned & ~at_mid, interval)
+    others = ~planned & ~at_mid
+    local = interval.astype(np.int64)
+    local[others] = np.arange(int(np.count_nonzero(others)))
+    pool = np.where(planned, 0, np.where(at_mid, 1, 2)).astype(np.int64)
+    out = (u, planned, at_mid, others, interval, local, pool)
+    for a in out:
+        a.flags.writeable = False
+    return out
+
+
+@functools.lru_cache(maxsize=256)
+def _plain_rows(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """_dense_rows' (local, pool) of a pass of n points that keeps its planned points: all in pool 0."""
+    out = (np.arange(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
     for a in out:
         a.flags.writeable = False
     return out
@@ -144,21 +158,20 @@ def _assemble(passes, wheres, machine, pools, sizes, starts, dense, checked_a):
     other dense points; see the module docstring): straight_passes' result."""
     base, mid, extra = pools
     n_base, n_mid = base.theta.size, (0 if mid is None else mid.theta.size)
-    gather = []
-    for n, start, dn in zip(sizes.tolist(), starts.tolist(), dense):
-        if dn is None:
-            gather.append(np.arange(start, start + n))
-            continue
-        u, planned, at_mid, others, interval, m0, x0 = dn
-        rows = np.empty(u.size, dtype=np.int64)
-        rows[planned] = start + interval[planned]
-        rows[at_mid] = n_base + m0 + interval[at_mid]
-        rows[others] = n_base + n_mid + x0 + np.arange(int(np.count_nonzero(others)))
-        gather.append(rows)
+    # Each row's pool (0 planned, 1 midpoints, 2 other dense points) and place within its pass's share
+    # of that pool, per pass size and factor (cached); the passes' offsets into the pools added at once.
+    templates = [_plain_rows(n) if dn is None else (dn[7], dn[8]) for n, dn in zip(sizes.tolist(), dense)]
+    final = np.array([local.size for local, _ in templates], dtype=np.int64)
+    offsets = np.empty((len(dense), 3), dtype=np.int64)
+    offsets[:, 0] = starts
+    offsets[:, 1] = [0 if dn is None else n_base + dn[5] for dn in dense]
+    offsets[:, 2] = [0 if dn is None else n_base + n_mid + dn[6] for dn in dense]
+    pool = np.concatenate([code for _, code in templates])
+    g = np.concatenate([local for local, _ in templates]) + offsets.ravel().take(
+        np.repeat(3 * np.arange(len(dense)), final) + pool)
     used = [q for q in pools if q is not None]
-    g = np.concatenate(gather)
-    final = np.array([r.size for r in gather])
-    e, phi, zr, lam, ok, p, theta, b = (np.concatenate([getattr(q, name) for q in used])[g]
+    # take, not [g]: the same rows, and numpy's fancy indexing of (m, 3) rows is several times slower.
+    e, phi, zr, lam, ok, p, theta, b = (np.concatenate([getattr(q, name) for q in used]).take(g, axis=0)
                                         for name in ("e", "phi", "zr", "lam", "ok", "p", "theta", "b"))
     on_dense = np.repeat([dn is not None for dn in dense], final)
     theta[on_dense] += 0.0  # a dense pass's angles carry densify's zero shift (-0.0 becomes 0.0)
