@@ -70,3 +70,11 @@ def test_table_is_the_polylines_one_after_the_other():
     got = reduce_table(np.concatenate(lines), np.array(sizes), tols)
     for q, tol, keep in zip(lines, tols, got):
         assert keep.tolist() == _recursive(q, tol)
+
+
+def test_interleave_is_column_stack_ravel():
+    from winder.machine.reduce import _interleave
+
+    x, y = np.array([3, 8, 11]), np.array([5, 9, 14])
+    assert np.array_equal(_interleave(x, y), np.column_stack([x, y]).ravel())
+    assert _interleave(x[:0], y[:0]).size == 0

@@ -48,3 +48,18 @@ def test_a_lead_that_fails_leaves_it_to_the_steps(monkeypatch):
     env = program.eye_envelope(plan.outer_surface, job.machine)
     passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
     assert straight.straight_passes(plan, passes, [""] * len(passes), env, job.machine, 1.0, 1.0, 1.0, 0.05) is None
+
+
+@pytest.mark.parametrize("n, factor", [(2, 2), (5, 2), (7, 3), (11, 4), (9, 5)])
+def test_pool_template_is_the_masked_rows(n, factor):
+    """A dense pass's rows from its cached (local, pool) template and three offsets are those of
+    the planned / midpoint / other masks, each pool's rows in order."""
+    u, planned, at_mid, others, interval, local, pool = straight._dense_rows(n, factor)
+    start, mid0, extra0 = 17, 1000, 5000
+    want = np.empty(u.size, dtype=np.int64)
+    want[planned] = start + interval[planned]
+    want[at_mid] = mid0 + interval[at_mid]
+    want[others] = extra0 + np.arange(int(np.count_nonzero(others)))
+    assert np.array_equal(local + np.array([start, mid0, extra0])[pool], want)
+    plain_local, plain_pool = straight._plain_rows(n)
+    assert np.array_equal(plain_local + start, np.arange(start, start + n)) and not plain_pool.any()
