@@ -205,9 +205,10 @@ class SweepSurface:
             bend = (z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + bend
         pss = bend if _zero(p2 * q) and arc is not None else bend + (p2 * q) * n
         twist = _times(z1, r * km if _zero(r_t) else r_t * kn + r * km) * tan
-        pst = r_s * m - twist if _zero(p1 * q1) else (p1 * q1) * n + r_s * m - twist
-        if _zero(r_s) and arc is not None:
+        if _zero(r_s) and arc is not None:  # r_s = p1 q = 0: p1 = 0, so the (p1 q1) n term is 0 too
             pst = -twist
+        else:
+            pst = r_s * m - twist if _zero(p1 * q1) else (p1 * q1) * n + r_s * m - twist
         ptt = (p * q2 - r) * n if _zero(r_t) else (p * q2 - r) * n + (2.0 * r_t) * m
         return SurfaceEval(point, ps.T, pt.T, pss.T, pst.T, ptt.T)
 
