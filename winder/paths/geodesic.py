@@ -29,7 +29,7 @@ from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.paths.energy import energy_terms
 from winder.paths.lbfgs import _lbfgs
 from winder.paths.newton import (LENGTH_SHARE, LEVEL_PREDICTED, LEVEL_STEP_TOL, MAX_NEWTON, STEP_TOL, Level,
-                                 PathSolve, StopReason, _newton)
+                                 PathSolve, StopReason, _newton, chain_bend)
 
 __all__ = ["DEFAULT_POINTS", "STEP_TOL", "GeodesicResult", "Level", "Method", "PathSolve", "StopReason",
            "energy_terms", "geodesic", "solve_path", "straight_path", "_lbfgs", "_newton"]
@@ -310,8 +310,7 @@ def _predicted_points(sol: PathSolve, tolerance: float) -> int:
     y = sol.points()
     segments = y.shape[0] - 1
     length = polyline_length(y)
-    a = y[:-2] - 2.0 * y[1:-1] + y[2:]
-    turn = float(np.sqrt(np.max(np.einsum("ij,ij->i", a, a)))) * segments / length if a.size else 0.0
+    turn = chain_bend(y) * segments / length
     error = PREDICT_ERROR * turn**4 * length
     grow = min(MAX_GROWTH, (error / (TOLERANCE_AIM * tolerance)) ** 0.25)
     return int(np.ceil(segments * grow)) - 1

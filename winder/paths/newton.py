@@ -107,6 +107,13 @@ def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float) -> float:
     return float(min(1.0, np.min(lim))) if lim.size else 1.0
 
 
+def chain_bend(y: np.ndarray) -> float:
+    """max |y_{i-1} - 2 y_i + y_{i+1}| over the chain y (m, 3) (mm; 0 under three vertices): the chain's
+    largest turn per segment h k, times h."""
+    a = y[:-2] - 2.0 * y[1:-1] + y[2:]
+    return math.sqrt(float(np.max(np.einsum("ij,ij->i", a, a)))) if a.size else 0.0
+
+
 def _settled(err: float, p: np.ndarray, ends: np.ndarray, h: float, length_tol: float) -> bool:
     """Whether a vertex error of err segments moves the smooth length of the chain p (n, 3) between
     ends (2, 3), mean segment h (mm), by at most LENGTH_SHARE length_tol (mm); see SETTLE_FIRST."""
@@ -115,9 +122,7 @@ def _settled(err: float, p: np.ndarray, ends: np.ndarray, h: float, length_tol: 
     budget = LENGTH_SHARE * length_tol / (h * (p.shape[0] + 1))
     if SETTLE_SECOND * err * err > budget:
         return False
-    y = np.concatenate([ends[:1], p, ends[1:]])
-    a = y[:-2] - 2.0 * y[1:-1] + y[2:]
-    turn = math.sqrt(float(np.max(np.einsum("ij,ij->i", a, a)))) / h
+    turn = chain_bend(np.concatenate([ends[:1], p, ends[1:]])) / h
     return SETTLE_SECOND * err * err + SETTLE_FIRST * turn**3 * err <= budget
 
 
