@@ -42,7 +42,11 @@ class Circle:
 
     def polar(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         theta = np.asarray(theta, dtype=float)
-        return np.full_like(theta, self.radius), np.zeros_like(theta), np.zeros_like(theta)
+        return self.polar_cs(theta, theta)
+
+    def polar_cs(self, c: np.ndarray, s: np.ndarray, order: int = 2):
+        return (np.full_like(c, self.radius), np.zeros_like(c) if order >= 1 else None,
+                np.zeros_like(c) if order >= 2 else None)
 
     def perimeter(self) -> float:
         return 2.0 * np.pi * self.radius
