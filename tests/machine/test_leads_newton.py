@@ -14,7 +14,7 @@ import pytest
 from winder.config.job import load_config
 from winder.config.machine import MachineConfig
 from winder.geometry.build import build_surface
-from winder.machine import kinematics, leads
+from winder.machine import kinematics, leads, straight
 from winder.machine.envelope import eye_envelope
 from winder.machine.program import build_program
 from winder.winding.plan import plan as plan_job
@@ -102,6 +102,7 @@ def test_real_jobs_leads_match_the_old_search(config, monkeypatch):
 
     monkeypatch.setattr(leads, "lead_straight", record)
     monkeypatch.setattr(kinematics, "lead_straight", record)
+    monkeypatch.setattr(straight, "lead_straight", record)
     build_program(plan_job(job), job.machine)
     monkeypatch.undo()  # the comparisons below call the search itself, unrecorded
     assert calls and sum(p.shape[0] for p, _, _ in calls) > 1000

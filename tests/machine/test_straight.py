@@ -44,7 +44,7 @@ def test_a_lead_that_fails_leaves_it_to_the_steps(monkeypatch):
     def refuse(*args, **kwargs):
         raise straight.ExportError("no lead")
 
-    monkeypatch.setattr(straight, "eye_leads", refuse)
+    monkeypatch.setattr(straight, "lead_straight", refuse)
     env = program.eye_envelope(plan.outer_surface, job.machine)
     passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
     assert straight.straight_passes(plan, passes, [""] * len(passes), env, job.machine, 1.0, 1.0, 1.0, 0.05) is None

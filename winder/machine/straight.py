@@ -26,7 +26,7 @@ from winder.machine.axis_batch import checked, turn_counts
 from winder.machine.densify import dense_factor, dense_u
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.kinematics import EyePath, eye_points, rotation_deg, unwrap_each
-from winder.machine.leads import eye_leads, unit_rows
+from winder.machine.leads import lead_straight, unit_rows
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, WindingPlan
 from winder.geometry.measure import row_norms
@@ -37,9 +37,10 @@ class _Points:
     B), leads lam and on_envelope ok, the contact angles theta."""
 
     def __init__(self, p: np.ndarray, d: np.ndarray, theta: np.ndarray, env: EyeEnvelope, sense: float) -> None:
-        self.lam, self.ok = eye_leads(p, d, env)  # ExportError: the eye does not clear the mandrel
+        u = unit_rows(d)  # once, for the leads and the eyes (eye_leads would take it again)
+        self.lam, self.ok = lead_straight(p, u, env, "eye path")  # ExportError: the eye does not clear the mandrel
         self.p, self.theta = p, theta
-        self.e, self.phi, self.zr, self.b = eye_points(p, unit_rows(d), self.lam, sense)
+        self.e, self.phi, self.zr, self.b = eye_points(p, u, self.lam, sense)
 
     def scaled(self, theta: np.ndarray, sizes: np.ndarray, arc_radius: float, angle_scale: float):
         """(A (deg) at the contact angles theta, the scaled axes (m, 4) of the point reduction with B
