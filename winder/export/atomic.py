@@ -6,10 +6,26 @@ A job that fails leaves no output file of its own behind, not even a partial one
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 from winder.errors import ExportError
+
+# O_EXCL: the name is ours alone (no file or link of that name is followed or truncated); the
+# temporary file is made directly with the permissions an output gets (0666 less the umask).
+_FLAGS = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)
+NAME_TRIES = 100  # a clash needs another writer drawing the same 64 random bits in this folder
+
+
+def _open_temporary(path: Path) -> tuple[int, Path]:
+    """A new file beside path, open for writing: (descriptor, its path). tempfile.mkstemp does the
+    same, but importing tempfile (shutil, random, bz2, lzma) costs more than a small job's writes."""
+    for _ in range(NAME_TRIES):
+        tmp = path.with_name(f".{path.name}.{os.urandom(8).hex()}.tmp")
+        try:
+            return os.open(tmp, _FLAGS, 0o666), tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free temporary name beside {path.name} after {NAME_TRIES} tries")
 
 
 def write_atomic(path: str | Path, data: bytes | str) -> None:
@@ -18,20 +34,16 @@ def write_atomic(path: str | Path, data: bytes | str) -> None:
     payload = data.encode("utf-8") if isinstance(data, str) else data
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        fd, tmp = _open_temporary(path)
     except OSError as exc:
-        raise ExportError(f"{path}: cannot write here: {exc.strerror}") from exc
+        raise ExportError(f"{path}: cannot write here: {exc.strerror or exc}") from exc
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(payload)
-        # mkstemp creates 0600; an output file gets the usual permissions (0666 less the umask).
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     except OSError as exc:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise ExportError(f"{path}: cannot write: {exc.strerror}") from exc
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
