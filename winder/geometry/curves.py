@@ -49,7 +49,7 @@ def _tile(v: np.ndarray, m: int) -> np.ndarray:
     return np.repeat(v[:, None], m, axis=1).T
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Line:
     """A straight segment from `origin` along `tangent`, frame constant."""
 
@@ -75,7 +75,7 @@ class Line:
         return 0.0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Arc:
     """A circular arc of bend radius `radius` turning from `tangent` toward `toward_dir`.
 
@@ -134,7 +134,7 @@ def _arc_from(origin: np.ndarray, tangent: np.ndarray, e2: np.ndarray, cfg: ArcS
     return Arc(cfg.radius * np.radians(cfg.angle_deg), cfg.radius, origin, tangent, e2, u)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Path:
     """A tangent-continuous chain of lines and arcs; frames carried across the joints.
 

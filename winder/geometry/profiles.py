@@ -92,7 +92,7 @@ class AxialProfile:
         return np.asarray(s, dtype=float)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Cubic:
     """One cubic piece over [x[0], x[1]] in CubicSpline's layout (c (4, 1), highest power first; x (2,)),
     callable like it (extrapolating): a straight profile needs no scipy, which is slow to import."""

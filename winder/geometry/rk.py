@@ -127,7 +127,7 @@ def _horner(r: np.ndarray, x):
     return y
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RKResult:
     """solve_ivp's result fields. t : (m,) steps (the last a terminal event's time); y : (n, m);
     sol : DenseOutput or None; t_events, y_events : per event, (j,) and (j, n); status 0 (the end

@@ -34,7 +34,7 @@ JUNCTION_JUMP = 0.02  # fraction of an axis' top speed its velocity may jump at 
 _EPS = 1e-12
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MoveTimes:
     """Timing of the m rows of a program; row i is the move from row i - 1 (row 0: none, 0 s).
 

@@ -17,7 +17,7 @@ ENVELOPE_MAX_SAMPLES = 65537
 HULL_SWEEPS = 64  # vectorized pruning sweeps of the upper hull before the monotone chain finishes it
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class EyeEnvelope:
     """The radius the eye keeps from the mandrel axis, as a function of the axial station.
 

@@ -69,7 +69,7 @@ PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nea
 
 
 # -- results ---------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class EyePath:
     """Axis values of a straight-axis winder at m contact points (see the module docstring).
 
@@ -92,7 +92,7 @@ class EyePath:
         return {"carriage": self.x, "rotation": self.a_deg, "cross_feed": self.z, "yaw": self.b_deg}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RobotPoses:
     """Eye poses in the mandrel frame for a robot (bent mandrels).
 

@@ -68,7 +68,7 @@ class Segment:
     approach: int = 0  # leading rows that bring the eye from another pass clear of the part (no fiber)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MotionProgram:
     """The machine's moves for a whole plan, before any controller's text.
 

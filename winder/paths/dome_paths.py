@@ -65,7 +65,7 @@ def dome_meridian(profile, end: bool) -> DomeMeridian:
     return DomeMeridian(profile, e2, profile.length) if end else DomeMeridian(profile, 0.0, e1)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Leg:
     """A fiber from an equator to its turnaround (or to the opening, if it does not turn).
 

@@ -59,7 +59,7 @@ def _slip_at(slip: Slip, arc: float) -> float:
 
 
 # -- tracing ----------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FrictionTrace:
     """A friction-held path traced from one point in one direction.
 

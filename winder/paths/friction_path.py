@@ -64,7 +64,7 @@ class Status:
     SLIPS = 4
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FrictionResult:
     """A two-point friction-held path (scipy vocabulary: success, status, message, nit, nfev).
 

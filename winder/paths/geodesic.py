@@ -70,7 +70,7 @@ ROUNDOFF_FLOOR = 1e-15  # relative: about 4 ulp, the roundoff of a length in dou
 STALL_FLOOR = 1e3  # an error bound that stops falling this close to the roundoff floor is roundoff
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class GeodesicResult:
     """A geodesic between two surface points.
 

@@ -65,7 +65,7 @@ class Level:
     converged: bool
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class PathSolve:
     """A solved polyline in the parameter domain.
 

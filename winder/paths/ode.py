@@ -151,7 +151,7 @@ def _leave_events(surface: SweepSurface):
     return below, above
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Trace:
     """A geodesic traced from one point in one direction.
 
@@ -233,7 +233,7 @@ def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float,
                  nfev=int(res.nfev))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Fan:
     """k rays traced together from one start (one step sequence).
 

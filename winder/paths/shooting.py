@@ -37,7 +37,7 @@ LEAVE_TOL = 1e-6  # mm: a shot path this far past an end of the mandrel has left
 
 
 # -- two-point shooting ---------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ShootResult:
     """A two-point geodesic found by shooting.
 

@@ -23,7 +23,7 @@ from winder.winding.coverage import crossings_many
 from winder.winding.results import FiberPass, PassKind
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Crossings:
     """Where a group of passes crosses a set of stations (rows).
 

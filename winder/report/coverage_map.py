@@ -29,7 +29,7 @@ COUNT_CAP = 8  # counts above share the darkest color (the pile-up at vessel tur
 COUNT_RAMP = ("#ffffff", "#dbe9f6", "#9ecae1", "#4292c6", "#2171b5", "#08519c", "#08306b")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LayerCoverageMap:
     """One layer's coverage on the unrolled surface.
 

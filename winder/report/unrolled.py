@@ -22,7 +22,7 @@ LINE_WIDTH = 1.6
 FIRST_CIRCUIT_COLOR = "#111111"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class UnrolledBand:
     """One pass on the unrolled plane.
 

@@ -32,7 +32,7 @@ AREA_THETA_NODES = 96  # periodic rule for A'(s) on non-circular sections
 NEWTON_STEPS = 4  # index of a station along a pass (from a linear first guess; quadratic)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class StationCells:
     """Cells along the station range: edges (k + 1,) and centres (k,) of the internal station s,
     and the pieces (index ranges into the cells) of the smooth parts: one for open mandrels, three

@@ -28,7 +28,7 @@ class PassKind(Enum):
     HOOP = "hoop"  # a hoop traverse
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class FiberPass:
     """One stretch of fiber, laid in winding order.
 
@@ -53,7 +53,7 @@ class FiberPass:
     length: float  # mm
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Coverage:
     """Coverage of a layer at stations along its winding region (MATH.md 5).
 

@@ -26,7 +26,7 @@ from winder.winding.passes import PlanContext, winding_region
 from winder.winding.results import LayerPlan, PassKind
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LayerLaminate:
     """What one layer adds to the wall.
 

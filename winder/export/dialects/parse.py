@@ -24,7 +24,7 @@ _PASS = re.compile(r"^; layer (\d+) circuit (\d+) pass (\d+) (\w+)$")
 _SKIP = {"G21", "G90", "G94", "G93", "M2", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ParsedProgram:
     """A program read back.
 
