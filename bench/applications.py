@@ -11,7 +11,8 @@ import numpy as np
 from bench.cases import bent_tube
 from bench.settings import Settings
 from bench.timing import interleaved
-from winder.config.mandrel import ArcAxis, MandrelConfig
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import MandrelConfig
 from winder.paths.geodesic import geodesic
 from winder.paths.shooting import shoot
 from winder.geometry.build import build_surface

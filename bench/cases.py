@@ -14,8 +14,10 @@ from typing import Callable
 import numpy as np
 from scipy.special import ellipe
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
-                                   LineAxis, MandrelConfig)
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
+from winder.config.profiles import ConeProfile
+from winder.config.sections import EllipseSection
 from winder.paths.shooting import shoot
 from winder.geometry.build import build_surface
 from winder.geometry.surface import SweepSurface

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from winder.config.mandrel import ArcAxis, CircleSection, ConstantProfile, MandrelConfig
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, MandrelConfig
 from winder.paths.geodesic import _lbfgs, solve_path, straight_path
 from winder.geometry.measure import polyline_length
 from winder.geometry.build import build_surface

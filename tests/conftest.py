@@ -5,8 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
-                                   LineAxis, MandrelConfig)
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
+from winder.config.profiles import ConeProfile
+from winder.config.sections import EllipseSection
 from winder.geometry.build import build_surface
 from winder.geometry.surface import SweepSurface
 

@@ -11,10 +11,11 @@ import pytest
 
 from winder.config.job import JobConfig, load_config, parse_config
 from winder.config.machine import MachineAxes, MachineConfig
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, Dome, DomeType,
-                                   EllipseSection, LineAxis, MandrelConfig, PathAxis,
-                                   RoundedRectangleSection, SplineAxis, SuperellipseSection, TableProfile,
-                                   VesselProfile, axis_length)
+from winder.config.axes import ArcAxis, PathAxis, SplineAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig, axis_length
+from winder.config.profiles import ConeProfile, TableProfile
+from winder.config.sections import EllipseSection, RoundedRectangleSection, SuperellipseSection
+from winder.config.vessel import Dome, DomeType, VesselProfile
 from winder.config.winding import LayerConfig, LayerType, WindingConfig
 from winder.geometry.build import build_surface
 from winder.errors import ConfigError, WinderError

@@ -9,7 +9,8 @@ import pytest
 
 from conftest import surface_of
 from plans import cylinder_plan, geodesic_pass, make_layer
-from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.config.machine import MachineAxes, MachineConfig, MachineLimits
 from winder.errors import ExportError
 from winder.export.gcode import gcode_text, program_moves

@@ -10,7 +10,8 @@ import trimesh
 
 from conftest import surface_of
 from plans import cylinder_plan, geodesic_pass, make_layer
-from winder.config.mandrel import ArcAxis, ConstantProfile, LineAxis
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ExportError
 from winder.export.ply import MANDREL_COLOR, band_color, ply_bytes
 from winder.winding.results import PassKind, WindingPlan

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-from winder.config.mandrel import ArcAxis, LineAxis, PathAxis, SplineAxis
+from winder.config.axes import ArcAxis, PathAxis, SplineAxis
+from winder.config.mandrel import LineAxis
 from winder.geometry.build import make_curve
 from winder.geometry.frames import double_reflection
 

@@ -19,7 +19,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import ellipeinc
 
-from winder.config.mandrel import Dome, DomeType, VesselProfile
+from winder.config.vessel import Dome, DomeType, VesselProfile
 from winder.geometry.build import make_dome, make_vessel
 from winder.geometry.domes import (DomeMeridian, ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING,
                                    ISOTENSOID_MIN_OPENING)

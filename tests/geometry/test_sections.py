@@ -15,9 +15,11 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import ellipe
 
-from winder.config.mandrel import CircleSection, EllipseSection, RoundedRectangleSection, SuperellipseSection
+from winder.config.mandrel import CircleSection
+from winder.config.sections import EllipseSection, RoundedRectangleSection, SuperellipseSection
 from winder.geometry.build import make_section
-from winder.geometry.sections import Circle, Ellipse, RoundedRectangle, Superellipse
+from winder.geometry.outlines import Ellipse, RoundedRectangle, Superellipse
+from winder.geometry.sections import Circle
 
 FD_STEP = 1e-5  # rad; central differences, truncation ~ h^2 rho''' / 6
 FD_RTOL = 1e-7  # relative to the section's size: FD error (h^2 ~ 1e-10) plus round-off (eps/h ~ 1e-11)

@@ -13,14 +13,16 @@ import itertools
 import numpy as np
 import pytest
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
-                                   LineAxis, MandrelConfig, PathAxis, RoundedRectangleSection, SplineAxis,
-                                   SuperellipseSection, TableProfile)
+from winder.config.axes import ArcAxis, PathAxis, SplineAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
+from winder.config.profiles import ConeProfile, TableProfile
+from winder.config.sections import EllipseSection, RoundedRectangleSection, SuperellipseSection
 from winder.geometry.build import make_curve
 from winder.errors import ConfigError
 from winder.geometry.build import make_profile
 from winder.geometry.build import make_section
-from winder.geometry.sections import Circle, RoundedRectangle
+from winder.geometry.outlines import RoundedRectangle
+from winder.geometry.sections import Circle
 from winder.geometry.build import build_surface
 from winder.geometry.surface import SweepSurface
 

@@ -10,7 +10,10 @@ import numpy as np
 import pytest
 
 from conftest import surface_of
-from winder.config.mandrel import ArcAxis, ConeProfile, ConstantProfile, EllipseSection, LineAxis
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import ConstantProfile, LineAxis
+from winder.config.profiles import ConeProfile
+from winder.config.sections import EllipseSection
 from winder.config.machine import MachineConfig, MachineLimits
 from plans import R, cylinder_plan, geodesic_pass, helix
 from winder.errors import ExportError
@@ -220,7 +223,8 @@ def test_robot_poses_on_tangent_line_and_tube(bend, machine, radius):
 
 @pytest.fixture(scope="module")
 def vessel():
-    from winder.config.mandrel import Dome, DomeType, MandrelConfig, VesselProfile  # noqa: PLC0415
+    from winder.config.mandrel import MandrelConfig  # noqa: PLC0415
+    from winder.config.vessel import Dome, DomeType, VesselProfile  # noqa: PLC0415
     from winder.geometry.build import build_surface  # noqa: PLC0415
     dome = Dome(DomeType.HEMISPHERE, 30.0)
     return build_surface(MandrelConfig(None, VesselProfile(100.0, 300.0, dome, dome)), "v.yaml", "v")

@@ -12,8 +12,10 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, EllipseSection, LineAxis,
-                           MandrelConfig, VesselProfile)
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
+from winder.config.sections import EllipseSection
+from winder.config.vessel import Dome, DomeType, VesselProfile
 from winder.geometry.curvature import (path_curvatures, polyline_curvatures, torus_constant_angle_slip,
                               torus_least_pressing_angle, torus_normal_curvature)
 from winder.paths.friction import trace_friction

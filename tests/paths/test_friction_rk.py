@@ -9,7 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from winder.config.mandrel import CircleSection, ConstantProfile, Dome, DomeType, LineAxis, MandrelConfig, VesselProfile
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
+from winder.config.vessel import Dome, DomeType, VesselProfile
 from winder.geometry.build import build_surface
 from winder.paths import dome_paths, friction
 from winder.paths.dome_paths import close_leg, dome_meridian, solve_slip

@@ -14,8 +14,11 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipeinc
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, Dome, DomeType,
-                                   EllipseSection, LineAxis, MandrelConfig, VesselProfile)
+from winder.config.axes import ArcAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
+from winder.config.profiles import ConeProfile
+from winder.config.sections import EllipseSection
+from winder.config.vessel import Dome, DomeType, VesselProfile
 from winder.errors import ConfigError, SolverError
 from winder.paths.geodesic import geodesic
 from winder.paths.ode import clairaut_constant, trace, trace_fan

@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 from winder.paths.bend_paths import arc_angle, design, line_slip, pass_curves, region_pieces
-from winder.config.mandrel import (ArcAxis, CircleSection, ConstantProfile, Dome, DomeType, LineAxis, MandrelConfig,
-                           PathAxis, VesselProfile)
+from winder.config.axes import ArcAxis, PathAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
+from winder.config.vessel import Dome, DomeType, VesselProfile
 from winder.geometry.curvature import curve_curvatures, torus_constant_angle_slip
 from winder.paths.dome_paths import close_leg, dome_meridian, solve_slip, trace_leg
 from winder.errors import SolverError

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from winder.config.mandrel import ArcAxis, CircleSection, ConstantProfile, LineAxis, MandrelConfig, PathAxis
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
 from winder.config.winding import LayerType, WindingConfig
 from winder.errors import InfeasibleConfigError
 
@@ -25,6 +25,10 @@ def least_pressing_angle_deg(bend_radius: float, tube_radius: float) -> float:
 
 def _bends(axis) -> list[tuple[float, float]]:
     """(bend radius, station of the bend's middle) of every arc of a line-and-arc axis."""
+    if axis is None or isinstance(axis, LineAxis):
+        return []
+    from winder.config.axes import ArcAxis, PathAxis  # noqa: PLC0415 - loaded already: axis is one of its kinds
+
     segments = (axis,) if isinstance(axis, ArcAxis) else axis.segments if isinstance(axis, PathAxis) else ()
     out, t = [], 0.0
     for seg in segments:

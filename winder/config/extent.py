@@ -5,16 +5,23 @@ from __future__ import annotations
 
 import bisect
 import math
+from typing import TYPE_CHECKING
 
-from winder.config.mandrel import (ArcAxis, Axis, CircleSection, ConeProfile, ConstantProfile, EllipseSection,
-                                   LineAxis, MandrelConfig, PathAxis, Profile, RoundedRectangleSection,
-                                   Section, SplineAxis, TableProfile, VesselProfile, axis_length)
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig, axis_length
+
+if TYPE_CHECKING:
+    from winder.config.mandrel import Axis, Profile, Section
+
+# Each function below settles the straight round tube first; the other kinds' config modules are
+# loaded by then (the config holds one of them), so importing their classes costs nothing.
 
 
 def is_bent(axis: Axis | None) -> bool:
     """True when a straight-axis winder cannot follow the axis."""
     if axis is None or isinstance(axis, LineAxis):
         return False
+    from winder.config.axes import ArcAxis, PathAxis, SplineAxis  # noqa: PLC0415
+
     if isinstance(axis, PathAxis):
         return any(isinstance(seg, ArcAxis) for seg in axis.segments)
     if isinstance(axis, SplineAxis):  # straight only when every point lies on one line
@@ -35,6 +42,9 @@ def profile_max(profile: Profile, t0: float, t1: float, length: float | None) ->
     the smooth interpolation may overshoot slightly, which the surface module checks)."""
     if isinstance(profile, ConstantProfile):
         return profile.radius
+    from winder.config.profiles import ConeProfile  # noqa: PLC0415
+    from winder.config.vessel import VesselProfile  # noqa: PLC0415
+
     if isinstance(profile, VesselProfile):
         return profile.radius
     if isinstance(profile, ConeProfile):
@@ -59,6 +69,8 @@ def section_extent(section: Section, direction_deg: float | None) -> float:
     convex), or its largest radius when direction_deg is None. 1 for the circle (unit radius)."""
     if isinstance(section, CircleSection):
         return 1.0
+    from winder.config.sections import EllipseSection, RoundedRectangleSection  # noqa: PLC0415
+
     if direction_deg is None:
         if isinstance(section, EllipseSection):
             return max(section.a, section.b)
@@ -88,6 +100,8 @@ def mandrel_reach(mandrel: MandrelConfig, t0: float, t1: float, direction_deg: f
     rmax = profile_max(profile, t0, t1, axis_length(mandrel.axis))
     if isinstance(section, CircleSection):
         return rmax
+    from winder.config.profiles import ConeProfile, TableProfile  # noqa: PLC0415
+
     start = {ConstantProfile: lambda p: p.radius, ConeProfile: lambda p: p.start_radius,
              TableProfile: lambda p: p.points[0][1]}[type(profile)](profile)
     return extent * rmax / start  # a section with a profile is scaled by profile(t) / profile(0)

@@ -17,7 +17,7 @@ import yaml
 
 from winder.config.extent import is_bent, mandrel_reach
 from winder.config.machine import MachineConfig, parse_machine
-from winder.config.mandrel import MandrelConfig, VesselProfile, axis_length, parse_mandrel
+from winder.config.mandrel import MandrelConfig, axis_length, is_vessel, parse_mandrel
 from winder.config.reader import Reader, load_yaml
 from winder.config.bends import check_bend_angles
 from winder.config.winding import WindingConfig, parse_winding
@@ -107,7 +107,7 @@ def parse_config(data: dict, source: str) -> JobConfig:
         raise rd.error("name", f"must have at most {MAX_NAME_LENGTH} characters (it names the output files), "
                        f"got {len(name)} characters")
     mandrel = parse_mandrel(rd, top["mandrel"], "mandrel")
-    vessel = isinstance(mandrel.profile, VesselProfile)
+    vessel = is_vessel(mandrel)
     winding = None
     if top.get("winding") is not None:  # an empty `winding:` counts as none
         winding = parse_winding(rd, top["winding"], "winding", axis_length=axis_length(mandrel.axis),

@@ -11,19 +11,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.config.mandrel import (ArcAxis, CircleSection, ConeProfile, ConstantProfile, Dome, DomeType,
-                                   EllipseSection, LineAxis, MandrelConfig, PathAxis, RoundedRectangleSection,
-                                   SplineAxis, SuperellipseSection, TableProfile, VesselProfile)
+from typing import TYPE_CHECKING
+
+from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
 from winder.config.reader import show_value
 from winder.errors import ConfigError
 from winder.geometry.curves import ArcSpec, GuideCurve, Line, Path, chain, spline_curve
 from winder.geometry.domes import (ELLIPSOID_MAX_DEPTH, ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING,
                                    ISOTENSOID_MIN_OPENING, DomeMeridian, Ellipsoid, Hemisphere)
-from winder.geometry.isotensoid import Isotensoid
 from winder.geometry.profiles import AxialProfile, Profile, linear, table_profile
-from winder.geometry.sections import Circle, Ellipse, RoundedRectangle, Superellipse
+from winder.geometry.sections import Circle, Section
 from winder.geometry.surface import Fold, SweepSurface, find_fold
 from winder.geometry.vessel import VesselMeridian
+
+if TYPE_CHECKING:
+    from winder.config.axes import ArcAxis, PathAxis, SplineAxis
+    from winder.config.vessel import Dome, VesselProfile
 
 __all__ = ["build_surface", "make_curve", "make_dome", "make_profile", "make_section", "make_vessel"]
 
@@ -32,6 +35,9 @@ def make_curve(cfg: LineAxis | ArcAxis | PathAxis | SplineAxis, source: str) -> 
     """The guide curve of an axis config."""
     if isinstance(cfg, LineAxis):
         return Line(cfg.length)
+    # The other kinds' config module is loaded already: cfg is one of them.
+    from winder.config.axes import ArcAxis, PathAxis, SplineAxis  # noqa: PLC0415
+
     if isinstance(cfg, ArcAxis):
         return chain((ArcSpec(cfg.radius, cfg.angle_deg, cfg.toward_deg),))
     if isinstance(cfg, PathAxis):
@@ -47,6 +53,9 @@ def make_profile(cfg: object, axial_length: float | None, source: str) -> AxialP
     axis is implied by the profile."""
     if isinstance(cfg, ConstantProfile):
         return AxialProfile(linear(axial_length, cfg.radius, cfg.radius), axial_length, cfg.radius)
+    from winder.config.profiles import ConeProfile, TableProfile  # noqa: PLC0415
+    from winder.config.vessel import VesselProfile  # noqa: PLC0415
+
     if isinstance(cfg, ConeProfile):
         return AxialProfile(linear(axial_length, cfg.start_radius, cfg.end_radius), axial_length,
                             cfg.start_radius)
@@ -57,10 +66,14 @@ def make_profile(cfg: object, axial_length: float | None, source: str) -> AxialP
     raise ConfigError(f"{source}: mandrel.profile: unsupported profile {cfg!r}")
 
 
-def make_section(cfg: object) -> Circle | Ellipse | Superellipse | RoundedRectangle:
+def make_section(cfg: object) -> Section:
     """The section shape of a section config."""
     if isinstance(cfg, CircleSection):
         return Circle()
+    # The other outlines load only for the jobs that have them.
+    from winder.config.sections import EllipseSection, RoundedRectangleSection, SuperellipseSection  # noqa: PLC0415
+    from winder.geometry.outlines import Ellipse, RoundedRectangle, Superellipse  # noqa: PLC0415
+
     if isinstance(cfg, EllipseSection):
         return Ellipse(cfg.a, cfg.b)
     if isinstance(cfg, SuperellipseSection):
@@ -74,6 +87,8 @@ def make_dome(dome: Dome, radius: float, source: str, key: str) -> DomeMeridian:
     """One dome's meridian (key: its key path, e.g. "mandrel.profile.dome"). Refuses what only the
     geometry knows: an ellipsoid too flat or too deep to be a dome, an isotensoid opening outside what
     netting theory can shape."""
+    from winder.config.vessel import DomeType  # noqa: PLC0415
+
     R, r0 = float(radius), float(dome.polar_opening)
     if dome.type is DomeType.HEMISPHERE:
         return Hemisphere(R, r0)
@@ -90,6 +105,8 @@ def make_dome(dome: Dome, radius: float, source: str, key: str) -> DomeMeridian:
                           f"between {ISOTENSOID_MIN_OPENING:g} and {ISOTENSOID_MAX_OPENING:g} times "
                           f"mandrel.profile.radius ({lo:g} to {hi:g}; netting theory has no dome at "
                           f"or beyond sqrt(2/3) times the radius), got {r0:g}")
+    from winder.geometry.isotensoid import Isotensoid  # noqa: PLC0415 - its integrator loads with it
+
     return Isotensoid(R, r0)
 
 
@@ -103,6 +120,8 @@ def make_vessel(cfg: VesselProfile, source: str) -> VesselMeridian:
 
 def _fold_key(axis: ArcAxis | PathAxis | SplineAxis, curve: GuideCurve, fold: Fold) -> tuple[str, float] | None:
     """(key path, bend radius as configured) of the arc where the surface folds; None off arcs."""
+    from winder.config.axes import ArcAxis, PathAxis  # noqa: PLC0415
+
     if isinstance(axis, ArcAxis):
         return "mandrel.axis.radius", axis.radius
     if isinstance(axis, PathAxis) and isinstance(curve, Path):

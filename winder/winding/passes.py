@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
@@ -13,7 +13,6 @@ from winder.config.winding import LayerConfig, WindingConfig
 from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError
 from winder.progress import Progress
-from winder.paths.geodesic import GeodesicResult, geodesic
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_of
 from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
@@ -21,6 +20,9 @@ from winder.geometry.interp import InterpSpline
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.geometry.measure import row_norms
+
+if TYPE_CHECKING:
+    from winder.paths.geodesic import GeodesicResult
 
 COVERAGE_STATIONS = 21
 DWELL_STEP_DEG = 2.0  # sampling of a dwell arc
@@ -146,6 +148,8 @@ def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
 def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
                   warm: tuple[np.ndarray, np.ndarray] | None, n: int | None = None) -> GeodesicResult:
     """The fine solve of solve_pass (its tangents are solved_passes')."""
+    from winder.paths.geodesic import geodesic  # noqa: PLC0415 - the solver loads with the first geodesic pass
+
     w = ctx.winding
     n = n or w.points or 200
     res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm, max_points=max(REFINE_MAX_POINTS, n))

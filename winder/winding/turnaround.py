@@ -26,7 +26,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from winder.geometry.surface import SweepSurface
-from winder.paths.friction import trace_friction
 from winder.paths.ode import heading_of_velocity, velocity_of_heading
 from winder.geometry.measure import row_norms
 
@@ -42,7 +41,7 @@ HOOP_HEADING_TOL = 1e-9  # deg: a heading this close to 90 runs along the parall
 TRACE_TOL = 1e-10
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Leg:
     """The fiber from a pass's end into the end zone, at theta = 0 of its start.
 
@@ -120,6 +119,8 @@ def trace_leg(surface: SweepSurface, s_end: float, heading: float, outward: floa
     r = float(np.max(surface.radius(np.array([s_end]), np.array([0.0]))))
     # The trace stops where the fiber reaches the parallel or the mandrel's end, whichever first.
     span = 50.0 * (room + r) / max(abs(math.cos(math.radians(heading))), 1e-3)
+    from winder.paths.friction import trace_friction  # noqa: PLC0415 - only where a mandrel has room past the end
+
     tr = trace_friction(surface, (s_end, 0.0), heading, slip, span, rtol=TRACE_TOL, atol=TRACE_TOL,
                         stop_at_turnaround=True)
     m = min(LEG_MAX_POINTS, max(LEG_MIN_POINTS, int(math.ceil(tr.length / LEG_STEP_MM)) + 1))
