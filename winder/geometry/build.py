@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 from winder.config.mandrel import CircleSection, ConstantProfile, LineAxis, MandrelConfig
 from winder.config.reader import show_value
 from winder.errors import ConfigError
-from winder.geometry.curves import ArcSpec, GuideCurve, Line, Path, chain, spline_curve
+from winder.geometry.curves import GuideCurve, Line
 from winder.geometry.domes import (ELLIPSOID_MAX_DEPTH, ELLIPSOID_MIN_DEPTH, ISOTENSOID_MAX_OPENING,
                                    ISOTENSOID_MIN_OPENING, DomeMeridian, Ellipsoid, Hemisphere)
 from winder.geometry.profiles import AxialProfile, Profile, linear, table_profile
@@ -37,6 +37,7 @@ def make_curve(cfg: LineAxis | ArcAxis | PathAxis | SplineAxis, source: str) -> 
         return Line(cfg.length)
     # The other kinds' config module is loaded already: cfg is one of them.
     from winder.config.axes import ArcAxis, PathAxis, SplineAxis  # noqa: PLC0415
+    from winder.geometry.arcs import ArcSpec, chain  # noqa: PLC0415
 
     if isinstance(cfg, ArcAxis):
         return chain((ArcSpec(cfg.radius, cfg.angle_deg, cfg.toward_deg),))
@@ -44,6 +45,8 @@ def make_curve(cfg: LineAxis | ArcAxis | PathAxis | SplineAxis, source: str) -> 
         return chain(tuple(ArcSpec(s.radius, s.angle_deg, s.toward_deg) if isinstance(s, ArcAxis) else s.length
                            for s in cfg.segments))
     if isinstance(cfg, SplineAxis):
+        from winder.geometry.spline_curves import spline_curve  # noqa: PLC0415
+
         return spline_curve(np.asarray(cfg.points, dtype=float), source, "mandrel.axis.points")
     raise ConfigError(f"{source}: mandrel.axis: unsupported axis {cfg!r}")
 
@@ -121,6 +124,7 @@ def make_vessel(cfg: VesselProfile, source: str) -> VesselMeridian:
 def _fold_key(axis: ArcAxis | PathAxis | SplineAxis, curve: GuideCurve, fold: Fold) -> tuple[str, float] | None:
     """(key path, bend radius as configured) of the arc where the surface folds; None off arcs."""
     from winder.config.axes import ArcAxis, PathAxis  # noqa: PLC0415
+    from winder.geometry.arcs import Path  # noqa: PLC0415
 
     if isinstance(axis, ArcAxis):
         return "mandrel.axis.radius", axis.radius

@@ -2,6 +2,8 @@
 
 SPEC.md conventions: x(0) = origin, x'(0) = +z, e2(0) = +x, e3 = e1 x e2. Every curve evaluates,
 vectorized over stations z (m,), the point, its first three derivatives and the frame (e2, e3).
+The line is here; arcs and chains of lines and arcs are in winder.geometry.arcs, the spline in
+winder.geometry.spline_curves (loaded only for the mandrels that have them).
 """
 
 from __future__ import annotations
@@ -12,8 +14,6 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-from winder.errors import ConfigError
-from winder.geometry.frames import double_reflection, orthonormalize
 
 Z_AXIS = np.array([0.0, 0.0, 1.0])
 X_AXIS = np.array([1.0, 0.0, 0.0])
@@ -44,7 +44,7 @@ class GuideCurve(Protocol):
     def max_curvature(self) -> float: ...
 
 
-def _tile(v: np.ndarray, m: int) -> np.ndarray:
+def tile(v: np.ndarray, m: int) -> np.ndarray:
     """v repeated m times: (m, 3), a view of (3, m) storage like every curve's evaluation."""
     return np.repeat(v[:, None], m, axis=1).T
 
@@ -63,8 +63,8 @@ class Line:
         z = np.asarray(z, dtype=float)
         m = z.shape[0]
         zero = np.zeros((3, m)).T
-        return CurveEval((self.origin[:, None] + z * self.tangent[:, None]).T, _tile(self.tangent, m), zero,
-                         zero, _tile(self.e2, m), _tile(self.e3, m))
+        return CurveEval((self.origin[:, None] + z * self.tangent[:, None]).T, tile(self.tangent, m), zero,
+                         zero, tile(self.e2, m), tile(self.e3, m))
 
     @functools.cached_property
     def e3(self) -> np.ndarray:
@@ -73,224 +73,3 @@ class Line:
 
     def max_curvature(self) -> float:
         return 0.0
-
-
-@dataclass(frozen=True, eq=False)
-class Arc:
-    """A circular arc of bend radius `radius` turning from `tangent` toward `toward_dir`.
-
-    Its RMF is the rotation about the binormal b = T0 x u by the swept angle phi = z / radius:
-    a frame vector v maps to (v.u) N(phi) + (v.b) b, N(phi) = -sin(phi) T0 + cos(phi) u.
-    """
-
-    length: float
-    radius: float
-    origin: np.ndarray
-    tangent: np.ndarray
-    e2: np.ndarray
-    toward_dir: np.ndarray
-    is_straight: bool = False
-
-    def __post_init__(self) -> None:
-        b = np.cross(self.tangent, self.toward_dir)
-        e3 = np.cross(self.tangent, self.e2)
-        # Cached because evaluation sits in the solver's inner loop.
-        object.__setattr__(self, "_coef", (b, self.e2 @ self.toward_dir, self.e2 @ b,
-                                           e3 @ self.toward_dir, e3 @ b))
-
-    @property
-    def frame_components(self) -> tuple[np.ndarray, float, float, float, float]:
-        """The binormal b = T0 x u (3,) and e2.u, e2.b, e3.u, e3.b: the frame is e2 = (e2.u) N + (e2.b) b."""
-        return self._coef
-
-    def evaluate(self, z: np.ndarray) -> CurveEval:
-        z = np.asarray(z, dtype=float)
-        rho, t0, u = self.radius, self.tangent, self.toward_dir
-        b, e2u, e2b, e3u, e3b = self._coef
-        phi = (z / rho)[:, None]
-        c, s = np.cos(phi), np.sin(phi)
-        x = self.origin + rho * s * t0 + rho * (1.0 - c) * u
-        tan = c * t0 + s * u
-        nrm = -s * t0 + c * u  # in-plane normal toward the centre of curvature
-        return CurveEval(x, tan, nrm / rho, -tan / rho**2, e2u * nrm + e2b * b, e3u * nrm + e3b * b)
-
-    def max_curvature(self) -> float:
-        return 1.0 / self.radius
-
-
-class ArcSpec(NamedTuple):
-    """An arc of a chain: bend radius (mm), bend angle and the side it bends toward (deg, in the
-    frame at its start, measured like theta from e2 toward e3)."""
-
-    radius: float
-    angle_deg: float
-    toward_deg: float = 0.0
-
-
-def _arc_from(origin: np.ndarray, tangent: np.ndarray, e2: np.ndarray, cfg: ArcSpec) -> Arc:
-    toward = np.radians(cfg.toward_deg)
-    e3 = np.cross(tangent, e2)
-    u = np.cos(toward) * e2 + np.sin(toward) * e3
-    return Arc(cfg.radius * np.radians(cfg.angle_deg), cfg.radius, origin, tangent, e2, u)
-
-
-@dataclass(frozen=True, eq=False)
-class Path:
-    """A tangent-continuous chain of lines and arcs; frames carried across the joints.
-
-    Evaluated in one vectorized pass: every piece is an arc of curvature kappa (0 for a line) in
-    the plane of its start tangent T0 and in-plane normal u, with the sinc forms of sin(phi) / kappa
-    and (1 - cos(phi)) / kappa, so lines need no special case.
-    """
-
-    pieces: tuple[Line | Arc, ...]
-    starts: np.ndarray  # (k,) float, station where each piece begins
-    length: float
-    is_straight: bool = False
-
-    def __post_init__(self) -> None:
-        rows = []
-        for piece in self.pieces:
-            t0 = piece.tangent
-            if isinstance(piece, Arc):
-                u, kappa = piece.toward_dir, 1.0 / piece.radius
-            else:
-                u, kappa = piece.e2, 0.0
-            b = np.cross(t0, u)
-            e3 = np.cross(t0, piece.e2)
-            rows.append((piece.origin, t0, u, b, kappa, piece.e2 @ u, piece.e2 @ b, e3 @ u, e3 @ b))
-        cols = list(zip(*rows))
-        object.__setattr__(self, "_vec", tuple(np.array(c, dtype=float) for c in cols))
-        # Piece-major tables for the multi-piece gather: one fancy index along the pieces gives
-        # contiguous (rows, m) component rows. 1 / kappa is 0 on lines, where it is never selected,
-        # so the evaluation divides nothing by zero.
-        origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = self._vec
-        inv = np.divide(1.0, kappa, out=np.zeros_like(kappa), where=kappa > 0.0)
-        object.__setattr__(self, "_columns", np.concatenate([origin.T, t0.T, u.T, b.T]))
-        object.__setattr__(self, "_scalars", np.stack([kappa, inv, e2u, e2b, e3u, e3b]))
-        # One piece: its parameters broadcast as they are, as (3, 1) columns and floats, with the
-        # binormal's constant parts of the frame, e2b b and e3b b, formed once.
-        col = tuple(a[0][:, None] for a in (origin, t0, u, b))
-        object.__setattr__(self, "_single", (*col, float(kappa[0]), float(e2u[0]), float(e3u[0]),
-                                             e2b[0] * col[3], e3b[0] * col[3]))
-
-    def evaluate(self, z: np.ndarray) -> CurveEval:
-        z = np.asarray(z, dtype=float)
-        if len(self.pieces) == 1:  # no per-point gather
-            origin, t0, u, b, kappa, e2u, e3u, e2bb, e3bb = self._single
-            zl = z
-        else:
-            k = np.clip(np.searchsorted(self.starts, z, side="right") - 1, 0, len(self.pieces) - 1)
-            cols = self._columns[:, k]
-            origin, t0, u, b = cols[0:3], cols[3:6], cols[6:9], cols[9:12]
-            kappa, inv, e2u, e2b, e3u, e3b = self._scalars[:, k]
-            e2bb, e3bb = e2b * b, e3b * b
-            zl = z - self.starts[k]
-        # Component-major (3, m): the arithmetic runs along m. sin(phi) / kappa and
-        # (1 - cos(phi)) / kappa = 2 sin(phi / 2)^2 / kappa tend to z and 0 on lines (kappa = 0).
-        phi = kappa * zl
-        c, s = np.cos(phi), np.sin(phi)
-        if np.ndim(kappa) == 0:
-            along, across = (s / kappa, 2.0 * np.sin(0.5 * phi) ** 2 / kappa) if kappa > 0.0 else (zl, 0.0)
-        else:
-            arc = kappa > 0.0
-            along = np.where(arc, s * inv, zl)
-            across = np.where(arc, 2.0 * np.sin(0.5 * phi) ** 2 * inv, 0.0)
-        x = origin + along * t0 + across * u
-        tan = c * t0 + s * u
-        nrm = c * u - s * t0
-        return CurveEval(x.T, tan.T, (kappa * nrm).T, (-(kappa * kappa) * tan).T, (e2u * nrm + e2bb).T,
-                         (e3u * nrm + e3bb).T)
-
-    def max_curvature(self) -> float:
-        return max(p.max_curvature() for p in self.pieces)
-
-
-def chain(segments: tuple[float | ArcSpec, ...]) -> Path:
-    """A tangent-continuous chain from +z at the origin: each segment a line length (mm) or an arc."""
-    origin, tangent, e2 = np.zeros(3), Z_AXIS.copy(), X_AXIS.copy()
-    pieces: list[Line | Arc] = []
-    starts = []
-    z0 = 0.0
-    for seg in segments:
-        piece: Line | Arc
-        if not isinstance(seg, ArcSpec):
-            piece = Line(float(seg), origin, tangent, e2)
-        else:
-            piece = _arc_from(origin, tangent, e2, seg)
-        end = piece.evaluate(np.array([piece.length]))
-        pieces.append(piece)
-        starts.append(z0)
-        z0 += piece.length
-        origin, tangent, e2 = end.x[0], end.d1[0], end.e2[0]
-    return Path(tuple(pieces), np.array(starts), z0)
-
-
-@dataclass(frozen=True)
-class SplineCurve:
-    """A C2 interpolating curve through points, re-parametrized by arc length.
-
-    The interpolant c(u) (cubic, chord-length u) is sampled finely at equal arc length and fitted by
-    a quintic spline in arc length, so x, x', x'', x''' are smooth and |x'| = 1 to ~1e-10. The RMF is
-    computed on the same grid by double reflection and interpolated (then re-orthonormalized).
-    """
-
-    xs: object  # BSpline of x(z), k = 5
-    e2s: object  # BSpline of the RMF normal e2(z), k = 5
-    length: float
-    kappa_max: float
-    is_straight: bool = False
-
-    def evaluate(self, z: np.ndarray) -> CurveEval:
-        z = np.asarray(z, dtype=float)
-        d1 = self.xs(z, 1)
-        e2, e3 = orthonormalize(self.e2s(z), d1 / np.linalg.norm(d1, axis=1)[:, None])
-        return CurveEval(self.xs(z), d1, self.xs(z, 2), self.xs(z, 3), e2, e3)
-
-    def max_curvature(self) -> float:
-        return self.kappa_max
-
-
-SPLINE_GRID = 4097  # samples of the arc-length fit; the fit error is far below solver tolerances
-
-
-def spline_curve(points: np.ndarray, source: str, key: str = "mandrel.axis.points") -> SplineCurve:
-    """The C2 arc-length spline through points (k, 3); `source: key` prefixes its refusal."""
-    from scipy.interpolate import CubicSpline, make_interp_spline  # noqa: PLC0415 - slow to import
-
-    pts = np.asarray(points, dtype=float)
-    pts = pts - pts[0]
-    chord = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-    u = np.concatenate([[0.0], np.cumsum(chord)])
-    bc = "not-a-knot" if len(pts) > 3 else "natural"
-    c = CubicSpline(u, pts, axis=0, bc_type=bc)
-    # Arc length of c by Gauss-Legendre on a fine sub-grid of u.
-    fine = np.linspace(0.0, u[-1], 8 * SPLINE_GRID + 1)
-    gx, gw = np.polynomial.legendre.leggauss(6)
-    a, b = fine[:-1], fine[1:]
-    nodes = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * gx
-    speed = np.linalg.norm(c(nodes.ravel(), 1), axis=1).reshape(nodes.shape)
-    seg = 0.5 * (b - a) * (speed @ gw)
-    ell = np.concatenate([[0.0], np.cumsum(seg)])
-    length = float(ell[-1])
-    zgrid = np.linspace(0.0, length, SPLINE_GRID)
-    ugrid = np.interp(zgrid, ell, fine)
-    for _ in range(3):  # Newton on ell(u) = z, ell by Gauss-Legendre from the grid node below u
-        k = np.clip(np.searchsorted(fine, ugrid, side="right") - 1, 0, fine.size - 2)
-        half = 0.5 * (ugrid - fine[k])
-        nodes = (fine[k] + half)[:, None] + half[:, None] * gx
-        sp = np.linalg.norm(c(nodes.ravel(), 1), axis=1).reshape(nodes.shape)
-        cur = ell[k] + half * (sp @ gw)
-        ugrid = ugrid - (cur - zgrid) / np.linalg.norm(c(ugrid, 1), axis=1)
-    xs = make_interp_spline(zgrid, c(ugrid), k=5, axis=0)
-    tangent = xs(zgrid, 1)
-    tangent /= np.linalg.norm(tangent, axis=1)[:, None]
-    t0 = tangent[0]
-    ref = X_AXIS if abs(t0 @ X_AXIS) < 1.0 - 1e-9 else Y_AXIS
-    e2_0 = ref - (ref @ t0) * t0
-    e2_0 /= np.linalg.norm(e2_0)
-    e2 = double_reflection(xs(zgrid), tangent, e2_0)
-    kappa = np.linalg.norm(xs(zgrid, 2), axis=1)
-    if not np.all(np.isfinite(kappa)):
-        raise ConfigError(f"{source}: {key}: the spline through the points is not finite")
-    return SplineCurve(xs, make_interp_spline(zgrid, e2, k=5, axis=0), length, float(kappa.max()))

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from winder.geometry.curves import SPLINE_GRID, Arc, GuideCurve, Line, Path, SplineCurve
+from winder.geometry.curves import GuideCurve, Line
 from winder.geometry.profiles import AxialProfile, Profile
 from winder.geometry.sections import Circle, Section
 
@@ -107,6 +107,10 @@ class SweepSurface:
         binormal b as (3, 1) columns, its curvature and the frame's components e2.u, e2.b, e3.u, e3.b
         (None for other curves)."""
         curve = self.curve
+        if isinstance(curve, Line):
+            return None
+        from winder.geometry.arcs import Arc, Path  # noqa: PLC0415 - loaded with any curve but the line
+
         if not (isinstance(curve, Path) and len(curve.pieces) == 1 and isinstance(curve.pieces[0], Arc)):
             return None
         arc = curve.pieces[0]
@@ -253,12 +257,19 @@ def _check_stations(surface: SweepSurface) -> np.ndarray:
     its own grid (a short tight arc can hide between uniform stations) and a spline's fit grid."""
     s = [np.linspace(0.0, surface.length, 801)]
     curve, z = surface.curve, []
+    if isinstance(curve, Line):
+        return s[0]
+    from winder.geometry.arcs import Path  # noqa: PLC0415 - loaded with any curve but the line
+
     if isinstance(curve, Path):
         for piece, z0 in zip(curve.pieces, curve.starts):
             if not piece.is_straight:
                 z.append(z0 + np.linspace(0.0, piece.length, 65))
-    elif isinstance(curve, SplineCurve):
-        z.append(np.linspace(0.0, curve.length, SPLINE_GRID))
+    else:
+        from winder.geometry.spline_curves import SPLINE_GRID, SplineCurve  # noqa: PLC0415
+
+        if isinstance(curve, SplineCurve):
+            z.append(np.linspace(0.0, curve.length, SPLINE_GRID))
     if z:
         t = np.clip(np.concatenate(z), 0.0, surface.axial_length)
         s.append(surface.s_of_t(t))

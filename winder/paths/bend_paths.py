@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from winder.geometry.curvature import torus_constant_angle_slip, torus_least_pressing_angle
-from winder.geometry.curves import Arc, Path
+from winder.geometry.arcs import Arc, Path
 from winder.errors import SolverError
 from winder.geometry.surface import SweepSurface
 
