@@ -120,7 +120,11 @@ def in_worker(job: Callable[..., Any], *args, **kwargs) -> Any:
 
 
 def stop_workers(pool: ProcessPoolExecutor) -> None:
-    """TERM to every worker (each rolls back its job), then KILL to any still running after the grace."""
+    """TERM to every worker (each rolls back its job), then KILL to any still running after the grace;
+    then shut the pool down and wait (at most the grace) for its manager thread. Left running, that
+    thread closes its wake-up pipe while the interpreter's exit writes to it (Python 3.11's
+    concurrent.futures checks, then writes), which prints a traceback after a clean interrupt."""
+    manager = getattr(pool, "_executor_manager_thread", None)
     processes = list((getattr(pool, "_processes", None) or {}).values())
     for proc in processes:
         try:
@@ -136,3 +140,6 @@ def stop_workers(pool: ProcessPoolExecutor) -> None:
                 proc.join(WORKER_GRACE_S)
         except (OSError, ValueError, AssertionError):
             pass
+    pool.shutdown(wait=False, cancel_futures=True)
+    if manager is not None:
+        manager.join(WORKER_GRACE_S)

@@ -327,7 +327,6 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
         # An interrupt (or an abandoned generator): stop the workers now, each rolling back its job,
         # rather than letting them finish the batch without a parent.
         stop_workers(pool)
-        pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown(wait=True)
     for i in sorted(retry):
@@ -340,7 +339,6 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
             report = _worker_failure(task.config, exc)
         except BaseException:
             stop_workers(alone)
-            alone.shutdown(wait=False, cancel_futures=True)
             raise
         alone.shutdown(wait=True)
         yield i, report
