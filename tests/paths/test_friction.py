@@ -21,7 +21,8 @@ from winder.geometry.curvature import (path_curvatures, polyline_curvatures, tor
 from winder.paths.friction import trace_friction
 from winder.paths.friction_path import Status, friction_path
 from winder.paths.geodesic import geodesic
-from winder.paths.ode import heading_of_velocity, trace
+from winder.paths.headings import heading_of_velocity
+from winder.paths.ode import trace
 from winder.geometry.build import build_surface
 
 CLOSED_FORM_TOL = 1e-10  # sin(alpha) on the cylinder: traced vs closed form

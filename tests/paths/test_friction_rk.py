@@ -15,7 +15,7 @@ from winder.geometry.build import build_surface
 from winder.paths import dome_paths, friction
 from winder.paths.dome_paths import close_leg, dome_meridian, solve_slip
 from winder.paths.friction import trace_friction
-from winder.paths.ode import heading_of_velocity
+from winder.paths.headings import heading_of_velocity
 
 CLOSED_FORM_TOL = 1e-10  # cylinder friction path at rtol 1e-12: cot(alpha), theta (rad), the turnaround (mm)
 STATION_REL_TOL = 1e-11  # the same path's station z, relative to |z| (~1000 mm: rtol times the steps)

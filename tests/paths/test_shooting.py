@@ -21,7 +21,8 @@ from winder.config.sections import EllipseSection
 from winder.config.vessel import Dome, DomeType, VesselProfile
 from winder.errors import ConfigError, SolverError
 from winder.paths.geodesic import geodesic
-from winder.paths.ode import clairaut_constant, trace, trace_fan
+from winder.paths.headings import clairaut_constant
+from winder.paths.ode import trace, trace_fan
 from winder.paths.shooting import shoot
 from winder.geometry.build import build_surface
 
@@ -285,7 +286,7 @@ def test_shoot_falls_back_to_minpack(monkeypatch):
 
 def test_heading_convention_on_a_non_orthogonal_parametrization():
     # A cone with an elliptic section: R(s, theta) depends on both, so Phi_s . Phi_theta != 0.
-    from winder.paths.ode import heading_of_velocity, velocity_of_heading
+    from winder.paths.headings import heading_of_velocity, velocity_of_heading
 
     surf = build_surface(MandrelConfig(LineAxis(200.0), ConeProfile(50.0, 30.0), EllipseSection(60.0, 35.0)))
     s = np.array([10.0, 80.0, 150.0, 190.0])

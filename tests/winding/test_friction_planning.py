@@ -20,7 +20,7 @@ from winder.geometry.curvature import curve_curvatures, torus_constant_angle_sli
 from winder.paths.dome_paths import close_leg, dome_meridian, solve_slip, trace_leg
 from winder.errors import SolverError
 from winder.paths.friction import trace_friction
-from winder.paths.ode import heading_of_velocity
+from winder.paths.headings import heading_of_velocity
 from winder.geometry.build import build_surface
 
 A, RB = 40.0, 150.0

@@ -27,7 +27,7 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import ConfigError, SolverError
-from winder.paths.ode import heading_of_velocity, velocity_of_heading
+from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.geometry.rk import solve_rk
 from winder.geometry.surface import SweepSurface
 

@@ -34,7 +34,7 @@ from numpy.polynomial import legendre
 from winder.geometry.curvature import path_curvatures, slip_and_margin
 from winder.errors import ConfigError
 from winder.paths.friction import friction_rhs
-from winder.paths.ode import heading_of_velocity, velocity_of_heading
+from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.paths.shooting import initial_guess
 from winder.geometry.surface import SweepSurface
 

@@ -10,9 +10,7 @@ J = [Phi_s, Phi_theta] (3 x 2), g = J^T J (the metric). The state is y = (s, the
 right-hand side (geodesic_rhs) works on a (4, k) array of k independent states at once, so that a fan
 of rays is integrated in one solve_ivp call (with one step sequence).
 
-Directions are given as the winding angle alpha (heading): the angle in the tangent plane from the
-direction of increasing s (the meridian, Phi_s) toward increasing theta. The orthonormal tangent
-basis is e1 = Phi_s / |Phi_s| and e2 = the unit part of Phi_theta orthogonal to e1.
+Directions are given as the winding angle alpha (heading; see winder.paths.headings).
 
 Stations are the surface's internal station s in [0, surface.length] (the axial station t for every
 mandrel except vessels; convert with surface.s_of_t / t_of_s).
@@ -21,7 +19,8 @@ trace: integrate from one point in one direction (DOP853, dense output), stoppin
     [0, surface.length].
 trace_fan: a fan of rays from one point in one solve_ivp call. Two-point shooting on top of these
     is winder.paths.shooting.
-clairaut_constant: r sin(alpha) on a surface of revolution, conserved along every geodesic.
+Headings and the Clairaut constant (winder.paths.headings) convert between winding angles and
+parameter velocities.
 """
 
 from __future__ import annotations
@@ -33,15 +32,12 @@ import numpy as np
 
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
+from winder.paths.headings import heading_of_velocity, row_dot, velocity_of_heading
 
 STATION_TOL = 1e-9  # mm: a start station this far outside [0, length] is still on the mandrel
 
 
 # -- the ODE ---------------------------------------------------------------------------------------------
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("ij,ij->i", a, b)
-
-
 def geodesic_rhs(surface: SweepSurface, y: np.ndarray) -> np.ndarray:
     """d/dl of the state y = (s, theta, s', theta'): (4,) or (4, k) float -> same shape.
 
@@ -54,71 +50,14 @@ def geodesic_rhs(surface: SweepSurface, y: np.ndarray) -> np.ndarray:
     ev = surface.evaluate(s, th, order=2)
     acc = (ev.pss * (ds * ds)[:, None] + 2.0 * ev.pst * (ds * dth)[:, None]
            + ev.ptt * (dth * dth)[:, None])
-    b0, b1 = -_dot(ev.ps, acc), -_dot(ev.pt, acc)
-    g00, g01, g11 = _dot(ev.ps, ev.ps), _dot(ev.ps, ev.pt), _dot(ev.pt, ev.pt)
+    b0, b1 = -row_dot(ev.ps, acc), -row_dot(ev.pt, acc)
+    g00, g01, g11 = row_dot(ev.ps, ev.ps), row_dot(ev.ps, ev.pt), row_dot(ev.pt, ev.pt)
     det = g00 * g11 - g01 * g01
     out = np.empty_like(y2)
     out[0], out[1] = ds, dth
     out[2] = (g11 * b0 - g01 * b1) / det
     out[3] = (g00 * b1 - g01 * b0) / det
     return out[:, 0] if flat else out
-
-
-def tangent_basis(ps: np.ndarray, pt: np.ndarray):
-    """|Phi_s|, e1.Phi_theta and |w|, w = the part of Phi_theta orthogonal to e1; each (m,)."""
-    ns = np.linalg.norm(ps, axis=1)
-    e1 = ps / ns[:, None]
-    along = _dot(e1, pt)
-    w = np.linalg.norm(pt - along[:, None] * e1, axis=1)
-    return ns, along, w
-
-
-def velocity_of_heading(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
-                        heading_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Parameter velocity (s', theta') of the unit tangent vector at winding angle heading_rad.
-
-    The unit vector d = cos(a) e1 + sin(a) e2 written as d = s' Phi_s + theta' Phi_theta.
-    All arguments (m,) float (broadcast); returns two (m,) arrays.
-    """
-    s, theta, a = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
-                                        for v in (s, theta, heading_rad)))
-    ev = surface.evaluate(s, theta, order=1)
-    ns, along, w = tangent_basis(ev.ps, ev.pt)
-    dth = np.sin(a) / w
-    ds = (np.cos(a) - dth * along) / ns
-    return ds, dth
-
-
-def heading_of_velocity(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ds: np.ndarray,
-                        dtheta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Winding angle (rad, from the meridian toward increasing theta) and speed |J u'| (mm per unit).
-
-    All arguments (m,) float (broadcast); returns two (m,) arrays.
-    """
-    s, theta, ds, dtheta = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
-                                                 for v in (s, theta, ds, dtheta)))
-    ev = surface.evaluate(s, theta, order=1)
-    ns, along, w = tangent_basis(ev.ps, ev.pt)
-    c1 = ns * ds + along * dtheta  # component along e1
-    c2 = w * dtheta  # component along e2
-    return np.arctan2(c2, c1), np.hypot(c1, c2)
-
-
-def clairaut_constant(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ds: np.ndarray,
-                      dtheta: np.ndarray) -> np.ndarray:
-    """r sin(alpha) at points (s, theta) moving with parameter velocity (ds, dtheta): (m,) float, mm.
-
-    r is the distance from the axis, alpha the angle from the meridian (signed: positive toward
-    increasing theta). Constant along every geodesic of a surface of revolution (Clairaut).
-    Raises SolverError if the surface is not one of revolution.
-    """
-    if not surface.is_revolution:
-        raise SolverError(f"Clairaut's relation needs a surface of revolution (a straight axis and a "
-                          f"circular section); the mandrel {surface.name!r} is not one")
-    alpha, _ = heading_of_velocity(surface, s, theta, ds, dtheta)
-    s_b = np.broadcast_arrays(np.atleast_1d(np.asarray(s, dtype=float)), alpha)[0]
-    th_b = np.broadcast_arrays(np.atleast_1d(np.asarray(theta, dtype=float)), alpha)[0]
-    return surface.radius(s_b, th_b) * np.sin(alpha)
 
 
 # -- integration ------------------------------------------------------------------------------------------

@@ -18,7 +18,8 @@ import numpy as np
 
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
-from winder.paths.ode import check_start, fan_rhs, heading_of_velocity, tangent_basis, velocity_of_heading
+from winder.paths.headings import heading_of_velocity, tangent_basis, velocity_of_heading
+from winder.paths.ode import check_start, fan_rhs
 
 HEADING_STEP = 1e-6  # rad: half-width of the central difference in the heading (IND fan)
 CONVERGED_RESIDUAL = 1e-9  # a shot converges when its end misses by <= this times max(length, 1 mm)

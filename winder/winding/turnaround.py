@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from winder.geometry.surface import SweepSurface
-from winder.paths.ode import heading_of_velocity, velocity_of_heading
+from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.geometry.measure import row_norms
 
 TURN_SLIP_SHARE = 0.9  # of the friction coefficient, used by a turnaround (a margin for its scatter)

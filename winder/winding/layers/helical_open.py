@@ -30,7 +30,6 @@ from winder.winding.passes import (
 from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_open_pattern
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.slip import check as check_held
-from winder.paths.ode import trace
 from winder.geometry.surface import SweepSurface
 from winder.geometry.roots import bracketed_root
 from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
@@ -44,6 +43,8 @@ def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float
     """theta where the geodesic from start at heading_deg reaches station s_target."""
     # 1e-10 is plenty for a pattern advance, and tight tolerances crawl on guides whose third
     # derivative is only piecewise smooth (splines).
+    from winder.paths.ode import trace  # noqa: PLC0415 - only where winding.advance has no closed form
+
     tr = trace(surface, start, heading_deg, span, rtol=TRACE_RTOL, atol=TRACE_RTOL)
     ls = np.linspace(0.0, tr.length, 4001)
     ss = tr.sol(ls)[0]
