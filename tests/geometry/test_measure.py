@@ -60,3 +60,54 @@ def test_smooth_length_on_the_quarter_bend_is_the_row_wise_formulas(quarter_bend
     m = res.s.shape[0]
     ref = float(LOBATTO_W_END * (2.0 * np.sum(speed[:m]) - speed[0] - speed[m - 1]) + LOBATTO_W_MID * np.sum(speed[m:]))
     assert smooth_length(surface, res.s, res.theta, gauss_segments=0) == ref
+
+
+def _gram_solve(ps: np.ndarray, pt: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The batched LAPACK solve of the stacked Gram systems: tangent_coordinates' reference."""
+    basis = np.stack([ps.T, pt.T], axis=2)
+    g = np.einsum("nki,nkj->nij", basis, basis)
+    return np.linalg.solve(g, np.einsum("nki,nk->ni", basis, v.T)[..., None])[..., 0]
+
+
+def test_tangent_coordinates_solve_the_gram_system_as_lapack() -> None:
+    from winder.geometry.measure import tangent_coordinates  # noqa: PLC0415
+
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 3, 7, 5000):
+        ps = rng.normal(size=(3, n)) * rng.lognormal(0.0, 3.0, size=n)
+        pt = rng.normal(size=(3, n)) * rng.lognormal(0.0, 3.0, size=n)
+        v = rng.normal(size=(3, n))
+        a, b = tangent_coordinates(ps, pt, v)
+        ref = _gram_solve(ps, pt, v)
+        # The same operations as LAPACK's LU (bit for bit on the builds checked); a build whose
+        # kernels fuse or reorder them differs in the last bits only.
+        assert np.allclose(a, ref[:, 0], rtol=1e-12, atol=0.0) and np.allclose(b, ref[:, 1], rtol=1e-12, atol=0.0)
+        # the projection's residual is normal to both tangents
+        res = v - ps * a - pt * b
+        assert np.max(np.abs(np.sum(res * ps, axis=0)) / np.sum(ps * ps, axis=0) ** 0.5) < 1e-9
+
+
+def test_tangent_coordinates_of_an_exact_system_and_the_pivot_row() -> None:
+    from winder.geometry.measure import tangent_coordinates  # noqa: PLC0415
+
+    # ps = (1, 0, 0), pt = (1, 2, 0): v = 3 ps + 0.5 pt exactly; and the same with the larger entry
+    # of G's first column in its second row (ps = (0.5, 0, 0)), where LU swaps the rows.
+    for ps0, a0 in ((1.0, 3.0), (0.5, 6.0)):
+        ps, pt = np.array([[ps0], [0.0], [0.0]]), np.array([[1.0], [2.0], [0.0]])
+        a, b = tangent_coordinates(ps, pt, ps * a0 + pt * 0.5)
+        assert a[0] == a0 and b[0] == 0.5
+
+
+def test_tangent_coordinates_refuse_a_singular_system_as_before() -> None:
+    import pytest  # noqa: PLC0415
+
+    from winder.geometry.measure import tangent_coordinates  # noqa: PLC0415
+
+    ps = np.array([[1.0, 1.0], [0.0, 0.0], [0.0, 0.0]])
+    pt = np.array([[1.0, 2.0], [2.0, 0.0], [0.0, 0.0]])  # the second pair is parallel
+    with pytest.raises(np.linalg.LinAlgError):
+        tangent_coordinates(ps, pt, np.ones((3, 2)))
+    tiny = np.array([[1e-160], [0.0], [0.0]])  # G's pivot 1e-320 is subnormal: LAPACK's own solve
+    a, b = tangent_coordinates(tiny, np.array([[0.0], [1.0], [0.0]]), np.array([[1e-160], [2.0], [0.0]]))
+    ref = _gram_solve(tiny, np.array([[0.0], [1.0], [0.0]]), np.array([[1e-160], [2.0], [0.0]]))
+    assert np.array_equal(a, ref[:, 0]) and np.array_equal(b, ref[:, 1])

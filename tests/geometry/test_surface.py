@@ -462,3 +462,19 @@ def test_vanishing_terms_left_out_change_no_value(axis, section, prof, monkeypat
                 assert (x is None) == (y is None)
                 if x is not None:
                     assert x.shape == y.shape and np.array_equal(x, y)
+
+
+@pytest.mark.parametrize("axis, profile, section", [
+    (LineAxis(300.0), ConstantProfile(40.0), CircleSection()),
+    (LineAxis(100.0), ConstantProfile(10.0), EllipseSection(12.0, 8.0)),
+    (LineAxis(100.0), ConstantProfile(10.0), RoundedRectangleSection(24.0, 16.0, 4.0)),
+    (LineAxis(100.0), None, SuperellipseSection(12.0, 8.0, 4.0)),
+    (LineAxis(100.0), ConeProfile(10.0, 14.0), CircleSection()),  # the meshgrid itself
+    (ArcAxis(150.0, 90.0), ConstantProfile(40.0), CircleSection()),
+])
+def test_grid_points_are_points_on_the_meshgrid_bit_for_bit(axis, profile, section) -> None:
+    surf = build_surface(MandrelConfig(axis, profile, section), "t")
+    s = np.linspace(0.0, surf.length, 37)
+    th = np.concatenate([np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False), [-1.0, 7.5, np.pi]])
+    ss, tt = np.meshgrid(s, th, indexing="ij")
+    assert np.array_equal(surf.grid_points(s, th), surf.points(ss.ravel(), tt.ravel()))

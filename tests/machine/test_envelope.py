@@ -76,3 +76,32 @@ def test_concave_majorant_is_the_upper_hull(shape):
         w = (x[k] - x[i[span]]) / (x[j[span]] - x[i[span]])
         best[k] = max(best[k], np.max(z[i[span]] + w * (z[j[span]] - z[i[span]])))
     assert _concave_majorant(x, z) == pytest.approx(best, abs=1e-9)
+
+
+def _dilate_every_step(stations, r_max, c, h, k_max, caps):
+    """_dilate with every one of its k_max steps taken: its reference."""
+    before, after = (k_max if caps[0] else 0), (k_max if caps[1] else 0)
+    r_ext = np.concatenate([np.full(before, -np.inf), r_max, np.full(after, -np.inf)])
+    dil = r_ext + c
+    for k in range(1, k_max + 1):
+        rise = np.sqrt(max(c * c - (k * h) ** 2, 0.0))
+        dil[k:] = np.maximum(dil[k:], r_ext[:-k] + rise)
+        dil[:-k] = np.maximum(dil[:-k], r_ext[k:] + rise)
+    return np.maximum(dil, 0.0)
+
+
+@pytest.mark.parametrize("profile", ["cylinder", "gentle", "cone", "bumps", "step"])
+def test_dilation_skipping_no_op_steps_is_every_step_bit_for_bit(profile):
+    from winder.machine.envelope import _dilate  # noqa: PLC0415
+
+    stations = np.linspace(0.0, 500.0, 2001)
+    h = stations[1] - stations[0]
+    rng = np.random.default_rng(4)
+    r_max = {"cylinder": np.full(stations.size, 35.0), "gentle": 35.0 + 1e-3 * np.sin(stations / 40.0),
+             "cone": 20.0 + 0.1 * stations, "bumps": 35.0 + rng.uniform(0.0, 0.3, stations.size),
+             "step": np.where(stations < 250.0, 35.0, 35.0 + 1e-12)}[profile]
+    for c in (20.5, 3.0):
+        k_max = int(np.floor(c / h))
+        for caps in ((False, False), (True, False), (True, True)):
+            got, _ = _dilate(stations, r_max, c, h, k_max, caps)
+            assert np.array_equal(got, _dilate_every_step(stations, r_max, c, h, k_max, caps)), (c, caps)

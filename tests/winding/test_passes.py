@@ -46,3 +46,15 @@ def test_solved_pass_tangent_on_a_cylinder_is_the_helix():
     want = np.column_stack([-rk * np.sin(sp.theta), rk * np.cos(sp.theta), np.ones_like(sp.theta)])
     want /= math.hypot(rk, 1.0)
     assert np.allclose(sp.direction, want, atol=HELIX_DIR_ABS)
+
+
+def test_a_dwell_from_one_evaluation_is_the_pass_evaluated_anew():
+    # dwell_pass hands its evaluation to make_pass: the same pass as make_pass evaluating it itself
+    ctx = _ctx({"axis": {"type": "line", "length": 300}, "section": {"type": "ellipse", "a": 60, "b": 35}}, 30)
+    for heading_in, heading_out in ((90.0, 90.0), (60.0, 120.0)):
+        fp = P.dwell_pass(ctx, 1, 1, 1, 120.0, 0.3, 2.9, heading_in, heading_out)
+        again = P.make_pass(ctx.surface, 1, 1, 1, fp.kind, fp.s, fp.theta, fp.direction, fp.length)
+        pts = ctx.surface.points(fp.s, fp.theta)
+        assert np.array_equal(fp.points, again.points) and np.array_equal(fp.points, pts)
+        assert np.array_equal(fp.alpha_deg, again.alpha_deg)
+        assert fp.length == float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))

@@ -48,29 +48,33 @@ def band_color(layer: int, kind: PassKind) -> tuple[int, int, int, int]:
     return (int(round(255 * r)), int(round(255 * g)), int(round(255 * b)), 255)
 
 
-def _mandrel(plan: WindingPlan) -> tuple[np.ndarray, np.ndarray]:
+def _mandrel(plan: WindingPlan) -> tuple[np.ndarray, int, int]:
+    """The mandrel grid's vertices (ns nth, 3), station-major, and its size (ns, nth)."""
     surface = plan.surface
     nth = THETA_SAMPLES
     s_probe = np.linspace(0.0, surface.length, 65)
     th_probe = np.linspace(0.0, 2.0 * np.pi, 65)
-    ss, tt = np.meshgrid(s_probe, th_probe, indexing="ij")
-    pts = surface.points(ss.ravel(), tt.ravel()).reshape(65, 65, 3)
+    pts = surface.grid_points(s_probe, th_probe).reshape(65, 65, 3)
     meridian = float(np.max(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=2), axis=0)))
     perimeter = float(np.max(np.sum(np.linalg.norm(np.diff(pts, axis=1), axis=2), axis=1)))
     ns = int(np.clip(math.ceil(meridian / max(perimeter / nth, 1e-9)) + 1, MIN_STATIONS, MAX_STATIONS))
     s = np.linspace(0.0, surface.length, ns)
     th = np.linspace(0.0, 2.0 * np.pi, nth, endpoint=False)
-    ss, tt = np.meshgrid(s, th, indexing="ij")
-    verts = surface.points(ss.ravel(), tt.ravel())
-    i, j = np.meshgrid(np.arange(ns - 1), np.arange(nth), indexing="ij")
-    i, j = i.ravel(), j.ravel()
-    v00 = i * nth + j
-    v01 = i * nth + (j + 1) % nth
-    v10 = (i + 1) * nth + j
-    v11 = (i + 1) * nth + (j + 1) % nth
+    return surface.grid_points(s, th), ns, nth
+
+
+def _mandrel_faces(ns: int, nth: int, out: np.ndarray) -> None:
+    """The grid's faces into out (2 (ns - 1) nth, 3): the first triangle of every cell, cells
+    station-major, then the second; closed in theta."""
+    row = (np.arange(ns - 1) * nth)[:, None]
+    j = np.arange(nth)
+    v00, v01 = (row + j).ravel(), (row + (j + 1) % nth).ravel()
+    v10, v11 = v00 + nth, v01 + nth
+    k = v00.size
     # Phi_theta x Phi_s points outward (SweepSurface.normals): (v00, v01, v10) is counter-clockwise.
-    faces = np.concatenate([np.column_stack([v00, v01, v10]), np.column_stack([v01, v11, v10])])
-    return verts, faces
+    for col, (a, b) in enumerate(((v00, v01), (v01, v11), (v10, v10))):
+        out[:k, col] = a
+        out[k:, col] = b
 
 
 def _ribbons(plan: WindingPlan, passes: list[FiberPass], band_width: float) -> tuple[np.ndarray, np.ndarray]:
@@ -106,26 +110,20 @@ def _ribbons(plan: WindingPlan, passes: list[FiberPass], band_width: float) -> t
     return verts, faces
 
 
-def ply_arrays(plan: WindingPlan, band_width: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The colored mesh of ply_bytes (mandrel first, then the bands in winding order): vertices (v, 3)
-    float, faces (f, 3) int, vertex colors (v, 4) uint8 RGBA."""
+def _band_pieces(plan: WindingPlan, band_width: float) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Each layer's ribbons (winding order): vertices (v, 3) float, faces (f, 3) int indexing them,
+    vertex colors (v, 4) uint8 RGBA."""
     if not (math.isfinite(band_width) and band_width > 0.0):
         raise ExportError(f"{plan.source}: winding.band_width: must be > 0 for the PLY bands, got {band_width!r}")
-    verts, faces = _mandrel(plan)
-    all_v, all_f = [verts], [faces]
-    colors = [np.tile(np.array(MANDREL_COLOR, dtype=np.uint8), (len(verts), 1))]
-    base = len(verts)
+    pieces = []
     for layer in plan.layers:
         passes = [fp for fp in layer.passes if len(fp.points) >= 2]
         if not passes:
             continue
         v, f = _ribbons(plan, passes, band_width)
-        all_v.append(v)
-        all_f.append(f + base)
         shade = np.array([band_color(fp.layer, fp.kind) for fp in passes], dtype=np.uint8)
-        colors.append(np.repeat(shade, [2 * len(fp.points) for fp in passes], axis=0))
-        base += len(v)
-    return np.concatenate(all_v), np.concatenate(all_f), np.concatenate(colors)
+        pieces.append((v, f, np.repeat(shade, [2 * len(fp.points) for fp in passes], axis=0)))
+    return pieces
 
 
 _HEADER = ("ply\nformat binary_little_endian 1.0\ncomment winder\nelement vertex {v}\nproperty float x\n"
@@ -134,13 +132,24 @@ _HEADER = ("ply\nformat binary_little_endian 1.0\ncomment winder\nelement vertex
 
 
 def ply_bytes(plan: WindingPlan, band_width: float) -> bytes:
-    """The binary PLY file's bytes."""
-    verts, faces, colors = ply_arrays(plan, band_width)
-    vertex = np.empty(len(verts), dtype=[("xyz", "<f4", (3,)), ("rgba", "u1", (4,))])
-    vertex["xyz"], vertex["rgba"] = verts, colors
-    face = np.empty(len(faces), dtype=[("count", "u1"), ("index", "<i4", (3,))])
-    face["count"], face["index"] = 3, faces
-    return b"".join([_HEADER.format(v=len(verts), f=len(faces)).encode("ascii"), vertex.data, face.data])
+    """The binary PLY file's bytes: the colored mesh, mandrel first, then the bands in winding order.
+    Each piece is written into the file's record arrays at its place (no whole-mesh copies)."""
+    pieces = _band_pieces(plan, band_width)
+    verts, ns, nth = _mandrel(plan)
+    n_v = len(verts) + sum(len(v) for v, _, _ in pieces)
+    n_f = 2 * (ns - 1) * nth + sum(len(f) for _, f, _ in pieces)
+    vertex = np.empty(n_v, dtype=[("xyz", "<f4", (3,)), ("rgba", "u1", (4,))])
+    face = np.empty(n_f, dtype=[("count", "u1"), ("index", "<i4", (3,))])
+    xyz, rgba, index = vertex["xyz"], vertex["rgba"], face["index"]
+    xyz[:len(verts)], rgba[:len(verts)] = verts, MANDREL_COLOR
+    _mandrel_faces(ns, nth, index[:2 * (ns - 1) * nth])
+    v0, f0 = len(verts), 2 * (ns - 1) * nth
+    for v, f, colors in pieces:
+        xyz[v0:v0 + len(v)], rgba[v0:v0 + len(v)] = v, colors
+        np.add(f, v0, out=index[f0:f0 + len(f)], casting="unsafe")
+        v0, f0 = v0 + len(v), f0 + len(f)
+    face["count"] = 3
+    return b"".join([_HEADER.format(v=n_v, f=n_f).encode("ascii"), vertex.data, face.data])
 
 
 def export(plan: WindingPlan, job) -> bytes:

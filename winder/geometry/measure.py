@@ -80,6 +80,44 @@ def _speed(ps: np.ndarray, pt: np.ndarray, du: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum("ji,ji->i", vel, vel))
 
 
+def _dot3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """u0 v0 + u1 v1 + u2 v2 of (3, q) rows, as einsum reduces a 3-long axis: in order from a zero
+    accumulator, so a total of -0.0 comes out +0.0 (the + 0.0)."""
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2] + 0.0
+
+
+def tangent_coordinates(ps: np.ndarray, pt: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(a, b), each (q,): the least-squares a Phi_s + b Phi_theta ~ v of (3, q) rows ps, pt, v, from
+    the 2 x 2 Gram system G (a, b) = (Phi_s . v, Phi_theta . v).
+
+    The arithmetic of np.linalg.solve on the stacked einsum systems (LAPACK dgesv: the larger entry of
+    G's first column as pivot, ties to the first row, the multiplier through the pivot's reciprocal),
+    checked bit for bit against this build's LAPACK; written out per row it costs a tenth of the
+    batched solve's per-system overhead. Systems LAPACK would treat otherwise (a zero or subnormal
+    pivot, values not finite) go to np.linalg.solve itself, which refuses a singular one as before.
+    """
+    g11, g12, g22 = _dot3(ps, ps), _dot3(ps, pt), _dot3(pt, pt)
+    r1, r2 = _dot3(ps, v), _dot3(pt, v)
+    swap = np.abs(g12) > np.abs(g11)  # G is symmetric: g21 = g12 bit for bit
+    p11, p21 = np.where(swap, g12, g11), np.where(swap, g11, g12)
+    p12, p22 = np.where(swap, g22, g12), np.where(swap, g12, g22)
+    q1, q2 = np.where(swap, r2, r1), np.where(swap, r1, r2)
+    with np.errstate(all="ignore"):
+        mult = p21 * (1.0 / p11)
+        u22 = p22 - mult * p12
+        b = (q2 - mult * q1) / u22
+        a = (q1 - p12 * b) / p11
+    if not (np.all(np.abs(p11) >= _NORMAL_MIN) and np.all(u22 != 0.0)
+            and np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        g = np.stack([np.stack([g11, g12], axis=-1), np.stack([g12, g22], axis=-1)], axis=-2)
+        ab = np.linalg.solve(g, np.stack([r1, r2], axis=-1)[..., None])[..., 0]
+        return ab[:, 0], ab[:, 1]
+    return a, b
+
+
+_NORMAL_MIN = float(np.finfo(float).tiny)  # LAPACK divides instead of scaling by a smaller pivot
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise a x b of two (m, 3) arrays: np.cross's arithmetic (a1 b2 - a2 b1, ...) without its
     axis handling, which costs more than the products on a solver's few thousand rows."""

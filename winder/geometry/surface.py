@@ -220,6 +220,26 @@ class SweepSurface:
         """Phi(s, theta): (m, 3) float."""
         return self.evaluate(s, theta, order=0).p
 
+    def grid_points(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """Phi on the grid of stations s (a,) by angles theta (b,): (a b, 3) float, row i b + j at (s_i,
+        theta_j), the values of points() on the meshgrid (indexing "ij") bit for bit. On a straight
+        axis with a constant radius the point splits into x(s_i) + R(theta_j) n(theta_j), so the
+        angles' cosines, sines and section radii are taken once per angle, not once per grid point."""
+        s, theta = np.asarray(s, float), np.asarray(theta, float)
+        radius, line = self._constant_radius, self._line_frame
+        if radius is None or line is None:
+            ss, tt = np.meshgrid(s, theta, indexing="ij")
+            return self.points(ss.ravel(), tt.ravel())
+        origin, tan, e2, e3 = line
+        c, sn = np.cos(theta), np.sin(theta)
+        if isinstance(self.section, Circle):
+            q = self.section.radius / self.section_scale
+        else:
+            q = self.section.polar_cs(c, sn, 0)[0] / self.section_scale
+        x = origin + s * tan  # (3, a)
+        rn = (radius * q) * (c * e2 + sn * e3)  # (3, b): evaluate's r * n
+        return (x[:, :, None] + rn[:, None, :]).reshape(3, -1).T
+
     def normals(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """Outward unit normals: (m, 3) float."""
         ev = self.evaluate(s, theta, order=1)

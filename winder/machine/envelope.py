@@ -14,6 +14,7 @@ from winder.geometry.surface import SweepSurface
 SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
 ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
 ENVELOPE_MAX_SAMPLES = 65537
+SKIP_MARGIN = 1e-9  # relative: the dilation's skipped steps are no-ops with this much to spare
 HULL_SWEEPS = 64  # vectorized pruning sweeps of the upper hull before the monotone chain finishes it
 
 
@@ -148,8 +149,18 @@ def _dilate(stations: np.ndarray, r_max: np.ndarray, c: float, h: float, k_max: 
                         stations[-1] + h * np.arange(1, after + 1)])
     r_ext = np.concatenate([np.full(before, -np.inf), r_max, np.full(after, -np.inf)])
     dil = r_ext + c
+    # A neighbour k stations away lifts a point only where it lies more than c - rise_k above it:
+    # with no capped ends (every value finite), once c - rise_k exceeds the profile's spread (by a
+    # margin far above the round-off of both) no step changes a value, rise_k only falls with k,
+    # and the rest is skipped (a cylinder: every step).
+    spread, margin = np.inf, 0.0
+    if r_max.size and not any(caps):
+        top, low = float(np.max(r_max)), float(np.min(r_max))
+        spread, margin = top - low, SKIP_MARGIN * (c + max(abs(top), abs(low)))
     for k in range(1, k_max + 1):
         rise = np.sqrt(max(c * c - (k * h) ** 2, 0.0))
+        if c - rise > spread + margin:
+            break
         dil[k:] = np.maximum(dil[k:], r_ext[:-k] + rise)
         dil[:-k] = np.maximum(dil[:-k], r_ext[k:] + rise)
     return np.maximum(dil, 0.0), x

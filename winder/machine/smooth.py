@@ -11,7 +11,7 @@ import numpy as np
 from winder.geometry.index_spline import knot_slopes
 from winder.geometry.surface import SweepSurface
 from winder.winding.results import FiberPass, PassKind
-from winder.geometry.measure import row_norms
+from winder.geometry.measure import row_norms, tangent_coordinates
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
 
@@ -21,17 +21,19 @@ def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.n
     """Parameter derivatives (s', theta') along the plan's directions (n, 3) at nodes (s, theta)
     (n,), with the spline's speed (ds, dth): pointwise, so all passes' nodes go in one call."""
     ev = surface.evaluate(s, th, order=1)
-    basis = np.stack([ev.ps, ev.pt], axis=2)  # (n, 3, 2)
-    g = np.einsum("nki,nkj->nij", basis, basis)
-    rhs = np.einsum("nki,nk->ni", basis, direction)
-    ab = np.linalg.solve(g, rhs[..., None])[..., 0]
-    speed_plan = row_norms(np.einsum("nki,ni->nk", basis, ab))
-    speed_spline = row_norms(ev.ps * ds[:, None] + ev.pt * dth[:, None])
+    ps, pt = ev.ps.T, ev.pt.T  # (3, n): the evaluation's own rows
+    a, b = tangent_coordinates(ps, pt, direction.T)
+    speed_plan = np.sqrt(_square3(ps * a + pt * b))
+    speed_spline = np.sqrt(_square3(ps * ds + pt * dth))
     scale = speed_spline / np.where(speed_plan > 0, speed_plan, 1.0)
     # A direction against the spline (never in a plan) would fold the curve: keep the spline there.
-    sign = np.einsum("ni,ni->n", ab, np.column_stack([ds, dth]))
-    ok = (speed_plan > 0) & (sign > 0)
-    return np.where(ok, ab[:, 0] * scale, ds), np.where(ok, ab[:, 1] * scale, dth)
+    ok = (speed_plan > 0) & (a * ds + b * dth > 0)
+    return np.where(ok, a * scale, ds), np.where(ok, b * scale, dth)
+
+
+def _square3(v: np.ndarray) -> np.ndarray:
+    """v0^2 + v1^2 + v2^2 of (3, n) rows: row_norms' sum (in order) before its root."""
+    return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
 
 
 class SmoothPaths:

@@ -86,9 +86,13 @@ def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ev: Surf
 
 
 def make_pass(surface: SweepSurface, layer: int, circuit: int, number: int, kind: PassKind,
-               s: np.ndarray, theta: np.ndarray, direction: np.ndarray | None, length: float) -> FiberPass:
+               s: np.ndarray, theta: np.ndarray, direction: np.ndarray | None, length: float,
+               ev: SurfaceEval | None = None) -> FiberPass:
+    """A pass of the vertices (s, theta); ev: the surface there (order >= 1, with its points), when
+    the caller has it."""
     # One evaluation of order 1 gives the points too (the same arithmetic as order 0's).
-    ev = surface.evaluate(s, theta, order=1)
+    if ev is None:
+        ev = surface.evaluate(s, theta, order=1)
     if direction is None:
         direction = directions(surface, s, theta, ev)
     return FiberPass(layer, circuit, number, kind, surface.t_of_s(s), s, theta, ev.p, direction,
@@ -220,15 +224,14 @@ def dwell_pass(ctx: PlanContext, layer: int, circuit: int, number: int, s: float
     m = max(2, int(math.ceil(abs(math.degrees(th1 - th0)) / DWELL_STEP_DEG)) + 1)
     th = np.linspace(th0, th1, m)
     ss = np.full(m, s)
+    ev = ctx.surface.evaluate(ss, th, order=1)  # its points are order 0's, bit for bit
     if abs(heading_in - 90.0) <= HOOP_HEADING_TOL and abs(heading_out - 90.0) <= HOOP_HEADING_TOL:
-        pt = ctx.surface.evaluate(ss, th, order=1).pt
-        direction = pt / row_norms(pt)[:, None]
+        direction = ev.pt / row_norms(ev.pt)[:, None]
     else:
         swing = swing_headings(np.linspace(0.0, 1.0, m), heading_in, heading_out)
         direction = directions_of_heading(ctx.surface, ss, th, swing)
-    pts = ctx.surface.points(ss, th)
-    length = float(np.sum(row_norms(np.diff(pts, axis=0))))
-    return make_pass(ctx.surface, layer, circuit, number, PassKind.DWELL, ss, th, direction, length)
+    length = float(np.sum(row_norms(np.diff(ev.p, axis=0))))
+    return make_pass(ctx.surface, layer, circuit, number, PassKind.DWELL, ss, th, direction, length, ev)
 
 
 def turnaround_passes(ctx: PlanContext, layer: int, circuit: int, number: int, leg: Leg, s_end: float,

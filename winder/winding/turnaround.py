@@ -27,7 +27,7 @@ import numpy as np
 
 from winder.geometry.surface import SweepSurface
 from winder.paths.headings import heading_of_velocity, velocity_of_heading
-from winder.geometry.measure import row_norms
+from winder.geometry.measure import row_norms, tangent_coordinates
 
 TURN_SLIP_SHARE = 0.9  # of the friction coefficient, used by a turnaround (a margin for its scatter)
 # Least dwell while the free fiber swings round an end that holds it, in degrees of a full turn of
@@ -72,10 +72,8 @@ class Leg:
 def heading_deg(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, direction: np.ndarray) -> np.ndarray:
     """Heading (deg, from the meridian toward +theta) of unit directions (m, 3) at (s, theta) (m,)."""
     ev = surface.evaluate(s, theta, order=1)
-    basis = np.stack([ev.ps, ev.pt], axis=2)
-    g = np.einsum("nki,nkj->nij", basis, basis)
-    uv = np.linalg.solve(g, np.einsum("nki,nk->ni", basis, direction)[..., None])[..., 0]
-    return np.degrees(heading_of_velocity(surface, s, theta, uv[:, 0], uv[:, 1])[0])
+    u, v = tangent_coordinates(ev.ps.T, ev.pt.T, np.asarray(direction, dtype=float).T)
+    return np.degrees(heading_of_velocity(surface, s, theta, u, v)[0])
 
 
 def directions_of_heading(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,

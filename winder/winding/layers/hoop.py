@@ -69,7 +69,8 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         speed = row_norms(vel)
         direction = vel / speed[:, None]
         length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
-        passes.append(make_pass(surf, index + 1, k + 1, len(passes) + 1, PassKind.HOOP, s, th, direction, length))
+        passes.append(make_pass(surf, index + 1, k + 1, len(passes) + 1, PassKind.HOOP, s, th, direction, length,
+                                ev))
         theta_start = float(th[-1])
         if k + 1 < cfg.passes:
             # The carriage reverses while the mandrel turns on (winder.winding.turnaround). The way in
