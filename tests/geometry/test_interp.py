@@ -101,3 +101,46 @@ def test_knot_slopes_of_a_cubic_are_its_derivative():
                            np.array([7, 7]))
     want = np.column_stack([3.0 * x ** 2 - 2.0, x])
     assert np.allclose(got, np.concatenate([want, want]), rtol=CUBIC_REL, atol=CUBIC_REL)
+
+
+def _slopes_by_index(x, y, first, sizes):
+    """knot_slopes_runs' system assembled row by row of index arrays (interior rows only, then the
+    ends): its reference."""
+    from winder.geometry.lapack import lapack  # noqa: PLC0415
+
+    h = np.diff(x)
+    with np.errstate(all="ignore"):
+        d = np.diff(y, axis=0) / h[:, None]
+    n, last = x.size, first + sizes - 1
+    inner = np.ones(n, dtype=bool)
+    inner[first] = inner[last] = False
+    r = np.nonzero(inner)[0]
+    diag, upper, lower, rhs = np.empty(n), np.zeros(n - 1), np.zeros(n - 1), np.empty_like(y)
+    diag[r] = 2.0 * (h[r - 1] + h[r])
+    upper[r] = h[r - 1]
+    lower[r - 1] = h[r]
+    rhs[r] = 3.0 * (h[r, None] * d[r - 1] + h[r - 1, None] * d[r])
+    h0, h1, hl, hm = h[first], h[first + 1], h[last - 1], h[last - 2]
+    s0, s1 = h0 + h1, hl + hm
+    diag[first], upper[first] = h1, s0
+    rhs[first] = ((h0 + 2.0 * s0) * h1)[:, None] * d[first] + np.array([v ** 2 for v in h0])[:, None] * d[first + 1]
+    rhs[first] /= s0[:, None]
+    diag[last], lower[last - 1] = hm, s1
+    rhs[last] = np.array([v ** 2 for v in hl])[:, None] * d[last - 2] + ((2.0 * s1 + hl) * hm)[:, None] * d[last - 1]
+    rhs[last] /= s1[:, None]
+    return lapack().dgtsv(lower, diag, upper, rhs)[3]
+
+
+def test_knot_slopes_of_runs_are_the_system_of_index_rows_bit_for_bit():
+    rng = np.random.default_rng(11)
+    sizes = [4, 5, 9, 300, 4, 6]
+    xs = [np.cumsum(rng.uniform(0.1, 2.0, n)) for n in sizes]
+    xs[2] = xs[2] - xs[2][0] + xs[1][-1]  # a run starting where the one before ends (h = 0 across)
+    xs[4] = xs[4] - 50.0  # and one starting below it
+    ys = [rng.normal(size=(n, 2)) * 40.0 for n in sizes]
+    first = np.cumsum(sizes) - np.array(sizes)
+    x, y = np.concatenate(xs), np.concatenate(ys)
+    got = knot_slopes_runs(x, y, first, np.array(sizes))
+    assert np.array_equal(got, _slopes_by_index(x, y, first, np.array(sizes)))
+    one = knot_slopes_runs(xs[3], ys[3], np.array([0]), np.array([300]))
+    assert np.array_equal(one, _slopes_by_index(xs[3], ys[3], np.array([0]), np.array([300])))

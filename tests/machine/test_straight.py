@@ -37,6 +37,27 @@ def test_gathered_program_is_the_steps(sample, monkeypatch):
     assert gathered.segments == steps.segments
 
 
+def test_a_program_no_pass_of_which_densifies_is_the_steps(monkeypatch):
+    # hoop traverses on a cylinder (fiberpath's simple_cylinder): the rows are the planned points as they are
+    from winder.config.job import parse_config  # noqa: PLC0415
+
+    job = parse_config({"name": "hoops", "mandrel": {"axis": {"type": "line", "length": 500},
+                                                     "profile": {"type": "constant", "radius": 35}},
+                        "winding": {"band_width": 7, "layers": [{"type": "hoop", "passes": 2}]},
+                        "machine": {"eye": {"clearance": 20}, "feed": 9000, "chord_tolerance": 0.05}}, "hoops.yaml")
+    plan = plan_job(job)
+    seen = []
+    real = straight._assemble
+    monkeypatch.setattr(straight, "_assemble", lambda *a: seen.append(a[6]) or real(*a))
+    gathered = program.build_program(plan, job.machine)
+    assert seen and all(dn is None for dn in seen[0])
+    monkeypatch.setattr(program, "straight_passes", lambda *args: None)
+    steps = program.build_program(plan, job.machine)
+    for name in ("values", "index", "fiber", "feed"):
+        assert np.array_equal(_bits(getattr(gathered, name)), _bits(getattr(steps, name))), name
+    assert gathered.segments == steps.segments
+
+
 def test_a_lead_that_fails_leaves_it_to_the_steps(monkeypatch):
     job = load_config(ROOT / "samples" / "pipe.yaml")
     plan = plan_job(job)

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from winder.geometry.interp import InterpSpline
+from winder.geometry.measure import cross, row_norms
 from winder.geometry.surface import SweepSurface
 
 SPLINE_DEGREE = 5  # interpolating spline through a sampled path: 2nd derivatives to O(h^4)
@@ -28,8 +29,8 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def inward_normals(surface: SweepSurface, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """Unit normals Phi_s x Phi_theta / |...| (into the mandrel): (m, 3) float."""
     ev = surface.evaluate(s, theta, order=1)
-    nrm = np.cross(ev.ps, ev.pt)
-    return nrm / np.linalg.norm(nrm, axis=1)[:, None]
+    nrm = cross(ev.ps, ev.pt)  # np.cross and np.linalg.norm bit for bit, without their axis handling
+    return nrm / row_norms(nrm)[:, None]
 
 
 def curve_curvatures(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ds: np.ndarray,
@@ -44,11 +45,11 @@ def curve_curvatures(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ds
     vel = ev.ps * ds[:, None] + ev.pt * dtheta[:, None]
     acc = (ev.ps * dds[:, None] + ev.pt * ddtheta[:, None] + ev.pss * (ds * ds)[:, None]
            + 2.0 * ev.pst * (ds * dtheta)[:, None] + ev.ptt * (dtheta * dtheta)[:, None])
-    nrm = np.cross(ev.ps, ev.pt)
-    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    nrm = cross(ev.ps, ev.pt)
+    nrm /= row_norms(nrm)[:, None]
     speed2 = _dot(vel, vel)
     tan = vel / np.sqrt(speed2)[:, None]
-    return _dot(acc, nrm) / speed2, _dot(acc, np.cross(nrm, tan)) / speed2
+    return _dot(acc, nrm) / speed2, _dot(acc, cross(nrm, tan)) / speed2
 
 
 def path_curvatures(surface: SweepSurface, arc: np.ndarray, s: np.ndarray,
@@ -72,13 +73,13 @@ def polyline_curvatures(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     direction. Second order in the spacing for equally spaced points. Returns two (m - 2,) arrays.
     """
     seg = np.diff(points, axis=0)
-    lens = np.linalg.norm(seg, axis=1)
+    lens = row_norms(seg)
     d = seg / lens[:, None]
     kappa = (d[1:] - d[:-1]) / (0.5 * (lens[:-1] + lens[1:]))[:, None]
     tan = d[1:] + d[:-1]
-    tan /= np.linalg.norm(tan, axis=1)[:, None]
+    tan /= row_norms(tan)[:, None]
     nrm = inward_normals(surface, s[1:-1], theta[1:-1])
-    return _dot(kappa, nrm), _dot(kappa, np.cross(nrm, tan))
+    return _dot(kappa, nrm), _dot(kappa, cross(nrm, tan))
 
 
 def slip_and_margin(k_n: np.ndarray, k_g: np.ndarray) -> tuple[float, float]:

@@ -157,17 +157,19 @@ def knot_slopes_runs(x: np.ndarray, y: np.ndarray, first: np.ndarray, sizes: np.
         d = np.diff(y, axis=0) / h[:, None]
     n = x.size
     last = first + sizes - 1
-    inner = np.ones(n, dtype=bool)
-    inner[first] = inner[last] = False
-    r = np.nonzero(inner)[0]
     diag = np.empty(n)
-    upper = np.zeros(n - 1)
-    lower = np.zeros(n - 1)
+    upper = np.empty(n - 1)
+    lower = np.empty(n - 1)
     rhs = np.empty_like(y)
-    diag[r] = 2.0 * (h[r - 1] + h[r])
-    upper[r] = h[r - 1]
-    lower[r - 1] = h[r]
-    rhs[r] = 3.0 * (h[r, None] * d[r - 1] + h[r - 1, None] * d[r])
+    # Every row written as an interior one (slices, not index arrays), then each run's end rows over
+    # it, and no coupling across a junction: a junction's own differences are never used.
+    diag[1:-1] = 2.0 * (h[:-1] + h[1:])
+    upper[1:] = h[:-1]
+    lower[:-1] = h[1:]
+    with np.errstate(all="ignore"):
+        rhs[1:-1] = 3.0 * (h[1:, None] * d[:-1] + h[:-1, None] * d[1:])
+    upper[last[last < n - 1]] = 0.0
+    lower[first[first > 0] - 1] = 0.0
     # h ** 2 of a numpy scalar, as the end rows were always written (its bits, not h * h's).
     h0, h1, hl, hm = h[first], h[first + 1], h[last - 1], h[last - 2]
     s0, s1 = h0 + h1, hl + hm

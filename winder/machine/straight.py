@@ -161,21 +161,28 @@ def _assemble(passes, wheres, machine, pools, sizes, starts, dense, checked_a):
     n_base, n_mid = base.theta.size, (0 if mid is None else mid.theta.size)
     # Each row's pool (0 planned, 1 midpoints, 2 other dense points) and place within its pass's share
     # of that pool, per pass size and factor (cached); the passes' offsets into the pools added at once.
-    templates = [_plain_rows(n) if dn is None else (dn[7], dn[8]) for n, dn in zip(sizes.tolist(), dense)]
-    final = np.array([local.size for local, _ in templates], dtype=np.int64)
-    offsets = np.empty((len(dense), 3), dtype=np.int64)
-    offsets[:, 0] = starts
-    offsets[:, 1] = [0 if dn is None else n_base + dn[5] for dn in dense]
-    offsets[:, 2] = [0 if dn is None else n_base + n_mid + dn[6] for dn in dense]
-    pool = np.concatenate([code for _, code in templates])
-    g = np.concatenate([local for local, _ in templates]) + offsets.ravel().take(
-        np.repeat(3 * np.arange(len(dense)), final) + pool)
-    used = [q for q in pools if q is not None]
-    # take, not [g]: the same rows, and numpy's fancy indexing of (m, 3) rows is several times slower.
-    e, phi, zr, lam, ok, p, theta, b = (np.concatenate([getattr(q, name) for q in used]).take(g, axis=0)
-                                        for name in ("e", "phi", "zr", "lam", "ok", "p", "theta", "b"))
-    on_dense = np.repeat([dn is not None for dn in dense], final)
-    theta[on_dense] += 0.0  # a dense pass's angles carry densify's zero shift (-0.0 becomes 0.0)
+    names = ("e", "phi", "zr", "lam", "ok", "p", "theta", "b")
+    if all(dn is None for dn in dense):
+        # No pass densifies: the rows are the planned points in order (g the identity), the planned
+        # pool's own arrays (made here, changed by nothing below).
+        final, g = sizes.astype(np.int64), None
+        e, phi, zr, lam, ok, p, theta, b = (getattr(base, name) for name in names)
+    else:
+        templates = [_plain_rows(n) if dn is None else (dn[7], dn[8]) for n, dn in zip(sizes.tolist(), dense)]
+        final = np.array([local.size for local, _ in templates], dtype=np.int64)
+        offsets = np.empty((len(dense), 3), dtype=np.int64)
+        offsets[:, 0] = starts
+        offsets[:, 1] = [0 if dn is None else n_base + dn[5] for dn in dense]
+        offsets[:, 2] = [0 if dn is None else n_base + n_mid + dn[6] for dn in dense]
+        pool = np.concatenate([code for _, code in templates])
+        g = np.concatenate([local for local, _ in templates]) + offsets.ravel().take(
+            np.repeat(3 * np.arange(len(dense)), final) + pool)
+        used = [q for q in pools if q is not None]
+        # take, not [g]: the same rows, and numpy's fancy indexing of (m, 3) rows is several times slower.
+        e, phi, zr, lam, ok, p, theta, b = (np.concatenate([getattr(q, name) for q in used]).take(g, axis=0)
+                                            for name in names)
+        on_dense = np.repeat([dn is not None for dn in dense], final)
+        theta[on_dense] += 0.0  # a dense pass's angles carry densify's zero shift (-0.0 becomes 0.0)
     b = np.degrees(unwrap_each(b, final))
     last = np.cumsum(final) - 1
     first = last - final + 1
@@ -184,7 +191,10 @@ def _assemble(passes, wheres, machine, pools, sizes, starts, dense, checked_a):
     theta = theta + np.repeat(shift, final)
     a = np.empty(theta.size)
     same = np.zeros(theta.size, dtype=bool)
-    if checked_a is not None:  # A of the densify check, where the program's angle is the check's to the bit
+    if checked_a is not None and g is None:  # A of the densify check, where the program's angle is the check's
+        same = theta.view(np.int64) == base.theta.view(np.int64)
+        a[same] = checked_a[0][same]
+    elif checked_a is not None:
         pad = [] if extra is None else [np.full(extra.theta.size, np.nan)]
         before = np.concatenate([base.theta, mid.theta] + pad)[g]
         same = theta.view(np.int64) == before.view(np.int64)
