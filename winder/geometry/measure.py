@@ -13,6 +13,12 @@ GAUSS_X = np.array([-0.906179845938664, -0.5384693101056831, 0.0, 0.538469310105
 GAUSS_W = np.array([0.23692688505618928, 0.4786286704993663, 0.5688888888888887, 0.4786286704993663,
                     0.23692688505618928])
 GAUSS_SEGMENTS = 256  # paths of up to this many segments use them (see smooth_length)
+GAUSS_T = 0.5 + 0.5 * GAUSS_X  # the nodes as fractions of a segment
+
+
+def pair_columns(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """np.stack([a, b], axis=1) of two (m,) arrays, without its wrapper: (m, 2)."""
+    return np.concatenate([a[:, None], b[:, None]], axis=1)
 
 
 def row_norms(v: np.ndarray) -> np.ndarray:
@@ -32,7 +38,7 @@ def row_norms(v: np.ndarray) -> np.ndarray:
 
 def polyline_length(points: np.ndarray) -> float:
     """Length of the polyline through points (m, 3)."""
-    return float(np.sum(row_norms(np.diff(points, axis=0))))
+    return float(np.add.reduce(row_norms(points[1:] - points[:-1])))
 
 
 def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
@@ -51,25 +57,46 @@ def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
     caller has them (the solver does); otherwise they are evaluated here. gauss_segments : the
     longest path given the 5-point rule (0: Gauss-Lobatto at every n).
     """
-    y = np.stack([s, theta], axis=1)
-    dy = knot_slopes(y)
-    m = s.shape[0]
-    if m - 1 <= gauss_segments:
-        u, du = segment_nodes(y, dy, 0.5 + 0.5 * GAUSS_X)
-        ev = surface.evaluate(u[:, 0], u[:, 1], order=1, with_point=False)
-        speed = _speed(ev.ps.T, ev.pt.T, du.T).reshape(-1, GAUSS_NODES)
-        return float(0.5 * np.sum(speed @ GAUSS_W))
-    u, du = segment_nodes(y, dy, LOBATTO_T)
-    if knots is None:
-        ev = surface.evaluate(np.concatenate([s, u[:, 0]]), np.concatenate([theta, u[:, 1]]), order=1,
-                              with_point=False)
-        ps, pt = ev.ps.T, ev.pt.T
-    else:
-        ev = surface.evaluate(u[:, 0], u[:, 1], order=1, with_point=False)
-        ps, pt = np.concatenate([knots[0].T, ev.ps.T], axis=1), np.concatenate([knots[1].T, ev.pt.T], axis=1)
-    speed = _speed(ps, pt, np.concatenate([dy.T, du.T], axis=1))
-    return float(LOBATTO_W_END * (2.0 * np.sum(speed[:m]) - speed[0] - speed[m - 1])
-                 + LOBATTO_W_MID * np.sum(speed[m:]))
+    return smooth_lengths(surface, [(s, theta, knots)], gauss_segments)[0]
+
+
+def smooth_lengths(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarray, tuple | None]],
+                   gauss_segments: int = GAUSS_SEGMENTS) -> list[float]:
+    """smooth_length of each path (s, theta, knots), the nodes of all of them in one surface
+    evaluation: the evaluation is per point, so every length is the one smooth_length gives alone."""
+    plans, s_nodes, th_nodes = [], [], []
+    for s, theta, knots in paths:
+        y = pair_columns(s, theta)
+        dy = knot_slopes(y)
+        gauss = s.shape[0] - 1 <= gauss_segments
+        u, du = segment_nodes(y, dy, GAUSS_T if gauss else LOBATTO_T)
+        with_knots = not gauss and knots is None
+        if with_knots:
+            s_nodes.append(s)
+            th_nodes.append(theta)
+        s_nodes.append(u[:, 0])
+        th_nodes.append(u[:, 1])
+        plans.append((gauss, dy, du, knots, du.shape[0] + (s.shape[0] if with_knots else 0)))
+    one = len(s_nodes) == 1
+    ev = surface.evaluate(s_nodes[0] if one else np.concatenate(s_nodes),
+                          th_nodes[0] if one else np.concatenate(th_nodes), order=1, with_point=False)
+    ps_all, pt_all = ev.ps.T, ev.pt.T
+    lengths, start = [], 0
+    for gauss, dy, du, knots, count in plans:
+        ps, pt = ps_all[:, start:start + count], pt_all[:, start:start + count]
+        start += count
+        if gauss:
+            speed = _speed(ps, pt, du.T).reshape(-1, GAUSS_NODES)
+            lengths.append(float(0.5 * np.add.reduce(speed @ GAUSS_W)))
+            continue
+        if knots is not None:
+            ps, pt = np.concatenate([knots[0].T, ps], axis=1), np.concatenate([knots[1].T, pt], axis=1)
+        m = dy.shape[0]
+        speed = _speed(ps, pt, np.concatenate([dy.T, du.T], axis=1))
+        # ufunc reductions: np.sum's wrapper costs more than a short sum
+        lengths.append(float(LOBATTO_W_END * (2.0 * np.add.reduce(speed[:m]) - speed[0] - speed[m - 1])
+                             + LOBATTO_W_MID * np.add.reduce(speed[m:])))
+    return lengths
 
 
 def _speed(ps: np.ndarray, pt: np.ndarray, du: np.ndarray) -> np.ndarray:
@@ -137,7 +164,7 @@ def geodesic_curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, 
     segment lengths so that it approximates the curvature. jac : (Phi_s, Phi_theta) at the interior
     vertices, each (m - 2, 3), when the caller has them. Returns (m - 2,) float.
     """
-    seg = np.diff(points, axis=0)
+    seg = points[1:] - points[:-1]
     return _curvature(surface, s, theta, seg, row_norms(seg), jac)
 
 
@@ -156,7 +183,7 @@ def _curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, seg: np.
 
 def spacing_deviation(points: np.ndarray) -> float:
     """max |segment length / mean - 1|: 0 for an exactly equally spaced polyline."""
-    return _spacing(row_norms(np.diff(points, axis=0)))
+    return _spacing(row_norms(points[1:] - points[:-1]))
 
 
 def _spacing(lens: np.ndarray) -> float:
@@ -167,9 +194,9 @@ def path_measures(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, point
                   jac: tuple[np.ndarray, np.ndarray]) -> tuple[float, np.ndarray, float]:
     """(polyline_length, geodesic_curvature, spacing_deviation) of one path, bit for bit, from one
     set of segments and lengths instead of three. jac : as geodesic_curvature's."""
-    seg = np.diff(points, axis=0)
+    seg = points[1:] - points[:-1]
     lens = row_norms(seg)
-    return float(np.sum(lens)), _curvature(surface, s, theta, seg, lens, jac), _spacing(lens)
+    return float(np.add.reduce(lens)), _curvature(surface, s, theta, seg, lens, jac), _spacing(lens)
 
 
 def richardson(l_n: float, l_2n: float) -> tuple[float, float]:

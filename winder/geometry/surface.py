@@ -22,13 +22,22 @@ from typing import NamedTuple
 
 import numpy as np
 
+from winder.geometry.arc_sweep import ArcFrame, arc_frame, evaluate_arc, is_zero, phi_theta, phi_theta_theta, times
 from winder.geometry.curves import GuideCurve, Line
 from winder.geometry.profiles import AxialProfile, Profile
 from winder.geometry.sections import Circle, Section
 
 
+# The vanishing-term test and the unit factor of every evaluation, the arc's included (a test replaces
+# them to compute every term).
+_zero, _times = is_zero, times
+
 class SurfaceEval(NamedTuple):
-    """Phi and its derivatives at m parameter points; each field (m, 3) float or None (not asked)."""
+    """Phi and its derivatives at m parameter points; each field (m, 3) float or None (not asked).
+
+    On a line or an arc the fields share one (k, 3, m) array, their .base (k = 1, 3, 6 for order 0, 1,
+    2; p, ps, .., ptt the views base[0].T .. base[5].T; base[0] unset where p is None): see jet_of.
+    """
 
     p: np.ndarray
     ps: np.ndarray | None = None
@@ -36,6 +45,22 @@ class SurfaceEval(NamedTuple):
     pss: np.ndarray | None = None
     pst: np.ndarray | None = None
     ptt: np.ndarray | None = None
+
+
+def jet_of(ev: SurfaceEval, fields: int) -> np.ndarray | None:
+    """The (k, 3, m) array whose rows 1 .. fields - 1 are ev.ps, ev.pt(, ev.pss, ev.pst, ev.ptt), or
+    None where the fields are not so stored (a general guide curve's): consumers that reduce over the
+    components of several fields at once (the chain energy's Hessian) take it whole."""
+    ps = ev.ps
+    jet = ps.base
+    if not (isinstance(jet, np.ndarray) and jet.ndim == 3 and jet.shape[0] >= fields
+            and jet.shape[2] == ps.shape[0] and ps.strides == (jet.strides[2], jet.strides[1])
+            and ev.pt.base is jet and (fields < 6 or ev.ptt.base is jet)):
+        return None
+    return jet
+
+
+_JET_FIELDS = (1, 3, 6)  # fields stored per order: p; p, ps, pt; p, ps, pt, pss, pst, ptt
 
 
 @dataclass(frozen=True)
@@ -57,7 +82,8 @@ class SweepSurface:
 
     def t_of_s(self, s: np.ndarray) -> np.ndarray:
         s = np.asarray(s, dtype=float)
-        return self.profile.evaluate(s).z if self.profile is not None else s
+        # z = s unless on a vessel: its profile's z is s itself, not worth the profile's evaluation
+        return s if self.is_axial_parameter else self.profile.evaluate(s).z
 
     def s_of_t(self, t: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=float)
@@ -102,10 +128,8 @@ class SweepSurface:
         return line.origin[:, None], line.tangent[:, None], line.e2[:, None], line.e3[:, None]
 
     @functools.cached_property
-    def _arc_frame(self) -> tuple | None:
-        """A guide curve that is one circular arc: its origin, start tangent T0, in-plane normal u and
-        binormal b as (3, 1) columns, its curvature and the frame's components e2.u, e2.b, e3.u, e3.b
-        (None for other curves)."""
+    def _arc_frame(self) -> ArcFrame | None:
+        """A guide curve that is one circular arc: its constants for evaluate_arc (None for other curves)."""
         curve = self.curve
         if isinstance(curve, Line):
             return None
@@ -115,26 +139,8 @@ class SweepSurface:
             return None
         arc = curve.pieces[0]
         b, e2u, e2b, e3u, e3b = arc.frame_components
-        col = (arc.origin[:, None], arc.tangent[:, None], arc.toward_dir[:, None], b[:, None])
-        return (*col, 1.0 / arc.radius, float(e2u), float(e2b), float(e3u), float(e3b))
-
-    @staticmethod
-    def _arc_parts(arc: tuple, z: np.ndarray, c: np.ndarray, sn: np.ndarray, with_point: bool):
-        """x (None without `with_point`), T, the in-plane normal nrm (each (3, m)), b, kappa and the
-        components of n and m along nrm and b ((m,) each) on a one-arc guide curve: the frame
-        e2 = e2u nrm + e2b b, e3 = e3u nrm + e3b b is never formed per point."""
-        origin, t0, u, b, kappa, e2u, e2b, e3u, e3b = arc
-        # Everything from the half angle, two transcendentals: (1 - cos(phi)) / kappa = 2 sin(phi/2)^2
-        # / kappa keeps its digits near the arc's start, where 1 - cos(phi) cancels.
-        half = (0.5 * kappa) * z
-        sh, ch = np.sin(half), np.cos(half)
-        sh2 = sh * sh
-        cp, sp = 1.0 - 2.0 * sh2, 2.0 * sh * ch
-        tan = cp * t0 + sp * u
-        nrm = cp * u - sp * t0
-        parts = (c * e2u + sn * e3u, c * e2b + sn * e3b, c * e3u - sn * e2u, c * e3b - sn * e2b)
-        x = origin + (sp / kappa) * t0 + ((2.0 / kappa) * sh2) * u if with_point else None
-        return x, tan, nrm, b, kappa, parts
+        return arc_frame(arc.origin, arc.tangent, arc.toward_dir, b, arc.radius, float(e2u), float(e2b),
+                         float(e3u), float(e3b))
 
     # -- evaluation -------------------------------------------------------------------------------
     def evaluate(self, s: np.ndarray, theta: np.ndarray, order: int = 2,
@@ -165,54 +171,85 @@ class SweepSurface:
             q, q1, q2 = (a / self.section_scale if a is not None else None for a in rho)
         line, arc = self._line_frame, self._arc_frame
         with_point = with_point or order == 0
-        kdn = 0.0
-        if line is not None:  # its frame is constant: (3, 1) columns broadcast, nothing tiled per point
-            origin, tan, e2, e3 = line
-            x, kap, d3 = origin + z * tan if with_point else None, 0.0 * tan, 0.0 * tan
-            n = c * e2 + sn * e3
-        elif arc is not None:
-            x, tan, nrm, b, kappa, (n_nrm, n_b, m_nrm, m_b) = self._arc_parts(arc, z, c, sn, with_point)
-            n = n_nrm * nrm + n_b * b
+        if line is None and arc is None:
+            return self._evaluate_curve(z, z1, z2, p, p1, p2, c, sn, q, q1, q2, order, with_point)
+        # A line's or an arc's fields are (3, m) rows: written straight into one (k, 3, m) jet.
+        jet = np.empty((_JET_FIELDS[order], 3, s.size))
+        if arc is not None:
+            evaluate_arc(arc, jet, z, z1, z2, p, p1, p2, c, sn, q, q1, q2, order, with_point, _zero, _times)
         else:
-            cv = self.curve.evaluate(z)
-            x, tan, kap, d3, e2, e3 = cv.x.T, cv.d1.T, cv.d2.T, cv.d3.T, cv.e2.T, cv.e3.T
-            n = c * e2 + sn * e3
+            self._evaluate_line(line, jet, z, z1, z2, p, p1, p2, c, sn, q, q1, q2, order, with_point)
+        fields = list(jet.transpose(0, 2, 1))  # jet[k].T, each
+        if not with_point:
+            fields[0] = None
+        return SurfaceEval(*fields)
+
+    @staticmethod
+    def _evaluate_line(line: tuple, jet: np.ndarray, z, z1, z2, p, p1, p2, c, sn, q, q1, q2, order: int,
+                       with_point: bool) -> None:
+        """evaluate_arc's work on a straight guide line (its frame constant: (3, 1) columns broadcast,
+        nothing tiled per point); K, K', K.n, K.m are all 0."""
+        origin, tan, e2, e3 = line
+        n = c * e2 + sn * e3
+        r = p * q
+        if with_point:
+            np.add(origin + z * tan, r * n, out=jet[0])
+        if order == 0:
+            return
+        m = c * e3 - sn * e2
+        r_s, r_t = p1 * q, p * q1
+        kap, kn = 0.0 * tan, 0.0
+        # Terms whose coefficient is an exact 0.0 (a constant radius, a circle) are left out, and
+        # factors of an exact 1.0 (z = s): adding +-0 or multiplying by 1 changes no value (at most the
+        # sign of an exact zero), and at n ~ 1000 each skipped (3, m) product is a few percent of the
+        # evaluation.
+        stretch = _times(z1, 1.0 - r * kn)
+        if _zero(r_s) and np.ndim(stretch) > 0:
+            np.multiply(stretch, tan, out=jet[1])
+        else:
+            np.add(stretch * tan, r_s * n, out=jet[1])
+        phi_theta(jet, r, r_t, n, m, _zero)
+        if order == 1:
+            return
+        bend, kdn = _times(z1, stretch) * kap, 0.0
+        if not (_zero(z2) and _zero(r_s)):
+            bend = (z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + bend
+        np.add(bend, (p2 * q) * n, out=jet[3])
+        twist = _times(z1, r * 0.0 if _zero(r_t) else r_t * kn + r * 0.0)
+        if _zero(p1 * q1):
+            np.subtract(r_s * m, twist * tan, out=jet[4])
+        else:
+            np.subtract((p1 * q1) * n + r_s * m, twist * tan, out=jet[4])
+        phi_theta_theta(jet, p * q2 - r, r_t, n, m, _zero)
+
+    def _evaluate_curve(self, z, z1, z2, p, p1, p2, c, sn, q, q1, q2, order: int, with_point: bool) -> SurfaceEval:
+        """evaluate on a general guide curve (its frame per point): fields in the layout the curve's
+        arrays give them, no jet."""
+        cv = self.curve.evaluate(z)
+        x, tan, kap, d3, e2, e3 = cv.x.T, cv.d1.T, cv.d2.T, cv.d3.T, cv.e2.T, cv.e3.T
+        n = c * e2 + sn * e3
         r = p * q
         point = (x + r * n).T if with_point else None
         if order == 0:
             return SurfaceEval(point)
         straight = self.curve.is_straight
-        if arc is not None:  # K = kappa nrm and K' = -kappa^2 T: K.n, K.m from n's frame components, K'.n = 0
-            m = m_nrm * nrm + m_b * b
-            kn, km = kappa * n_nrm, kappa * m_nrm
-        else:
-            m = c * e3 - sn * e2
-            kn = 0.0 if straight else np.einsum("ij,ij->j", kap, n)
+        m = c * e3 - sn * e2
+        kn = 0.0 if straight else np.einsum("ij,ij->j", kap, n)
         r_s, r_t = p1 * q, p * q1
-        # Terms whose coefficient is an exact 0.0 (a constant radius, a circle, an arc's K' . n) are
-        # left out, and factors of an exact 1.0 (z = s): adding +-0 or multiplying by 1 changes no
-        # value (at most the sign of an exact zero), and at n ~ 1000 each skipped (3, m) product is a
-        # few percent of the evaluation.
-        stretch = _times(z1, 1.0 - r * kn)  # Phi_s . T: the section's point runs faster outside a bend
+        stretch = _times(z1, 1.0 - r * kn)
         full = np.ndim(stretch) > 0 or np.ndim(tan) > 1 and tan.shape[1] > 1
         ps = stretch * tan if _zero(r_s) and full else stretch * tan + r_s * n
         pt = r * m if _zero(r_t) else r_t * n + r * m
         if order == 1:
             return SurfaceEval(point, ps.T, pt.T)
-        if arc is not None:
-            kap = kappa * nrm
-        else:
-            km = 0.0 if straight else np.einsum("ij,ij->j", kap, m)
-            kdn = 0.0 if straight else np.einsum("ij,ij->j", d3, n)
+        km = 0.0 if straight else np.einsum("ij,ij->j", kap, m)
+        kdn = 0.0 if straight else np.einsum("ij,ij->j", d3, n)
         bend = _times(z1, stretch) * kap
         if not (_zero(z2) and _zero(r_s) and _zero(kdn)):
             bend = (z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + bend
-        pss = bend if _zero(p2 * q) and arc is not None else bend + (p2 * q) * n
+        pss = bend + (p2 * q) * n
         twist = _times(z1, r * km if _zero(r_t) else r_t * kn + r * km) * tan
-        if _zero(r_s) and arc is not None:  # r_s = p1 q = 0: p1 = 0, so the (p1 q1) n term is 0 too
-            pst = -twist
-        else:
-            pst = r_s * m - twist if _zero(p1 * q1) else (p1 * q1) * n + r_s * m - twist
+        pst = r_s * m - twist if _zero(p1 * q1) else (p1 * q1) * n + r_s * m - twist
         ptt = (p * q2 - r) * n if _zero(r_t) else (p * q2 - r) * n + (2.0 * r_t) * m
         return SurfaceEval(point, ps.T, pt.T, pss.T, pst.T, ptt.T)
 
@@ -256,16 +293,6 @@ class SweepSurface:
         arr = np.atleast_1d(np.asarray(s, dtype=float))
         per = self._profile(arr)[3] * self._unit_perimeter
         return float(per[0]) if np.ndim(s) == 0 else per
-
-
-def _zero(v) -> bool:
-    """v is an exact scalar 0.0 (a term that vanishes on this surface), not an array."""
-    return isinstance(v, float) and v == 0.0
-
-
-def _times(a, b):
-    """a * b, or b itself where a is the scalar 1.0 (the same values)."""
-    return b if isinstance(a, float) and a == 1.0 else a * b
 
 
 # -- building from a config -----------------------------------------------------------------------

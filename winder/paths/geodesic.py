@@ -24,7 +24,7 @@ import numpy as np
 from winder.config.winding import DEFAULT_POINTS
 from winder.errors import ConfigError, SolverError
 from winder.geometry.index_spline import resample_index
-from winder.geometry.measure import GAUSS_SEGMENTS, path_measures, polyline_length, richardson, smooth_length
+from winder.geometry.measure import GAUSS_SEGMENTS, path_measures, polyline_length, richardson, smooth_lengths
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.paths.energy import energy_terms
 from winder.paths.lbfgs import _lbfgs
@@ -186,7 +186,7 @@ def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
     if ends is None:  # fixed: shared by every level
         ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)
     for k, level in enumerate(levels):
-        cur_s, cur_t = resample(s, th, level)
+        cur_s, cur_t = (s, th) if s.shape[0] == level + 2 else resample(s, th, level)  # _newton copies it
         last = k == len(levels) - 1
         sol = (_newton(surface, cur_s, cur_t, STEP_TOL, ends=ends, length_tol=length_tol) if last and not loose else
                _newton(surface, cur_s, cur_t, LEVEL_STEP_TOL, ends=ends, predicted_tol=LEVEL_PREDICTED))
@@ -194,7 +194,7 @@ def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
         nfev += sol.nfev
         report.append(Level(level, sol.iterations, MAX_NEWTON, sol.converged))
         s, th = sol.s, sol.theta
-    return replace(sol, iterations=total, nfev=nfev, levels=tuple(report))
+    return sol.with_totals(total, nfev, tuple(report))
 
 
 def _with_eval(surface: SweepSurface, sol: PathSolve) -> PathSolve:
@@ -231,8 +231,13 @@ def _lengths(surface: SweepSurface, sol: PathSolve, lobatto: bool = False) -> fl
     reference mandrels, at most 6.5e-3 of the length's error (elliptic tube, n = 54; quarter bend,
     n = 31: 3e-4), about 0.025 (h k)^2 of it with h k the chain's turn per segment.
     """
-    return smooth_length(surface, sol.s, sol.theta, knots=sol.jacobians(),
-                         gauss_segments=0 if lobatto else GAUSS_SEGMENTS)
+    return _lengths_of(surface, (sol,), lobatto)[0]
+
+
+def _lengths_of(surface: SweepSurface, sols: tuple[PathSolve, ...], lobatto: bool = False) -> list[float]:
+    """_lengths of several solves, their nodes in one surface evaluation (the same lengths)."""
+    return smooth_lengths(surface, [(sol.s, sol.theta, sol.jacobian_rows()) for sol in sols],
+                          gauss_segments=0 if lobatto else GAUSS_SEGMENTS)
 
 
 def _refine(surface: SweepSurface, sol: PathSolve, n: int, tolerance: float | None, method: Method,
@@ -257,8 +262,7 @@ def _refine(surface: SweepSurface, sol: PathSolve, n: int, tolerance: float | No
         else:  # one solve at n, in two legs: the second from the first's end, a chord step first
             sol = _newton(surface, sol.s, sol.theta, STEP_TOL, ends=sol.ends, length_tol=tolerance, ev=sol.ev,
                           factor=sol.factor)
-            levels[-1] = replace(levels[-1], iterations=levels[-1].iterations + sol.iterations,
-                                 converged=sol.converged)
+            levels[-1] = Level(levels[-1].n, levels[-1].iterations + sol.iterations, levels[-1].max_iter, sol.converged)
         iterations += sol.iterations
         nfev += sol.nfev
     while True:
@@ -269,9 +273,9 @@ def _refine(surface: SweepSurface, sol: PathSolve, n: int, tolerance: float | No
         nfev += fine.nfev
         levels += fine.levels
         quick = tolerance is not None
-        length = _lengths(surface, sol, quick)
+        length, fine_length = _lengths_of(surface, (sol, fine), quick)
         # The floor: a length in double precision carries its last bits of roundoff whatever n.
-        bound = SMOOTH_SAFETY * abs(length - _lengths(surface, fine, quick)) + ROUNDOFF_FLOOR * length
+        bound = SMOOTH_SAFETY * abs(length - fine_length) + ROUNDOFF_FLOOR * length
         if StopReason.LENGTH in (sol.reason, fine.reason):
             # Each length may carry up to LENGTH_SHARE of the tolerance from its unfinished Newton: the
             # difference up to twice that, doubled by SMOOTH_SAFETY, and the reported length's own once.
@@ -362,11 +366,10 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         s_init, th_init = s_init.copy(), th_init.copy()
         s_init[[0, -1]], th_init[[0, -1]] = (s0, s1), (th0, th1)
     else:
-        s_init, th_init = straight_path(s0, th0, s1, th1, 1)
         if tolerance is not None:
             n = min(n, coarsest_points(swept))
-            if n == coarsest_points(swept):  # one level: the straight path at n, not resampled to it
-                s_init, th_init = straight_path(s0, th0, s1, th1, n)
+        one = tolerance is not None and n == coarsest_points(swept)  # one level: the straight path at n
+        s_init, th_init = straight_path(s0, th0, s1, th1, n if one else 1)
     sol = solve_path(surface, s_init, th_init, n, method, warm=init is not None, length_tol=tolerance,
                      loose=tolerance is not None and method is Method.NEWTON)
     if estimate or tolerance is not None:
@@ -391,6 +394,6 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         polyline_length=poly, length_extrapolated=extrapolated, error_estimate=err,
         smooth_error_estimate=smooth_err, n=n, iterations=iterations, converged=converged,
         reason=sol.reason, method=method, spacing_deviation=spacing,
-        max_geodesic_curvature=float(np.max(np.abs(kg))) if kg.size else 0.0,
+        max_geodesic_curvature=float(np.maximum.reduce(np.abs(kg))) if kg.size else 0.0,
         seconds=time.perf_counter() - t0, history=sol.history, refined_s=refined[0], refined_theta=refined[1],
         nfev=nfev, levels=levels, message=_message(sol, levels, swept, n))

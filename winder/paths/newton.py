@@ -18,7 +18,8 @@ import numpy as np
 
 from winder.errors import SolverError
 from winder.geometry.surface import SurfaceEval, SweepSurface
-from winder.paths.energy import _dot_cols, chain_energy, chain_terms, chord_direction, newton_direction
+from winder.paths.energy import (_einsum, banded_direction, chain_segments, chord_direction, newton_banded,
+                                 newton_terms, step_moves)
 
 STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
 LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
@@ -90,17 +91,30 @@ class PathSolve:
         return (np.concatenate([self.ends.ps[:1], self.ev.ps, self.ends.ps[1:]]),
                 np.concatenate([self.ends.pt[:1], self.ev.pt, self.ends.pt[1:]]))
 
+    def jacobian_rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """jacobians() as (n + 2, 3) views of (3, n + 2) rows, the same values: their transposes (which
+        the length's nodes join) then come without a transposing copy."""
+        ends, ev = self.ends, self.ev
+        return tuple(np.concatenate([e.T[:, :1], f.T, e.T[:, 1:]], axis=1).T
+                     for e, f in ((ends.ps, ev.ps), (ends.pt, ev.pt)))
+
+    def with_totals(self, iterations: int, nfev: int, levels: tuple[Level, ...]) -> PathSolve:
+        """This solve with these totals: dataclasses.replace's work without its field introspection."""
+        return PathSolve(self.s, self.theta, iterations, self.converged, self.reason, self.history, nfev, self.ev,
+                         self.ends, levels, self.factor)
+
     def points(self) -> np.ndarray:
         """The vertices on the surface, (n + 2, 3)."""
         return np.concatenate([self.ends.p[:1], self.ev.p, self.ends.p[1:]])
 
 
-def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float) -> float:
-    """Largest alpha <= 1 keeping every interior station inside [0, s_max]."""
+def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float, moved: np.ndarray | None = None) -> float:
+    """Largest alpha <= 1 keeping every interior station inside [0, s_max]; moved : s + ds, if known."""
     if not s.size:
         return 1.0
-    moved = s + ds
-    if moved.min() >= 0.0 and moved.max() <= s_max:  # the usual case: the full step stays inside
+    moved = s + ds if moved is None else moved
+    # the usual case: the full step stays inside (ufunc reductions: ndarray.min's wrapper costs more)
+    if np.minimum.reduce(moved) >= 0.0 and np.maximum.reduce(moved) <= s_max:
         return 1.0
     with np.errstate(divide="ignore", invalid="ignore"):
         lim = np.where(ds < 0, -s / ds, np.where(ds > 0, (s_max - s) / ds, np.inf))
@@ -111,19 +125,21 @@ def chain_bend(y: np.ndarray) -> float:
     """max |y_{i-1} - 2 y_i + y_{i+1}| over the chain y (m, 3) (mm; 0 under three vertices): the chain's
     largest turn per segment h k, times h."""
     a = y[:-2] - 2.0 * y[1:-1] + y[2:]
-    return math.sqrt(float(np.max(np.einsum("ij,ij->i", a, a)))) if a.size else 0.0
+    return math.sqrt(float(np.maximum.reduce(_einsum("ij,ij->i", a, a)))) if a.size else 0.0
 
 
-def _settled(err: float, p: np.ndarray, ends: np.ndarray, h: float, length_tol: float) -> bool:
-    """Whether a vertex error of err segments moves the smooth length of the chain p (n, 3) between
-    ends (2, 3), mean segment h (mm), by at most LENGTH_SHARE length_tol (mm); see SETTLE_FIRST."""
+def _settled(err: float, y: np.ndarray, h: float, length_tol: float, turn: list[float]) -> bool:
+    """Whether a vertex error of err segments moves the smooth length of the chain y (n + 2, 3), mean
+    segment h (mm), by at most LENGTH_SHARE length_tol (mm); see SETTLE_FIRST. turn : the chain's
+    turn per segment once known (a one-element list the caller keeps per iterate), else empty."""
     if err > SETTLE_MAX:
         return False
-    budget = LENGTH_SHARE * length_tol / (h * (p.shape[0] + 1))
+    budget = LENGTH_SHARE * length_tol / (h * (y.shape[0] - 1))
     if SETTLE_SECOND * err * err > budget:
         return False
-    turn = chain_bend(np.concatenate([ends[:1], p, ends[1:]])) / h
-    return SETTLE_SECOND * err * err + SETTLE_FIRST * turn**3 * err <= budget
+    if not turn:
+        turn.append(chain_bend(y) / h)
+    return SETTLE_SECOND * err * err + SETTLE_FIRST * turn[0]**3 * err <= budget
 
 
 def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: float,
@@ -137,7 +153,8 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
     step whose predicted successor is. ev, factor : the surface at (s, th) (order >= 1) and a Newton
     factor from near it, to go on from an earlier solve's end: its first step is then a chord step."""
     predicted_tol = PREDICTED_MARGIN * step_tol if predicted_tol is None else predicted_tol
-    s, th = s.copy(), th.copy()
+    si, ti = s[1:-1].copy(), th[1:-1].copy()  # the interior vertices: the end points stay fixed
+    points = si.size + 2
     s_max = surface.length
     history = []
     reason = StopReason.MAX_ITER
@@ -149,38 +166,40 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
         ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)
     nfev = 0
     if ev is None:
-        ev, nfev, factor = surface.evaluate(s[1:-1], th[1:-1], order=2), 1, None
+        ev, nfev, factor = surface.evaluate(si, ti, order=2), 1, None
+    chain = None  # chain_segments at ev, where the line search has them
     for it in range(1, max_iter + 1):
         chord = factor is not None
         if not chord and ev.pss is None:  # a damped trial point, evaluated for its energy only
-            ev = surface.evaluate(s[1:-1], th[1:-1], order=2)
+            ev, chain = surface.evaluate(si, ti, order=2), None
             nfev += 1
-        e, grad, gram, curv, off = chain_terms(ev, ends.p, full_hessian=None if chord else True)
+        e, grad, y, gram, curv, off = newton_terms(ev, ends.p, chain, hessian=None if chord else True)
         # Not np.linalg.norm: its BLAS dot runs threaded on long vectors, and on a loaded machine the
         # threads' hand-off took milliseconds per call (measured: 6 ms at n = 10,000, 2 cores busy).
-        history.append((e, float(np.sqrt(np.einsum("ij,ij->", grad, grad)))))
+        history.append((e, math.sqrt(_einsum("ij,ij->", grad, grad))))
         if chord:
             step, newton = chord_direction(factor, grad), True
-            slope = float(np.sum(step * grad))
+            slope = float(np.add.reduce(step * grad, axis=None))
         else:
-            step, factor = newton_direction(gram + curv, off, grad)
-            slope = float(np.sum(step * grad)) if step is not None else 0.0
+            step, factor = banded_direction(newton_banded(gram, curv, off), grad)
+            slope = float(np.add.reduce(step * grad, axis=None)) if step is not None else 0.0
             newton = step is not None and slope < 0.0
             if not newton:
-                step, factor = newton_direction(gram, off, grad)
+                step, factor = banded_direction(newton_banded(gram, None, off), grad)
                 if step is None:
                     raise SolverError("the Gauss-Newton matrix is singular: the surface parametrization is "
                                       "degenerate on the path")
                 factor = None
-                slope = float(np.sum(step * grad))
-        move = ev.ps * step[:, :1] + ev.pt * step[:, 1:]
-        disp = float(np.sqrt(_dot_cols(move, move).max()))
-        h = math.sqrt(e / (s.shape[0] - 1))
+                slope = float(np.add.reduce(step * grad, axis=None))
+        ds, dth = step[:, 0], step[:, 1]
+        disp = math.sqrt(float(np.maximum.reduce(step_moves(ev, step))))  # the largest vertex move
+        h = math.sqrt(e / (points - 1))
+        turn: list[float] = []  # the chain's turn at this iterate, for _settled
         if newton and disp <= step_tol * h:
             # Already converged: this step is below the tolerance (and usually at roundoff).
             converged, reason = True, StopReason.STEP
             break
-        if length_tol is not None and newton and _settled(disp / h, ev.p, ends.p, h, length_tol):
+        if length_tol is not None and newton and _settled(disp / h, y, h, length_tol, turn):
             # The step is the iterate's error to second order: the length no longer needs it.
             converged, reason = True, StopReason.LENGTH
             break
@@ -192,37 +211,35 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
         predicted = disp**2 / prev_disp if chord else disp**3 / prev_disp**2
         last = disp <= step_tol * h or (contracting and predicted <= predicted_tol * h)
         settle = (length_tol is not None and not last and contracting
-                  and _settled(SETTLE_PREDICTED * predicted / h, ev.p, ends.p, h, length_tol))
+                  and _settled(SETTLE_PREDICTED * predicted / h, y, h, length_tol, turn))
         last = last or settle
         # A step this small hardly changes the Hessian: the next iteration reuses its factor.
         chord_next = newton and not last and disp <= CHORD_STEP * h
         order = 1 if last or chord_next else 2
-        alpha = _max_step(s[1:-1], step[:, 0], s_max)
+        moved = si + ds  # the full step's stations
+        alpha = _max_step(si, ds, s_max, moved)
         bounded = alpha < 1.0
         if bounded:
             alpha *= 0.999
-        if -slope <= ENERGY_NOISE * math.sqrt(s.shape[0]) * e and not bounded:
+        if -slope <= ENERGY_NOISE * math.sqrt(points) * e and not bounded:
             # The step's energy decrease is below E's roundoff, so a line search cannot judge it; the
             # step itself still carries the gradient's information while it contracts, and is noise
             # once it stops contracting.
-            if np.isfinite(prev_disp) and not contracting:
+            if math.isfinite(prev_disp) and not contracting:
                 converged, reason = True, StopReason.ROUNDOFF
                 break
-            s[1:-1] += step[:, 0]
-            th[1:-1] += step[:, 1]
-            ev = surface.evaluate(s[1:-1], th[1:-1], order=order)
+            si, ti = moved, ti + dth
+            ev, chain = surface.evaluate(si, ti, order=order), None
             nfev += 1
         else:
             while True:
-                s_try = s.copy()
-                th_try = th.copy()
                 # 1.0 * x is x: the full step (the usual one) skips the products
-                s_try[1:-1] += alpha * step[:, 0] if alpha != 1.0 else step[:, 0]
-                th_try[1:-1] += alpha * step[:, 1] if alpha != 1.0 else step[:, 1]
+                s_try, th_try = (moved, ti + dth) if alpha == 1.0 else (si + alpha * ds, ti + alpha * dth)
                 # A full step is the usual one and is usually accepted: its evaluation then serves the
                 # next iteration (with second derivatives unless that one is a chord step or none).
-                ev_try = surface.evaluate(s_try[1:-1], th_try[1:-1], order=order if alpha == 1.0 else 0)
-                e_try = chain_energy(ev_try.p, ends.p)
+                ev_try = surface.evaluate(s_try, th_try, order=order if alpha == 1.0 else 0)
+                chain_try = chain_segments(ev_try.p, ends.p)
+                e_try = chain_try[2]
                 nfev += 1
                 if e_try <= e + ARMIJO * alpha * slope or alpha < 1e-12:
                     break
@@ -231,25 +248,26 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
                 if -slope <= 1e-13 * e or disp * alpha <= step_tol * h:
                     converged, reason = True, StopReason.ROUNDOFF
                 elif bounded and alpha < 1e-9:
-                    _raise_left(surface, s)
+                    _raise_left(surface, si)
                 break
-            s, th, ev = s_try, th_try, ev_try
+            si, ti, ev, chain = s_try, th_try, ev_try, chain_try
         if alpha == 1.0 and last:
             converged, reason = True, StopReason.LENGTH if settle else StopReason.STEP
             break
         prev_disp = disp if alpha == 1.0 else np.inf
         factor = factor if chord_next and alpha == 1.0 else None
-    interior = s[1:-1]
-    if interior.size and (interior.min() <= BOUNDARY_TOL or interior.max() >= s_max - BOUNDARY_TOL):
-        _raise_left(surface, s)
+    if si.size and (si.min() <= BOUNDARY_TOL or si.max() >= s_max - BOUNDARY_TOL):
+        _raise_left(surface, si)
     if ev.ps is None:
-        ev = surface.evaluate(s[1:-1], th[1:-1], order=1)
-    return PathSolve(s, th, it, converged, reason, np.array(history), nfev, ev, ends, factor=factor)
+        ev = surface.evaluate(si, ti, order=1)
+    return PathSolve(np.concatenate([s[:1], si, s[-1:]]), np.concatenate([th[:1], ti, th[-1:]]), it, converged,
+                     reason, np.array(history), nfev, ev, ends, factor=factor)
 
 
 def _raise_left(surface: SweepSurface, s: np.ndarray) -> None:
+    """Refuse a path whose interior stations s (n,) reach an end of the mandrel."""
     # The end it crossed: a path from near one end may run off the other (a cone's small end).
-    low = s[1:-1].min() <= BOUNDARY_TOL and not s[1:-1].max() >= surface.length - BOUNDARY_TOL
+    low = s.min() <= BOUNDARY_TOL and not s.max() >= surface.length - BOUNDARY_TOL
     edge = "polar opening" if not surface.is_axial_parameter else "end"
     where = f"t = 0 (the first {edge})" if low else f"t = {surface.axial_length:.6g} (the far {edge})"
     raise SolverError(f"the shortest path between these points runs off the mandrel past {where}: no "
