@@ -6,7 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from winder.config.mandrel import ArcAxis, CircleSection, ConeProfile, ConstantProfile, EllipseSection, PathAxis
+from winder.config.axes import ArcAxis, PathAxis
+from winder.config.mandrel import CircleSection, ConstantProfile
+from winder.config.profiles import ConeProfile
+from winder.config.sections import EllipseSection
 from winder.geometry.build import make_curve, make_profile, make_section
 from winder.geometry.sections import Circle
 from winder.geometry.surface import SweepSurface, jet_of
