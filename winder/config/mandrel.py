@@ -63,8 +63,10 @@ class MandrelConfig:
 
 def axis_length(axis: Axis | None) -> float | None:
     """T, the axis length in mm, when known without computation (not for a spline or None)."""
-    if axis is None or isinstance(axis, LineAxis):
-        return None if axis is None else axis.length
+    if axis is None:
+        return None
+    if isinstance(axis, LineAxis):
+        return axis.length
     from winder.config.axes import bent_axis_length  # noqa: PLC0415 - loaded already: axis is one of its kinds
 
     return bent_axis_length(axis)
