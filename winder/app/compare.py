@@ -27,6 +27,7 @@ from typing import Any
 from winder.export import registry
 from winder.export.job_csv import PERIODIC_COLUMNS
 from winder.export.summary import decimals_of
+from winder.records import record
 
 JSON_RTOL = 1e-6  # summary numbers under a key without fixed decimals
 JSON_ATOL = 1e-9
@@ -35,7 +36,7 @@ PRINT_SLACK = 1.0 + 1e-6  # one printed unit, and the binary round-off of the di
 MAX_SHOWN = 5  # differences listed per file
 
 
-@dataclass(frozen=True)
+@record
 class Difference:
     """One difference: where (line/field or key path), what was expected, what came out."""
 

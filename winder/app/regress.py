@@ -16,7 +16,6 @@ from __future__ import annotations
 import shutil
 import tempfile
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
 from winder.errors import ConfigError
@@ -24,6 +23,7 @@ from winder.export import registry
 from winder.app.compare import (JSON_ATOL, JSON_RTOL, PRINT_SLACK, REL_NOISE, Difference, compare_bytes,
                                 compare_csv, compare_file, compare_json, compare_lines)
 from winder.app.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
+from winder.records import record
 
 __all__ = [
     "Difference", "FileCheck", "JSON_ATOL", "JSON_RTOL", "PRINT_SLACK", "REL_NOISE", "SampleResult", "Sample",
@@ -37,7 +37,7 @@ REFERENCE_FORMATS = ("csv", "gcode")
 
 
 # -- what is compared ------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@record
 class Sample:
     """A sample job and the folder of its reference outputs."""
 
@@ -46,7 +46,7 @@ class Sample:
     reference: Path
 
 
-@dataclass(frozen=True)
+@record
 class FileCheck:
     """The comparison of one output file. status: same | differs | missing (not produced) |
     unexpected (produced, no reference) | new / changed / refreshed / removed (with --update)."""
@@ -61,7 +61,7 @@ class FileCheck:
         return self.status in ("same", "new", "changed", "refreshed", "removed")
 
 
-@dataclass(frozen=True)
+@record
 class SampleResult:
     sample: Sample
     report: JobReport

@@ -23,7 +23,6 @@ the time comes from machine.dynamics (winder.machine.dynamics) over the program'
 from __future__ import annotations
 
 import io
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,13 +32,14 @@ from winder.export.dialects.parse import ParsedProgram, parse_program
 from winder.machine.dynamics import move_times
 from winder.machine.program import APPROACH
 from winder.machine.smooth import SmoothPaths
+from winder.records import record
 from winder.winding.results import WindingPlan, winding_angle_deg
 
 GOLDEN_STEPS = 48  # the bracket of two point intervals shrinks by 0.618^48 ~ 1e-10
 _INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
 
 
-@dataclass(frozen=True)
+@record
 class Simulation:
     """What a program lays.
 

@@ -10,7 +10,7 @@ import math
 import os
 import re
 import stat
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 import yaml
@@ -22,11 +22,12 @@ from winder.config.reader import Reader, load_yaml
 from winder.config.bends import check_bend_angles
 from winder.config.winding import WindingConfig, parse_winding
 from winder.errors import ConfigError
+from winder.records import record
 
 __all__ = ["JobConfig", "load_config", "parse_config"]
 
 
-@dataclass(frozen=True)
+@record
 class JobConfig:
     """A whole job file. source is the file name used in messages. winding is None when the file has
     none (enough for `geodesic` and `check`); machine is the default MachineConfig when left out."""

@@ -6,8 +6,10 @@ mandrel it checks against (bent axis, largest radius); winder.config.job calls i
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
+
+from winder.records import record
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -27,7 +29,7 @@ DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0)
 AXIS_LETTERS = "XYZABCUVW"
 
 
-@dataclass(frozen=True)
+@record
 class MachineAxes:
     """G-code letters of the machine axes (YAML `machine.axes`); distinct, from X Y Z A B C U V W.
 
@@ -41,7 +43,7 @@ class MachineAxes:
     yaw: str = "B"
 
 
-@dataclass(frozen=True)
+@record
 class MachineLimits:
     """Travel limits (YAML `machine.limits`), each (min, max) in the axis' unit, or None: unlimited."""
 
@@ -61,7 +63,7 @@ class MachineLimits:
         return tuple((role, lim) for role in MACHINE_ROLES if (lim := getattr(self, role)) is not None)
 
 
-@dataclass(frozen=True)
+@record
 class AxisDynamics:
     """One axis' top speed (mm/min or deg/min) and acceleration (mm/s^2 or deg/s^2), both > 0."""
 
@@ -73,7 +75,7 @@ def _default_dynamics(role: str) -> AxisDynamics:
     return AxisDynamics(*DEFAULT_DYNAMICS[role])
 
 
-@dataclass(frozen=True)
+@record
 class MachineDynamics:
     """Per logical axis top speed and acceleration (YAML `machine.dynamics`); defaults DEFAULT_DYNAMICS."""
 
@@ -88,7 +90,7 @@ class MachineDynamics:
         return getattr(self, role)
 
 
-@dataclass(frozen=True)
+@record
 class MachineConfig:
     """The winder (YAML `machine:`). Every key has a default, so the section may be left out.
 

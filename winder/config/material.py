@@ -7,8 +7,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any
+
+from winder.records import record
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -16,7 +18,7 @@ if TYPE_CHECKING:
 MAX_TOWS = 1000
 
 
-@dataclass(frozen=True)
+@record
 class MaterialConfig:
     """A band's material (YAML `winding.material`, or a layer's `material`).
 

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Iterable
-from dataclasses import dataclass
 
 from winder.errors import ConfigError
+from winder.records import record
 
 
-@dataclass(frozen=True)
+@record
 class Format:
     """One output: its name (as in `--format`), its file suffix, the module rendering it, whether
     every job writes it (the summary), and whether `run` writes it when no format is named (not the

@@ -7,10 +7,11 @@ other sections are in winder.geometry.outlines.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
+
+from winder.records import record
 
 
 
@@ -37,7 +38,7 @@ def perimeter_of(section: Section, samples: int = 20000) -> float:
     return float(np.sum(np.hypot(rho, d1)) * 2.0 * np.pi / samples)
 
 
-@dataclass(frozen=True)
+@record
 class Circle:
     radius: float = 1.0
     is_circle: bool = True
@@ -54,7 +55,7 @@ class Circle:
         return 2.0 * np.pi * self.radius
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class ArcMap:
     """Arc-length position along a section: fraction f in [0, 1) of the perimeter from theta = 0.
 

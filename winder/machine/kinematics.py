@@ -53,7 +53,7 @@ fiber direction from the eye to its contact point, both in the mandrel frame.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -63,13 +63,14 @@ from winder.geometry.surface import SweepSurface
 from winder.machine.envelope import EyeEnvelope, eye_envelope
 from winder.machine.leads import MAX_LEAD_FACTOR, first_crossing, lead_straight, unit_rows
 from winder.geometry.measure import row_norms
+from winder.records import record
 
 CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
 PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
 
 
 # -- results ---------------------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class EyePath:
     """Axis values of a straight-axis winder at m contact points (see the module docstring).
 
@@ -92,7 +93,7 @@ class EyePath:
         return {"carriage": self.x, "rotation": self.a_deg, "cross_feed": self.z, "yaw": self.b_deg}
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class RobotPoses:
     """Eye poses in the mandrel frame for a robot (bent mandrels).
 

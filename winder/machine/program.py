@@ -24,7 +24,6 @@ preamble, comments.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -39,6 +38,7 @@ from winder.machine.kinematics import eye_path, make_guide
 from winder.machine.reduce import reduce_many, reduce_points, reduce_table  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.machine.straight import straight_passes
+from winder.records import record
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 from winder.geometry.measure import row_norms
 
@@ -49,7 +49,7 @@ APPROACH = "approach"  # the comment word of a pass's approach rows (Segment.app
 POSE_AXES = ("x", "y", "z", "i", "j", "k")
 
 
-@dataclass(frozen=True)
+@record
 class Segment:
     """One pass of the program: its moves are rows [start, stop) of the program's arrays.
 
@@ -68,7 +68,7 @@ class Segment:
     approach: int = 0  # leading rows that bring the eye from another pass clear of the part (no fiber)
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class MotionProgram:
     """The machine's moves for a whole plan, before any controller's text.
 

@@ -21,7 +21,7 @@ Stations here are the internal station s (the axial t except on vessels), as in 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Callable
 
 import numpy as np
@@ -30,6 +30,7 @@ from winder.errors import ConfigError, SolverError
 from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.geometry.rk import solve_rk
 from winder.geometry.surface import SweepSurface
+from winder.records import record
 
 Slip = float | Callable[[float], float]
 STATION_TOL = 1e-9  # mm: a start this far outside [0, length] is still on the mandrel
@@ -59,7 +60,7 @@ def _slip_at(slip: Slip, arc: float) -> float:
 
 
 # -- tracing ----------------------------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class FrictionTrace:
     """A friction-held path traced from one point in one direction.
 

@@ -26,7 +26,6 @@ length and lambda), so all share one step sequence (internal numerical different
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.polynomial import legendre
@@ -37,6 +36,7 @@ from winder.paths.friction import friction_rhs
 from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.paths.shooting import initial_guess
 from winder.geometry.surface import SweepSurface
+from winder.records import record
 
 DIFF_STEP = 1e-6  # central-difference half-step of every unknown (rad, length / scale, lambda)
 RTOL_LEVELS = (1e-8,)  # coarse integrator tolerances used first, while the miss is large
@@ -64,7 +64,7 @@ class Status:
     SLIPS = 4
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class FrictionResult:
     """A two-point friction-held path (scipy vocabulary: success, status, message, nit, nfev).
 

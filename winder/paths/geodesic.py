@@ -16,7 +16,7 @@ error bound, and --tolerance chooses n by that bound (the h^4 rate predicts the 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from enum import Enum
 
 import numpy as np
@@ -30,6 +30,7 @@ from winder.paths.energy import energy_terms
 from winder.paths.lbfgs import _lbfgs
 from winder.paths.newton import (LENGTH_SHARE, LEVEL_PREDICTED, LEVEL_STEP_TOL, MAX_NEWTON, STEP_TOL, Level,
                                  PathSolve, StopReason, _newton, chain_bend)
+from winder.records import record
 
 __all__ = ["DEFAULT_POINTS", "STEP_TOL", "GeodesicResult", "Level", "Method", "PathSolve", "StopReason",
            "energy_terms", "geodesic", "solve_path", "straight_path", "_lbfgs", "_newton"]
@@ -70,7 +71,7 @@ ROUNDOFF_FLOOR = 1e-15  # relative: about 4 ulp, the roundoff of a length in dou
 STALL_FLOOR = 1e3  # an error bound that stops falling this close to the roundoff floor is roundoff
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class GeodesicResult:
     """A geodesic between two surface points.
 

@@ -11,7 +11,6 @@ positive-definite Gauss-Newton matrix; Armijo backtracking otherwise.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
@@ -20,6 +19,7 @@ from winder.errors import SolverError
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.paths.energy import (_einsum, banded_direction, chain_segments, chord_direction, newton_banded,
                                  newton_terms, step_moves)
+from winder.records import record
 
 STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
 LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
@@ -56,7 +56,7 @@ class StopReason(Enum):
     MAX_ITER = "the iteration limit was reached"
 
 
-@dataclass(frozen=True)
+@record
 class Level:
     """One solve at n interior points: Newton iterations used of its cap, whether it converged."""
 
@@ -66,7 +66,7 @@ class Level:
     converged: bool
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class PathSolve:
     """A solved polyline in the parameter domain.
 

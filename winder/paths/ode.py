@@ -25,7 +25,7 @@ parameter velocities.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Callable
 
 import numpy as np
@@ -33,6 +33,7 @@ import numpy as np
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
 from winder.paths.headings import heading_of_velocity, row_dot, velocity_of_heading
+from winder.records import record
 
 STATION_TOL = 1e-9  # mm: a start station this far outside [0, length] is still on the mandrel
 
@@ -90,7 +91,7 @@ def _leave_events(surface: SweepSurface):
     return below, above
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class Trace:
     """A geodesic traced from one point in one direction.
 
@@ -172,7 +173,7 @@ def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float,
                  nfev=int(res.nfev))
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class Fan:
     """k rays traced together from one start (one step sequence).
 

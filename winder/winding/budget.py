@@ -12,7 +12,6 @@ limit, instead of running for minutes and dying of memory. `check` and `run` bot
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -22,6 +21,7 @@ from winder.errors import ConfigError
 from winder.geometry.sections import arc_map
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
+from winder.records import record
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.hoop import HOOP_STEP_DEG
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
@@ -47,7 +47,7 @@ MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libra
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
 
 
-@dataclass(frozen=True)
+@record
 class LayerBudget:
     """The work of one layer: circuits (1 for a hoop), laid passes, points of its longest pass,
     points in total (dwells included) and points of the largest single solve."""
@@ -59,7 +59,7 @@ class LayerBudget:
     solve_points: int
 
 
-@dataclass(frozen=True)
+@record
 class Budget:
     """The work of a job: per layer, and in total (points, estimated peak memory in bytes)."""
 

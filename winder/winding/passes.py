@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
+from winder.records import record
 from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError
 from winder.progress import Progress
@@ -49,7 +49,7 @@ class SolvedPass(NamedTuple):
     length: float
     result: GeodesicResult
 
-@dataclass(frozen=True)
+@record
 class PlanContext:
     job: JobConfig
     winding: WindingConfig

@@ -9,13 +9,13 @@ of the section's perimeter (arc length), so the same arithmetic serves non-circu
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
 from winder.errors import ConfigError, SolverError
 from winder.geometry.roots import bracketed_root
+from winder.records import record
 
 
 def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:
@@ -42,7 +42,7 @@ def _check_skip(pattern: int | None, circuits: int, key: str) -> list[int]:
     return [pattern % circuits if circuits > 1 else 1]
 
 
-@dataclass(frozen=True)
+@record
 class OpenPattern:
     """Pattern of an open mandrel: the passes' natural advance plus the dwells close it.
 

@@ -11,7 +11,6 @@ an error naming the line.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -19,12 +18,13 @@ from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
+from winder.records import record
 
 _PASS = re.compile(r"^; layer (\d+) circuit (\d+) pass (\d+) (\w+)$")
 _SKIP = {"G21", "G90", "G94", "G93", "M2", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
 
 
-@dataclass(frozen=True, eq=False)
+@record(eq=False)
 class ParsedProgram:
     """A program read back.
 

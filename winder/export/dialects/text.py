@@ -8,7 +8,6 @@ The text is deterministic: no timestamps, no timings.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
@@ -16,6 +15,7 @@ import numpy as np
 from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
+from winder.records import record
 from winder.winding.results import LayerPlan, PassKind
 
 DECIMALS = AXIS_DECIMALS  # mm and deg: the limits hold for the values as written
@@ -24,7 +24,7 @@ END = "M2"
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
 
 
-@dataclass(frozen=True)
+@record
 class Move:
     """One programmed line: the pass it comes from and the index of its contact point in the pass.
 
