@@ -188,7 +188,8 @@ class SweepSurface:
     def _evaluate_line(line: tuple, jet: np.ndarray, z, z1, z2, p, p1, p2, c, sn, q, q1, q2, order: int,
                        with_point: bool) -> None:
         """evaluate_arc's work on a straight guide line (its frame constant: (3, 1) columns broadcast,
-        nothing tiled per point); K, K', K.n, K.m are all 0."""
+        nothing tiled per point). K = 0 there, so Phi_s = z1 T + r_s n, Phi_ss = z2 T + p2 q n and
+        Phi_st = p1 q1 n + r_s m (the curve's terms with K, K' and K.n, K.m all 0)."""
         origin, tan, e2, e3 = line
         n = c * e2 + sn * e3
         r = p * q
@@ -197,29 +198,16 @@ class SweepSurface:
         if order == 0:
             return
         m = c * e3 - sn * e2
-        r_s, r_t = p1 * q, p * q1
-        kap, kn = 0.0 * tan, 0.0
-        # Terms whose coefficient is an exact 0.0 (a constant radius, a circle) are left out, and
-        # factors of an exact 1.0 (z = s): adding +-0 or multiplying by 1 changes no value (at most the
-        # sign of an exact zero), and at n ~ 1000 each skipped (3, m) product is a few percent of the
-        # evaluation.
-        stretch = _times(z1, 1.0 - r * kn)
-        if _zero(r_s) and np.ndim(stretch) > 0:
-            np.multiply(stretch, tan, out=jet[1])
-        else:
-            np.add(stretch * tan, r_s * n, out=jet[1])
+        # A constant radius (p1 = p2 = 0) or a circle (q1 = 0) makes these exact 0.0: their terms are
+        # left out (a constant-radius elliptic tube's Phi_ss and Phi_st are 0, and cost no pass).
+        r_s = 0.0 if _zero(p1) else p1 * q
+        r_t = 0.0 if _zero(q1) else p * q1
+        _pair(jet[1], z1, tan, r_s, n)
         phi_theta(jet, r, r_t, n, m, _zero)
         if order == 1:
             return
-        bend, kdn = _times(z1, stretch) * kap, 0.0
-        if not (_zero(z2) and _zero(r_s)):
-            bend = (z2 * (1.0 - r * kn) - 2.0 * r_s * z1 * kn - r * z1 * z1 * kdn) * tan + bend
-        np.add(bend, (p2 * q) * n, out=jet[3])
-        twist = _times(z1, r * 0.0 if _zero(r_t) else r_t * kn + r * 0.0)
-        if _zero(p1 * q1):
-            np.subtract(r_s * m, twist * tan, out=jet[4])
-        else:
-            np.subtract((p1 * q1) * n + r_s * m, twist * tan, out=jet[4])
+        _pair(jet[3], z2, tan, 0.0 if _zero(p2) else p2 * q, n)
+        _pair(jet[4], 0.0 if _zero(p1) or _zero(q1) else p1 * q1, n, r_s, m)
         phi_theta_theta(jet, p * q2 - r, r_t, n, m, _zero)
 
     def _evaluate_curve(self, z, z1, z2, p, p1, p2, c, sn, q, q1, q2, order: int, with_point: bool) -> SurfaceEval:
@@ -368,3 +356,17 @@ def find_fold(surface: SweepSurface) -> Fold | None:
     kappa = float(np.linalg.norm(cv.d2[worst]))
     radius = float(surface.radius(s[worst:worst + 1], tt[worst:worst + 1])[0])
     return Fold(float(z[worst]), float(np.degrees(tt[worst]) % 360), radius, 1.0 / kappa, float(r[worst]) / kappa)
+
+
+def _pair(out: np.ndarray, a, u: np.ndarray, b, v: np.ndarray) -> None:
+    """out (3, m) = a u + b v, a term whose coefficient is an exact 0.0 left out (adding +-0 changes
+    no value, at most the sign of an exact zero) and a factor of an exact 1.0 not multiplied."""
+    if _zero(b):
+        if _zero(a):
+            out[...] = 0.0
+        else:
+            np.multiply(a, u, out=out)
+    elif _zero(a):
+        np.multiply(b, v, out=out)
+    else:
+        np.add(_times(a, u), b * v, out=out)
