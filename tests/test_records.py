@@ -164,3 +164,40 @@ def test_recursive_repr_does_not_loop():
     box = Box([])
     box.item.append(box)
     assert repr(box) == "test_recursive_repr_does_not_loop.<locals>.Box(item=[...])"
+
+
+def test_methods_the_class_writes_are_kept_as_dataclass_keeps_them():
+    def body(deco):
+        @deco
+        class Named:
+            """Compares by name only."""
+
+            name: str
+            size: float = 1.0
+
+            def __repr__(self) -> str:
+                return f"<{self.name}>"
+
+            def __eq__(self, other: object) -> bool:
+                return isinstance(other, Named) and other.name == self.name
+
+        return Named
+
+    for cls in (body(dataclasses.dataclass(frozen=True)), body(record)):
+        a, b = cls("a", 1.0), cls("a", 2.0)
+        assert repr(a) == "<a>" and a == b
+        # A written __eq__ leaves Python's __hash__ = None, which dataclass replaces by the fields' hash.
+        assert hash(a) == hash(cls("a", 1.0)) == hash(("a", 1.0))
+
+
+def test_a_record_refuses_its_own_setattr_like_the_frozen_dataclass():
+    for deco in (dataclasses.dataclass(frozen=True), record):
+        with pytest.raises(TypeError):
+            @deco
+            class Settable:
+                """Writes __setattr__."""
+
+                a: int
+
+                def __setattr__(self, name, value):
+                    object.__setattr__(self, name, value)

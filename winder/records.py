@@ -38,28 +38,31 @@ def record(cls: T | None = None, /, *, eq: bool = True) -> Any:
 
 
 def _make(cls: T, eq: bool) -> T:
-    documented = bool(cls.__dict__.get("__doc__"))
+    own = dict(cls.__dict__)  # what the class body defines: kept, as dataclass keeps it
+    if "__setattr__" in own or "__delattr__" in own:
+        raise TypeError(f"cannot overwrite __setattr__ or __delattr__ of a frozen record: {cls.__name__}")
+    documented = bool(own.get("__doc__"))
     if not documented:  # else dataclass reads object's signature (a tokenizer regex compiled: 7 ms)
         cls.__doc__ = "-"
     dataclasses.dataclass(cls, init=False, repr=False, eq=False, match_args=True)
     fields = dataclasses.fields(cls)
-    names = tuple(f.name for f in fields)
-    cls.__init__ = _init_fn(cls, fields, hasattr(cls, "__post_init__"))
+    if "__init__" not in own:
+        cls.__init__ = _init_fn(cls, fields, hasattr(cls, "__post_init__"))
     if not documented:  # dataclass's text, from the signature of the __init__ it would have written
         import inspect  # noqa: PLC0415 - dataclasses has it loaded already
 
         cls.__doc__ = cls.__name__ + str(inspect.signature(cls)).replace(" -> None", "")
-    shown = tuple(f.name for f in fields if f.repr)
-    cls.__repr__ = _repr_fn(shown)
-    if eq:
-        compared = tuple(f.name for f in fields if f.compare)
-        key = _key_fn(compared)
-        cls.__eq__ = _eq_fn(key)
+    if "__repr__" not in own:
+        cls.__repr__ = _repr_fn(tuple(f.name for f in fields if f.repr))
+    if eq and "__eq__" not in own:
+        cls.__eq__ = _eq_fn(_key_fn(tuple(f.name for f in fields if f.compare)))
+    # A class that writes __eq__ gets __hash__ = None from Python itself: not a hash of its own.
+    explicit_hash = "__hash__" in own and not (own["__hash__"] is None and "__eq__" in own)
+    if eq and not explicit_hash:
         hashed = tuple(f.name for f in fields if (f.compare if f.hash is None else f.hash))
         cls.__hash__ = _hash_fn(_key_fn(hashed))
     cls.__setattr__ = _frozen_setattr
     cls.__delattr__ = _frozen_delattr
-    cls.__record_fields__ = names
     return cls
 
 
