@@ -98,6 +98,12 @@ def table_text(columns: list[tuple[np.ndarray, int]], tail: np.ndarray, tails: l
         rows[end] = _COMMA
         end += 1
     rows[end:] = t_chars.T[:, tail]
+    return _text(rows)
+
+
+def _text(rows: np.ndarray) -> str:
+    """The text of the transposed character matrix rows (w, m): its m lines in order, NULs dropped."""
+    width, m = rows.shape
     chars = np.empty((m, width), dtype=np.uint8)
     for lo in range(0, m, _BLOCK):  # in blocks that stay in cache: a transposed copy is strided
         chars[lo:lo + _BLOCK] = rows[:, lo:lo + _BLOCK].T
@@ -134,8 +140,4 @@ def fixed_rows(columns: list[tuple[np.ndarray, int]], prefixes: list[str], sep: 
         rows[end] = ord(sep)
         end += 1
     rows[end - 1] = ord("\n")
-    chars = np.empty((m, width), dtype=np.uint8)
-    for lo in range(0, m, _BLOCK):
-        chars[lo:lo + _BLOCK] = rows[:, lo:lo + _BLOCK].T
-    flat = chars.reshape(-1)
-    return flat[flat != 0].tobytes().decode("ascii").split("\n")[:-1]
+    return _text(rows).split("\n")[:-1]
