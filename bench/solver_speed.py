@@ -8,7 +8,9 @@
   ds^2 = dz^2 + G(theta) dtheta^2), the length as a fifth component (L' = |v|). At each accuracy level
   (relative length error 1e-6, 1e-9, 1e-12) solve_bvp's time is that of its fastest `tol` whose
   error meets the level (and every tighter tol's too: it is given the best setting in hindsight);
-  winder's is its tolerance mode at level x length (it has to find n itself, estimate included).
+  winder's is its tolerance mode at level x length (it has to find n itself, estimate included),
+  and, like for like, its fastest fixed n whose error meets the level (and every larger n's of
+  HINDSIGHT_N too), without the estimate: the best setting in hindsight, as solve_bvp is given.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ import numpy as np
 BVP_TOLS = (1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8)
 LEVELS = (1e-6, 1e-9, 1e-12)
 BVP_MAX_NODES = 20_000
+# winder at a fixed n, for the like-for-like column: interior points from 15 up, about 1.19x apart
+HINDSIGHT_N = tuple(sorted({int(round(15 * 2 ** (k / 4))) for k in range(40)} | {31, 63, 127, 255}))
 
 
 def torus_equations(bend_radius: float, radius: float):
@@ -163,6 +167,7 @@ def against_bvp(repeats: int = 5) -> dict[str, Any]:
             sweep.append({"tol": tol, "seconds": sec, "rel_error": abs(length - truth_len) / truth_len,
                           "status": status, "nodes": m})
         rows = []
+        fixed_errors = _fixed_errors(case, surface, truth_len)
         for level in LEVELS:
             ok = [p for k, p in enumerate(sweep) if all(q["rel_error"] <= level and q["status"] == 0 for q in sweep[k:])]
             best = min(ok, key=lambda p: p["seconds"]) if ok else None
@@ -171,12 +176,46 @@ def against_bvp(repeats: int = 5) -> dict[str, Any]:
                 return geodesic(surface, case.start, case.end, rounds=case.rounds, tolerance=level * truth_len)
             sec, res = _median(ours, repeats)
             err = abs(res.length - truth_len)
+            fixed = _hindsight(case, surface, truth_len, level, fixed_errors, repeats)
             rows.append({"level": level, "bvp": best, "winder_s": sec, "winder_n": res.n,
                          "winder_rel_error": err / truth_len,
                          "estimate_over_true": res.smooth_error_estimate / err if err > 0 else None,
-                         "ratio": best["seconds"] / sec if best else None})
+                         "ratio": best["seconds"] / sec if best else None, "fixed": fixed,
+                         "fixed_ratio": best["seconds"] / fixed["seconds"] if best and fixed else None})
         out[case.key] = {"title": case.title, "sweep": sweep, "levels": rows}
     return out
+
+
+def _fixed_errors(case, surface, truth_len: float) -> dict[int, float]:
+    """winder's relative length error at each n of HINDSIGHT_N (one solve each, no estimate)."""
+    from winder.paths.geodesic import geodesic  # noqa: PLC0415
+
+    out = {}
+    for n in HINDSIGHT_N:
+        res = geodesic(surface, case.start, case.end, rounds=case.rounds, n=n, estimate=False)
+        out[n] = abs(res.length - truth_len) / truth_len if res.converged else float("inf")
+        if out[n] < 1e-14:
+            break
+    return out
+
+
+def _hindsight(case, surface, truth_len: float, level: float, errors: dict[int, float],
+               repeats: int) -> dict[str, Any] | None:
+    """winder's fastest fixed n meeting the level (as every larger n measured does), timed: the n
+    from the least such n up to twice it (a smaller n can cost more, solved from a coarser level)."""
+    from winder.paths.geodesic import geodesic  # noqa: PLC0415
+
+    ns = sorted(errors)
+    ok = [n for k, n in enumerate(ns) if all(errors[m] <= level for m in ns[k:])]
+    if not ok:
+        return None
+    timed = []
+    for n in (m for m in ok if m <= 2 * ok[0]):
+        def solve(n=n):
+            return geodesic(surface, case.start, case.end, rounds=case.rounds, n=n, estimate=False)
+        sec, _ = _median(solve, repeats)
+        timed.append({"n": n, "seconds": sec, "rel_error": errors[n]})
+    return min(timed, key=lambda r: r["seconds"])
 
 
 def markdown(data: dict[str, Any]) -> list[str]:
@@ -192,15 +231,21 @@ def markdown(data: dict[str, Any]) -> list[str]:
     lines += ["", "Against scipy's solve_bvp with analytic Jacobians (fun_jac, bc_jac) on the closed-form geodesic "
               "equations: solve_bvp at its fastest tol whose error meets the level (chosen in hindsight); winder "
               "in tolerance mode at level x length (it finds n itself; the time includes the 2n + 1 solve of "
-              "its error bound). Target: winder >= 5x faster.", "",
-              "| mandrel | level | solve_bvp | winder | bvp / winder | winder n | estimate / true error |",
-              "|---|---|---:|---:|---:|---:|---:|"]
+              "its error bound). Like for like, winder too at its best setting in hindsight: its fastest fixed n "
+              "whose error meets the level, one solve without the estimate (`--points N`). Target: winder >= 5x "
+              "faster.", "",
+              "| mandrel | level | solve_bvp | winder, tolerance mode | bvp / winder | winder n | estimate / true error "
+              "| winder, n in hindsight | bvp / winder |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|"]
     for key, c in bvp.items():
         for r in c["levels"]:
             b = r["bvp"]
             bcell = f"{b['seconds'] * 1e3:.1f} ms (tol {b['tol']:.0e}, {b['nodes']} nodes)" if b else "not reached"
             ratio = f"{r['ratio']:.2f}x" if r["ratio"] else "-"
             est = f"{r['estimate_over_true']:.2f}" if r["estimate_over_true"] else "-"
+            fx = r.get("fixed")
+            fcell = f"{fx['seconds'] * 1e3:.2f} ms (n = {fx['n']})" if fx else "not reached"
+            fratio = f"{r['fixed_ratio']:.2f}x" if r.get("fixed_ratio") else "-"
             lines.append(f"| {c['title']} | {r['level']:.0e} | {bcell} | {r['winder_s'] * 1e3:.1f} ms | {ratio} | "
-                         f"{r['winder_n']} | {est} |")
+                         f"{r['winder_n']} | {est} | {fcell} | {fratio} |")
     return lines + [""]
