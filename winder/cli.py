@@ -83,7 +83,17 @@ class WinderGroup(click.Group):
         sys.exit(rv if isinstance(rv, int) else 0)
 
 
-_TIME_LIMIT = click.option("--time-limit", "time_limit", type=click.FloatRange(min=0, min_open=True, max=1e6),
+class FiniteRange(click.FloatRange):
+    """click's FloatRange, refusing nan too: its range checks are comparisons, all false for nan."""
+
+    def convert(self, value, param, ctx):  # type: ignore[no-untyped-def] - click's signature
+        number = super().convert(value, param, ctx)
+        if number != number:
+            self.fail(f"{value!r} is not a number.", param, ctx)
+        return number
+
+
+_TIME_LIMIT = click.option("--time-limit", "time_limit", type=FiniteRange(min=0, min_open=True, max=1e6),
                            default=DEFAULT_TIME_LIMIT, show_default=True, metavar="SECONDS",
                            help="Wall-clock limit of each job or solve; past it, exit 1 and no file written.")
 

@@ -110,6 +110,7 @@ CLI_CASES = {
     "huge_angle": (["geodesic", str(PIPE), "--start", "0,1e308", "--end", "10,0", "--json"], 2, "--start"),
     "nan_tolerance": (["geodesic", str(PIPE), "--start", "0,0", "--end", "10,0", "--tolerance", "nan"], 2,
                       "--tolerance"),
+    "nan_time_limit": (["run", str(PIPE), "--time-limit", "nan"], 2, "'--time-limit': 'nan' is not a number"),
     "rounds": (["geodesic", str(PIPE), "--start", "0,0", "--end", "10,0", "--rounds", "1000000000"], 2,
                "--rounds"),
     "deep_yaml": (["geodesic", str(HOSTILE / "deep_nesting.yaml"), "--start", "0,0", "--end", "10,0"], 2,
@@ -181,12 +182,17 @@ def _alive(pids: set[int]) -> set[int]:
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
-@pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
-def test_interrupted_batch_stops_its_workers_and_rolls_back(tmp_path: Path, sig: int, code: int) -> None:
+@pytest.mark.parametrize("sig, code, group", [(signal.SIGTERM, 143, False), (signal.SIGINT, 130, False),
+                                             (signal.SIGINT, 130, True)], ids=["term", "int", "ctrl-c"])
+def test_interrupted_batch_stops_its_workers_and_rolls_back(tmp_path: Path, sig: int, code: int,
+                                                            group: bool) -> None:
+    # group: the signal to the whole process group, as a terminal's Ctrl-C sends it (the workers get it
+    # too, and then the parent's TERM on top)
     out = tmp_path / "out"
     samples = sorted(str(p) for p in SAMPLES.glob("*.yaml"))
     proc = subprocess.Popen([sys.executable, "-m", "winder", "run", *samples, "--jobs", "2", "-o", str(out)],
-                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=group)
     deadline = time.monotonic() + HANG_GUARD_S
     workers: set[int] = set()
     while time.monotonic() < deadline and proc.poll() is None:  # until both workers run a job
@@ -196,7 +202,10 @@ def test_interrupted_batch_stops_its_workers_and_rolls_back(tmp_path: Path, sig:
         time.sleep(0.05)
     assert len(workers) >= 2, "the batch never started its workers"
     time.sleep(0.3)
-    proc.send_signal(sig)
+    if group:
+        os.killpg(proc.pid, sig)
+    else:
+        proc.send_signal(sig)
     _, stderr = proc.communicate(timeout=HANG_GUARD_S)
     assert proc.returncode == code, stderr
     assert "Traceback" not in stderr

@@ -61,9 +61,15 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 WORKER_GRACE_S = 1.0  # a worker stopped by TERM rolls back its job's files within this, or is killed
 
 
+def _ignore(signum: int, frame) -> None:
+    """A stop signal after the first: nothing. Not SIG_IGN: a signal already caught but not yet handled
+    (a Ctrl-C reaching every process of the group, then the parent's TERM) would find SIG_IGN and
+    raise OSError ("ignored due to race condition") in the middle of the rollback."""
+
+
 def _raise_interrupted(signum: int, frame) -> None:
     for sig in STOP_SIGNALS:  # one interrupt: the rollback on the way out must not be interrupted
-        signal.signal(sig, signal.SIG_IGN)
+        signal.signal(sig, _ignore)
     raise Interrupted(signum)
 
 
