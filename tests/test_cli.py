@@ -198,6 +198,17 @@ def test_check_bad_and_mixed():
     assert "nan_radius.yaml" in lines[0] and "unknown_top_key.yaml" in lines[1]
 
 
+def test_check_refuses_two_jobs_of_one_name_as_a_batch_run_does(tmp_path):
+    twin = tmp_path / "pipe.yaml"
+    shutil.copy(PIPE, twin)
+    checked = invoke("check", PIPE, twin)
+    run = invoke("run", PIPE, twin, "-o", tmp_path / "out")
+    assert checked.exit_code == run.exit_code == 2
+    (line,) = error_lines(checked)
+    assert line.startswith(f"Error: {twin}: name: 'pipe' is also the name of {PIPE} in this batch")
+    assert invoke("check", twin).exit_code == 0  # alone it is fine
+
+
 def test_check_every_invalid_config_is_refused():
     configs = sorted(INVALID.glob("*.yaml"))
     result = invoke("check", *configs)

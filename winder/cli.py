@@ -150,9 +150,13 @@ def check_cmd(configs: tuple[str, ...]) -> None:
     from winder.app.jobs import exit_status  # noqa: PLC0415
 
     codes = []
+    owner: dict[str, str] = {}
     for path in configs:
         try:
             job, _, _ = validate(path)  # every check `run` makes before it computes
+            clash = _name_clash(path, job.name, owner, "one output folder") if len(configs) > 1 else None
+            if clash is not None:  # as run refuses it in a batch of these configs
+                raise clash
         except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
             codes.append(_error(exc, path))
         else:
@@ -187,9 +191,10 @@ def _workers(jobs: int, tasks: int) -> int:
 
 
 def _progress(length: int, label: str):
-    """A progress bar on stderr for a batch (more than one job); a no-op context otherwise."""
-    return click.progressbar(length=length, label=label, file=sys.stderr,
-                             show_pos=True, show_eta=False, hidden=length <= 1)
+    """A progress bar on stderr for a batch (more than one job) on a terminal; a no-op context otherwise
+    (off a terminal click would still print its label: a log keeps only the Error lines)."""
+    return click.progressbar(length=length, label=label, file=sys.stderr, show_pos=True, show_eta=False,
+                             hidden=length <= 1 or not sys.stderr.isatty())
 
 
 def _fmt_length(value: float | None) -> str:
@@ -235,6 +240,17 @@ class _JobBar:
             self.bar = None
 
 
+def _name_clash(path: str, name: str, owner: dict[str, str], where: str) -> ConfigError | None:
+    """The error of a batch's second job of this name (owner: the names so far, casefolded, each to
+    its config; a new name is added): both would write the same files."""
+    key = name.casefold()  # Pipe and pipe clash on some disks
+    if key in owner:
+        return ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
+                           f"both would write {name}.* into {where}")
+    owner[key] = path
+    return None
+
+
 def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jobs: int,
            summary: bool = True, seconds: float | None = None) -> None:
     """Run each config as a job (see run_cmd) and report: one Error line per failure, a table, a
@@ -255,14 +271,10 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
             name = load_config(path).name if len(configs) > 1 else None
         except Exception:  # noqa: BLE001 - reported by run_job, in its turn
             name = None
-        key = name.casefold() if name is not None else None  # Pipe and pipe clash on some disks
-        if key is not None and key in owner:
-            exc = ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
-                              f"both would write {name}.* into {out_dir}")
+        exc = _name_clash(path, name, owner, out_dir) if name is not None else None
+        if exc is not None:
             reports[i] = JobReport(path, name, False, exit_code_of(exc), error_message(exc, path))
             continue
-        if key is not None:
-            owner[key] = path
         tasks.append(JobTask(path, out_dir, formats, summary=summary, seconds=seconds))
         index.append(i)
 

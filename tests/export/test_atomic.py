@@ -44,8 +44,9 @@ def test_a_taken_temporary_name_is_drawn_again(tmp_path, monkeypatch):
 
 def test_a_folder_that_is_a_file_is_one_clear_error(tmp_path):
     (tmp_path / "out").write_text("a file")
-    with pytest.raises(ExportError, match=r"out/job.csv: cannot write here"):
-        atomic.write_atomic(tmp_path / "out" / "job.csv", "x")
+    for target in (tmp_path / "out" / "job.csv", tmp_path / "out" / "deeper" / "job.csv"):
+        with pytest.raises(ExportError, match=r"job.csv: cannot write here: .*/out is a file, not a folder$"):
+            atomic.write_atomic(target, "x")
 
 
 def test_a_failed_write_leaves_nothing(tmp_path, monkeypatch):

@@ -35,6 +35,10 @@ def write_atomic(path: str | Path, data: bytes | str) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = _open_temporary(path)
+    except (FileExistsError, NotADirectoryError) as exc:  # a file where a folder of the path should be
+        blocker = next((p for p in (path.parent, *path.parent.parents) if p.exists() and not p.is_dir()), None)
+        why = f"{blocker} is a file, not a folder" if blocker is not None else exc.strerror or str(exc)
+        raise ExportError(f"{path}: cannot write here: {why}") from exc
     except OSError as exc:
         raise ExportError(f"{path}: cannot write here: {exc.strerror or exc}") from exc
     try:
