@@ -17,7 +17,7 @@ import click
 
 from winder import __version__
 from winder.app.interrupts import interrupts_raise
-from winder.errors import ConfigError, Interrupted
+from winder.errors import Interrupted
 
 # Each command imports the stages it needs when it runs: numpy, scipy and the pipeline take most of a
 # second to import, which `winder --help` and `winder check` should not pay. So the two values the
@@ -145,16 +145,16 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
 def check_cmd(configs: tuple[str, ...]) -> None:
     """Validate configs as `run` would, before computing: values, geometry, the winding plan, the
     work budget (no path computation)."""
-    from winder.app.validate import validate  # noqa: PLC0415
-
+    from winder.app.batch import name_clash  # noqa: PLC0415
     from winder.app.jobs import exit_status  # noqa: PLC0415
+    from winder.app.validate import validate  # noqa: PLC0415
 
     codes = []
     owner: dict[str, str] = {}
     for path in configs:
         try:
             job, _, _ = validate(path)  # every check `run` makes before it computes
-            clash = _name_clash(path, job.name, owner, "one output folder") if len(configs) > 1 else None
+            clash = name_clash(path, job.name, owner, "one output folder") if len(configs) > 1 else None
             if clash is not None:  # as run refuses it in a batch of these configs
                 raise clash
         except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
@@ -197,16 +197,6 @@ def _progress(length: int, label: str):
                              hidden=length <= 1 or not sys.stderr.isatty())
 
 
-def _fmt_length(value: float | None) -> str:
-    return "-" if value is None else f"{value:.3f}"
-
-
-def _table(rows: list[tuple[str, ...]], right: set[int]) -> list[str]:
-    widths = [max(len(row[j]) for row in rows) for j in range(len(rows[0]))]
-    return ["  ".join(cell.rjust(w) if j in right else cell.ljust(w)
-                      for j, (cell, w) in enumerate(zip(row, widths))).rstrip() for row in rows]
-
-
 SHOW_AFTER_S = 1.0  # a single job's own bar appears once it has run this long
 BAR_STEPS = 1000
 
@@ -240,21 +230,11 @@ class _JobBar:
             self.bar = None
 
 
-def _name_clash(path: str, name: str, owner: dict[str, str], where: str) -> ConfigError | None:
-    """The error of a batch's second job of this name (owner: the names so far, casefolded, each to
-    its config; a new name is added): both would write the same files."""
-    key = name.casefold()  # Pipe and pipe clash on some disks
-    if key in owner:
-        return ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
-                           f"both would write {name}.* into {where}")
-    owner[key] = path
-    return None
-
-
 def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jobs: int,
            summary: bool = True, seconds: float | None = None) -> None:
     """Run each config as a job (see run_cmd) and report: one Error line per failure, a table, a
     tally; exit with the batch's SPEC status."""
+    from winder.app.batch import name_clash, summary_lines  # noqa: PLC0415
     from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
                                  run_job, run_jobs)
     from winder.config.job import load_config  # noqa: PLC0415
@@ -271,7 +251,7 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
             name = load_config(path).name if len(configs) > 1 else None
         except Exception:  # noqa: BLE001 - reported by run_job, in its turn
             name = None
-        exc = _name_clash(path, name, owner, out_dir) if name is not None else None
+        exc = name_clash(path, name, owner, out_dir) if name is not None else None
         if exc is not None:
             reports[i] = JobReport(path, name, False, exit_code_of(exc), error_message(exc, path))
             continue
@@ -294,15 +274,8 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
     for report in done:
         if not report.ok:
             click.echo(f"Error: {report.message}", err=True)
-    rows = [("config", "name", "status", "layers", "fiber (mm)", "seconds")]
-    rows += [(r.config, r.name or "-", r.status, str(r.layers) if r.layers else "-",
-              _fmt_length(r.fiber_length_mm), f"{r.seconds:.2f}") for r in done]
-    for line in _table(rows, right={3, 4, 5}):
+    for line in summary_lines(done, out_dir):
         click.echo(line)
-    ok = sum(r.ok for r in done)
-    written = sum(len(r.outputs) for r in done)
-    tally = f"{ok} of {len(done)} jobs ok" if len(done) > 1 else ("ok" if ok else "failed")
-    click.echo(f"{tally}; {written} file{'s' if written != 1 else ''} written to {out_dir}")
     status = exit_status(r.exit_code for r in done)
     if status:
         sys.exit(status)

@@ -153,6 +153,21 @@ def _refuse_fold(surface: SweepSurface, axis: object, source: str) -> None:
         f"bend must be smaller than the bend radius")
 
 
+def _refuse_self_contact(surface: SweepSurface, source: str) -> None:
+    """SPEC: a mandrel that intersects itself is refused; here the far parts of a bent axis that come
+    back within the mandrel's thickness (a tight U-turn, a spline doubling back, a loop)."""
+    if surface.curve.max_curvature() == 0.0:
+        return
+    from winder.geometry.self_contact import find_self_contact  # noqa: PLC0415 - bent axes only
+
+    contact = find_self_contact(surface)
+    if contact is not None:
+        raise ConfigError(
+            f"{source}: mandrel.axis: the mandrel runs into itself: at t = {contact.t1:.6g} mm it passes "
+            f"{contact.distance:.4g} mm from the axis at t = {contact.t2:.6g} mm, inside the section there "
+            f"(radius {contact.radius:.4g} mm); its far parts must stay a mandrel's thickness apart")
+
+
 def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
     """The sweep surface of a validated mandrel config; geometric refusals raise ConfigError."""
     section = make_section(mandrel.section)
@@ -173,4 +188,5 @@ def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> S
         scale = 1.0 if isinstance(section, Circle) else profile.reference_radius
         surface = SweepSurface(curve, profile, section, scale, profile.length, name)
     _refuse_fold(surface, axis_cfg, source)
+    _refuse_self_contact(surface, source)
     return surface

@@ -1,0 +1,35 @@
+"""A batch's bookkeeping beside its jobs: names that would clash in one folder, and the summary the
+command line prints (as text lines: the library never prints)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from winder.app.jobs import JobReport
+from winder.errors import ConfigError
+
+
+def name_clash(path: str, name: str, owner: dict[str, str], where: str) -> ConfigError | None:
+    """The error of a batch's second job of this name (owner: the names so far, casefolded, each to
+    its config; a new name is added): both would write the same files into where."""
+    key = name.casefold()  # Pipe and pipe clash on some disks
+    if key in owner:
+        return ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
+                           f"both would write {name}.* into {where}")
+    owner[key] = path
+    return None
+
+
+def summary_lines(reports: Sequence[JobReport], out_dir: str) -> list[str]:
+    """The batch's table (a row per job: config, name, status, layers, fiber, seconds) and its tally."""
+    rows = [("config", "name", "status", "layers", "fiber (mm)", "seconds")]
+    rows += [(r.config, r.name or "-", r.status, str(r.layers) if r.layers else "-",
+              "-" if r.fiber_length_mm is None else f"{r.fiber_length_mm:.3f}", f"{r.seconds:.2f}")
+             for r in reports]
+    widths = [max(len(row[j]) for row in rows) for j in range(len(rows[0]))]
+    lines = ["  ".join(cell.rjust(w) if j in (3, 4, 5) else cell.ljust(w)
+                       for j, (cell, w) in enumerate(zip(row, widths))).rstrip() for row in rows]
+    ok = sum(r.ok for r in reports)
+    written = sum(len(r.outputs) for r in reports)
+    tally = f"{ok} of {len(reports)} jobs ok" if len(reports) > 1 else ("ok" if ok else "failed")
+    return lines + [f"{tally}; {written} file{'s' if written != 1 else ''} written to {out_dir}"]
