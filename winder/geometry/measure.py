@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from winder.geometry.index_spline import LOBATTO_T, LOBATTO_W_END, LOBATTO_W_MID, knot_slopes, segment_nodes
+from winder.geometry.joints import SplitNodes, joint_stations, split_nodes
 from winder.geometry.surface import SweepSurface
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per segment on short paths
@@ -65,10 +66,17 @@ def smooth_lengths(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarr
     """smooth_length of each path (s, theta, knots), the nodes of all of them in one surface
     evaluation: the evaluation is per point, so every length is the one smooth_length gives alone."""
     plans, s_nodes, th_nodes = [], [], []
+    joints = joint_stations(surface)
     for s, theta, knots in paths:
+        gauss = s.shape[0] - 1 <= gauss_segments
+        split = _split(surface, joints, s, theta, gauss, knots is not None) if joints.size else None
+        if split is not None:  # the chain crosses a joint of the guide curve (joints.py)
+            s_nodes.append(split.s)
+            th_nodes.append(split.theta)
+            plans.append((split, None, None, knots, split.s.shape[0]))
+            continue
         y = pair_columns(s, theta)
         dy = knot_slopes(y)
-        gauss = s.shape[0] - 1 <= gauss_segments
         u, du = segment_nodes(y, dy, GAUSS_T if gauss else LOBATTO_T)
         with_knots = not gauss and knots is None
         if with_knots:
@@ -85,6 +93,9 @@ def smooth_lengths(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarr
     for gauss, dy, du, knots, count in plans:
         ps, pt = ps_all[:, start:start + count], pt_all[:, start:start + count]
         start += count
+        if isinstance(gauss, SplitNodes):
+            lengths.append(_split_length(gauss, ps, pt, knots))
+            continue
         if gauss:
             speed = _speed(ps, pt, du.T).reshape(-1, GAUSS_NODES)
             lengths.append(float(0.5 * np.add.reduce(speed @ GAUSS_W)))
@@ -97,6 +108,23 @@ def smooth_lengths(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarr
         lengths.append(float(LOBATTO_W_END * (2.0 * np.add.reduce(speed[:m]) - speed[0] - speed[m - 1])
                              + LOBATTO_W_MID * np.add.reduce(speed[m:])))
     return lengths
+
+
+def _split(surface: SweepSurface, joints: np.ndarray, s: np.ndarray, theta: np.ndarray, gauss: bool, with_knots: bool) -> SplitNodes | None:
+    """split_nodes with the rule smooth_length uses: Gauss's nodes per segment, or Lobatto's inner two
+    and its ends."""
+    if gauss:
+        return split_nodes(surface, joints, s, theta, GAUSS_T, 0.5 * GAUSS_W, 0.0, with_knots)
+    return split_nodes(surface, joints, s, theta, LOBATTO_T, np.full(2, LOBATTO_W_MID), LOBATTO_W_END, with_knots)
+
+
+def _split_length(split: SplitNodes, ps: np.ndarray, pt: np.ndarray, knots: tuple | None) -> float:
+    """The length of a split path from its nodes' fields ps, pt (3, q) (and the vertex knots')."""
+    total = float(np.add.reduce(split.w * _speed(ps, pt, split.du)))
+    if split.knot_index.size:
+        idx = split.knot_index
+        total += float(np.add.reduce(split.knot_w * _speed(knots[0][idx].T, knots[1][idx].T, split.knot_du)))
+    return total
 
 
 def _speed(ps: np.ndarray, pt: np.ndarray, du: np.ndarray) -> np.ndarray:
