@@ -130,3 +130,17 @@ def test_long_swing_dwell_read_back_within_the_tolerance():
     assert sim.max_point_deviation_mm < TANGENT_TOL
     assert sim.max_deviation_mm < job.machine.chord_tolerance
     assert sim.fiber_length_mm == pytest.approx(plan.total_fiber_length_mm, rel=1e-4)
+
+
+def test_bent_axis_read_back_across_the_line_arc_joints():
+    """The elbow sample (line - arc - line axis, robot poses): the surface's metric jumps where the
+    line meets the arc, and the smooth path keeps the planned tangent on both sides of a point there,
+    so the poses read back lie on the planned tangent lines through the joints too (a one-sided
+    tangent put the eyes at the joints 5.5 mm off it)."""
+    job = load_config(SAMPLES / "elbow.yaml")
+    plan = plan_job(job)
+    sim = simulate(job.machine, plan, gcode_text(plan, job.machine))
+    assert sim.dialect == "robot"
+    assert sim.max_point_deviation_mm < TANGENT_TOL
+    assert sim.max_deviation_mm < job.machine.chord_tolerance
+    assert sim.fiber_length_mm == pytest.approx(plan.total_fiber_length_mm, rel=1e-4)

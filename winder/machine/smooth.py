@@ -14,6 +14,8 @@ from winder.winding.results import FiberPass, PassKind
 from winder.geometry.measure import row_norms, tangent_coordinates
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
+SIDE_STEP = 1e-7  # how far into an interval (of its length) the surface is read for its end slopes
+SIDE_JUMP = 1e-6  # a relative change of the slopes that large across SIDE_STEP is the metric's jump
 
 
 def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.ndarray, ds: np.ndarray,
@@ -40,8 +42,9 @@ class SmoothPaths:
     """The planned passes' smooth paths, concatenated: pass j owns the global parameter range
     [offset_j, offset_j + n_j - 1] (u = the point index). (s, theta) is cubic Hermite between the
     points, with derivatives along the plan's own fiber directions (FiberPass.direction, the smooth
-    path's tangents), their size that of a cubic spline through the points: the curve passes through
-    every planned point with the planned tangent there, C1, and O(h^4) close to the smooth path.
+    path's tangents, in each interval's own side of the surface), their size that of a cubic spline
+    through the points: the curve passes through every planned point with the planned tangent there
+    (C1 in space, also where the surface's metric jumps at a point), and O(h^4) close to the smooth path.
     A dwell is the cubic spline through its points on the parallel, and its direction (the free
     fiber's, swinging round an end that holds it) is interpolated between its points'."""
 
@@ -72,9 +75,21 @@ class SmoothPaths:
             slopes = knot_slopes(y)
             rows = (self.offset[group][:, None] + np.arange(n)).T  # (n, passes of the group)
             self.ds[rows], self.dth[rows] = slopes[:, 0::2], slopes[:, 1::2]
+        # Each interval takes its end slopes from the surface on its own side of a node: where the axis or
+        # the section changes curvature at a node (a line meeting an arc), the metric jumps there, and so
+        # do (s', theta') of a path whose 3D tangent is continuous. Elsewhere the node's own are kept.
+        self.ds_in, self.dth_in = self.ds.copy(), self.dth.copy()
         on = np.flatnonzero(np.repeat((sizes >= 2) & ~dwell, sizes))
-        if on.size:  # every pass's nodes in one call
-            self.ds[on], self.dth[on] = _along(surface, self.s[on], self.th[on], self.d[on], self.ds[on], self.dth[on])
+        if on.size:  # every pass's nodes in one call per side
+            spline = self.ds[on], self.dth[on]
+            a0, b0 = _along(surface, self.s[on], self.th[on], self.d[on], *spline)
+            for side, ds, dth in ((1, self.ds, self.dth), (-1, self.ds_in, self.dth_in)):
+                nb = np.clip(on + side, 0, self.s.size - 1)
+                s = self.s[on] + SIDE_STEP * (self.s[nb] - self.s[on])
+                th = self.th[on] + SIDE_STEP * (self.th[nb] - self.th[on])
+                a, b = _along(surface, s, th, self.d[on], *spline)
+                jump = (np.abs(a - a0) > SIDE_JUMP * np.abs(a0)) | (np.abs(b - b0) > SIDE_JUMP * np.abs(b0))
+                ds[on], dth[on] = np.where(jump, a, a0), np.where(jump, b, b0)
         self._is_last = np.zeros(count + 1, dtype=bool)  # a table, not np.isin: _interval runs per lookup
         self._is_last[self.last] = True
 
@@ -100,7 +115,8 @@ class SmoothPaths:
         """(s, theta) of each order asked (0: values, 1: derivatives) in the intervals at = (k, h),
         the node values looked up once for both."""
         k, h = at
-        ends = [(v[k], dv[k], v[k + 1], dv[k + 1]) for v, dv in ((self.s, self.ds), (self.th, self.dth))]
+        ends = [(v[k], dv[k], v[k + 1], dv_in[k + 1])
+                for v, dv, dv_in in ((self.s, self.ds, self.ds_in), (self.th, self.dth, self.dth_in))]
         h2 = h**2
         found = []
         for order in orders:
@@ -132,6 +148,8 @@ class SmoothPaths:
         free = self.free[k]
         if np.any(free):  # the free fiber's direction on a dwell: between its nodes' directions
             d = np.where(free[:, None], (1.0 - h)[:, None] * self.d[k] + h[:, None] * self.d[k + 1], d)
+        # At a node the planned direction itself: the surface read exactly there may be the other side's.
+        d = np.where((h == 0.0)[:, None], self.d[k], np.where((h == 1.0)[:, None], self.d[k + 1], d))
         n = row_norms(d)
         return s, th, ev.p, d / np.where(n > 0, n, 1.0)[:, None]
 
