@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from winder.app.validate import validate
 from winder.config.job import JobConfig, load_config, parse_config
 from winder.config.machine import MachineAxes, MachineConfig
 from winder.config.axes import ArcAxis, PathAxis, SplineAxis
@@ -370,9 +371,9 @@ def test_enough_invalid_cases() -> None:
 def test_invalid_config_refused(path: Path) -> None:
     expected = _expected(path)
     with pytest.raises(ConfigError) as info:
-        # What only the built surface shows (a bend folding it) is refused by the geometry stage.
-        job = load_config(path)
-        build_surface(job.mandrel, job.source, job.name)
+        # check's one validation path: what only the built surface shows (a bend folding it) is
+        # refused by the geometry stage, and what needs the surface's perimeters by the work budget.
+        validate(path)
     message = str(info.value)
     assert message.startswith(f"{path}: "), message
     assert expected in message, message

@@ -122,7 +122,7 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
         if vessel:
             raise rd.error(rd.at(path, "region"), "applies to open mandrels only; on a vessel the fiber "
                            "turns around on the domes", m["region"])
-        region = _parse_region(rd, m["region"], rd.at(path, "region"), axis_length)
+        region = _parse_region(rd, m["region"], rd.at(path, "region"), axis_length, band_width)
 
     if "points" in m and "tolerance" in m:
         raise rd.error(rd.at(path, "tolerance"), "give points or tolerance, not both", m["tolerance"])
@@ -155,7 +155,8 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
     return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material)
 
 
-def _parse_region(rd: Reader, value: Any, path: str, axis_length: float | None) -> tuple[float, float]:
+def _parse_region(rd: Reader, value: Any, path: str, axis_length: float | None,
+                  band_width: float) -> tuple[float, float]:
     m = rd.mapping(value, path, ("start", "end"), required=("start", "end"))
     start = rd.number(m["start"], rd.at(path, "start"))
     end = rd.number(m["end"], rd.at(path, "end"))
@@ -164,6 +165,9 @@ def _parse_region(rd: Reader, value: Any, path: str, axis_length: float | None) 
                        m["start"])
     if end <= start:
         raise rd.error(rd.at(path, "end"), f"must be larger than start ({start:g})", m["end"])
+    if end - start < band_width:  # no band fits: the passes would have no length to be solved on
+        raise rd.error(rd.at(path, "end"), f"must be at least one band width ({band_width:g} mm) past start "
+                       f"({start:g})", m["end"])
     if axis_length is not None and end > axis_length:
         if end > axis_length + LENGTH_SLACK:
             raise rd.error(rd.at(path, "end"), f"must not exceed the mandrel length ({axis_length:g} mm)",

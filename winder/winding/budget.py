@@ -147,6 +147,10 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
         raise _refuse(job.source, f"{key}.passes", f"must be <= {MAX_PASSES}, got {cfg.passes}")
     if cfg.angle_deg is None:
         ratio = w.band_width / perimeter
+        if ratio >= 1.0:  # the planner's own refusal (winding.layers.hoop), known from the config
+            raise _refuse(job.source, "winding.band_width",
+                          f"wider than the perimeter where hoop layer {key} is laid ({perimeter:.6g} mm at "
+                          f"most): a hoop cannot be laid, got {w.band_width:g}")
         # pitch = P / tan(acos(B / P)) = B / sqrt(1 - (B / P)^2): one band width per turn
         pitch = w.band_width / math.sqrt(1.0 - ratio * ratio) if ratio < 1.0 else math.inf
         cause, value = "winding.band_width", f"{w.band_width:g}"
