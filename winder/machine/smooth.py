@@ -11,6 +11,7 @@ import numpy as np
 from winder.geometry.index_spline import knot_slopes
 from winder.geometry.surface import SweepSurface
 from winder.winding.results import FiberPass, PassKind
+from winder.geometry.joints import joint_stations
 from winder.geometry.measure import row_norms, tangent_coordinates
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
@@ -75,14 +76,18 @@ class SmoothPaths:
             slopes = knot_slopes(y)
             rows = (self.offset[group][:, None] + np.arange(n)).T  # (n, passes of the group)
             self.ds[rows], self.dth[rows] = slopes[:, 0::2], slopes[:, 1::2]
-        # Each interval takes its end slopes from the surface on its own side of a node: where the axis or
-        # the section changes curvature at a node (a line meeting an arc), the metric jumps there, and so
-        # do (s', theta') of a path whose 3D tangent is continuous. Elsewhere the node's own are kept.
-        self.ds_in, self.dth_in = self.ds.copy(), self.dth.copy()
+        # Each interval takes its end slopes from the surface on its own side of a node: where the axis
+        # changes curvature at a node (a line meeting an arc: geometry.joints), the metric jumps there, and
+        # so do (s', theta') of a path whose 3D tangent is continuous. Elsewhere the node's own are kept
+        # (without joints, one evaluation serves both sides).
         on = np.flatnonzero(np.repeat((sizes >= 2) & ~dwell, sizes))
-        if on.size:  # every pass's nodes in one call per side
+        sided = on.size > 0 and joint_stations(surface).size > 0
+        if on.size:  # every pass's nodes in one call (per side, with joints)
             spline = self.ds[on], self.dth[on]
             a0, b0 = _along(surface, self.s[on], self.th[on], self.d[on], *spline)
+            self.ds[on], self.dth[on] = a0, b0
+        self.ds_in, self.dth_in = (self.ds.copy(), self.dth.copy()) if sided else (self.ds, self.dth)
+        if sided:
             for side, ds, dth in ((1, self.ds, self.dth), (-1, self.ds_in, self.dth_in)):
                 nb = np.clip(on + side, 0, self.s.size - 1)
                 s = self.s[on] + SIDE_STEP * (self.s[nb] - self.s[on])
