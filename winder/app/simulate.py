@@ -6,8 +6,8 @@ at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
 point p(u) of the planned pass (the smooth path through its points: a cubic spline in (s, theta)
 over the point index, MATH.md 2) whose tangent ray p + lambda d, lambda > 0, passes closest to E;
-the plan's nearest point is the initial guess (a move's midpoint: also the nearest in the middle half
-between its rows' contacts, the better one kept), golden-section search on u refines it. Its
+the samples of a pass are matched together, their contacts moving forward along it
+(winder.app.contacts: on a flat face one tangent line fits a whole stretch of points). Its
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
 lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
 Samples: every programmed point and the midpoint of every move within a pass (the eye the
@@ -26,6 +26,7 @@ import io
 
 import numpy as np
 
+from winder.app.contacts import candidates, forward, monotone_points, ray_distance, refine, widen_ends
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
@@ -35,8 +36,6 @@ from winder.machine.smooth import SmoothPaths
 from winder.records import record
 from winder.winding.results import WindingPlan, winding_angle_deg
 
-GOLDEN_STEPS = 48  # the bracket of two point intervals shrinks by 0.618^48 ~ 1e-10
-_INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
 
 
 @record
@@ -69,13 +68,6 @@ class Simulation:
                 "max_point_deviation_mm": round(self.max_point_deviation_mm, 6)}
 
 
-def _ray_distance(e: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray:
-    rel = e - p
-    along = np.einsum("ij,ij->i", rel, d)
-    off = np.linalg.norm(rel - along[:, None] * d, axis=1)
-    return np.where(along > 0.0, off, np.linalg.norm(rel, axis=1))
-
-
 def eye_positions(parsed: ParsedProgram) -> np.ndarray:
     """The eye in the mandrel frame for each row (SPEC.md forward kinematics; robot: the position)."""
     v = parsed.values
@@ -83,26 +75,6 @@ def eye_positions(parsed: ParsedProgram) -> np.ndarray:
         return v[:, :3].copy()
     a = np.radians(v[:, 1])
     return np.column_stack([v[:, 2] * np.cos(-a), v[:, 2] * np.sin(-a), v[:, 0]])
-
-
-def _contacts(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Golden-section search of u in [lo, hi] for the tangent ray closest to each eye."""
-    def f(u):
-        _, _, p, d = paths.point(u)
-        return _ray_distance(eye, p, d)
-
-    a, b = lo.astype(float), hi.astype(float)
-    c, d = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
-    fc, fd = f(c), f(d)
-    for _ in range(GOLDEN_STEPS):
-        left = fc < fd
-        b = np.where(left, d, b)
-        a = np.where(left, a, c)
-        c_new, d_new = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
-        # One of the two interior points carries over; evaluate both for simplicity of the batch.
-        c, d = c_new, d_new
-        fc, fd = f(c), f(d)
-    return 0.5 * (a + b)
 
 
 def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str = "program") -> Simulation:
@@ -133,7 +105,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     joined = np.zeros(m, dtype=bool)
     if starts.size:
         # Within the chord tolerance (the printed values round the eye by up to ~1e-3 mm).
-        near = _ray_distance(eye[starts - 1], first_p.reshape(-1, 3), first_d.reshape(-1, 3))
+        near = ray_distance(eye[starts - 1], first_p.reshape(-1, 3), first_d.reshape(-1, 3))
         joined[starts] = near <= machine.chord_tolerance
     mid_rows = np.flatnonzero(same | joined)
     # Samples: the rows, then the midpoints of the moves within a pass.
@@ -141,27 +113,11 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     mid_eye = eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0)))
     all_eye = np.vstack([eye, mid_eye])
     all_pass = np.concatenate([pass_of, pass_of[mid_rows]])
-    # Initial guess: the planned point whose tangent ray passes closest, in the sample's pass.
-    guess = np.zeros(all_eye.shape[0], dtype=int)
-    for j in np.unique(all_pass):
-        rows = np.flatnonzero(all_pass == j)
-        fp = passes[j]
-        dist = np.stack([_ray_distance(np.tile(e, (len(fp.points), 1)), fp.points, fp.direction)
-                         for e in all_eye[rows]])
-        guess[rows] = np.argmin(dist, axis=1)
-    # A move's midpoint also gets a second guess, the closest ray in the middle half between its two
-    # rows' contacts (a joined move: from the pass's first point), and keeps the better of the two
-    # refined: a parallel wound round several times in one move (a long dwell) has nearly the same
-    # rays a turn apart, and the closest of those over the pass may be turns away from the move.
-    halfway = guess.copy()
-    for q in range(mid_rows.size):
-        j, row = all_pass[m + q], mid_rows[q]
-        lo, hi = sorted((int(guess[row - 1]) if same[row] else 0, int(guess[row])))
-        half = max(2, (hi - lo) // 4)
-        a, b = max(lo, (lo + hi) // 2 - half), min(hi, (lo + hi + 1) // 2 + half)
-        fp = passes[j]
-        near = _ray_distance(np.tile(all_eye[m + q], (b - a + 1, 1)), fp.points[a:b + 1], fp.direction[a:b + 1])
-        halfway[m + q] = a + int(np.argmin(near))
+    # The samples of each pass in the order the machine lays them (a move's midpoint between its rows):
+    # their contacts move forward along the pass together (winder.app.contacts).
+    chain = np.cumsum(~same)
+    chain = np.concatenate([chain, chain[mid_rows]])
+    position = np.concatenate([2 * np.arange(m), 2 * mid_rows - 1])
     n = all_eye.shape[0]
     s, th, t = np.zeros(n), np.zeros(n), np.zeros(n)
     p, d, alpha, arc = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n), np.zeros(n)
@@ -175,12 +131,14 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         paths = SmoothPaths(surface, [passes[j] for j in local])
         where = np.searchsorted(local, all_pass[mine])
         first, last = paths.offset[where], paths.last[where]
-        u = []
-        for g in (guess[mine], halfway[mine]):
-            u.append(_contacts(paths, all_eye[mine], np.clip(first + g - 1, first, last),
-                               np.clip(first + g + 1, first, last)))
-        off = [_ray_distance(all_eye[mine], *paths.point(v)[2:]) for v in u]
-        u = np.where(off[1] < off[0], u[1], u[0])
+        cand = candidates(paths)
+        cu, cp, cd, cstart = cand
+        pick = monotone_points(all_eye[mine], chain[mine], position[mine], where, cp, cd, cstart)
+        # Between the candidates either side of the one picked, within the pass.
+        lo = cu[np.maximum(pick - 1, cstart[where])]
+        hi = cu[np.minimum(pick + 1, cstart[where + 1] - 1)]
+        u = forward(refine(paths, all_eye[mine], lo, cu[pick], hi), chain[mine], position[mine])
+        u = widen_ends(paths, all_eye[mine], u, chain[mine], position[mine], where, cand)
         s[mine], th[mine], p[mine], d[mine] = paths.point(u)
         toward = all_eye[mine] - p[mine]
         toward /= np.maximum(np.linalg.norm(toward, axis=1), 1e-300)[:, None]
@@ -188,7 +146,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         t[mine] = surface.t_of_s(s[mine])
         arc[mine] = paths.arc_at(u)
         arc0[mine], arc1[mine] = paths.arc[first], paths.arc[last]
-    dev = _ray_distance(all_eye, p, d)
+    dev = ray_distance(all_eye, p, d)
     dev = np.where(np.concatenate([laying, laying[mid_rows]]), dev, np.nan)  # approach rows lay nothing
     arc, arc0, arc1 = arc[:m], arc0[:m], arc1[:m]
     fiber = np.where(same, np.abs(np.diff(arc, prepend=arc[0])), 0.0)

@@ -1,0 +1,220 @@
+"""Contact points of eyes on the planned passes, for `winder simulate` (winder.app.simulate).
+
+The contact point of an eye E is the point p(u) of its pass's smooth path whose tangent ray
+p + lambda d, lambda > 0, passes closest to E. Sample by sample that is ambiguous: on a flat face
+every point of a straight stretch shares one tangent line, so an eye in the face's plane fits any of
+them within rounding; and where the tangent turns fast (a corner between flats) the planned points
+straddle the true contact, each missing it by more than the flat does. The eyes of one pass come in
+the order the machine lays it, and the contact only moves forward along the pass, so the contacts of
+a pass's samples are chosen together: the nondecreasing sequence of planned points with the least
+total ray distance (a dynamic program over the samples in order, all passes of a group in each
+step), then each refined between the points on either side (sampled finer, then golden-section
+search), then held nondecreasing along the pass (a tie on a flat resolves forward, never back).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from winder.machine.smooth import SmoothPaths
+
+GOLDEN_STEPS = 40  # the bracket of two samples shrinks by 0.618^40 ~ 5e-9 of it
+SUB_STEPS = 8  # samples per candidate interval before the golden-section search
+TURN_STEP = 0.01  # rad: the most the tangent turns between candidates (an eye 100 mm out: 1 mm apart)
+TURN_READS = 4  # the tangent is read at that many even steps along each interval for its turning
+MAX_SPLIT = 64  # at most that many candidates per point interval
+TIE = 1e-3  # mm: rays that near an eye's best fit it as well (the program's values are rounded to 1e-3)
+TABLE_ENTRIES = 8_000_000  # back-pointers kept at once by the dynamic program (int32 each)
+_INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
+
+
+def ray_distance(e: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Distance of eyes e (..., 3) from the tangent rays p + lambda d, lambda > 0 (unit d (..., 3)):
+    from the ray's start where the eye lies behind it."""
+    rel = e - p
+    along = np.einsum("...j,...j->...", rel, d)
+    off = np.linalg.norm(rel - along[..., None] * d, axis=-1)
+    return np.where(along > 0.0, off, np.linalg.norm(rel, axis=-1))
+
+
+def _segment_miss(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray) -> np.ndarray:
+    """(c, j): how near each eye (c, 3) comes to the rays of candidates j to j + 1 (points / dirs
+    (c, j, 3); the last one repeated): the eye's offset from the ray, linear between two candidates
+    (the tangent turns little between them), at its smallest. Between two candidates a corner's rays
+    sweep past an eye that neither of them passes near."""
+    rel = eye[:, None, :] - points
+    along = np.einsum("cjk,cjk->cj", rel, dirs)
+    off = np.where((along > 0.0)[..., None], rel - along[..., None] * dirs, rel)
+    a, b = off, np.concatenate([off[:, 1:], off[:, -1:]], axis=1)
+    ab = b - a
+    den = np.einsum("cjk,cjk->cj", ab, ab)
+    h = np.clip(-np.einsum("cjk,cjk->cj", a, ab) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    return np.linalg.norm(a + h[..., None] * ab, axis=-1)
+
+
+def _prefix_argmin(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(running minimum, index of its first occurrence) along the last axis of v (c, j)."""
+    low = np.minimum.accumulate(v, axis=1)
+    new = np.ones(v.shape, dtype=bool)
+    new[:, 1:] = v[:, 1:] < low[:, :-1]
+    return low, np.maximum.accumulate(np.where(new, np.arange(v.shape[1]), 0), axis=1)
+
+
+def _monotone_group(eye: np.ndarray, seq: np.ndarray, points: np.ndarray, dirs: np.ndarray,
+                    count: np.ndarray) -> np.ndarray:
+    """The dynamic program for c chains at once: seq (c, l) sample indices (-1 past a chain's end),
+    points / dirs (c, j, 3) of each chain's pass, count (c,) its points. The chosen point of each
+    entry of seq (c, l)."""
+    c, length = seq.shape
+    jj = points.shape[1]
+    valid = np.arange(jj) < count[:, None]
+    rows = np.arange(c)
+    back = np.zeros((length, c, jj), dtype=np.int32)
+    total = np.zeros((c, jj))
+    for i in range(length):
+        on = seq[:, i] >= 0
+        cost = _segment_miss(eye[np.maximum(seq[:, i], 0)], points, dirs)
+        cost = np.where(valid, np.where(on[:, None], cost, 0.0), np.inf)
+        if i:
+            low, back[i] = _prefix_argmin(total)
+            total = cost + low
+        else:
+            total = cost
+    pick = np.zeros((c, length), dtype=int)
+    pick[:, -1] = np.argmin(total, axis=1)
+    for i in range(length - 1, 0, -1):
+        pick[:, i - 1] = back[i][rows, pick[:, i]]
+    return pick
+
+
+def monotone_points(eye: np.ndarray, chain: np.ndarray, position: np.ndarray, pass_of: np.ndarray,
+                    points: np.ndarray, dirs: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """For each sample (eye (n, 3)) the candidate of its pass (pass_of (n,); pass j's candidates are
+    points / dirs (c, 3) [start[j]:start[j + 1]]) that makes the contacts of every chain (samples
+    with one chain id, ordered by position, all of one pass) nondecreasing with the least total ray
+    distance. (n,) indices into points."""
+    n = eye.shape[0]
+    out = np.zeros(n, dtype=int)
+    order = np.lexsort((position, chain))
+    _, begin, length = np.unique(chain[order], return_index=True, return_counts=True)
+    of_chain = pass_of[order[begin]]
+    size = start[of_chain + 1] - start[of_chain]
+    # Chains of like lengths and candidate counts share a table (little padding), a bounded number at once.
+    key = np.array([int(v).bit_length() * 64 + int(w).bit_length() for v, w in zip(length, size)])
+    for k in np.unique(key):
+        members = np.flatnonzero(key == k)
+        lmax, jmax = int(length[members].max()), int(size[members].max())
+        step = max(1, TABLE_ENTRIES // (lmax * jmax))
+        for chunk in np.array_split(members, -(-members.size // step)):
+            at = np.arange(lmax)
+            inside = at[None, :] < length[chunk, None]
+            seq = np.full((chunk.size, lmax), -1, dtype=int)
+            seq[inside] = order[(begin[chunk, None] + at[None, :])[inside]]
+            jj = np.arange(jmax)
+            index = np.minimum(start[of_chain[chunk], None] + jj, start[of_chain[chunk] + 1, None] - 1)
+            pick = _monotone_group(eye, seq, points[index], dirs[index], size[chunk])
+            out[seq[inside]] = index[np.nonzero(inside)[0], pick[inside]]
+    return out
+
+
+def candidates(paths: SmoothPaths) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Points of the smooth paths the contact search starts from: the planned points, and between
+    two of them where the tangent turns by more than TURN_STEP, evenly spaced ones (in u) that it
+    turns less between (at a corner the rays of neighbouring points miss an eye between them by far).
+    (u (c,), p (c, 3), unit d (c, 3), start (passes + 1,): pass j's candidates are start[j]:start[j+1])."""
+    count = paths.s.size
+    last = np.zeros(count, dtype=bool)
+    last[paths.last] = True
+    inside = ~last[:-1]
+    # The turning along each interval, read at its quarters: at a corner's end the tangent may turn
+    # and turn back between two points whose own tangents nearly agree.
+    k = np.flatnonzero(inside)
+    q = (k[:, None] + np.linspace(0.0, 1.0, TURN_READS + 1)).ravel()
+    dq = paths.point(q)[3].reshape(k.size, TURN_READS + 1, 3)
+    dq[:, 0], dq[:, -1] = _unit(paths.d[k]), _unit(paths.d[k + 1])
+    turn = np.zeros(count - 1 if count else 0)
+    turn[k] = np.arccos(np.clip(np.einsum("kij,kij->ki", dq[:, :-1], dq[:, 1:]), -1.0, 1.0)).sum(axis=1)
+    split = np.where(inside, np.clip(np.ceil(turn / TURN_STEP), 1, MAX_SPLIT), 0).astype(int)
+    per_node = np.concatenate([split, [0]]) + last  # a pass's last node: one more
+    at = np.repeat(np.arange(count), per_node)
+    within = np.arange(at.size) - np.repeat(np.cumsum(per_node) - per_node, per_node)
+    u = at + within / np.maximum(np.concatenate([split, [1]])[at], 1)
+    _, _, p, d = paths.point(u)
+    start = np.concatenate([[0], np.cumsum(per_node)[paths.last]])
+    return u, p, d, start
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(v, axis=1)
+    return v / np.where(n > 0, n, 1.0)[:, None]
+
+
+def refine(paths: SmoothPaths, eye: np.ndarray, left: np.ndarray, mid: np.ndarray,
+           right: np.ndarray) -> np.ndarray:
+    """u of the closest tangent ray in [left, right] (n,) for each eye (n, 3): the best of SUB_STEPS
+    even samples on either side of mid (the candidate picked, a sample itself), then golden-section
+    search between that sample's neighbours (kept only where it does better)."""
+    def f(u):
+        _, _, p, d = paths.point(u.ravel())
+        return ray_distance(np.repeat(eye, u.size // len(eye), axis=0), p, d).reshape(u.shape)
+
+    left, mid, right = (np.asarray(v, dtype=float) for v in (left, mid, right))
+    frac = np.linspace(0.0, 1.0, SUB_STEPS + 1)
+    grid = np.hstack([left[:, None] + (mid - left)[:, None] * frac[:-1], mid[:, None] + (right - mid)[:, None] * frac])
+    miss = f(grid)
+    rows, at = np.arange(len(mid)), np.argmin(miss, axis=1)
+    best, fbest = grid[rows, at], miss[rows, at]
+    a, b = grid[rows, np.maximum(at - 1, 0)], grid[rows, np.minimum(at + 1, grid.shape[1] - 1)]
+    c, d = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
+    fc, fd = f(c[:, None])[:, 0], f(d[:, None])[:, 0]
+    for _ in range(GOLDEN_STEPS):
+        left_side = fc < fd
+        b, a = np.where(left_side, d, b), np.where(left_side, a, c)
+        c, d = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
+        fc, fd = f(c[:, None])[:, 0], f(d[:, None])[:, 0]
+    found = 0.5 * (a + b)
+    return np.where(f(found[:, None])[:, 0] <= fbest, found, best)
+
+
+def forward(u: np.ndarray, chain: np.ndarray, position: np.ndarray) -> np.ndarray:
+    """u held nondecreasing along each chain (in the order of position): a later sample's contact
+    never behind an earlier one's."""
+    order = np.lexsort((position, chain))
+    ch = chain[order]
+    # Each chain lifted above all before it, so one running maximum serves all chains.
+    lift = (np.cumsum(np.concatenate([[False], ch[1:] != ch[:-1]])) * (np.abs(u).max() * 2.0 + 1.0))
+    out = np.empty_like(u)
+    out[order] = np.maximum.accumulate(u[order] + lift) - lift
+    return out
+
+
+def widen_ends(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray, position: np.ndarray,
+               pass_of: np.ndarray, cand: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    """u with each chain's first sample moved back, and its last forward, over the candidates whose
+    rays fit its eye within TIE of its own (a pass starting or ending on a flat face: the eye lies
+    on the line of all of it, and the fiber of the whole flat is laid)."""
+    cu, cp, cd, start = cand
+    order = np.lexsort((position, chain))
+    ch = chain[order]
+    out = u.copy()
+    for end, side in ((np.concatenate([[True], ch[1:] != ch[:-1]]), -1),
+                      (np.concatenate([ch[1:] != ch[:-1], [True]]), 1)):
+        k = order[end]
+        j = pass_of[k]
+        jmax = int((start[j + 1] - start[j]).max())
+        index = np.minimum(start[j, None] + np.arange(jmax), start[j + 1, None] - 1)
+        miss = ray_distance(eye[k][:, None, :], cp[index], cd[index])
+        _, _, p, d = paths.point(u[k])
+        fits = miss <= ray_distance(eye[k], p, d)[:, None] + TIE
+        at = np.arange(jmax)
+        here = np.clip(np.searchsorted(cu, u[k], "right" if side < 0 else "left") - (side < 0) - start[j],
+                       0, start[j + 1] - start[j] - 1)
+        if side < 0:  # the run of fitting candidates up to the contact: back to its first
+            bad = np.maximum.accumulate(np.where(fits, -1, at), axis=1)
+            reach = np.maximum(bad[np.arange(k.size), here] + 1, 0)
+            out[k] = np.minimum(u[k], cu[start[j] + reach])
+        else:
+            bad = np.minimum.accumulate(np.where(fits, jmax, at)[:, ::-1], axis=1)[:, ::-1]
+            reach = np.minimum(bad[np.arange(k.size), here], start[j + 1] - start[j]) - 1
+            out[k] = np.maximum(u[k], cu[start[j] + reach])
+    return out
