@@ -163,3 +163,27 @@ def test_flat_faces_read_back_along_the_pass():
 
 FLAT_TIME_TOL = 5e-3  # relative: the rounded tube's contacts on corners are not all refined yet (0.5 mm off)
 
+
+def test_a_program_cut_short_is_refused(plan):
+    """A program without its end (M2) or whose last row does not end the plan is refused, naming the line."""
+    text = gcode_text(plan, MACHINE)
+    cut = text[: len(text) // 2]
+    with pytest.raises(ConfigError, match=r"line \d+: the program stops without its end \(M2\)") as err:
+        simulate(MACHINE, plan, cut)
+    assert err.value.exit_code == 2
+    ended = cut.rsplit("\n", 1)[0] + "\nM2\n"
+    with pytest.raises(ConfigError, match=r"line \d+: the program stops before the end of the plan"):
+        simulate(MACHINE, plan, ended)
+
+
+def test_a_move_beyond_the_limits_is_refused():
+    """An edited X word outside machine.limits.carriage is refused with its line and value."""
+    job = load_config(SAMPLES / "pipe.yaml")
+    plan = plan_job(job)
+    lines = gcode_text(plan, job.machine).splitlines()
+    k = next(i for i, line in enumerate(lines) if line.startswith("G1 X")) + 5
+    words = lines[k].split()
+    lines[k] = " ".join(["G1", "X5140.303"] + words[2:])
+    with pytest.raises(ConfigError, match=rf"line {k + 1}: axis X \(carriage\) outside the machine's limits "
+                                          r"\[-100, 700\].*got 5140.303"):
+        simulate(job.machine, plan, "\n".join(lines))

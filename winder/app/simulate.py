@@ -92,6 +92,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         raise ConfigError(f"{source}: layer {unknown[0][0]} circuit {unknown[0][1]} pass {unknown[0][2]} "
                           f"is not in the plan of {plan.source}: the program was written for another job")
     eye = eye_positions(parsed)
+    final_key = tuple(by_key)[-1] if by_key else None
     pass_of = np.array([order[tuple(k)] for k in parsed.keys])
     # The approach to a pass that starts elsewhere lays no planned fiber: counted, not sampled.
     laying = np.array([kind != APPROACH for kind in parsed.kinds], dtype=bool)
@@ -121,6 +122,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     n = all_eye.shape[0]
     s, th, t = np.zeros(n), np.zeros(n), np.zeros(n)
     p, d, alpha, arc = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n), np.zeros(n)
+    short = 0.0
     arc0, arc1 = np.zeros(n), np.zeros(n)  # the arc at the first and the last point of the sample's pass
     layer_of = np.array([fp.layer for fp in passes])
     for layer in np.unique(layer_of[all_pass]):
@@ -145,7 +147,16 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         alpha[mine] = winding_angle_deg(surface, s[mine], th[mine], toward)
         t[mine] = surface.t_of_s(s[mine])
         arc[mine] = paths.arc_at(u)
+        if m - 1 in mine:  # the program's last row: how many planned points short of its pass's end
+            short = float((last - u)[np.searchsorted(mine, m - 1)])
         arc0[mine], arc1[mine] = paths.arc[first], paths.arc[last]
+    if tuple(parsed.keys[-1]) != final_key or short > 1.0:
+        # The program must lay the plan to its end: a file cut short (marlin writes no end of its own).
+        line = int(parsed.line[-1]) if parsed.line is not None else m
+        raise ConfigError(f"{source}: line {line}: the program stops before the end of the plan (layer "
+                          f"{final_key[0]} circuit {final_key[1]} pass {final_key[2]}): cut short? got its last "
+                          f"move in layer {parsed.keys[-1][0]} circuit {parsed.keys[-1][1]} pass {parsed.keys[-1][2]}"
+                          f"{f', {short:.1f} points before its end' if short > 1.0 else ''}")
     dev = ray_distance(all_eye, p, d)
     dev = np.where(np.concatenate([laying, laying[mid_rows]]), dev, np.nan)  # approach rows lay nothing
     arc, arc0, arc1 = arc[:m], arc0[:m], arc1[:m]

@@ -5,7 +5,9 @@ The result is in winder's axis conventions whatever the dialect: (carriage, rota
 yaw) for a straight-axis winder (marlin's A and B negated back, its fixed cross-feed from the
 `; fixed eye` comment), (x, y, z, i, j, k) for robot poses. Every row, the rapid to the start of a
 linuxcnc program included, is one programmed point. A line that is not what the dialect writes is
-an error naming the line.
+an error naming the line. A program is refused unless it is whole and within the machine: one
+without its end (M2: a file cut short; marlin writes no end, simulate checks that its last row ends
+the plan) and one with an axis value outside machine.limits, naming the line and the value.
 """
 
 from __future__ import annotations
@@ -21,7 +23,9 @@ from winder.export.dialects.robot import LETTERS as POSE_LETTERS
 from winder.records import record
 
 _PASS = re.compile(r"^; layer (\d+) circuit (\d+) pass (\d+) (\w+)$")
-_SKIP = {"G21", "G90", "G94", "G93", "M2", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
+_END = "M2"
+_SKIP = {"G21", "G90", "G94", "G93", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
+_ROLE_COLUMN = {"carriage": 0, "rotation": 1, "cross_feed": 2, "yaw": 3}
 
 
 @record(eq=False)
@@ -30,7 +34,7 @@ class ParsedProgram:
 
     dialect : the dialect it was read as. values : (m, 4) or (m, 6) rows (module docstring).
     keys : (m, 3) int, (layer, circuit, pass) of each row. kinds : (m,) the pass kind words.
-    feed : (m,) the F word of each row (nan where none).
+    feed : (m,) the F word of each row (nan where none). line : (m,) the line number of each row.
     """
 
     dialect: str
@@ -38,6 +42,7 @@ class ParsedProgram:
     keys: np.ndarray
     kinds: tuple[str, ...]
     feed: np.ndarray
+    line: np.ndarray | None = None
 
     @property
     def robot(self) -> bool:
@@ -72,9 +77,14 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
     feeds: list[float] = []
     key, kind = (0, 0, 0), ""
     fixed_z = None
+    numbers: list[int] = []
+    end = None
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.strip()
         if not line or line in _SKIP or line.startswith("G64 P"):
+            continue
+        if line == _END and dialect != "marlin":
+            end = number
             continue
         if line.startswith(";"):
             hit = _PASS.match(line)
@@ -84,6 +94,9 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
                 fixed_z = float(line.removeprefix(marlin.FIXED_EYE).split()[0])
             continue
         words = line.split()
+        if end is not None:
+            raise ConfigError(f"{source}: line {number}: a move after the program's end ({_END}, line {end}), "
+                              f"got {line[:60]!r}")
         if words[0] not in prefixes:
             raise ConfigError(f"{source}: line {number}: not a move of a {dialect} program: {line[:60]!r}")
         try:
@@ -97,10 +110,30 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
         keys.append(key)
         kinds.append(kind)
         feeds.append(values.get("F", np.nan))
+        numbers.append(number)
+    if end is None and dialect != "marlin":
+        last = numbers[-1] if numbers else 0
+        raise ConfigError(f"{source}: line {last}: the program stops without its end ({_END}): cut short? "
+                          f"got {len(rows)} moves, the last on line {last}")
     table = np.array(rows, dtype=float).reshape(-1, len(letters))
     if dialect == "marlin":
         if fixed_z is None:
             raise ConfigError(f"{source}: a marlin program without its '{marlin.FIXED_EYE}' comment")
         table = np.column_stack([table[:, 0], -table[:, 1], np.full(len(table), fixed_z), -table[:, 2]])
+    lines = np.array(numbers, dtype=int)
+    if dialect != "robot":
+        _check_limits(table, lines, machine, letters if dialect != "marlin" else (ax.carriage, ax.rotation,
+                                                                                  ax.cross_feed, ax.yaw), source)
     return ParsedProgram(dialect, table, np.array(keys, dtype=int).reshape(-1, 3), tuple(kinds),
-                         np.array(feeds, dtype=float))
+                         np.array(feeds, dtype=float), lines)
+
+
+def _check_limits(table: np.ndarray, lines: np.ndarray, machine: MachineConfig, letters, source: str) -> None:
+    """Refuse the first row with an axis outside the machine's travel (machine.limits) or not finite."""
+    for role, (lo, hi) in machine.limits.items():
+        column = table[:, _ROLE_COLUMN[role]]
+        out = np.flatnonzero(~((column >= lo) & (column <= hi)))
+        if out.size:
+            k = out[0]
+            raise ConfigError(f"{source}: line {lines[k]}: axis {letters[_ROLE_COLUMN[role]]} ({role}) outside the "
+                              f"machine's limits [{lo:g}, {hi:g}] (machine.limits.{role}), got {float(column[k])!r}")
