@@ -28,6 +28,10 @@ def _u_turn(bend: float) -> PathAxis:
     _u_turn(150.0),
     PathAxis((LineAxis(100.0), ArcAxis(150.0, 90.0, 0.0), LineAxis(100.0))),  # the elbow
     ArcAxis(45.0, 360.0, 0.0),  # a full ring: its ends meet, nothing else does
+    ArcAxis(150.0, 345.0, 0.0),  # an open ring: its end faces 29 mm apart on the inside
+    # a J-hook whose end face stops 5 mm short of the long leg: the ends are not inside anything
+    PathAxis((LineAxis(300.0), ArcAxis(100.0, 180.0, 0.0), LineAxis(100.0), ArcAxis(50.0, 90.0, 0.0),
+              LineAxis(105.0))),
     PathAxis((ArcAxis(60.0, 180.0, 0.0), ArcAxis(60.0, 180.0, 0.0))),  # the same ring in two halves
     SplineAxis(((0.0, 0.0, 0.0), (0.0, 0.0, 200.0), (100.0, 0.0, 400.0))),
 ])
@@ -62,3 +66,15 @@ def test_the_contact_names_two_far_stations_and_a_point_inside(monkeypatch) -> N
     contact = find_self_contact(surface)
     assert contact is not None and contact.radius == pytest.approx(25.0)
     assert abs(contact.t2 - contact.t1) > 2.0 * 25.0 and contact.distance < contact.radius
+
+
+def test_a_section_wider_than_round_is_tested_by_its_outline() -> None:
+    # An omega (legs 99.4 mm apart) of an ellipse 120 x 40 whose long axes face each other: the legs
+    # overlap by about 20 mm although their axes are farther apart than any smallest radius reaches.
+    from winder.config.sections import EllipseSection  # noqa: PLC0415
+
+    omega = PathAxis((LineAxis(200.0), ArcAxis(120.0, 45.0, 180.0), ArcAxis(120.0, 270.0, 0.0),
+                      ArcAxis(120.0, 45.0, 180.0), LineAxis(200.0)))
+    with pytest.raises(ConfigError, match="runs into itself"):
+        build_surface(MandrelConfig(omega, ConstantProfile(RADIUS), EllipseSection(60.0, 20.0)), "t.yaml", "m")
+    assert find_self_contact(_surface(omega)) is None  # round, 80 mm thick: clear

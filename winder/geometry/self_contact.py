@@ -2,15 +2,14 @@
 
 find_fold (winder.geometry.surface) refuses a section reaching the centre of curvature, which keeps
 nearby sections apart; it cannot see a guide curve that returns: a U-turn whose legs are closer than
-the tube is thick, a spline that doubles back on itself (a cusp), a loop. Where the fold check holds,
-the ball of a section's smallest radius about its centre lies inside the solid mandrel, and no point
-of the mandrel's surface or axis lies strictly inside it unless the mandrel meets itself there. So
-each station's centre and its section's outline are tested against the balls of the stations
-farther than NEAR along the axis (nearer ones are the fold check's): a point inside one is a contact;
-but where the axis closes on itself (its ends one point with one tangent: a ring, as a full-circle
-bend is), the stations near one end are the other end's neighbours, not far from them.
-Stations closer than their largest radii's sum are the only candidates, so a clear mandrel costs a
-distance per pair of stations.
+the tube is thick, a spline that doubles back on itself (a cusp), a loop. The solid mandrel near a
+station is, to within the station spacing, the slice of its normal plane inside the section's outline
+R(s, theta), thickened along the axis to its neighbours' planes (and not past the mandrel's ends). So
+each station's centre and outline are tested against the slices of the stations farther than NEAR
+along the axis (nearer ones are the fold check's): a point strictly inside one is a contact. Where the
+axis closes on itself (its ends one point with one tangent: a ring, as a full-circle bend is), the
+stations near one end are the other end's neighbours. Stations whose centres are farther apart than
+their largest radii's sum are not compared, so a clear mandrel costs a distance per pair of stations.
 """
 
 from __future__ import annotations
@@ -25,13 +24,14 @@ MAX_STATIONS = 2000  # stations compared pairwise (their centres' distances: 2 M
 STATION_SPACING = 0.5  # of the smallest section radius: a crossing cannot pass between stations
 SECTION_ANGLES = 36  # points of each section's outline tested
 NEAR = 2.0  # stations nearer than this many largest radii along the axis: the fold check's
-INSIDE = 1.0 - 1e-3  # a point this far inside a ball (of its radius) is inside, not touching
+INSIDE = 1.0 - 1e-3  # a point this far inside the outline (of its radius there) is inside, not touching
+SLICE_OVERLAP = 1.05  # neighbouring slices overlap a little: no point of the solid between them
 CLOSED = 1e-6  # ends this close (of the smallest radius; their tangents' cosine within it of 1): a ring
 
 
 class Contact(NamedTuple):
-    """A point of the section at station t1 (mm) inside the ball of the section at t2: its distance
-    from that section's centre and the ball's radius (mm)."""
+    """A point of the mandrel at station t1 (mm) inside its slice at station t2: the point's distance
+    from the axis there and the section's radius in its direction (mm)."""
 
     t1: float
     t2: float
@@ -58,6 +58,11 @@ def find_self_contact(surface: SweepSurface) -> Contact | None:
     closed = (float(np.linalg.norm(centre[-1] - centre[0])) <= CLOSED * r_min
               and float(axis.d1[0] @ axis.d1[-1]) >= 1.0 - CLOSED)
     tested = np.concatenate([centre[:, None, :], outline], axis=1)  # (count, 1 + angles, 3)
+    spacing = float(s[1] - s[0]) if count > 1 else surface.length
+    # half the slice's thickness: the planes fan out on a bend's outside (1 + R kappa)
+    half = 0.5 * spacing * (1.0 + r_out * np.linalg.norm(axis.d2, axis=1)) * SLICE_OVERLAP
+    back = half if closed else np.minimum(half, z - z[0])  # not past the mandrel's ends
+    ahead = half if closed else np.minimum(half, z[-1] - z)
     near = NEAR * float(r_out.max())
     best: Contact | None = None
     for i in range(count):  # a row of pairs at a time: memory O(count angles), not O(count^2)
@@ -67,12 +72,17 @@ def find_self_contact(surface: SweepSurface) -> Contact | None:
         j = np.flatnonzero(far)
         if not j.size:
             continue
-        j = j[np.linalg.norm(centre[j] - centre[i], axis=1) < r_out[i] + r_in[j]]
+        j = j[np.linalg.norm(centre[j] - centre[i], axis=1) < r_out[i] + r_out[j]]
         if not j.size:
             continue
-        gap = np.linalg.norm(tested[i][None, :, :] - centre[j][:, None, :], axis=2).min(axis=1)
-        depth = gap / r_in[j]
-        k = int(np.argmin(depth))
-        if depth[k] < INSIDE and (best is None or depth[k] < best.distance / best.radius):
-            best = Contact(float(z[i]), float(z[j[k]]), float(gap[k]), float(r_in[j[k]]))
+        rel = tested[i][None, :, :] - centre[j][:, None, :]  # (k, points, 3)
+        along = np.einsum("kpc,kc->kp", rel, axis.d1[j])
+        x, y = np.einsum("kpc,kc->kp", rel, axis.e2[j]), np.einsum("kpc,kc->kp", rel, axis.e3[j])
+        reach = surface.radius(np.repeat(s[j], rel.shape[1]), np.arctan2(y, x).ravel()).reshape(x.shape)
+        depth = np.hypot(x, y) / reach
+        slab = (along >= -back[j][:, None]) & (along <= ahead[j][:, None])
+        depth = np.where(slab, depth, np.inf)
+        k, q = np.unravel_index(int(np.argmin(depth)), depth.shape)
+        if depth[k, q] < INSIDE and (best is None or depth[k, q] < best.distance / best.radius):
+            best = Contact(float(z[i]), float(z[j[k]]), float(np.hypot(x[k, q], y[k, q])), float(reach[k, q]))
     return best
