@@ -80,3 +80,11 @@ def test_paths_near_and_on_joints(elbow, a, b) -> None:
                                                                   gauss_segments=gauss)]
         assert abs(smooth_length(elbow, res.s, res.theta, gauss_segments=0) - res.length) < 1e-3 * errors[-1] + 1e-12 * truth
     assert errors[1] < errors[0] / RATE or errors[1] < 1e-11 * truth
+
+
+@pytest.mark.parametrize("n", [50, 200, 400])
+def test_a_hoop_on_a_joint_station_is_a_circle(elbow, n: int) -> None:
+    # Its vertices sit on the station within roundoff, on one side or the other: no crossing to split.
+    for t in joint_stations(elbow):
+        res = geodesic(elbow, (float(t), 0.0), (float(t), 2.0 * np.pi), n=n)
+        assert res.length == pytest.approx(2.0 * np.pi * 40.0, rel=ROUNDOFF)

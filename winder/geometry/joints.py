@@ -28,6 +28,7 @@ JUMP_TOL = 1e-9  # a curvature jump below this share of the curve's largest curv
 PHI_MIN = 1e-3  # a crossing this close to a vertex (in segments) takes its place as a knot
 TRANSFER_SPAN = 0.5  # segments a short piece must span to take its neighbour's slope
 CUBIC_POINTS = 4  # vertices of the one-sided cubic that locates a crossing
+ALONG_JOINT = 1e-9  # relative: a segment stepping across a joint by less (in s) runs along it
 _NONE = np.empty(0)
 
 
@@ -88,6 +89,9 @@ def split_nodes(surface: SweepSurface, joints: np.ndarray, s: np.ndarray, theta:
     side = np.searchsorted(joints, s, side="right")
     cut = np.flatnonzero(side[1:] != side[:-1])
     if cut.size == 0 or np.any(np.abs(side[cut + 1] - side[cut]) > 1):
+        return None
+    # A chain along a joint station (a hoop on it) steps across it only by roundoff: no crossing.
+    if np.any(np.abs(s[cut + 1] - s[cut]) <= ALONG_JOINT * (1.0 + np.abs(joints).max())):
         return None
     ends = np.concatenate([[-1], cut, [s.shape[0] - 1]])  # piece k: vertices ends[k] + 1 .. ends[k + 1]
     crossings = []
