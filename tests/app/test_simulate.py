@@ -187,3 +187,19 @@ def test_a_move_beyond_the_limits_is_refused():
     with pytest.raises(ConfigError, match=rf"line {k + 1}: axis X \(carriage\) outside the machine's limits "
                                           r"\[-100, 700\].*got 5140.303"):
         simulate(job.machine, plan, "\n".join(lines))
+
+
+@pytest.mark.parametrize("dialect", ["generic", "linuxcnc", "marlin"])
+def test_a_program_edited_by_hand_reads_as_written(plan, dialect):
+    """What a controller reads alike reads alike here: inline comments, letter case, G01 for G1,
+    block numbers, tabs, M30 for M2."""
+    machine = replace(MACHINE, dialect=dialect)
+    text = gcode_text(plan, machine)
+    edited = []
+    for k, line in enumerate(text.splitlines()):
+        if line.startswith("G1 "):
+            line = f"N{10 * k} " + line.replace("G1 ", "g01\t", 1).lower() + " ; checked (ok)"
+        edited.append("M30" if line == "M2" else line)
+    want, got = simulate(machine, plan, text), simulate(machine, plan, "\n".join(edited))
+    assert simulation_csv(got) == simulation_csv(want)  # every sample, as read from the written program
+    assert got.fiber_length_mm == want.fiber_length_mm and got.time_s == want.time_s

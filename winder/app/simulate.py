@@ -205,9 +205,11 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
 
     job = load_config(config)
     try:
-        with open(program, encoding="utf-8") as fh:
-            text = fh.read()
-    except (OSError, UnicodeDecodeError) as exc:
+        # A program edited on another system may carry other bytes in its comments (a Latin-1 accent,
+        # a byte-order mark): the codes are ASCII, so such bytes are read as replacements, not refused.
+        with open(program, encoding="utf-8", errors="replace") as fh:
+            text = fh.read().removeprefix("\ufeff")
+    except OSError as exc:
         raise ConfigError(f"{program}: cannot read the program ({exc})") from exc
     sim = simulate(job.machine, plan_job(job), text, program)
     if output:

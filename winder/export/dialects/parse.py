@@ -22,8 +22,11 @@ from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
 from winder.records import record
 
-_PASS = re.compile(r"^; layer (\d+) circuit (\d+) pass (\d+) (\w+)$")
-_END = "M2"
+_PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
+_END = ("M2", "M30")  # either ends a program (M30 also rewinds it)
+_COMMENT = re.compile(r"\([^)]*\)|;.*$")  # (...) anywhere, ; to the end of the line
+_BLOCK_NUMBER = re.compile(r"^N\d+\s*")
+_PADDED_G = re.compile(r"^G0+(\d)$")  # G01 is G1, G00 is G0
 _SKIP = {"G21", "G90", "G94", "G93", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
 _ROLE_COLUMN = {"carriage": 0, "rotation": 1, "cross_feed": 2, "yaw": 3}
 
@@ -50,15 +53,22 @@ class ParsedProgram:
 
 
 def detect(text: str) -> str:
-    """The dialect of a program text, from what only that dialect writes."""
-    head = text.lstrip()
-    if head.startswith(marlin.HEADER.strip()):
+    """The dialect of a program text, from what only that dialect writes (in any letter case)."""
+    upper = text.upper()
+    if upper.lstrip().startswith(marlin.HEADER.strip().upper()):
         return "marlin"
-    if "\nG93\n" in text:
+    if re.search(r"^\s*(N\d+\s*)?G0*93\s*$", upper, re.M):
         return "linuxcnc"
-    if "\nPOSE " in text:
+    if re.search(r"^\s*(N\d+\s*)?POSE\s", upper, re.M):
         return "robot"
     return "generic"
+
+
+def _code(line: str) -> str:
+    """A line's code as a controller reads it: comments and a block number dropped, upper case, single
+    spaces, G01 as G1 (a program edited by hand or by another tool reads as the one winder wrote)."""
+    code = _BLOCK_NUMBER.sub("", _COMMENT.sub("", line).strip().upper())
+    return " ".join(_PADDED_G.sub(r"G\1", word) for word in code.split())
 
 
 def parse_program(text: str, machine: MachineConfig, source: str = "program") -> ParsedProgram:
@@ -81,21 +91,22 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
     end = None
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.strip()
-        if not line or line in _SKIP or line.startswith("G64 P"):
-            continue
-        if line == _END and dialect != "marlin":
-            end = number
-            continue
         if line.startswith(";"):
             hit = _PASS.match(line)
             if hit:
                 key, kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
-            elif line.startswith(marlin.FIXED_EYE):
-                fixed_z = float(line.removeprefix(marlin.FIXED_EYE).split()[0])
+            elif line.upper().startswith(marlin.FIXED_EYE.upper()):
+                fixed_z = float(line[len(marlin.FIXED_EYE):].split()[0])
             continue
-        words = line.split()
+        code = _code(line)
+        if not code or code in _SKIP or code.startswith("G64 P"):
+            continue
+        if code in _END and dialect != "marlin":
+            end = number
+            continue
+        words = code.split()
         if end is not None:
-            raise ConfigError(f"{source}: line {number}: a move after the program's end ({_END}, line {end}), "
+            raise ConfigError(f"{source}: line {number}: a move after the program's end (line {end}), "
                               f"got {line[:60]!r}")
         if words[0] not in prefixes:
             raise ConfigError(f"{source}: line {number}: not a move of a {dialect} program: {line[:60]!r}")
@@ -113,7 +124,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
         numbers.append(number)
     if end is None and dialect != "marlin":
         last = numbers[-1] if numbers else 0
-        raise ConfigError(f"{source}: line {last}: the program stops without its end ({_END}): cut short? "
+        raise ConfigError(f"{source}: line {last}: the program stops without its end (M2): cut short? "
                           f"got {len(rows)} moves, the last on line {last}")
     table = np.array(rows, dtype=float).reshape(-1, len(letters))
     if dialect == "marlin":
