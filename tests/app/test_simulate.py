@@ -206,14 +206,15 @@ def test_a_program_edited_by_hand_reads_as_written(plan, dialect):
 
 
 def test_an_eye_entering_the_mandrel_is_refused():
-    """A cross-feed edited to 0 at the end of a long move: halfway along it the eye is 15 mm inside the
-    pipe (radius 50), a collision no axis limit shows; refused with its line, exit 2."""
+    """A cross-feed edited to 0 at the end of a long move: along it the eye dips into the pipe (radius
+    50), deepest (41.25 mm, cross-feed 8.75) at the last sample inside the pipe's length, 7/8 of the way;
+    a collision no axis limit shows; refused with its line, exit 2."""
     job = load_config(SAMPLES / "pipe.yaml")
     plan = plan_job(job)
     lines = gcode_text(plan, job.machine).splitlines()
     k = [i for i, line in enumerate(lines) if line.startswith("G1 X")][1]
     lines[k] = " ".join("Z0.000" if w.startswith("Z") else w for w in lines[k].split())
-    with pytest.raises(ConfigError, match=rf"line {k + 1}: the eye enters the mandrel halfway along the move "
-                                          r"to this point, 15\.000 mm inside") as err:
+    with pytest.raises(ConfigError, match=rf"line {k + 1}: the eye enters the mandrel 0\.875 of the way along "
+                                          r"the move to this point, 41\.250 mm inside") as err:
         simulate(job.machine, plan, "\n".join(lines))
     assert err.value.exit_code == 2

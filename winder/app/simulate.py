@@ -30,15 +30,15 @@ from winder.app.contacts import candidates, forward, monotone_points, ray_distan
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
-from winder.geometry.curves import Line
-from winder.geometry.surface import SweepSurface
+from winder.machine.collision import move_distances
+from winder.machine.envelope import EyeEnvelope, eye_envelope
 from winder.machine.dynamics import move_times
 from winder.machine.program import APPROACH
 from winder.machine.smooth import SmoothPaths
 from winder.records import record
 from winder.winding.results import WindingPlan, winding_angle_deg
 
-INSIDE_TOL = 1e-6  # relative: an eye this far below the mandrel's surface is inside it, not on it
+INSIDE_TOL = 1e-6  # of the mandrel's radius: an eye centre this far inside the part is inside it
 
 
 
@@ -81,23 +81,19 @@ def eye_positions(parsed: ParsedProgram) -> np.ndarray:
     return np.column_stack([v[:, 2] * np.cos(-a), v[:, 2] * np.sin(-a), v[:, 0]])
 
 
-def _inside_mandrel(surface: SweepSurface, eye: np.ndarray) -> tuple[int, float, float] | None:
-    """The deepest eye (n, 3) inside the mandrel of a straight guide line, as (index, depth below the
-    surface mm, station t mm), or None: a collision no machine limit shows (a cross-feed below the
-    mandrel's radius). Bent guides (robot poses) are not checked here."""
-    curve = surface.curve
-    if not isinstance(curve, Line) or not eye.size:
-        return None
-    rel = eye - curve.origin
-    t = rel @ curve.tangent
-    x, y = rel @ curve.e2, rel @ curve.e3
-    on = (t >= 0.0) & (t <= surface.axial_length)
-    if not on.any():
-        return None
-    radius = surface.radius(surface.s_of_t(np.clip(t, 0.0, surface.axial_length)), np.arctan2(y, x))
-    depth = np.where(on, radius - np.hypot(x, y), -np.inf)
-    k = int(np.argmax(depth))
-    return (k, float(depth[k]), float(t[k])) if depth[k] > INSIDE_TOL * radius[k] else None
+def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, source: str) -> None:
+    """Refuse a program whose eye centre enters the mandrel along a move: a collision machine.limits
+    need not show. The moves are measured as the program writer measures them (machine.collision)."""
+    dist, frac = move_distances(parsed.values, env)
+    row = int(np.argmin(dist)) if dist.size else 0
+    if not dist.size or dist[row] >= -INSIDE_TOL * env.max_radius:
+        return
+    where = ("" if frac[row] == 1.0 else " halfway along the move to" if frac[row] == 0.5
+             else f" {frac[row]:g} of the way along the move to")
+    station = parsed.values[row - 1, 0] + frac[row] * (parsed.values[row, 0] - parsed.values[row - 1, 0])
+    raise ConfigError(f"{source}: line {parsed.line[row]}: the eye enters the mandrel{where} this point, "
+                      f"{-dist[row]:.3f} mm inside its surface at t = {station:.3f} mm, got cross-feed "
+                      f"{parsed.values[row, 2]:g}")
 
 
 def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str = "program") -> Simulation:
@@ -136,14 +132,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     mid_values = 0.5 * (parsed.values[mid_rows - 1] + parsed.values[mid_rows])
     mid_eye = eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0)))
     all_eye = np.vstack([eye, mid_eye])
-    inside = None if parsed.robot else _inside_mandrel(plan.surface, all_eye)
-    if inside is not None:
-        k, depth, station = inside
-        row = k if k < m else mid_rows[k - m]  # a midpoint: the move ending at that row
-        where = "" if k < m else " halfway along the move to"
-        raise ConfigError(f"{source}: line {parsed.line[row]}: the eye enters the mandrel{where} this point, "
-                          f"{depth:.3f} mm inside its surface at t = {station:.3f} mm, got cross-feed "
-                          f"{parsed.values[row, 2]:g}")
+    if not parsed.robot:
+        _refuse_entering(parsed, eye_envelope(plan.surface, machine), source)
     all_pass = np.concatenate([pass_of, pass_of[mid_rows]])
     # The samples of each pass in the order the machine lays them (a move's midpoint between its rows):
     # their contacts move forward along the pass together (winder.app.contacts).

@@ -86,19 +86,27 @@ def _segment_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray, j: np.ndarray
     return row_norms(q - a - u[:, None] * seg)
 
 
+def move_distances(values: np.ndarray, env: EyeEnvelope) -> tuple[np.ndarray, np.ndarray]:
+    """The eye centre's least distance (mm, < 0 inside) from the part along the move to each row of
+    values (m, 4) (carriage, rotation, cross_feed, yaw) from the row before, at SAMPLES_PER_MOVE points,
+    and the fraction of the move where it is least: two (m,) arrays."""
+    f = np.linspace(0.0, 1.0, SAMPLES_PER_MOVE + 1)[1:]
+    start = np.vstack([values[:1], values[:-1]])
+    x = start[:, None, 0] + f * (values[:, None, 0] - start[:, None, 0])
+    z = start[:, None, 2] + f * (values[:, None, 2] - start[:, None, 2])
+    dist = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape)
+    k = np.argmin(dist, axis=1)
+    return dist[np.arange(dist.shape[0]), k], f[k]
+
+
 def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, where) -> None:
     """Refuse a program (rows (m, 4): carriage, rotation, cross_feed, yaw) whose eye comes too close
     to the part anywhere along a move; where(row) names the move's pass."""
     if values.shape[0] == 0:
         return
-    f = np.linspace(0.0, 1.0, SAMPLES_PER_MOVE + 1)[1:]
-    start = np.vstack([values[:1], values[:-1]])
-    x = start[:, None, 0] + f * (values[:, None, 0] - start[:, None, 0])
-    z = start[:, None, 2] + f * (values[:, None, 2] - start[:, None, 2])
-    gap = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape) - 0.5 * machine.eye_size
     # env.clearance holds the centre's distance, c + size / 2: the body must keep c, less the chords' cut.
     need = 0.0 if env.clearance is None else env.clearance - 0.5 * machine.eye_size - machine.chord_tolerance
-    worst = np.min(gap, axis=1)
+    worst = move_distances(values, env)[0] - 0.5 * machine.eye_size
     bad = np.flatnonzero(worst < need - 1e-9)
     if bad.size:
         row = int(bad[np.argmin(worst[bad])])
