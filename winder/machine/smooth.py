@@ -16,7 +16,6 @@ from winder.geometry.measure import row_norms, tangent_coordinates
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
 SIDE_STEP = 1e-7  # how far into an interval (of its length) the surface is read for its end slopes
-SIDE_JUMP = 1e-6  # a relative change of the slopes that large across SIDE_STEP is the metric's jump
 
 
 def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.ndarray, ds: np.ndarray,
@@ -78,23 +77,24 @@ class SmoothPaths:
             self.ds[rows], self.dth[rows] = slopes[:, 0::2], slopes[:, 1::2]
         # Each interval takes its end slopes from the surface on its own side of a node: where the axis
         # changes curvature at a node (a line meeting an arc: geometry.joints), the metric jumps there, and
-        # so do (s', theta') of a path whose 3D tangent is continuous. Elsewhere the node's own are kept
-        # (without joints, one evaluation serves both sides).
+        # so do (s', theta') of a path whose 3D tangent is continuous. Only a node whose reading SIDE_STEP
+        # into an interval lies on another piece of the guide than the node is read again on that side.
         on = np.flatnonzero(np.repeat((sizes >= 2) & ~dwell, sizes))
-        sided = on.size > 0 and joint_stations(surface).size > 0
-        if on.size:  # every pass's nodes in one call (per side, with joints)
+        if on.size:  # every pass's nodes in one call
             spline = self.ds[on], self.dth[on]
-            a0, b0 = _along(surface, self.s[on], self.th[on], self.d[on], *spline)
-            self.ds[on], self.dth[on] = a0, b0
-        self.ds_in, self.dth_in = (self.ds.copy(), self.dth.copy()) if sided else (self.ds, self.dth)
-        if sided:
+            self.ds[on], self.dth[on] = _along(surface, self.s[on], self.th[on], self.d[on], *spline)
+        joints = joint_stations(surface) if on.size else np.empty(0)
+        self.ds_in, self.dth_in = (self.ds.copy(), self.dth.copy()) if joints.size else (self.ds, self.dth)
+        if joints.size:
+            piece = np.searchsorted(joints, self.s[on], side="right")
             for side, ds, dth in ((1, self.ds, self.dth), (-1, self.ds_in, self.dth_in)):
                 nb = np.clip(on + side, 0, self.s.size - 1)
                 s = self.s[on] + SIDE_STEP * (self.s[nb] - self.s[on])
-                th = self.th[on] + SIDE_STEP * (self.th[nb] - self.th[on])
-                a, b = _along(surface, s, th, self.d[on], *spline)
-                jump = (np.abs(a - a0) > SIDE_JUMP * np.abs(a0)) | (np.abs(b - b0) > SIDE_JUMP * np.abs(b0))
-                ds[on], dth[on] = np.where(jump, a, a0), np.where(jump, b, b0)
+                other = np.flatnonzero(np.searchsorted(joints, s, side="right") != piece)
+                if other.size:
+                    k = on[other]
+                    th = self.th[k] + SIDE_STEP * (self.th[nb[other]] - self.th[k])
+                    ds[k], dth[k] = _along(surface, s[other], th, self.d[k], spline[0][other], spline[1][other])
         self._is_last = np.zeros(count + 1, dtype=bool)  # a table, not np.isin: _interval runs per lookup
         self._is_last[self.last] = True
 
