@@ -119,12 +119,9 @@ def hermite_nodes(y0: np.ndarray, d0: np.ndarray, y1: np.ndarray, d1: np.ndarray
     """Values and slopes at the fractions (q,) of separate cubic Hermite segments: end values y0, y1
     and slopes d0, d1 per unit fraction, each (S, k). Returns two (S q, k) float arrays, segment by
     segment (segment_nodes for segments of any width, their slopes scaled by it)."""
-    a, b, c, d, e, f, g = (w[None] for w in _basis(tuple(float(t) for t in fractions)))
-    y0, d0, y1, d1 = y0[:, None], d0[:, None], y1[:, None], d1[:, None]
+    ends, t = (y0[:, None], d0[:, None], y1[:, None], d1[:, None]), np.asarray(fractions)[None, :, None]
     k = y0.shape[-1]
-    vals = a * y0 + b * d0 + c * y1 + d * d1
-    ders = e * (y0 - y1) + f * d0 + g * d1
-    return vals.reshape(-1, k), ders.reshape(-1, k)
+    return _hermite(*ends, t).reshape(-1, k), _hermite(*ends, t, derivative=True).reshape(-1, k)
 
 
 def _columns(y: np.ndarray) -> np.ndarray:
