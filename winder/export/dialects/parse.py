@@ -67,6 +67,9 @@ def detect(text: str) -> str:
 def _code(line: str) -> str:
     """A line's code as a controller reads it: comments and a block number dropped, upper case, single
     spaces, G01 as G1 (a program edited by hand or by another tool reads as the one winder wrote)."""
+    if (line.isupper() and ";" not in line and "(" not in line and "\t" not in line and "  " not in line
+            and line[0] != "N" and ("G0" not in line or line.startswith("G0 "))):
+        return line  # as winder writes it: the regular expressions would change nothing (4x the time)
     code = _BLOCK_NUMBER.sub("", _COMMENT.sub("", line).strip().upper())
     return " ".join(_PADDED_G.sub(r"G\1", word) for word in code.split())
 
