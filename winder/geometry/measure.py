@@ -110,7 +110,8 @@ def smooth_lengths(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarr
     return lengths
 
 
-def _split(surface: SweepSurface, joints: np.ndarray, s: np.ndarray, theta: np.ndarray, gauss: bool, with_knots: bool) -> SplitNodes | None:
+def _split(surface: SweepSurface, joints: np.ndarray, s: np.ndarray, theta: np.ndarray, gauss: bool,
+           with_knots: bool) -> SplitNodes | None:
     """split_nodes with the rule smooth_length uses: Gauss's nodes per segment, or Lobatto's inner two
     and its ends."""
     if gauss:
