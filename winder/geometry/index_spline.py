@@ -13,7 +13,7 @@ import functools
 
 import numpy as np
 
-from winder.geometry.lapack import lapack as scipy_lapack
+from winder.geometry.lapack import lapack
 
 # Gauss-Lobatto with 4 nodes on [0, 1]: the knots and 1/2 -+ sqrt(5)/10, weights 1/12, 5/12, 5/12,
 # 1/12. Exact to degree 5, and the knots are shared with the neighbouring segments.
@@ -54,7 +54,7 @@ def knot_slopes(y: np.ndarray) -> np.ndarray:
     rhs[1:-1] = 3.0 * (sl[:-1] + sl[1:])
     rhs[-1] = 0.5 * (sl[-2] + 5.0 * sl[-1])
     lower, diag, upper = _knot_matrix(m)
-    *_, slopes, info = scipy_lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
+    *_, slopes, info = lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
     if info != 0:  # the matrix is strictly diagonally dominant but for the end rows: cannot happen
         raise ArithmeticError(f"the spline's knot system is singular (LAPACK info {info})")
     return slopes

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.geometry.lapack import lapack as scipy_lapack
+from winder.geometry.lapack import lapack
 
 
 def _knots(x: np.ndarray, k: int) -> np.ndarray:
@@ -105,9 +105,7 @@ def _solve(t: np.ndarray, k: int, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     ab = np.zeros((2 * kl + ku + 1, n), order="F")
     ab[kl + ku + rows - cols, cols] = vals
     rhs = y.reshape(n, -1)
-    lapack = scipy_lapack()
-
-    _, _, c, info = lapack.dgbsv(kl, ku, ab, rhs)
+    _, _, c, info = lapack().dgbsv(kl, ku, ab, rhs)
     if info != 0:  # Schoenberg-Whitney holds for these knots: a singular system cannot happen
         raise ArithmeticError(f"the spline's collocation system is singular (LAPACK info {info})")
     return c.reshape(y.shape)
@@ -181,7 +179,7 @@ def knot_slopes_runs(x: np.ndarray, y: np.ndarray, first: np.ndarray, sizes: np.
     diag[last], lower[last - 1] = hm, s1
     rhs[last] = sql * d[last - 2] + ((2.0 * s1 + hl) * hm)[:, None] * d[last - 1]
     rhs[last] /= s1[:, None]
-    *_, slopes, info = scipy_lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
+    *_, slopes, info = lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
     if info != 0:
         raise ArithmeticError(f"the spline's slope system is singular (LAPACK info {info})")
     return slopes

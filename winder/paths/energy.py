@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.geometry.lapack import lapack as scipy_lapack
+from winder.geometry.lapack import lapack
 from winder.geometry.surface import SurfaceEval, SweepSurface, jet_of
 
 try:  # np.einsum without its Python dispatch (about 1 us a call, some 30 calls per Newton step)
@@ -185,7 +185,7 @@ def newton_direction(diag: np.ndarray, off: np.ndarray, grad: np.ndarray):
 
 def banded_direction(ab: np.ndarray, grad: np.ndarray):
     """newton_direction from H in lower banded storage ab (4, 2n), which it overwrites."""
-    factor, step, info = scipy_lapack().dpbsv(ab, -grad.ravel(), lower=1, overwrite_ab=1, overwrite_b=1)
+    factor, step, info = lapack().dpbsv(ab, -grad.ravel(), lower=1, overwrite_ab=1, overwrite_b=1)
     if info != 0 or not np.logical_and.reduce(np.isfinite(step)):
         return None, None
     return step.reshape(-1, 2), factor
@@ -193,7 +193,5 @@ def banded_direction(ab: np.ndarray, grad: np.ndarray):
 
 def chord_direction(factor: np.ndarray, grad: np.ndarray) -> np.ndarray:
     """-H^-1 grad with an earlier iterate's Cholesky factor (LAPACK pbtrs): (n, 2)."""
-    lapack = scipy_lapack()
-
-    step, _ = lapack.dpbtrs(factor, -grad.ravel(), lower=1, overwrite_b=1)
+    step, _ = lapack().dpbtrs(factor, -grad.ravel(), lower=1, overwrite_b=1)
     return step.reshape(-1, 2)
