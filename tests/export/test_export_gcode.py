@@ -15,6 +15,7 @@ from winder.config.machine import MachineAxes, MachineConfig, MachineLimits
 from winder.errors import ExportError
 from winder.export.gcode import gcode_text, program_moves
 from winder.machine.program import reduce_points
+from winder.machine.smooth import SmoothPaths
 from winder.winding.results import PassKind, WindingPlan
 
 TANGENT_TOL = 0.01  # mm: a programmed eye from its contact point's tangent line (SPEC rounding: 3 decimals)
@@ -232,9 +233,11 @@ def test_robot_poses_for_bent_mandrel():
     poses = np.array(poses)
     moves = program_moves(plan, machine)
     assert len(moves) == len(poses)
-    by_key = passes_by_key(plan)
-    p = np.array([by_key[(m.layer, m.number)].points[m.index] for m in moves])
-    d = np.array([by_key[(m.layer, m.number)].direction[m.index] for m in moves])
+    # Each pose's contact point at its fractional index on the smooth path (a densified pass's rows
+    # lie between the planned points, which are every factor-th row).
+    paths = SmoothPaths(bend, [fw, rt])
+    number = {(fp.layer, fp.number): j for j, fp in enumerate((fw, rt))}
+    _, _, p, d = paths.point(np.array([paths.offset[number[(m.layer, m.number)]] + m.u for m in moves]))
     assert line_distance(poses[:, :3], p, d).max() < TANGENT_TOL
     assert np.allclose(poses[:, 3:], -d, atol=1e-6)
     # The eye (from its contact point, back along I J K) is ahead of the contact point.

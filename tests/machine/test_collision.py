@@ -77,3 +77,78 @@ def test_part_distance_is_the_least_over_all_segments(profile):
     z = rng.uniform(0.0, 200.0, 4000)
     rho = np.interp(z, t, r) + rng.uniform(0.5, 30.0, z.size)
     assert part_distance(rho, z, env) == pytest.approx(_brute_distance(rho, z, t, r), abs=CUT_TOL)
+
+
+# -- robot poses around a bent guide -----------------------------------------------------------------
+BEND_R, TUBE_R = 150.0, 40.0
+
+
+@pytest.fixture(scope="module")
+def bend():
+    from winder.config.axes import ArcAxis  # noqa: PLC0415
+
+    return surface_of(ArcAxis(BEND_R, 90.0), ConstantProfile(TUBE_R))
+
+
+def test_tube_distance_closed_forms(bend):
+    """Around a quarter torus: a point at rho from the arc lies rho - r from the tube; past an end,
+    from its disc or the disc's rim."""
+    from winder.machine.collision import tube_distance  # noqa: PLC0415
+    from winder.machine.kinematics import make_guide  # noqa: PLC0415
+
+    env = eye_envelope(bend, MachineConfig(eye_clearance=20.0))
+    guide = make_guide(bend, env)
+    x0, t0 = guide.x0, guide.t0  # the arc's start and its tangent there
+    side = np.cross(t0, [0.0, 0.0, 1.0]) if abs(t0[2]) < 0.9 else np.cross(t0, [1.0, 0.0, 0.0])
+    side /= np.linalg.norm(side)
+    mid = guide.evaluate(np.array([0.5 * guide.T]))
+    normal = np.cross(mid[1][0], side)
+    normal /= np.linalg.norm(normal)
+    points = np.array([mid[0][0] + 70.0 * normal, mid[0][0] + 10.0 * side, x0 - 5.0 * t0 + 50.0 * side,
+                       x0 - 5.0 * t0 + 20.0 * side])
+    expected = [70.0 - TUBE_R, 10.0 - TUBE_R, np.hypot(5.0, 10.0), 5.0]
+    assert tube_distance(points, env, guide) == pytest.approx(expected, abs=1e-6)
+
+
+def test_robot_chords_keep_the_clearance(bend):
+    """A robot's moves between poses are chords around the envelope (radius 60 around the arc): with
+    poses a fiber point apart they cut into the clearance by L^2 / 8R; the program densifies them,
+    and every move, sampled, keeps the clearance less the chord tolerance."""
+    from plans import geodesic_pass, make_layer  # noqa: PLC0415
+    from winder.machine.collision import move_distances  # noqa: PLC0415
+    from winder.machine.kinematics import make_guide  # noqa: PLC0415
+    from winder.machine.program import build_program  # noqa: PLC0415
+    from winder.winding.results import PassKind, WindingPlan  # noqa: PLC0415
+
+    fw = geodesic_pass(bend, (20.0, 0.0), (215.0, np.radians(150.0)), 40, rounds=1, layer=1, circuit=1,
+                       number=1, kind=PassKind.FORWARD)
+    plan = WindingPlan("elbow", "elbow.yaml", bend, (make_layer(1, [fw], circuits=1),))
+    machine = MachineConfig(eye_clearance=20.0, robot=True, chord_tolerance=0.05)
+    program = build_program(plan, machine)
+    env = eye_envelope(plan.outer_surface, machine)
+    dist, _ = move_distances(program.values, env, make_guide(plan.outer_surface, env))
+    assert program.values.shape[0] > len(fw.points)  # densified
+    assert dist.min() >= 20.0 - 0.05 - CUT_TOL
+
+
+def test_a_robot_chord_into_the_clearance_is_refused_but_a_join_may_pass(bend):
+    """Two poses on the envelope 60 mm apart around the arc's middle section: their chord dips to
+    60 cos(theta/2) from the arc; inside a pass refused, as the move joining two passes only if the
+    eye touches the part."""
+    from winder.machine.collision import check_collision  # noqa: PLC0415
+    from winder.machine.kinematics import make_guide  # noqa: PLC0415
+
+    machine = MachineConfig(eye_clearance=20.0, robot=True)
+    env = eye_envelope(bend, machine)
+    guide = make_guide(bend, env)
+    x, tan, _ = guide.evaluate(np.array([0.5 * guide.T]))
+    u = np.cross(tan[0], [0.0, 0.0, 1.0]) if abs(tan[0, 2]) < 0.9 else np.cross(tan[0], [1.0, 0.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(tan[0], u)
+    half = np.radians(30.0)
+    poses = np.array([np.concatenate([x[0] + 60.0 * (np.cos(a) * u + np.sin(a) * v), -u]) for a in (-half, half)])
+    dip = 60.0 * np.cos(half) - TUBE_R  # 11.96 mm from the tube at the chord's middle
+    with pytest.raises(ExportError, match=rf"pass X: the payout eye \(size 0 mm\) comes within {dip:.3f} mm of "
+                                          r"the mandrel on the move to X[-\d.]+ Y[-\d.]+ Z[-\d.]+, closer than 19\.950"):
+        check_collision(poses, env, machine, lambda row: "pass X", guide)
+    check_collision(poses, env, machine, lambda row: "pass X", guide, joins=np.array([1]))

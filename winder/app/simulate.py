@@ -32,6 +32,7 @@ from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
 from winder.machine.collision import move_distances
 from winder.machine.envelope import EyeEnvelope, eye_envelope
+from winder.machine.kinematics import make_guide
 from winder.machine.dynamics import move_times
 from winder.machine.program import APPROACH
 from winder.machine.smooth import SmoothPaths
@@ -81,19 +82,24 @@ def eye_positions(parsed: ParsedProgram) -> np.ndarray:
     return np.column_stack([v[:, 2] * np.cos(-a), v[:, 2] * np.sin(-a), v[:, 0]])
 
 
-def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, source: str) -> None:
+def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, env_surface, source: str) -> None:
     """Refuse a program whose eye centre enters the mandrel along a move: a collision machine.limits
     need not show. The moves are measured as the program writer measures them (machine.collision)."""
-    dist, frac = move_distances(parsed.values, env)
+    guide = make_guide(env_surface, env) if parsed.robot else None
+    dist, frac = move_distances(parsed.values, env, guide)
     row = int(np.argmin(dist)) if dist.size else 0
     if not dist.size or dist[row] >= -INSIDE_TOL * env.max_radius:
         return
     where = ("" if frac[row] == 1.0 else " halfway along the move to" if frac[row] == 0.5
              else f" {frac[row]:g} of the way along the move to")
-    station = parsed.values[row - 1, 0] + frac[row] * (parsed.values[row, 0] - parsed.values[row - 1, 0])
+    at = parsed.values[row - 1] + frac[row] * (parsed.values[row] - parsed.values[row - 1])
+    v = parsed.values[row]
+    if guide is not None:
+        station, got = float(guide.project(at[None, :3])[0][0]), f"pose X{v[0]:g} Y{v[1]:g} Z{v[2]:g}"
+    else:
+        station, got = float(at[0]), f"cross-feed {v[2]:g}"
     raise ConfigError(f"{source}: line {parsed.line[row]}: the eye enters the mandrel{where} this point, "
-                      f"{-dist[row]:.3f} mm inside its surface at t = {station:.3f} mm, got cross-feed "
-                      f"{parsed.values[row, 2]:g}")
+                      f"{-dist[row]:.3f} mm inside its surface at t = {station:.3f} mm, got {got}")
 
 
 def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str = "program") -> Simulation:
@@ -132,8 +138,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     mid_values = 0.5 * (parsed.values[mid_rows - 1] + parsed.values[mid_rows])
     mid_eye = eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0)))
     all_eye = np.vstack([eye, mid_eye])
-    if not parsed.robot:
-        _refuse_entering(parsed, eye_envelope(plan.surface, machine), source)
+    _refuse_entering(parsed, eye_envelope(plan.surface, machine), plan.surface, source)
     all_pass = np.concatenate([pass_of, pass_of[mid_rows]])
     # The samples of each pass in the order the machine lays them (a move's midpoint between its rows):
     # their contacts move forward along the pass together (winder.app.contacts).

@@ -9,6 +9,12 @@ closed: the distance of a point (rho, z) is that to the meridian polyline (r_max
 discs. Required: distance - size / 2 >= clearance - chord_tolerance with `eye: {clearance}` (the
 envelope puts the body exactly at the clearance; the programmed chords may cut in by the
 tolerance), distance - size / 2 > 0 with `eye: {radius}`.
+
+Robot poses (a bent axis, or machine.robot): the eye moves linearly in the mandrel frame between
+poses, and the part is the tube of radius r_max(t) around the guide curve, its ends closed by discs
+square to the end tangents: a point at distance rho from its closest guide point x(t*) lies
+(rho - r_max(t*)) / sqrt(1 + r_max'(t*)^2) from it (exact where r_max is constant; to first order in
+the tube's taper otherwise), and past an end as far as from that end's disc.
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.envelope import EyeEnvelope, turn
+from winder.machine.kinematics import Guide
 from winder.geometry.measure import row_norms
 
 SAMPLES_PER_MOVE = 8
@@ -86,30 +93,57 @@ def _segment_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray, j: np.ndarray
     return row_norms(q - a - u[:, None] * seg)
 
 
-def move_distances(values: np.ndarray, env: EyeEnvelope) -> tuple[np.ndarray, np.ndarray]:
+def move_distances(values: np.ndarray, env: EyeEnvelope, guide: Guide | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The eye centre's least distance (mm, < 0 inside) from the part along the move to each row of
-    values (m, 4) (carriage, rotation, cross_feed, yaw) from the row before, at SAMPLES_PER_MOVE points,
-    and the fraction of the move where it is least: two (m,) arrays."""
+    values from the row before, at SAMPLES_PER_MOVE points, and the fraction of the move where it is
+    least: two (m,) arrays. values : (m, 4) axes (carriage, rotation, cross_feed, yaw), or with a
+    guide (robot poses) (m, >= 3) whose first three columns are the eye position."""
     f = np.linspace(0.0, 1.0, SAMPLES_PER_MOVE + 1)[1:]
     start = np.vstack([values[:1], values[:-1]])
-    x = start[:, None, 0] + f * (values[:, None, 0] - start[:, None, 0])
-    z = start[:, None, 2] + f * (values[:, None, 2] - start[:, None, 2])
-    dist = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape)
+    if guide is not None:
+        e = start[:, None, :3] + f[:, None] * (values[:, None, :3] - start[:, None, :3])
+        at_row = guide.project(values[:, :3])[0]  # each sample's closest station starts between its move's
+        near = np.concatenate([at_row[:1], at_row[:-1]])[:, None] + f * (at_row - np.concatenate([at_row[:1], at_row[:-1]]))[:, None]
+        dist = tube_distance(e.reshape(-1, 3), env, guide, near.ravel()).reshape(e.shape[:2])
+    else:
+        x = start[:, None, 0] + f * (values[:, None, 0] - start[:, None, 0])
+        z = start[:, None, 2] + f * (values[:, None, 2] - start[:, None, 2])
+        dist = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape)
     k = np.argmin(dist, axis=1)
     return dist[np.arange(dist.shape[0]), k], f[k]
 
 
-def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, where) -> None:
-    """Refuse a program (rows (m, 4): carriage, rotation, cross_feed, yaw) whose eye comes too close
-    to the part anywhere along a move; where(row) names the move's pass."""
+def tube_distance(points: np.ndarray, env: EyeEnvelope, guide: Guide, near: np.ndarray | None = None) -> np.ndarray:
+    """Distance (mm, < 0 inside) of points (m, 3) in the mandrel frame from the part around a guide
+    curve (module docstring: robot poses); near : (m,) stations close to their closest ones."""
+    station, rho = guide.project(points, start=near)
+    T = guide.T
+    r = env.mandrel_at(station)
+    slope = np.interp(np.clip(station, 0.0, T), env.stations, np.gradient(env.mandrel_radius, env.stations))
+    beyond = np.maximum(-station, 0.0) + np.maximum(station - T, 0.0)
+    past = np.hypot(beyond, np.maximum(rho - r, 0.0))  # from the end disc or its rim
+    return np.where(beyond > 0.0, past, (rho - r) / np.sqrt(1.0 + slope * slope))
+
+
+def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, where,
+                    guide: Guide | None = None, joins: np.ndarray | None = None) -> None:
+    """Refuse a program (rows (m, 4): carriage, rotation, cross_feed, yaw; with a guide robot poses,
+    position first) whose eye comes too close to the part anywhere along a move; where(row) names
+    the move's pass. joins : rows whose moves go from one pass to the next without an approach lift
+    (a robot's): the eye body must not touch the part there, it need not keep the clearance."""
     if values.shape[0] == 0:
         return
     # env.clearance holds the centre's distance, c + size / 2: the body must keep c, less the chords' cut.
-    need = 0.0 if env.clearance is None else env.clearance - 0.5 * machine.eye_size - machine.chord_tolerance
-    worst = move_distances(values, env)[0] - 0.5 * machine.eye_size
+    need = np.full(values.shape[0], 0.0 if env.clearance is None else
+                   env.clearance - 0.5 * machine.eye_size - machine.chord_tolerance)
+    if joins is not None:
+        need[joins] = 0.0
+    worst = move_distances(values, env, guide)[0] - 0.5 * machine.eye_size
     bad = np.flatnonzero(worst < need - 1e-9)
     if bad.size:
-        row = int(bad[np.argmin(worst[bad])])
+        row = int(bad[np.argmin(worst[bad] - need[bad])])
+        target = (f"X{values[row, 0]:.3f} Y{values[row, 1]:.3f} Z{values[row, 2]:.3f}" if guide is not None
+                  else f"X{values[row, 0]:.3f} A{values[row, 1]:.3f}")
         raise ExportError(f"{where(row)}: the payout eye (size {machine.eye_size:g} mm) comes within "
-                          f"{worst[row]:.3f} mm of the mandrel on the move to X{values[row, 0]:.3f} "
-                          f"A{values[row, 1]:.3f}, closer than {max(need, 0.0):.3f} mm")
+                          f"{worst[row]:.3f} mm of the mandrel on the move to {target}, closer than "
+                          f"{max(need[row], 0.0):.3f} mm")

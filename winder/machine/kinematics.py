@@ -67,6 +67,9 @@ from winder.records import record
 
 CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
 PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
+# ... and from a neighbour's station: quadratic from within ~1 mm, where the distance is stationary in
+# the station, so a remaining error of d moves it by about d^2 kappa
+WARM_NEWTON = 2
 
 
 # -- results ---------------------------------------------------------------------------------------
@@ -204,7 +207,7 @@ def rotation_deg(phi_raw: np.ndarray, theta: np.ndarray) -> np.ndarray:
 
 
 # -- robot mode ------------------------------------------------------------------------------------
-class _Guide:
+class Guide:
     """Closest points on the guide curve, extended beyond its ends by its end tangents."""
 
     def __init__(self, surface: SweepSurface, extend: float) -> None:
@@ -239,29 +242,36 @@ class _Guide:
         kap[lo | hi] = 0.0
         return x, tan, kap
 
-    def project(self, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(station t*, distance) of the closest guide point of each point e (m, 3)."""
-        _, k = self.tree.query(e)
-        z = self.z[k]
-        for _ in range(PROJECT_NEWTON):  # Newton on g(z) = (e - x(z)) . x'(z) = 0
+    def project(self, e: np.ndarray, full: bool = False, start: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+        """(station t*, distance) of the closest guide point of each point e (m, 3); full: also
+        e - x(t*), the unit tangent and x'' there (each (m, 3)). start : (m,) stations within a
+        millimetre or so of the answers (a point's neighbour's): WARM_NEWTON steps from there."""
+        if start is None:
+            _, k = self.tree.query(e)
+            z, steps = self.z[k], PROJECT_NEWTON
+        else:
+            z, steps = np.clip(start, self.z[0], self.z[-1]), WARM_NEWTON
+        for _ in range(steps):  # Newton on g(z) = (e - x(z)) . x'(z) = 0
             x, tan, kap = self.evaluate(z)
             rel = e - x
             slope = 1.0 - np.einsum("ij,ij->i", rel, kap)  # -g'(z), > 0 outside the centre of curvature
             step = np.einsum("ij,ij->i", rel, tan) / np.where(slope > 0.1, slope, 1.0)
             z = np.clip(z + np.clip(step, -CURVE_STEP * 4, CURVE_STEP * 4), self.z[0], self.z[-1])
-        x, _, _ = self.evaluate(z)
-        return z, row_norms(e - x)
+        x, tan, kap = self.evaluate(z)
+        rel = e - x
+        return (z, row_norms(rel), rel, tan, kap) if full else (z, row_norms(rel))
 
 
 def robot_poses(points: np.ndarray, directions: np.ndarray, surface: SweepSurface, machine: MachineConfig,
-                *, envelope: EyeEnvelope | None = None, guide: _Guide | None = None,
-                where: str = "eye poses") -> RobotPoses:
-    """Eye poses (mandrel frame) for contact points (m, 3) with fiber directions (m, 3), any axis."""
+                *, envelope: EyeEnvelope | None = None, guide: Guide | None = None,
+                where: str = "eye poses", guess: np.ndarray | None = None) -> RobotPoses:
+    """Eye poses (mandrel frame) for contact points (m, 3) with fiber directions (m, 3), any axis.
+    guess : (m,) estimates of the leads (from poses nearby): Newton starts there instead of a scan."""
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     d = unit_rows(np.asarray(directions, dtype=float).reshape(-1, 3))
     env = envelope if envelope is not None else eye_envelope(surface, machine)
     lmax = MAX_LEAD_FACTOR * env.max_radius
-    g = guide if guide is not None else _Guide(surface, lmax)
+    g = guide if guide is not None else Guide(surface, lmax)
     z0, r0 = g.project(p)
     clear = r0 < env.at(z0)
     if not clear.all():
@@ -273,12 +283,23 @@ def robot_poses(points: np.ndarray, directions: np.ndarray, surface: SweepSurfac
         zs, dist = g.project(p[i] + lam[:, None] * d[i])
         return dist - env.at(zs)
 
-    lam, ok = first_crossing(f, p.shape[0], lmax)
+    def fd(lam: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        # d/dlambda of the distance is the unit normal's share of d; the station moves by
+        # (d . tan) / (1 - rel . kap), from the closest-point condition (e - x(t*)) . x'(t*) = 0.
+        zs, dist, rel, tan, kap = g.project(p[i] + lam[:, None] * d[i], full=True, start=near[i])
+        near[i] = zs
+        slope = 1.0 - np.einsum("ij,ij->i", rel, kap)
+        dz = np.einsum("ij,ij->i", d[i], tan) / np.where(slope > 0.1, slope, 1.0)
+        rate = np.einsum("ij,ij->i", rel, d[i]) / np.where(dist > 0.0, dist, 1.0)
+        return dist - env.at(zs), rate - env.slope(zs) * dz
+
+    near = z0 if guess is None else g.project(p + np.clip(guess, 0.0, lmax)[:, None] * d)[0]
+    lam, ok = first_crossing(f, p.shape[0], lmax, guess=guess, fd=fd if guess is not None else None)
     e = p + lam[:, None] * d
     station, _ = g.project(e)
     return RobotPoses(position=e, direction=-d, station=station, lead=lam, on_envelope=ok)
 
 
-def make_guide(surface: SweepSurface, envelope: EyeEnvelope) -> _Guide:
+def make_guide(surface: SweepSurface, envelope: EyeEnvelope) -> Guide:
     """The closest-point helper of robot_poses, built once per job."""
-    return _Guide(surface, MAX_LEAD_FACTOR * envelope.max_radius)
+    return Guide(surface, MAX_LEAD_FACTOR * envelope.max_radius)

@@ -29,12 +29,13 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.machine.collision import check_collision
-from winder.machine.batch import all_dense, all_leads, all_midpoints, all_poses, pass_where
+from winder.machine.batch import all_dense, all_leads, all_midpoints, pass_where
 from winder.machine.densify import DENSE_SHARE
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.envelope import eye_envelope
 from winder.machine.axis_batch import TURN_BACK_DEG, straight_axes  # noqa: F401 - TURN_BACK_DEG: docstring
 from winder.machine.kinematics import eye_path, make_guide
+from winder.machine.robot import robot_rows
 from winder.machine.reduce import reduce_many, reduce_points, reduce_table  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.machine.straight import straight_passes
@@ -224,15 +225,10 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     dense = np.zeros(len(nonempty), dtype=bool)
     lifts: list[tuple[int, np.ndarray]] = []
     if robot:
-        poses = all_poses(plan, machine, env, guide)
-        cat = (lambda f: np.concatenate([f(p) for p in poses])) if poses else (lambda f: np.zeros((0, 3)))  # noqa: E731
-        position, direction = cat(lambda p: p.position), cat(lambda p: p.direction)
-        table = np.column_stack([position, direction])
-        q = np.column_stack([position, angle_scale * direction])
-        u = np.concatenate([np.arange(k, dtype=float) for k in sizes.tolist()]) if poses else np.zeros(0)
-        contacts = np.concatenate([fp.points for fp in nonempty]) if poses else np.zeros((0, 3))
-        on_envelope = cat(lambda p: p.on_envelope).astype(bool).ravel() if poses else np.zeros(0, dtype=bool)
-        lead = cat(lambda p: p.lead).ravel() if poses else np.zeros(0)
+        rows = robot_rows(plan, machine, env, guide, angle_scale, tol)
+        table, u, contacts, on_envelope, lead = rows.table, rows.u, rows.contacts, rows.on_envelope, rows.lead
+        q = np.column_stack([table[:, :3], angle_scale * table[:, 3:]])
+        sizes, dense = rows.sizes, rows.dense
     elif nonempty:
         found = straight_passes(plan, nonempty, wheres, env, machine, sense, arc_radius, angle_scale, tol)
         path, sizes, jumped, us, contacts = found if found is not None else _stepwise(
@@ -270,14 +266,15 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
                                     top if cap else 0.0, lift))
             count += size
         layer_segments.append(tuple(segments))
-    if not robot:
-        starts = [(seg.start, seg) for segs in layer_segments for seg in segs if seg.stop > seg.start]
+    starts = [(seg.start, seg) for segs in layer_segments for seg in segs if seg.stop > seg.start]
 
-        def where(row: int) -> str:
-            seg = max((s for s in starts if s[0] <= row), key=lambda s: s[0])[1]
-            return f"{plan.source}: layer {seg.layer} circuit {seg.circuit} pass {seg.number} ({seg.kind.value})"
+    def where(row: int) -> str:
+        seg = max((s for s in starts if s[0] <= row), key=lambda s: s[0])[1]
+        return f"{plan.source}: layer {seg.layer} circuit {seg.circuit} pass {seg.number} ({seg.kind.value})"
 
-        check_collision(values, env, machine, where)
+    # A robot goes straight from one pass's last pose to the next's first (no approach lift).
+    joins = np.array([row for row, _ in starts if row > 0], dtype=int) if robot else None
+    check_collision(values, env, machine, where, guide, joins)
     times = move_times(values[:, :3] if robot else values, fiber, machine, robot)
     return MotionProgram(
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
