@@ -124,3 +124,20 @@ def test_run_of_one_job_reports_progress_to_its_bar(tmp_path, monkeypatch):
     assert any("circuit 19 of 19" in label for _, label in seen)  # per circuit
     assert any("hoop traverse 2 of 2" in label for _, label in seen)  # per layer
     assert "%" not in res.stderr  # CliRunner's stderr is no terminal: no bar drawn
+
+
+def test_the_page_shows_the_winding_times_of_the_summary_file(tmp_path):
+    # The page claims the numbers of <name>.summary.json: its winding time is the machine's time
+    # over the program (winding_time_s, acceleration included), not the fiber length at the feed.
+    import json  # noqa: PLC0415
+
+    from winder.report.tables import duration  # noqa: PLC0415
+
+    res = _run("run", str(PIPE), "--report", "--format", "csv", "-o", str(tmp_path))
+    assert res.exit_code == 0, res.output
+    summary = json.loads((tmp_path / "pipe.summary.json").read_text(encoding="utf-8"))
+    page = (tmp_path / "pipe.html").read_text(encoding="utf-8")
+    assert duration(summary["winding_time_s"]) != duration(summary["estimated_time_s"])  # the case tells them apart
+    assert f"({summary['winding_time_s']:,.1f} s)".replace(",", "\u2009") in page  # thin-space thousands
+    for layer in summary["layers"]:
+        assert f"<td>{duration(layer['winding_time_s'])}</td></tr>" in page

@@ -9,5 +9,6 @@ from winder.winding.results import WindingPlan
 
 
 def export(plan: WindingPlan, job, progress: Progress | None = None) -> str:
-    """The page of plan (job is the registry's second argument; the plan carries all it needs)."""
-    return report_html(plan, summary_dict(plan), progress=progress)
+    """The page of plan, with the summary `<name>.summary.json` holds: job's machine gives the winding
+    times (the program is built once for the G-code and the summary, winder.export.programs)."""
+    return report_html(plan, summary_dict(plan, job.machine), progress=progress)
