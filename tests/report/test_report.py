@@ -308,3 +308,27 @@ def _drawn(rb, png: bytes) -> tuple[int, int]:
     pixels = rb.png_pixels(png)[..., :3].astype(int)
     plus = np.array([int("1f77b4"[i:i + 2], 16) for i in (0, 2, 4)])
     return rb.distinct_colors(pixels), int((np.linalg.norm(pixels - plus, axis=2) < COLOR_NEAR).sum())
+
+
+LAPTOP_WIDTH_PX = 1280  # a shop laptop's browser window
+
+
+def test_the_layer_table_fits_its_section_in_a_laptop_window(planned, tmp_path):
+    # Columns past the section's edge are cut off the card and need a sideways scroll of the whole page
+    # to be found: the time and fiber columns of a laminate went missing that way.
+    import report_browser as rb  # noqa: PLC0415
+
+    exe = rb.find_browser()
+    if exe is None:
+        pytest.skip("no chromium found (apt-get install chromium); the browser check of the report did not run")
+    fit = ("(() => { const t = document.querySelector('table.layers'), s = t.closest('section');"
+           " return [t.getBoundingClientRect().right, s.getBoundingClientRect().right,"
+           " document.documentElement.scrollWidth, innerWidth]; })()")
+    with rb.Browser(exe, width=LAPTOP_WIDTH_PX) as browser:
+        for name, (plan, summary, band_width) in planned.items():
+            page = tmp_path / f"{name}.html"
+            page.write_text(report_html(plan, summary, band_width), encoding="utf-8")
+            browser.load(page, READY, settle=0.0)
+            table_right, section_right, page_width, window = browser.evaluate(fit)
+            assert table_right <= section_right and page_width <= window, (name, table_right, section_right,
+                                                                           page_width, window)

@@ -32,7 +32,9 @@ section{background:#fff;border:1px solid #e1e5ea;border-radius:6px;margin:18px 0
 h2{font-size:19px;margin:6px 0 10px;color:#1f3b57} p.how{color:#555;font-size:13px;margin:2px 0 8px}
 table{border-collapse:collapse;font-size:13px} th,td{padding:4px 10px;border-bottom:1px solid #e6e9ed}
 table.layers th{background:#f0f3f6;text-align:center;vertical-align:bottom}
-table.layers td{text-align:right;white-space:nowrap} table.job th{text-align:left;color:#555}
+table.layers th,table.layers td{padding:4px 6px}
+table.layers td{text-align:right;white-space:nowrap} table.layers td .dim{display:block}
+table.job th{text-align:left;color:#555}
 .unit{font-weight:normal;color:#777;font-size:11px} .dim{color:#888} .bad{color:#c62828;font-weight:600}
 ul.notes{font-size:13px;color:#444;margin:8px 0 0 0;padding-left:18px}
 """
