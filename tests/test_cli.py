@@ -137,6 +137,14 @@ def test_cli_option_constants_match_the_library():
     assert cli.METHODS == tuple(m.value for m in Method)
 
 
+def test_run_help_and_readme_name_every_format_run_accepts():
+    from winder.export.registry import SELECTABLE  # noqa: PLC0415
+
+    shown = "|".join(SELECTABLE)  # csv|gcode|ply|layup|report: --format layup is SPEC.md's
+    assert f"--format {shown}" in invoke("run", "--help").stdout
+    assert f"[--format {shown} ...]" in (ROOT / "README.md").read_text(encoding="utf-8")
+
+
 def test_geodesic_text_output():
     result = invoke("geodesic", PIPE, "--start", "20,0", "--end", "480,90", "--points", 10)
     assert result.exit_code == 0, result.output
