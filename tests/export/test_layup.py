@@ -17,6 +17,21 @@ def test_layup_needs_a_material(tmp_path):
     assert "layup" not in ALL_FORMATS
 
 
+def test_layup_without_a_material_is_refused_before_any_planning(tmp_path, monkeypatch):
+    # An invalid request (exit 2) is refused up front, as `check` refuses a config: planning a whole
+    # job first only to refuse it wastes the job's time and shows its fiber length in the status table.
+    import winder.winding.plan  # noqa: PLC0415
+
+    def no_planning(*args, **kwargs):
+        raise AssertionError("planned a job whose layup was going to be refused")
+
+    monkeypatch.setattr(winder.winding.plan, "plan", no_planning)
+    report = run_job(SAMPLES / "pipe.yaml", tmp_path, formats=("csv", "layup"))
+    assert report.exit_code == 2 and "winding.material: required for --format layup" in report.message
+    assert report.layers == 0 and report.fiber_length_mm is None
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_layup_of_the_laminate_sample(tmp_path):
     report = run_job(SAMPLES / "vessel_laminate.yaml", tmp_path, formats=("layup",))
     assert report.ok, report.message

@@ -214,6 +214,10 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                 job = dataclasses.replace(job, source=source)
                 shown = source
             name = job.name
+            if "layup" in formats:  # a request refused from the config alone, before any planning
+                from winder.export.layup import require_material  # noqa: PLC0415
+
+                require_material(job)
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))

@@ -34,11 +34,21 @@ LAYUP_STEP_BANDS = 0.5  # station spacing, in band widths
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")  # "-0.000000" is written "0.000000"
 
 
+def _no_material(source: str) -> ConfigError:
+    return ConfigError("required for --format layup (the layup needs the band's material for its "
+                       "thickness)", file=source, key_path="winding.material")
+
+
+def require_material(job) -> None:
+    """Refuse `--format layup` of a job without a material before it is planned: ConfigError."""
+    if not job.winding.has_laminate:
+        raise _no_material(job.source)
+
+
 def layup_csv_text(plan: WindingPlan, band_width: float) -> str:
     """The layup CSV text. A plan without a laminate (no winding.material) has none: ConfigError."""
     if not any(layer.laminate is not None for layer in plan.layers):
-        raise ConfigError("required for --format layup (the layup needs the band's material for its "
-                          "thickness)", file=plan.source, key_path="winding.material")
+        raise _no_material(plan.source)
     buf = io.StringIO()
     buf.write(HEADER + "\n")
     num = f"%.{DECIMALS}f"
