@@ -141,3 +141,27 @@ def test_the_page_shows_the_winding_times_of_the_summary_file(tmp_path):
     assert f"({summary['winding_time_s']:,.1f} s)".replace(",", "\u2009") in page  # thin-space thousands
     for layer in summary["layers"]:
         assert f"<td>{duration(layer['winding_time_s'])}</td></tr>" in page
+
+
+def test_a_job_past_the_axis_limits_says_so_and_keeps_the_feed_estimate(tmp_path):
+    # `report` writes no program; where none fits machine.limits the summary has winding_time_s null.
+    # The page must say why there is no machine time, and still give the time at the feed.
+    from winder.report.tables import duration  # noqa: PLC0415
+
+    text = PIPE.read_text(encoding="utf-8").replace("carriage: [-100, 700]", "carriage: [0, 500]")
+    assert "carriage: [0, 500]" in text  # the eye leads the fiber to X 514.3 at the far end
+    config = tmp_path / "pipe.yaml"
+    config.write_text(text, encoding="utf-8")
+    res = _run("run", str(config), "--format", "csv", "-o", str(tmp_path / "run"))
+    assert res.exit_code == 0, res.output
+    import json  # noqa: PLC0415
+
+    summary = json.loads((tmp_path / "run" / "pipe.summary.json").read_text(encoding="utf-8"))
+    assert summary["winding_time_s"] is None
+    res = _run("report", str(config), "-o", str(tmp_path / "page"))
+    assert res.exit_code == 0, res.output
+    page = (tmp_path / "page" / "pipe.html").read_text(encoding="utf-8")
+    assert "no machine program fits this machine" in page
+    assert duration(summary["estimated_time_s"]) in page
+    for layer in summary["layers"]:
+        assert f"<td>{duration(layer['time_s'])}" in page

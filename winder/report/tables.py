@@ -32,8 +32,14 @@ def duration(seconds: float | None) -> str:
     return f"{h}:{m:02d}:{s:02d}" if h else f"{m}:{s:02d}"
 
 
+NO_PROGRAM = ("no machine program fits this machine (machine.limits, the eye envelope or its clearance; "
+              "`winder run` says where): the fiber length at the feed")
+
+
 def _time(layer: dict[str, Any]) -> float | None:
-    return layer.get("winding_time_s", layer.get("time_s"))
+    """The machine time of a layer, else (no program, or a summary without one) the time at the feed."""
+    seconds = layer.get("winding_time_s")
+    return layer.get("time_s") if seconds is None else seconds
 
 
 def _angle(layer: dict[str, Any]) -> str:
@@ -110,10 +116,14 @@ def layer_table(summary: dict[str, Any]) -> str:
 
 def job_table(summary: dict[str, Any], extra: list[tuple[str, str]]) -> str:
     """The job's totals (HTML): layers, fiber length, time, and mass / outer radius when present."""
-    time_s = summary.get("winding_time_s", summary.get("estimated_time_s"))
+    time_s = summary.get("winding_time_s")
+    why = ""
+    if time_s is None:  # the summary's null: no program could be built (its key is absent without a machine)
+        why = f" <span class=bad>{html.escape(NO_PROGRAM)}</span>" if "winding_time_s" in summary else ""
+        time_s = summary.get("estimated_time_s")
     rows = [("layers", _num(summary.get("layer_count"), 0)),
             ("fiber length", f"{_num(_scaled(summary.get('total_fiber_length_mm'), 1e-3), 3)} m"),
-            ("winding time", f"{duration(time_s)} <span class=dim>({_num(time_s, 1)} s)</span>")]
+            ("winding time", f"{duration(time_s)} <span class=dim>({_num(time_s, 1)} s)</span>{why}")]
     if summary.get("mass_kg") is not None:
         rows.append(("laminate mass", f"{_num(summary['mass_kg'], 4)} kg"))
     if summary.get("outer_radius_mm") is not None:
