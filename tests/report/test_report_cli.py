@@ -165,3 +165,22 @@ def test_a_job_past_the_axis_limits_says_so_and_keeps_the_feed_estimate(tmp_path
     assert duration(summary["estimated_time_s"]) in page
     for layer in summary["layers"]:
         assert f"<td>{duration(layer['time_s'])}" in page
+
+
+def test_the_passes_column_counts_the_passes_that_lay_fiber(tmp_path):
+    # A shop reads "passes" as traverses of the eye: the pipe's hoop layer is `passes: 2` in its config
+    # and its helical layer 19 circuits of one forward and one return pass; the summary's `passes`
+    # (152 and 4) counts the CSV's pass pieces, turnarounds and dwells included.
+    from winder.report.tables import layer_table  # noqa: PLC0415
+    import json  # noqa: PLC0415
+
+    res = _run("run", str(PIPE), "--format", "csv", "-o", str(tmp_path))
+    assert res.exit_code == 0, res.output
+    summary = json.loads((tmp_path / "pipe.summary.json").read_text(encoding="utf-8"))
+    assert [layer["passes"] for layer in summary["layers"]] == [152, 4]
+    table = layer_table(summary)
+    heads = [h.split("<", 1)[0] for h in table.split("<th>")[1:]]
+    rows = [[c.split("</td>", 1)[0] for c in row.split("<td>")[1:]] for row in table.split("<tr>")[2:]]
+    column = heads.index("passes")
+    assert "passes<br><span class=unit>laid</span>" in table
+    assert [row[column] for row in rows] == ["38", "2"]

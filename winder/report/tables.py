@@ -1,5 +1,6 @@
 """The report's tables, from the summary dict (winder.export.summary.summary_dict) alone, so the page
-shows exactly the numbers of `<name>.summary.json`.
+shows exactly the numbers of `<name>.summary.json` (but for the passes laid, counted from the circuits:
+the summary's `passes` counts the CSV's pieces, turnarounds included).
 
 Columns appear only when some layer has the value: a plan from a laminate- or friction-aware planner
 adds thickness, masses and the friction used, and the table grows with it.
@@ -51,6 +52,15 @@ def _angle(layer: dict[str, Any]) -> str:
     return text
 
 
+def _passes(layer: dict[str, Any]) -> str:
+    """The passes that lay fiber: a circuit is one forward and one return pass, a hoop traverse one
+    (the summary's `passes` counts the CSV's pieces, turnarounds and dwells included)."""
+    circuits = layer.get("circuits")
+    if circuits is None:
+        return _num(layer.get("passes"), 0)
+    return _num(2 * circuits if layer.get("type") == "helical" else circuits, 0)
+
+
 def _pair(values: Any, decimals: int, sep: str = " – ") -> str:
     if not values or any(v is None for v in values):
         return "–"
@@ -77,7 +87,7 @@ COLUMNS: tuple[Column, ...] = (
     ("angle", "deg", _angle, "angle_deg"),
     ("circuits", "", lambda l: _num(l.get("circuits"), 0), "circuits"),
     ("pattern k", "", lambda l: _num(l.get("pattern"), 0) if l.get("type") == "helical" else "–", "pattern"),
-    ("passes", "", lambda l: _num(l.get("passes"), 0), "passes"),
+    ("passes", "laid", _passes, "passes"),
     ("|α| range", "deg", lambda l: _pair(l.get("alpha_range_deg"), 2), "alpha_range_deg"),
     ("turnaround r", "mm", lambda l: _num(l.get("turnaround_radius_mm"), 2), "turnaround_radius_mm"),
     ("dwell start / end", "deg", lambda l: _pair([l.get("dwell_start_deg"), l.get("dwell_end_deg")], 1, " / "),
