@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -135,6 +136,13 @@ def test_cli_option_constants_match_the_library():
 
     assert cli.DEFAULT_POINTS == DEFAULT_POINTS
     assert cli.METHODS == tuple(m.value for m in Method)
+
+
+@pytest.mark.parametrize("command", ["geodesic", "run", "report", "check", "regress", "simulate"])
+def test_every_command_help_says_what_its_exit_status_means(command):
+    text = " ".join(invoke(command, "--help").stdout.split())
+    assert re.search(r"Exit status( as for run)?: 0 ", text), text
+    assert "--method" not in text or "the paper's" in text  # geodesic's --method says what lbfgs is
 
 
 def test_run_help_and_readme_name_every_format_run_accepts():

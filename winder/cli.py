@@ -104,7 +104,7 @@ def main() -> None:
     """winder: filament-winding CAM on sweep-surface mandrels."""
 
 
-@main.command("geodesic")
+@main.command("geodesic", short_help="The geodesic on the mandrel of CONFIG from START to END.")
 @click.argument("config", type=click.Path(dir_okay=False))
 @click.option("--start", required=True, metavar="T,DEG", help="Start point: station t (mm), angle (deg).")
 @click.option("--end", required=True, metavar="T,DEG", help="End point: station t (mm), angle (deg).")
@@ -113,7 +113,7 @@ def main() -> None:
               help=f"Intermediate points (default {DEFAULT_POINTS}, and at least 48 per round).")
 @click.option("--tolerance", type=click.FloatRange(min=0, min_open=True), default=None, metavar="MM",
               help="Choose the points so that the length's error bound is below MM.")
-@click.option("--method", type=click.Choice(METHODS), default="newton", show_default=True)
+@click.option("--method", type=click.Choice(METHODS), default="newton", show_default=True, help="lbfgs: the paper's.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), default=None, help="Write the path CSV here.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
 @_TIME_LIMIT
@@ -121,7 +121,8 @@ def main() -> None:
 def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | None,
                  tolerance: float | None, method: str, output: str | None, as_json: bool,
                  time_limit: float) -> None:
-    """The geodesic on the mandrel of CONFIG from START to END."""
+    """The geodesic on the mandrel of CONFIG from START to END (END's angle + 360 N for --rounds N). Exit
+    status: 0 solved, 2 a bad option or an invalid config, 1 no convergence or past --time-limit."""
     from winder.app.requests import geodesic_json, solve_geodesic  # noqa: PLC0415
     from winder.export.path_csv import write_path_csv  # noqa: PLC0415
 
@@ -140,11 +141,11 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
             click.echo(f"  wrote {output}")
 
 
-@main.command("check")
+@main.command("check", short_help="Validate configs as `run` would, without computing paths.")
 @click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
 def check_cmd(configs: tuple[str, ...]) -> None:
     """Validate configs as `run` would, before computing: values, geometry, the winding plan, the
-    work budget (no path computation)."""
+    work budget (no path computation). Exit status: 0 every config valid, 2 if any is invalid."""
     from winder.app.batch import name_clash  # noqa: PLC0415
     from winder.app.jobs import exit_status  # noqa: PLC0415
     from winder.app.validate import validate  # noqa: PLC0415
@@ -341,13 +342,16 @@ def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int, time_limit: fl
 
 
 # -- regress ---------------------------------------------------------------------------------------
-@main.command("simulate", help="Reconstruct what PROGRAM (any dialect `run` writes for CONFIG) lays.")
+@main.command("simulate", short_help="Read a program back: what it lays, and its time.")
 @click.argument("config", type=click.Path(dir_okay=False))
 @click.argument("program", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the laid path CSV here.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
 @_guard
 def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -> None:
+    """Read PROGRAM (any dialect `run` writes for CONFIG) back through the machine's kinematics: what it lays,
+    its machine time and how far it lies from the plan. Exit status: 0 read, 2 an invalid config or a refused
+    program (cut short, past machine.limits, the eye inside the mandrel, another job's), 1 a job not planned."""
     from winder.app.simulate import simulate_files  # noqa: PLC0415
 
     click.echo(simulate_files(config, program, output, as_json))
