@@ -166,8 +166,9 @@ FLAT_TIME_TOL = 5e-3  # relative: the rounded tube's contacts on corners are not
 
 def test_a_program_cut_short_is_refused(plan):
     """A program without its end (M2) or whose last row does not end the plan is refused, naming the line."""
-    text = gcode_text(plan, MACHINE)
-    cut = text[: len(text) // 2]
+    lines = gcode_text(plan, MACHINE).splitlines()
+    moves = [k for k, line in enumerate(lines) if line.startswith("G1 ")]
+    cut = "\n".join(lines[: moves[len(moves) // 2] + 1])  # half its moves
     with pytest.raises(ConfigError, match=r"line \d+: the program stops without its end \(M2\)") as err:
         simulate(MACHINE, plan, cut)
     assert err.value.exit_code == 2

@@ -38,4 +38,7 @@ class GenericGcode(BaseDialect):
                 f"the free fiber's direction d at the eye, {ax.yaw} = atan2(d.z, d.u) with u the eye's "
                 f"tangential direction (0 hoop, + forward, - return); on a cylinder of radius R with the "
                 f"eye at {ax.cross_feed}: tan({ax.yaw}) = {ax.cross_feed} / (R tan(alpha)), alpha the "
-                f"winding angle on the mandrel"]
+                f"winding angle on the mandrel",
+                "; F: the fiber's feed along its path on the mandrel (machine.feed), not the axes' speed; "
+                "for a controller that reads F as the axes' speed (G94) use the linuxcnc dialect (inverse "
+                "time, from the machine dynamics)"]
