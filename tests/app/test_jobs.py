@@ -4,7 +4,9 @@ processes."""
 
 from __future__ import annotations
 
+import os
 import pickle
+import stat
 from pathlib import Path
 
 import pytest
@@ -118,11 +120,8 @@ def test_failure_while_writing_removes_what_was_renamed(tiny, tmp_path, monkeypa
     assert names(out) == set()  # nothing of this job, no temporary file either
 
 
-def test_failure_while_writing_puts_back_the_previous_outputs(tiny, tmp_path, monkeypatch):
-    out = tmp_path / "out"
-    assert run_job(tiny, out).ok
-    before = contents(out)
-    tiny.write_text(TINY.replace("angle: 45", "angle: 40"))  # a new plan: different bytes
+def _third_write_fails(monkeypatch):
+    """Make the third file a job writes fail, as a full disk would; returns the real writer."""
     real = winder.export.atomic.write_atomic
     calls = []
 
@@ -133,12 +132,45 @@ def test_failure_while_writing_puts_back_the_previous_outputs(tiny, tmp_path, mo
         real(path, data)
 
     monkeypatch.setattr(winder.export.atomic, "write_atomic", flaky)
+    return real
+
+
+def test_failure_while_writing_puts_back_the_previous_outputs(tiny, tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    assert run_job(tiny, out).ok
+    before = contents(out)
+    tiny.write_text(TINY.replace("angle: 45", "angle: 40"))  # a new plan: different bytes
+    real = _third_write_fails(monkeypatch)
     assert not run_job(tiny, out).ok
     assert contents(out) == before  # the earlier run's files, whole, and nothing else
     monkeypatch.setattr(winder.export.atomic, "write_atomic", real)
     assert run_job(tiny, out).ok
     after = contents(out)
     assert after.keys() == before.keys() and after["tiny.csv"] != before["tiny.csv"]
+
+
+def test_failure_while_writing_keeps_links_and_fifos_of_the_folder(tiny, tmp_path, monkeypatch):
+    """An output name that is a link (to a file kept elsewhere) or a FIFO: the failed job puts the
+    link's file back and leaves link and FIFO in place, never a regular file instead of them."""
+    out = tmp_path / "out"
+    assert run_job(tiny, out).ok
+    kept = tmp_path / "kept.csv"
+    (out / "tiny.csv").rename(kept)
+    (out / "tiny.csv").symlink_to(kept)
+    fifo = out / "tiny.gcode"
+    (out / "tiny.gcode").unlink()
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    before = kept.read_bytes()
+    tiny.write_text(TINY.replace("angle: 45", "angle: 40"))
+    real = _third_write_fails(monkeypatch)
+    try:
+        assert not run_job(tiny, out).ok
+        assert os.read(reader, 1 << 20).startswith(b";")  # the program went into the FIFO
+    finally:
+        os.close(reader)
+    assert (out / "tiny.csv").is_symlink() and kept.read_bytes() == before
+    assert stat.S_ISFIFO(fifo.lstat().st_mode)
 
 
 def test_interrupt_while_writing_removes_what_was_renamed(tiny, tmp_path, monkeypatch):

@@ -57,3 +57,49 @@ def test_a_failed_write_leaves_nothing(tmp_path, monkeypatch):
     with pytest.raises(ExportError, match="No space left on device"):
         atomic.write_atomic(tmp_path / "job.csv", "x")
     assert list(tmp_path.iterdir()) == []
+
+
+def _null_device(tmp_path):
+    """A character device like /dev/null inside tmp_path (mknod needs root), else skip."""
+    device = tmp_path / "null"
+    try:
+        os.mknod(device, 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+    except (PermissionError, AttributeError, OSError):
+        pytest.skip("cannot make a device node here")
+    return device
+
+
+def test_a_device_is_written_into_not_replaced(tmp_path):
+    """`-o /dev/null` must not put a regular file where the device was (a rename would, as root)."""
+    device = _null_device(tmp_path)
+    atomic.write_atomic(device, "x,y\n")
+    assert stat.S_ISCHR(device.stat().st_mode)
+    link = tmp_path / "job.csv"
+    link.symlink_to(device)
+    atomic.write_atomic(link, "x,y\n")
+    assert link.is_symlink() and stat.S_ISCHR(device.stat().st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["job.csv", "null"]
+
+
+def test_a_fifo_gets_the_payload_and_one_without_reader_is_refused(tmp_path):
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    with pytest.raises(ExportError, match=r"pipe.csv: cannot write here: a FIFO that nobody reads$"):
+        atomic.write_atomic(fifo, "x")  # at once, not blocked forever
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        atomic.write_atomic(fifo, "x,y\n")
+        assert os.read(reader, 100) == b"x,y\n"
+    finally:
+        os.close(reader)
+    assert stat.S_ISFIFO(fifo.stat().st_mode)
+
+
+def test_a_link_to_a_file_stays_a_link(tmp_path):
+    real = tmp_path / "real.csv"
+    real.write_text("old")
+    link = tmp_path / "job.csv"
+    link.symlink_to(real)
+    atomic.write_atomic(link, "new")
+    assert link.is_symlink() and real.read_text() == "new"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["job.csv", "real.csv"]

@@ -137,19 +137,23 @@ def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
     back (it is kept as a hard link until the end), so the folder holds the old set or the new set,
     never a mix.
     """
-    from winder.export.atomic import write_atomic  # noqa: PLC0415
+    from winder.export.atomic import is_stream, output_target, write_atomic  # noqa: PLC0415
 
     folder = Path(out_dir)
-    written: list[Path] = []
+    written: list[Path] = []  # the files to take back: a link's target, not a device it names
     backups: dict[Path, Path] = {}
     try:
         for file_name, data in rendered.items():
             path = folder / file_name
-            backup = _keep_old(path)
+            if is_stream(path):  # a device or FIFO in the folder (a link to /dev/null): nothing to take back
+                write_atomic(path, data)
+                continue
+            target = output_target(path)
+            backup = _keep_old(target)
             if backup is not None:
-                backups[path] = backup
-            write_atomic(path, data)
-            written.append(path)
+                backups[target] = backup
+            write_atomic(target, data)
+            written.append(target)
     except BaseException:
         for path in reversed(written):
             try:
@@ -166,7 +170,7 @@ def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
                 backup.unlink(missing_ok=True)
             except OSError:
                 pass
-    return [str(p) for p in written]
+    return [str(folder / file_name) for file_name in rendered]
 
 
 def _keep_old(path: Path) -> Path | None:

@@ -1,11 +1,16 @@
 """Atomic file writes: a temporary file in the target folder, then a rename.
 
-A job that fails leaves no output file of its own behind, not even a partial one (SPEC.md).
+A job that fails leaves no output file of its own behind, not even a partial one (SPEC.md). An
+output path that names a device, a FIFO or a socket (`-o /dev/null`, `-o /dev/stdout`) is written
+straight into it: a rename would put a regular file in the device's place. A symbolic link to a
+file stays a link: the file it names is replaced.
 """
 
 from __future__ import annotations
 
+import errno
 import os
+import stat
 from pathlib import Path
 
 from winder.errors import ExportError
@@ -28,15 +33,50 @@ def _open_temporary(path: Path) -> tuple[int, Path]:
     raise FileExistsError(f"no free temporary name beside {path.name} after {NAME_TRIES} tries")
 
 
+def is_stream(path: Path) -> bool:
+    """Whether path (links followed) is a device, a FIFO or a socket: written into, never replaced."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:  # missing, or a dangling link
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
+
+
+def output_target(path: str | Path) -> Path:
+    """The path a write to path replaces: the file a symbolic link names (so the link stays), else path."""
+    path = Path(path)
+    return path.resolve() if path.is_symlink() and not is_stream(path) else path
+
+
+def _write_stream(path: Path, payload: bytes) -> None:
+    # O_NONBLOCK: a FIFO nobody reads refuses at once (ENXIO) instead of blocking forever.
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        why = "a FIFO that nobody reads" if exc.errno == errno.ENXIO else exc.strerror or str(exc)
+        raise ExportError(f"{path}: cannot write here: {why}") from exc
+    try:
+        os.set_blocking(fd, True)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(payload)
+    except OSError as exc:
+        raise ExportError(f"{path}: cannot write: {exc.strerror or exc}") from exc
+
+
 def write_atomic(path: str | Path, data: bytes | str) -> None:
     """Write data to path so that readers see either the old file or the whole new one."""
     path = Path(path)
     payload = data.encode("utf-8") if isinstance(data, str) else data
+    if is_stream(path):
+        _write_stream(path, payload)
+        return
+    target = output_target(path)
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = _open_temporary(path)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = _open_temporary(target)
     except (FileExistsError, NotADirectoryError) as exc:  # a file where a folder of the path should be
-        blocker = next((p for p in (path.parent, *path.parent.parents) if p.exists() and not p.is_dir()), None)
+        blocker = next((p for p in (target.parent, *target.parent.parents) if p.exists() and not p.is_dir()),
+                       None)
         why = f"{blocker} is a file, not a folder" if blocker is not None else exc.strerror or str(exc)
         raise ExportError(f"{path}: cannot write here: {why}") from exc
     except OSError as exc:
@@ -44,7 +84,7 @@ def write_atomic(path: str | Path, data: bytes | str) -> None:
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(payload)
-        os.replace(tmp, path)
+        os.replace(tmp, target)
     except OSError as exc:
         tmp.unlink(missing_ok=True)
         raise ExportError(f"{path}: cannot write: {exc.strerror}") from exc
