@@ -43,6 +43,7 @@ REFUSED = {
     "name_dotdot": (2, 2, "name"),
     "superellipse_1000": (2, 2, "mandrel.section.exponent"),
     "deep_nesting": (2, 2, "invalid YAML"),
+    "alias_bomb": (2, 2, "name"),
     "yaw_limit": (0, 1, "machine.limits.yaw"),
     # the geodesic bridges the tight bend (refused by the friction check); or the time limit stops it
     "tight_spline": (0, {1}, ("winding.layers[0]: the fiber bridges", "time limit of 20 s")),

@@ -6,10 +6,11 @@ Every error a Reader raises is a ConfigError reading `<file>: <key.path>: <what 
 
 from __future__ import annotations
 
+import datetime
 import difflib
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from typing import Any
 
 import yaml
@@ -52,9 +53,14 @@ class YamlLoader(_Rules, yaml.SafeLoader):
     yaml_implicit_resolvers: dict[str, list[tuple[str, re.Pattern[str]]]] = {}
 
 
+_INT_DIGITS = 400  # digits of the longest integer read as one: 1e400 is beyond a float already
+
+
 def _construct_int(loader: YamlLoader, node: yaml.ScalarNode) -> int:
     text = loader.construct_scalar(node)
     base = 16 if text.startswith("0x") else 8 if text.startswith("0o") else 10
+    if len(text) > _INT_DIGITS:  # past any float, and past what Python converts (4,300 digits)
+        return -math.inf if text.startswith("-") else math.inf
     return int(text[2:] if base != 10 else text, base)
 
 
@@ -66,7 +72,10 @@ def _construct_float(loader: YamlLoader, node: yaml.ScalarNode) -> float:
 
 
 def _construct_bool(loader: YamlLoader, node: yaml.ScalarNode) -> bool:
-    return loader.construct_scalar(node).lower() == "true"
+    text = loader.construct_scalar(node).lower()
+    if text not in ("true", "false"):  # an explicit `!!bool yes`
+        raise ValueError(text)
+    return text == "true"
 
 
 YamlLoader.add_implicit_resolver("tag:yaml.org,2002:null", re.compile(r"^(?:~|null|Null|NULL|)$"),
@@ -82,9 +91,25 @@ YamlLoader.add_implicit_resolver(
     re.compile(r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
                r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$"),
     list("-+.0123456789"))
-YamlLoader.add_constructor("tag:yaml.org,2002:int", _construct_int)
-YamlLoader.add_constructor("tag:yaml.org,2002:float", _construct_float)
-YamlLoader.add_constructor("tag:yaml.org,2002:bool", _construct_bool)
+def _refusing(kind: str, construct: Callable[[Any, yaml.ScalarNode], Any]) -> Callable[[Any, yaml.ScalarNode], Any]:
+    """construct, with a scalar it cannot read (an explicit `!!int abc`, `!!timestamp 2001-13-45`, an
+    int of 5,000 digits) refused as invalid YAML at the value's line, not as a Python exception."""
+
+    def checked(loader: Any, node: yaml.ScalarNode) -> Any:
+        try:
+            return construct(loader, node)
+        except (ValueError, TypeError, AttributeError, OverflowError) as exc:
+            raise yaml.constructor.ConstructorError(
+                None, None, f"{show_value(node.value)} is not {kind}", node.start_mark) from exc
+
+    return checked
+
+
+for _tag, _kind, _construct in (("int", "a whole number", _construct_int), ("float", "a number", _construct_float),
+                                ("bool", "true or false", _construct_bool),
+                                ("timestamp", "a date", yaml.SafeLoader.construct_yaml_timestamp),
+                                ("binary", "base64 data", yaml.SafeLoader.construct_yaml_binary)):
+    YamlLoader.add_constructor(f"tag:yaml.org,2002:{_tag}", _refusing(_kind, _construct))
 
 
 try:
@@ -137,8 +162,51 @@ def show_value(value: object) -> str:
         if math.isinf(value):
             return ".inf" if value > 0 else "-.inf"
         return str(int(value)) if value.is_integer() and abs(value) < 1e15 else repr(value)
-    text = repr(value)  # strings keep their quotes, so 40 and '40' stay distinguishable
-    return text if len(text) <= 80 else text[:77] + "..."
+    text = ""  # strings keep their quotes, so 40 and '40' stay distinguishable
+    for piece in _pieces(value, 0):
+        text += piece
+        if len(text) > SHOWN_CHARS:
+            break  # a list of aliases to aliases (a "billion laughs") is never rendered whole
+    return text if len(text) <= SHOWN_CHARS else text[:SHOWN_CHARS - 3] + "..."
+
+
+SHOWN_CHARS = 80  # a value in a message: enough to recognize it on one line
+_SHOWN_DEPTH = 20  # levels of nesting rendered; the message is cut long before a job file's nesting
+
+
+def _pieces(value: object, depth: int) -> Iterator[str]:
+    """value as Python writes it (repr), piece by piece, so that the caller can stop early."""
+    if depth > _SHOWN_DEPTH:
+        yield "..."
+    elif isinstance(value, (list, tuple, dict, set, frozenset)):
+        if isinstance(value, dict):
+            items: Iterable[Any] = value.items()
+        elif isinstance(value, (set, frozenset)):  # repr's order follows string hashing, which varies per run
+            items = sorted(value, key=repr)
+        else:
+            items = value
+        if not value and isinstance(value, (set, frozenset)):
+            yield "set()"
+            return
+        opening, closing = {list: "[]", tuple: "()", dict: "{}"}.get(type(value), "{}")
+        if isinstance(value, tuple) and len(value) == 1:
+            closing = ",)"
+        yield opening
+        for i, item in enumerate(items):
+            if i:
+                yield ", "
+            if isinstance(value, dict):
+                yield from _pieces(item[0], depth + 1)
+                yield ": "
+                item = item[1]
+            yield from _pieces(item, depth + 1)
+        yield closing
+    elif isinstance(value, (datetime.date, datetime.time)):  # an explicit !!timestamp
+        yield value.isoformat()
+    elif isinstance(value, (str, bytes)):
+        yield repr(value[:SHOWN_CHARS])  # a long one is cut anyway
+    else:
+        yield repr(value)
 
 
 class Reader:
