@@ -241,3 +241,31 @@ def test_a_robot_pose_inside_the_mandrel_is_refused():
                                           r"inside its surface at t = [\d.]+ mm, got pose X") as err:
         simulate(job.machine, plan, "\n".join(lines))
     assert err.value.exit_code == 2
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda w: w[:2] + ["Ainf"] + w[3:], r"A must be a finite number within \+-1e\+12, got inf"),
+    (lambda w: w[:2] + ["A-1e300"] + w[3:], r"A must be a finite number within \+-1e\+12, got -1e\+300"),
+    (lambda w: w[:2] + [w[1]] + w[2:], r"X given twice in one move"),
+    (lambda w: w[:-1] + ["F0"], r"the feed F must be > 0 \(no controller moves at it\), got 0.0"),
+])
+def test_a_move_no_controller_runs_is_refused(plan, edit, message):
+    """A rotation has no travel limit: an edited A of inf or -1e300 gave a time of NaN (and NaN in the
+    JSON); an axis written twice or a zero feed was read as if the controller moved."""
+    lines = gcode_text(plan, MACHINE).splitlines()
+    k = [i for i, line in enumerate(lines) if line.startswith("G1 X")][1]
+    lines[k] = " ".join(edit(lines[k].split()))
+    with pytest.raises(ConfigError, match=rf"line {k + 1}: {message}") as err:
+        simulate(MACHINE, plan, "\n".join(lines))
+    assert err.value.exit_code == 2
+
+
+@pytest.mark.parametrize("cross_feed", ["Zabc", "Z", "Zinf"])
+def test_an_unreadable_fixed_eye_comment_is_refused(plan, cross_feed):
+    """marlin's '; fixed eye: cross-feed Z70.000 mm' edited to garbage: an internal error before."""
+    machine = replace(MACHINE, dialect="marlin")
+    lines = gcode_text(plan, machine).splitlines()
+    k = next(i for i, line in enumerate(lines) if line.startswith("; fixed eye: cross-feed Z"))
+    lines[k] = "; fixed eye: cross-feed " + cross_feed
+    with pytest.raises(ConfigError, match=rf"line {k + 1}: (unreadable cross-feed|the fixed-eye cross-feed)"):
+        simulate(machine, plan, "\n".join(lines))

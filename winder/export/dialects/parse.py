@@ -7,7 +7,8 @@ yaw) for a straight-axis winder (marlin's A and B negated back, its fixed cross-
 linuxcnc program included, is one programmed point. A line that is not what the dialect writes is
 an error naming the line. A program is refused unless it is whole and within the machine: one
 without its end (M2: a file cut short; marlin writes no end, simulate checks that its last row ends
-the plan) and one with an axis value outside machine.limits, naming the line and the value.
+the plan), one with an axis value outside machine.limits, and a move no controller runs (a word
+given twice, a value not finite or past MAX_WORD_VALUE, a feed F <= 0), naming the line and the value.
 """
 
 from __future__ import annotations
@@ -29,6 +30,9 @@ _BLOCK_NUMBER = re.compile(r"^N\d+\s*")
 _PADDED_G = re.compile(r"^G0+(\d)$")  # G01 is G1, G00 is G0
 _SKIP = {"G21", "G90", "G94", "G93", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
 _ROLE_COLUMN = {"carriage": 0, "rotation": 1, "cross_feed": 2, "yaw": 3}
+# The largest value of a word: a job's cumulative rotation stays below 1e9 deg (1.5 million points,
+# less than a turn each); beyond, squared distances and times of the dynamics overflow to inf and nan.
+MAX_WORD_VALUE = 1e12
 
 
 @record(eq=False)
@@ -99,7 +103,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
             if hit:
                 key, kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
             elif line.upper().startswith(marlin.FIXED_EYE.upper()):
-                fixed_z = float(line[len(marlin.FIXED_EYE):].split()[0])
+                fixed_z = _fixed_eye(line, number, source)
             continue
         code = _code(line)
         if not code or code in _SKIP or code.startswith("G64 P"):
@@ -117,6 +121,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
             values = {w[0]: float(w[1:]) for w in words[1:]}
         except (ValueError, IndexError) as exc:
             raise ConfigError(f"{source}: line {number}: unreadable number in {line[:60]!r}") from exc
+        _check_words(words[1:], values, number, source)
         missing = [c for c in letters if c not in values]
         if missing:
             raise ConfigError(f"{source}: line {number}: axis {missing[0]} missing in {line[:60]!r}")
@@ -140,6 +145,35 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
                                                                                   ax.cross_feed, ax.yaw), source)
     return ParsedProgram(dialect, table, np.array(keys, dtype=int).reshape(-1, 3), tuple(kinds),
                          np.array(feeds, dtype=float), lines)
+
+
+def _fixed_eye(line: str, number: int, source: str) -> float:
+    """The cross-feed of marlin's `; fixed eye: cross-feed Z70.000 mm ...` comment."""
+    rest = line[len(marlin.FIXED_EYE):].split()
+    try:
+        value = float(rest[0])
+    except (IndexError, ValueError) as exc:
+        raise ConfigError(f"{source}: line {number}: unreadable cross-feed in the fixed-eye comment, got "
+                          f"{line[:60]!r}") from exc
+    if not np.isfinite(value):
+        raise ConfigError(f"{source}: line {number}: the fixed-eye cross-feed must be a finite number, got {value!r}")
+    return value
+
+
+def _check_words(words: list[str], values: dict[str, float], number: int, source: str) -> None:
+    """Refuse a move a controller refuses: an axis written twice (which one would it take?), a value
+    that is not finite (a rotation has no travel limit to catch it), a feed it cannot move at."""
+    if len(values) < len(words):
+        twice = next(w[0] for i, w in enumerate(words) if any(v[0] == w[0] for v in words[:i]))
+        raise ConfigError(f"{source}: line {number}: {twice} given twice in one move, got "
+                          f"{' '.join(words)[:60]!r}")
+    for letter, value in values.items():
+        if not abs(value) <= MAX_WORD_VALUE:
+            raise ConfigError(f"{source}: line {number}: {letter} must be a finite number within "
+                              f"+-{MAX_WORD_VALUE:g}, got {value!r}")
+    if "F" in values and not values["F"] > 0.0:
+        raise ConfigError(f"{source}: line {number}: the feed F must be > 0 (no controller moves at it), "
+                          f"got {values['F']!r}")
 
 
 def _check_limits(table: np.ndarray, lines: np.ndarray, machine: MachineConfig, letters, source: str) -> None:
