@@ -10,8 +10,11 @@ import csv
 import io
 import json
 import math
+import os
 import re
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -473,3 +476,34 @@ def test_regress_usage_errors(tmp_path):
     assert result.exit_code == 2 and error_lines(result)
     result = invoke("regress", tmp_path)  # a folder without samples
     assert result.exit_code == 2 and "no samples" in error_lines(result)[0]
+
+
+# -- standard output that cannot be written --------------------------------------------------------
+def _winder(args: list[str], stdout) -> subprocess.CompletedProcess:
+    """winder in a child process whose standard output is stdout (a closed pipe, /dev/full)."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    return subprocess.run([sys.executable, "-m", "winder", *args], stdout=stdout, stderr=subprocess.PIPE,
+                          text=True, env=env, timeout=120, check=False)
+
+
+@pytest.mark.parametrize("args", [["check", str(PIPE)], ["--help"],
+                                  ["geodesic", str(PIPE), "--start", "10,0", "--end", "100,0", "--json"]])
+def test_a_closed_pipe_ends_quietly(args):
+    """`winder ... | head -1` with the reader gone: exit 1 and nothing on stderr, as click does for its
+    own output; before, winder's own output said 'internal error (BrokenPipeError); please report it'."""
+    read, write = os.pipe()
+    os.close(read)
+    with os.fdopen(write, "w") as closed:
+        proc = _winder(args, closed)
+    assert (proc.returncode, proc.stderr) == (1, "")
+
+
+@pytest.mark.skipif(not Path("/dev/full").is_char_device(), reason="no /dev/full")
+@pytest.mark.parametrize("args", [["check", str(PIPE)], ["--help"],
+                                  ["geodesic", str(PIPE), "--start", "10,0", "--end", "100,0"]])
+def test_a_full_standard_output_is_one_error_line(args):
+    """Standard output on a full disk: one Error line and exit 1, not an internal error or a traceback."""
+    with open("/dev/full", "w") as full:
+        proc = _winder(args, full)
+    assert proc.returncode == 1
+    assert proc.stderr == "Error: standard output: cannot write: No space left on device\n"

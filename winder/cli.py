@@ -17,7 +17,7 @@ import click
 
 from winder import __version__
 from winder.app.interrupts import interrupts_raise
-from winder.errors import Interrupted
+from winder.errors import ExportError, Interrupted, WinderError
 
 # Each command imports the stages it needs when it runs: numpy, scipy and the pipeline take most of a
 # second to import, which `winder --help` and `winder check` should not pay. So the two values the
@@ -29,13 +29,25 @@ DEFAULT_TIME_LIMIT = 600.0  # s per job: the largest job the work budget allows 
 MAX_ROUNDS = 1000  # --rounds and the turns of --start / --end: a 1000-round helix needs 48,000 points
 
 
+def _echo(message: str, err: bool = False) -> None:
+    """click.echo; standard output on a full disk is an ExportError (exit 1). A closed pipe goes on to
+    click, which ends quietly with exit 1; standard error closed or full leaves the exit status alone."""
+    try:
+        click.echo(message, err=err)
+    except OSError as exc:
+        if not err and not isinstance(exc, BrokenPipeError):
+            raise ExportError(f"standard output: cannot write: {exc.strerror or exc}") from exc
+        if not err:
+            raise
+
+
 def _error(exc: BaseException, source: str | None = None) -> int:
     """Print the one `Error: ...` line of exc (naming source if the message does not) and return
     its SPEC exit status: 2 for an invalid config or bad input, 1 for anything that could not be
     computed or written, 1 (with a please-report note) for an unexpected exception."""
     from winder.app.jobs import error_message, exit_code_of  # noqa: PLC0415
 
-    click.echo(f"Error: {error_message(exc, source)}", err=True)
+    _echo(f"Error: {error_message(exc, source)}", err=True)
     return exit_code_of(exc)
 
 
@@ -49,7 +61,8 @@ def _guard(fn: Callable) -> Callable:
     def wrapper(*args, **kwargs):
         try:
             return fn(*args, **kwargs)
-        except (KeyboardInterrupt, Interrupted, click.exceptions.Exit, click.ClickException, click.Abort):
+        except (KeyboardInterrupt, Interrupted, BrokenPipeError, click.exceptions.Exit, click.ClickException,
+                click.Abort):  # BrokenPipeError: click ends quietly
             raise
         except Exception as exc:  # noqa: BLE001 - the promise is: no traceback, ever
             sys.exit(_error(exc))
@@ -64,22 +77,26 @@ class WinderGroup(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:  # a caller handling click's exceptions itself
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
-        try:
-            with warnings.catch_warnings(), interrupts_raise():
-                warnings.simplefilter("ignore")  # numbers are checked where they are reported
-                rv = super().main(args, prog_name, complete_var, False, **extra)
-        except click.exceptions.NoArgsIsHelpError as exc:  # a bare `winder`: the help, as click shows it
-            click.echo(exc.ctx.get_help() if exc.ctx is not None else exc.format_message())
-            sys.exit(exc.exit_code)
-        except click.ClickException as exc:
-            click.echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
-            sys.exit(exc.exit_code)
-        except Interrupted as exc:
-            click.echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
-            sys.exit(exc.exit_code)
-        except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread
-            click.echo("Error: interrupted by SIGINT", err=True)
-            sys.exit(130)
+        try:  # the outer one: standard output on a full disk past _guard (click's --help, the bare help)
+            try:
+                with warnings.catch_warnings(), interrupts_raise():
+                    warnings.simplefilter("ignore")  # numbers are checked where they are reported
+                    rv = super().main(args, prog_name, complete_var, False, **extra)
+            except click.exceptions.NoArgsIsHelpError as exc:  # a bare `winder`: the help, as click shows it
+                _echo(exc.ctx.get_help() if exc.ctx is not None else exc.format_message())
+                sys.exit(exc.exit_code)
+            except click.ClickException as exc:
+                _echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
+                sys.exit(exc.exit_code)
+            except Interrupted as exc:
+                _echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
+                sys.exit(exc.exit_code)
+            except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread
+                _echo("Error: interrupted by SIGINT", err=True)
+                sys.exit(130)
+        except (WinderError, OSError) as exc:  # a closed pipe click ends itself, quietly
+            why = exc if isinstance(exc, WinderError) else ExportError(f"standard output: cannot write: {exc.strerror}")
+            sys.exit(_error(why))
         sys.exit(rv if isinstance(rv, int) else 0)
 
 
@@ -123,22 +140,16 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
                  time_limit: float) -> None:
     """The geodesic on the mandrel of CONFIG from START to END (END's angle + 360 N for --rounds N). Exit
     status: 0 solved, 2 a bad option or an invalid config, 1 no convergence or past --time-limit."""
-    from winder.app.requests import geodesic_json, solve_geodesic  # noqa: PLC0415
+    from winder.app.requests import geodesic_json, geodesic_text, solve_geodesic  # noqa: PLC0415
     from winder.export.path_csv import write_path_csv  # noqa: PLC0415
 
     job, res = solve_geodesic(config, start, end, rounds, points, tolerance, method, time_limit, MAX_ROUNDS, MAX_POINTS)
     if output:
         write_path_csv(output, res)
     if as_json:
-        click.echo(json.dumps(geodesic_json(job.name, res, rounds), allow_nan=False))
+        _echo(json.dumps(geodesic_json(job.name, res, rounds), allow_nan=False))
     else:
-        click.echo(f"{job.name}: geodesic length {res.length:.9f} mm ({res.n} points, {rounds} rounds)")
-        click.echo(f"  polyline {res.polyline_length:.9f} mm, Richardson {res.length_extrapolated:.9f} mm "
-                   f"+- {res.error_estimate:.2e}")
-        click.echo(f"  {res.method.value}: {res.iterations} iterations, {res.reason.value}, "
-                   f"{res.seconds * 1e3:.1f} ms")
-        if output:
-            click.echo(f"  wrote {output}")
+        _echo(geodesic_text(job.name, res, rounds, output))
 
 
 @main.command("check", short_help="Validate configs as `run` would, without computing paths.")
@@ -161,7 +172,7 @@ def check_cmd(configs: tuple[str, ...]) -> None:
         except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
             codes.append(_error(exc, path))
         else:
-            click.echo(f"ok: {path} ({job.name})")
+            _echo(f"ok: {path} ({job.name})")
     status = exit_status(codes)  # as `run` would exit: 2 if any is invalid, 1 if one cannot be wound
     if status:
         sys.exit(status)
@@ -274,9 +285,9 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
     done = [r for r in reports if r is not None]
     for report in done:
         if not report.ok:
-            click.echo(f"Error: {report.message}", err=True)
+            _echo(f"Error: {report.message}", err=True)
     for line in summary_lines(done, out_dir):
-        click.echo(line)
+        _echo(line)
     status = exit_status(r.exit_code for r in done)
     if status:
         sys.exit(status)
@@ -354,7 +365,7 @@ def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -
     program (cut short, past machine.limits, the eye inside the mandrel, another job's), 1 a job not planned."""
     from winder.app.simulate import simulate_files  # noqa: PLC0415
 
-    click.echo(simulate_files(config, program, output, as_json))
+    _echo(simulate_files(config, program, output, as_json))
 
 
 @main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")
@@ -378,18 +389,11 @@ def regress_cmd(directory: str, update: bool, jobs: int) -> None:
                                       on_result=lambda _: bar.update(1))
     for result in results:
         for line in regress_mod.format_result(result):
-            click.echo(line)
+            _echo(line)
     bad = [r for r in results if not r.ok]
     for result in bad:
-        click.echo(f"Error: {regress_mod.failure_line(result)}", err=True)
-    n = len(results)
-    if update:
-        changed = sum(any(f.status != "same" for f in r.files) for r in results if r.ok)
-        click.echo(f"{n} sample{'s' if n != 1 else ''}: {changed} updated, {n - changed - len(bad)} unchanged"
-                   + (f", {len(bad)} failed" if bad else ""))
-    else:
-        click.echo(f"{n} sample{'s' if n != 1 else ''}: {n - len(bad)} passed"
-                   + (f", {len(bad)} failed" if bad else ""))
+        _echo(f"Error: {regress_mod.failure_line(result)}", err=True)
+    _echo(regress_mod.tally_line(results, update))
     status = regress_mod.regress_exit_status(results)
     if status:
         sys.exit(status)

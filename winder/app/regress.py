@@ -235,3 +235,13 @@ def failure_line(result: SampleResult) -> str:
     total = sum(f.count for f in bad)
     return (f"{result.sample.config}: {total} difference{'s' if total != 1 else ''} from the reference "
             f"in {', '.join(f.file for f in bad)}")
+
+
+def tally_line(results: Sequence[SampleResult], update: bool) -> str:
+    """The last line of `regress`: how many samples passed (or were updated) and failed."""
+    n, bad = len(results), sum(not r.ok for r in results)
+    failed = f", {bad} failed" if bad else ""
+    if update:
+        changed = sum(any(f.status != "same" for f in r.files) for r in results if r.ok)
+        return f"{n} sample{'s' if n != 1 else ''}: {changed} updated, {n - changed - bad} unchanged{failed}"
+    return f"{n} sample{'s' if n != 1 else ''}: {n - bad} passed{failed}"

@@ -65,6 +65,15 @@ def geodesic_json(name: str, res, rounds: int) -> dict[str, Any]:
     }.items()}
 
 
+def geodesic_text(name: str, res, rounds: int, output: str | None) -> str:
+    """The lines `geodesic` prints without --json."""
+    lines = [f"{name}: geodesic length {res.length:.9f} mm ({res.n} points, {rounds} rounds)",
+             f"  polyline {res.polyline_length:.9f} mm, Richardson {res.length_extrapolated:.9f} mm "
+             f"+- {res.error_estimate:.2e}",
+             f"  {res.method.value}: {res.iterations} iterations, {res.reason.value}, {res.seconds * 1e3:.1f} ms"]
+    return "\n".join(lines + ([f"  wrote {output}"] if output else []))
+
+
 def solve_geodesic(config: str, start: str, end: str, rounds: int, points: int | None, tolerance: float | None,
                    method: str, seconds: float | None, max_rounds: int, max_points: int):
     """(job, GeodesicResult) of a request on the mandrel of config; the config's limit on points
