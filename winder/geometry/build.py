@@ -168,6 +168,17 @@ def _refuse_self_contact(surface: SweepSurface, source: str) -> None:
             f"(radius {contact.radius:.4g} mm); its far parts must stay a mandrel's thickness apart")
 
 
+def _refuse_cusp(curve: GuideCurve, source: str) -> None:
+    """SPEC: a curve with a kink is refused; here a spline that stops and turns where its points are
+    far closer together than their neighbours (a near-duplicate point) and does not reach back far
+    enough to run into itself."""
+    stall = getattr(curve, "stall_t", None)
+    if stall is not None:
+        raise ConfigError(f"{source}: mandrel.axis.points: the smooth curve through the points stops and turns "
+                          f"back near t = {stall:.6g} mm (a cusp): a point much closer to its neighbour than the "
+                          f"others are to theirs (a near-duplicate) makes the spline swing to and fro; remove it")
+
+
 def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
     """The sweep surface of a validated mandrel config; geometric refusals raise ConfigError."""
     section = make_section(mandrel.section)
@@ -189,4 +200,5 @@ def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> S
         surface = SweepSurface(curve, profile, section, scale, profile.length, name)
     _refuse_fold(surface, axis_cfg, source)
     _refuse_self_contact(surface, source)
+    _refuse_cusp(surface.curve, source)
     return surface

@@ -27,6 +27,7 @@ class SplineCurve:
     length: float
     kappa_max: float
     is_straight: bool = False
+    stall_t: float | None = None  # where the interpolant c(u) nearly stops (a cusp), if it does
 
     def evaluate(self, z: np.ndarray) -> CurveEval:
         z = np.asarray(z, dtype=float)
@@ -39,6 +40,10 @@ class SplineCurve:
 
 
 SPLINE_GRID = 4097  # samples of the arc-length fit; the fit error is far below solver tolerances
+# Least speed |c'(u)| of the chord-length interpolant, relative to its mean: well-spaced points keep it
+# near 1 (0.9 through a right-angle zigzag); it reaches 0 where the curve stops and turns back (a cusp),
+# as when a point lies 1e-6 mm beside one 100 mm away and the spline swings to and fro between them.
+STALL_SPEED = 0.01
 
 
 def spline_curve(points: np.ndarray, source: str, key: str = "mandrel.axis.points") -> SplineCurve:
@@ -60,6 +65,10 @@ def spline_curve(points: np.ndarray, source: str, key: str = "mandrel.axis.point
     seg = 0.5 * (b - a) * (speed @ gw)
     ell = np.concatenate([[0.0], np.cumsum(seg)])
     length = float(ell[-1])
+    slowest = int(np.argmin(speed))
+    stall_t = None
+    if speed.flat[slowest] < STALL_SPEED * length / u[-1]:
+        stall_t = float(np.interp(nodes.flat[slowest], fine, ell))
     zgrid = np.linspace(0.0, length, SPLINE_GRID)
     ugrid = np.interp(zgrid, ell, fine)
     for _ in range(3):  # Newton on ell(u) = z, ell by Gauss-Legendre from the grid node below u
@@ -80,4 +89,5 @@ def spline_curve(points: np.ndarray, source: str, key: str = "mandrel.axis.point
     kappa = np.linalg.norm(xs(zgrid, 2), axis=1)
     if not np.all(np.isfinite(kappa)):
         raise ConfigError(f"{source}: {key}: the spline through the points is not finite")
-    return SplineCurve(xs, make_interp_spline(zgrid, e2, k=5, axis=0), length, float(kappa.max()))
+    return SplineCurve(xs, make_interp_spline(zgrid, e2, k=5, axis=0), length, float(kappa.max()),
+                       stall_t=stall_t)
