@@ -174,16 +174,16 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     a limit (check_budget also holds the totals)."""
     if job.winding is None:
         return Budget((), 0, 0)
-    w = job.winding
-    if w.region is None and not isinstance(surface.profile, VesselMeridian) and surface.axial_length < w.band_width:
-        # as winding.region refuses a region shorter than the band: no pass has length to be solved on
-        raise _refuse(job.source, "winding.band_width", f"must not exceed the mandrel's length "
-                      f"({surface.axial_length:.6g} mm), or no band fits on it, got {w.band_width:g}")
     layers = []
     for index, cfg in enumerate(job.winding.layers):
         key = f"winding.layers[{index}]"
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
                       else _helical(job, surface, cfg, key))
+    w = job.winding
+    if w.region is None and not isinstance(surface.profile, VesselMeridian) and surface.axial_length < w.band_width:
+        # as winding.region refuses a region shorter than the band: no pass has length to be solved on
+        raise _refuse(job.source, "winding.band_width", f"must not exceed the mandrel's length "
+                      f"({surface.axial_length:.6g} mm), or no band fits on it, got {w.band_width:g}")
     points = sum(layer.points for layer in layers)
     solve = max((layer.solve_points for layer in layers), default=0)
     return Budget(tuple(layers), points, points * BYTES_PER_POINT + solve * SOLVER_BYTES_PER_POINT)
