@@ -378,3 +378,11 @@ def test_invalid_config_refused(path: Path) -> None:
     assert message.startswith(f"{path}: "), message
     assert expected in message, message
     assert "\n" not in message  # one line per problem
+
+
+def test_written_resolution_is_the_programs():
+    """The floor of machine.feed and machine.chord_tolerance is what the program writes."""
+    from winder.config.machine import WRITTEN_RESOLUTION
+    from winder.machine.limits import AXIS_DECIMALS
+
+    assert WRITTEN_RESOLUTION == 10.0 ** -AXIS_DECIMALS

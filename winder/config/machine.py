@@ -17,6 +17,9 @@ if TYPE_CHECKING:
 DEFAULT_EYE_CLEARANCE = 20.0
 DEFAULT_FEED = 3000.0
 DEFAULT_CHORD_TOLERANCE = 0.05
+# The program writes axes and feeds with 3 decimals (winder.machine.limits.AXIS_DECIMALS, held equal
+# by tests/config/test_config.py): the least feed and chord tolerance that mean anything in it.
+WRITTEN_RESOLUTION = 0.001
 MAX_EYE_CLEARANCE = 2000.0
 
 MACHINE_ROLES = ("carriage", "rotation", "cross_feed", "yaw")
@@ -153,8 +156,15 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
             raise rd.error(rd.at(rd.at(path, "eye"), "size"), f"an eye this large on radius {eye_radius:g} would "
                            f"touch the mandrel (largest radius {max_radius:g} mm)", m["eye"]["size"])
     feed = rd.positive(m.get("feed", DEFAULT_FEED), rd.at(path, "feed"))
+    if feed < WRITTEN_RESOLUTION:
+        raise rd.error(rd.at(path, "feed"), f"must be >= {WRITTEN_RESOLUTION:g} mm/min (the program writes F with 3 "
+                       f"decimals: a slower feed reads F0.000, at which no controller moves)", m["feed"])
     chord_tolerance = rd.positive(m.get("chord_tolerance", DEFAULT_CHORD_TOLERANCE),
                                   rd.at(path, "chord_tolerance"))
+    if chord_tolerance < WRITTEN_RESOLUTION:
+        raise rd.error(rd.at(path, "chord_tolerance"), f"must be >= {WRITTEN_RESOLUTION:g} mm (the program writes "
+                       f"the axes to {WRITTEN_RESOLUTION:g}: a finer tolerance cannot be held, only multiply the "
+                       f"points)", m["chord_tolerance"])
     robot = bent
     if "robot" in m:
         robot = rd.boolean(m["robot"], rd.at(path, "robot"))
