@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from winder.config.job import parse_config
+from winder.errors import SolverError
 from winder.geometry.build import build_surface
 from winder.geometry.sections import arc_map
 from winder.winding import passes as P
@@ -15,9 +16,10 @@ from winder.winding import passes as P
 HELIX_DIR_ABS = 1e-9  # unit tangent of a helix from the spline through its refined vertices
 
 
-def _ctx(mandrel: dict, points: int) -> P.PlanContext:
+def _ctx(mandrel: dict, points: int | None, tolerance: float | None = None) -> P.PlanContext:
+    size = {"points": points} if tolerance is None else {"tolerance": tolerance}
     job = parse_config({"name": "t", "mandrel": mandrel,
-                        "winding": {"band_width": 10, "points": points, "layers": [{"type": "helical", "angle": 45}]}},
+                        "winding": {"band_width": 10, **size, "layers": [{"type": "helical", "angle": 45}]}},
                        "t.yaml")
     surface = build_surface(job.mandrel, job.source, job.name)
     return P.PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed)
@@ -58,3 +60,14 @@ def test_a_dwell_from_one_evaluation_is_the_pass_evaluated_anew():
         assert np.array_equal(fp.points, again.points) and np.array_equal(fp.points, pts)
         assert np.array_equal(fp.alpha_deg, again.alpha_deg)
         assert fp.length == float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+
+
+def test_a_tolerance_past_double_precision_names_winding_tolerance():
+    """The solver's refusal of a tolerance below its roundoff floor names the config key, not the
+    solver's own 'tolerance' (which the command line reads as geodesic's --tolerance)."""
+    ctx = _ctx({"axis": {"type": "line", "length": 300}, "profile": {"type": "constant", "radius": 50}}, None,
+               tolerance=1e-300)
+    with pytest.raises(SolverError, match=r"below what double precision resolves") as err:
+        P.fine_geodesic(ctx, (0.0, 0.0), (300.0, 4.0), None)
+    assert (err.value.file, err.value.key_path) == ("t.yaml", "winding.tolerance")
+    assert str(err.value).startswith("t.yaml: winding.tolerance: 1e-300 mm is below")

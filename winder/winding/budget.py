@@ -180,10 +180,19 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
                       else _helical(job, surface, cfg, key))
     w = job.winding
-    if w.region is None and not isinstance(surface.profile, VesselMeridian) and surface.axial_length < w.band_width:
+    vessel = isinstance(surface.profile, VesselMeridian)
+    if w.region is None and not vessel and surface.axial_length < w.band_width:
         # as winding.region refuses a region shorter than the band: no pass has length to be solved on
         raise _refuse(job.source, "winding.band_width", f"must not exceed the mandrel's length "
                       f"({surface.axial_length:.6g} mm), or no band fits on it, got {w.band_width:g}")
+    if w.tolerance is not None:
+        from winder.paths.geodesic import ROUNDOFF_FLOOR  # noqa: PLC0415 - tolerance jobs only
+
+        t_a, t_b = surface.profile.equator_t if vessel else _region(surface, w)
+        floor = ROUNDOFF_FLOOR * (t_b - t_a)  # every pass is longer than the wound stretch
+        if w.tolerance <= floor:
+            raise _refuse(job.source, "winding.tolerance", f"must be above what double precision resolves on a "
+                          f"pass ({floor:.2g} mm for the {t_b - t_a:.6g} mm wound), got {w.tolerance:g}")
     points = sum(layer.points for layer in layers)
     solve = max((layer.solve_points for layer in layers), default=0)
     return Budget(tuple(layers), points, points * BYTES_PER_POINT + solve * SOLVER_BYTES_PER_POINT)

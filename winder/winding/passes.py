@@ -156,19 +156,31 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
 
     w = ctx.winding
     n = n or w.points or 200
-    res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=warm, max_points=max(REFINE_MAX_POINTS, n))
+    res = _solve(ctx, a, b, n, warm, max(REFINE_MAX_POINTS, n))
     for _ in range(2):
         if res.converged or 2 * n + 1 > max(REFINE_MAX_POINTS, n):
             break
         # Too coarse for a sharp stretch (a turnaround close to a small dome's hook): halve the
         # segments, warm-started from the path so far.
         n = 2 * n + 1
-        res = geodesic(ctx.surface, a, b, n=n, tolerance=w.tolerance, init=(res.s, res.theta),
-                       max_points=REFINE_MAX_POINTS)
+        res = _solve(ctx, a, b, n, (res.s, res.theta), REFINE_MAX_POINTS)
     _check_converged(ctx, a, b, res)
     fine = geodesic(ctx.surface, a, b, n=TANGENT_REFINE * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))
     _check_converged(ctx, a, b, fine)
     return fine
+
+
+def _solve(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: int,
+           init: tuple[np.ndarray, np.ndarray] | None, max_points: int) -> GeodesicResult:
+    """The geodesic of a pass to winding.tolerance; the solver's refusal of the tolerance names that key."""
+    from winder.paths.geodesic import geodesic  # noqa: PLC0415 - the solver loads with the first geodesic pass
+
+    try:
+        return geodesic(ctx.surface, a, b, n=n, tolerance=ctx.winding.tolerance, init=init, max_points=max_points)
+    except SolverError as exc:
+        if exc.key_path != "tolerance":
+            raise
+        raise SolverError(exc.message, file=ctx.job.source, key_path="winding.tolerance") from exc
 
 
 def solved_passes(surface: SweepSurface, fines: list[GeodesicResult]) -> list[SolvedPass]:
