@@ -117,6 +117,7 @@ CLI_CASES = {
     "deep_yaml": (["geodesic", str(HOSTILE / "deep_nesting.yaml"), "--start", "0,0", "--end", "10,0"], 2,
                   "deep_nesting.yaml: invalid YAML"),
     "dev_zero": (["check", "/dev/zero"], 2, "/dev/zero: not a regular file"),
+    "simulate_dev_zero": (["simulate", str(PIPE), "/dev/zero"], 2, "/dev/zero: not a regular file"),
     "usage": (["run", "--bogus", str(PIPE)], 2, "No such option"),
     "near_zero": (["geodesic", str(PIPE), "--start", "10,0", "--end", "10,1e-9", "--json"], None, ""),
 }

@@ -3,6 +3,7 @@ plan: eyes on the planned tangent lines, the fiber length, the machine time."""
 
 from __future__ import annotations
 
+import os
 from dataclasses import replace
 from pathlib import Path
 
@@ -15,7 +16,7 @@ from winder.config.job import load_config
 from winder.config.machine import MachineConfig
 from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ConfigError
-from winder.app.simulate import simulate, simulation_csv
+from winder.app.simulate import simulate, simulate_files, simulation_csv
 from winder.export.gcode import gcode_text
 from winder.machine.program import build_program
 from winder.winding.plan import plan as plan_job
@@ -269,3 +270,23 @@ def test_an_unreadable_fixed_eye_comment_is_refused(plan, cross_feed):
     lines[k] = "; fixed eye: cross-feed " + cross_feed
     with pytest.raises(ConfigError, match=rf"line {k + 1}: (unreadable cross-feed|the fixed-eye cross-feed)"):
         simulate(machine, plan, "\n".join(lines))
+
+
+def test_a_program_is_read_as_a_text_file_of_bounded_size_before_planning(tmp_path, monkeypatch):
+    """The program is read before the job is planned, as a regular file of at most MAX_PROGRAM_BYTES:
+    `simulate CONFIG /dev/zero` read until memory ran out (tests/app/test_hostile.py), a FIFO blocked."""
+    import winder.app.simulate  # noqa: PLC0415
+    import winder.winding.plan  # noqa: PLC0415
+
+    monkeypatch.setattr(winder.winding.plan, "plan", lambda job: pytest.fail("planned before reading"))
+    monkeypatch.setattr(winder.app.simulate, "MAX_PROGRAM_BYTES", 100)
+    big = tmp_path / "big.gcode"
+    big.write_text("G21\n" * 30)
+    with pytest.raises(ConfigError, match=r"big.gcode: the file has 120 bytes, more than a winding program's "
+                                          r"limit of 100$"):
+        simulate_files(str(SAMPLES / "pipe.yaml"), str(big))
+    fifo = tmp_path / "program.gcode"
+    os.mkfifo(fifo)
+    with pytest.raises(ConfigError, match=r"not a regular file \(a winding program is a text file\)") as err:
+        simulate_files(str(SAMPLES / "pipe.yaml"), str(fifo))
+    assert err.value.exit_code == 2

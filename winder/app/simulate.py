@@ -39,6 +39,9 @@ from winder.machine.smooth import SmoothPaths
 from winder.records import record
 from winder.winding.results import WindingPlan, winding_angle_deg
 
+# The largest program the work budget allows, 1.5 million points of about 60 bytes (a move of
+# samples/pipe.yaml's program takes 62), is 90 MB; a larger file is no program winder wrote.
+MAX_PROGRAM_BYTES = 256_000_000
 INSIDE_TOL = 1e-6  # of the mandrel's radius: an eye centre this far inside the part is inside it
 
 
@@ -225,18 +228,15 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     the text to show (one JSON object with as_json, else one line)."""
     import json  # noqa: PLC0415
 
-    from winder.config.job import load_config  # noqa: PLC0415
+    from winder.config.job import load_config, read_text  # noqa: PLC0415
     from winder.export.atomic import write_atomic  # noqa: PLC0415
     from winder.winding.plan import plan as plan_job  # noqa: PLC0415
 
     job = load_config(config)
-    try:
-        # A program edited on another system may carry other bytes in its comments (a Latin-1 accent,
-        # a byte-order mark): the codes are ASCII, so such bytes are read as replacements, not refused.
-        with open(program, encoding="utf-8", errors="replace") as fh:
-            text = fh.read().removeprefix("\ufeff")
-    except OSError as exc:
-        raise ConfigError(f"{program}: cannot read the program ({exc})") from exc
+    # Read before planning: a program that is not one (/dev/zero, a FIFO) is refused at once. One
+    # edited on another system may carry other bytes in its comments (a Latin-1 accent, a byte-order
+    # mark): the codes are ASCII, so such bytes are read as replacements, not refused.
+    text = read_text(program, program, "winding program", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
     sim = simulate(job.machine, plan_job(job), text, program)
     if output:
         write_atomic(output, simulation_csv(sim))

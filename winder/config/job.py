@@ -47,23 +47,24 @@ MAX_FILE_BYTES = 2_000_000
 MAX_NAME_LENGTH = 200
 
 
-def read_text(path: str | Path, source: str) -> str:
-    """The text of a job file: a regular file of at most MAX_FILE_BYTES, UTF-8."""
+def read_text(path: str | Path, source: str, kind: str = "job file", limit: int = MAX_FILE_BYTES,
+              errors: str = "strict") -> str:
+    """The text of a job file (or another kind of text file): a regular file of at most limit bytes,
+    UTF-8 (errors: as bytes.decode's; "replace" reads other bytes as U+FFFD instead of refusing)."""
     try:
         info = os.stat(path)  # before opening: opening a FIFO would block
         if not stat.S_ISREG(info.st_mode):
-            raise ConfigError(f"{source}: not a regular file (a job file is a YAML text file)")
-        if info.st_size > MAX_FILE_BYTES:
-            raise ConfigError(f"{source}: the file has {info.st_size} bytes, more than a job file's limit of "
-                              f"{MAX_FILE_BYTES}")
+            raise ConfigError(f"{source}: not a regular file (a {kind} is a text file)")
+        if info.st_size > limit:
+            raise ConfigError(f"{source}: the file has {info.st_size} bytes, more than a {kind}'s limit of {limit}")
         with open(path, "rb") as fh:
-            raw = fh.read(MAX_FILE_BYTES + 1)
+            raw = fh.read(limit + 1)
     except OSError as exc:
         raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
-    if len(raw) > MAX_FILE_BYTES:  # it grew while being read
-        raise ConfigError(f"{source}: the file has more than a job file's limit of {MAX_FILE_BYTES} bytes")
+    if len(raw) > limit:  # it grew while being read
+        raise ConfigError(f"{source}: the file has more than a {kind}'s limit of {limit} bytes")
     try:
-        return raw.decode("utf-8")
+        return raw.decode("utf-8", errors=errors)
     except UnicodeDecodeError as exc:
         raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
 
