@@ -507,3 +507,13 @@ def test_a_full_standard_output_is_one_error_line(args):
         proc = _winder(args, full)
     assert proc.returncode == 1
     assert proc.stderr == "Error: standard output: cannot write: No space left on device\n"
+
+
+def test_geodesic_output_over_its_config_is_refused_before_the_solve(tmp_path):
+    config = tmp_path / "pipe.yaml"
+    shutil.copy(PIPE, config)
+    before = config.read_bytes()
+    result = invoke("geodesic", config, "--start", "10,0", "--end", "100,0", "-o", config)
+    assert result.exit_code == 2
+    assert error_lines(result) == [f"Error: -o: is CONFIG itself, which writing there would destroy, got '{config}'"]
+    assert config.read_bytes() == before

@@ -143,8 +143,9 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
     from winder.app.requests import geodesic_json, geodesic_text, solve_geodesic  # noqa: PLC0415
     from winder.export.path_csv import write_path_csv  # noqa: PLC0415
 
-    job, res = solve_geodesic(config, start, end, rounds, points, tolerance, method, time_limit, MAX_ROUNDS, MAX_POINTS)
-    if output:
+    job, res = solve_geodesic(config, start, end, rounds, points, tolerance, method, time_limit, MAX_ROUNDS, MAX_POINTS,
+                              output)
+    if output is not None:
         write_path_csv(output, res)
     if as_json:
         _echo(json.dumps(geodesic_json(job.name, res, rounds), allow_nan=False))

@@ -290,3 +290,12 @@ def test_a_program_is_read_as_a_text_file_of_bounded_size_before_planning(tmp_pa
     with pytest.raises(ConfigError, match=r"not a regular file \(a winding program is a text file\)") as err:
         simulate_files(str(SAMPLES / "pipe.yaml"), str(fifo))
     assert err.value.exit_code == 2
+
+
+def test_laid_path_over_the_program_is_refused(tmp_path):
+    """`simulate job.yaml job.gcode -o job.gcode` wrote the laid path over the program it read."""
+    program = tmp_path / "pipe.gcode"
+    program.write_text("G21\n")
+    with pytest.raises(ConfigError, match=r"^-o: is PROGRAM itself, which writing there would destroy"):
+        simulate_files(str(SAMPLES / "pipe.yaml"), str(program), str(program))
+    assert program.read_text() == "G21\n"

@@ -8,7 +8,7 @@ import stat
 import pytest
 
 import winder.export.atomic as atomic
-from winder.errors import ExportError
+from winder.errors import ConfigError, ExportError
 
 
 def test_writes_the_payload_with_output_permissions(tmp_path):
@@ -103,3 +103,21 @@ def test_a_link_to_a_file_stays_a_link(tmp_path):
     atomic.write_atomic(link, "new")
     assert link.is_symlink() and real.read_text() == "new"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["job.csv", "real.csv"]
+
+
+def test_an_output_path_that_is_an_input_or_no_file_is_refused(tmp_path):
+    """`geodesic job.yaml -o job.yaml` (or a link to it, or simulate's -o on its PROGRAM) wrote the
+    CSV over the input; `-o ''` wrote nothing and said nothing; `-o x.csv/` wrote x.csv."""
+    config = tmp_path / "job.yaml"
+    config.write_text("name: t\n")
+    link = tmp_path / "link.yaml"
+    link.symlink_to(config)
+    for output in (str(config), str(link), str(tmp_path / "." / "job.yaml")):
+        with pytest.raises(ConfigError, match=r"^-o: is CONFIG itself, which writing there would destroy") as err:
+            atomic.check_output_file(output, {"CONFIG": str(config)})
+        assert err.value.exit_code == 2
+    for output in ("", "x.csv/"):
+        with pytest.raises(ConfigError, match=rf"^-o: must name a file, got '{output}'$"):
+            atomic.check_output_file(output, {"CONFIG": str(config)})
+    atomic.check_output_file(str(tmp_path / "new.csv"), {"CONFIG": str(config), "PROGRAM": str(tmp_path / "gone")})
+    assert config.read_text() == "name: t\n"

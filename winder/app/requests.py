@@ -75,14 +75,18 @@ def geodesic_text(name: str, res, rounds: int, output: str | None) -> str:
 
 
 def solve_geodesic(config: str, start: str, end: str, rounds: int, points: int | None, tolerance: float | None,
-                   method: str, seconds: float | None, max_rounds: int, max_points: int):
+                   method: str, seconds: float | None, max_rounds: int, max_points: int, output: str | None = None):
     """(job, GeodesicResult) of a request on the mandrel of config; the config's limit on points
-    holds for --tolerance's refinement too. ConfigError (exit 2) for a bad request, SolverError
-    (exit 1, naming the file) for no convergence, no finite length or the time limit."""
+    holds for --tolerance's refinement too. ConfigError (exit 2) for a bad request (an output path
+    that is no file or is the config itself included: before the solve), SolverError (exit 1, naming
+    the file) for no convergence, no finite length or the time limit."""
     from winder.config.job import load_config  # noqa: PLC0415
+    from winder.export.atomic import check_output_file  # noqa: PLC0415
     from winder.geometry.build import build_surface  # noqa: PLC0415
     from winder.paths.geodesic import Method, geodesic  # noqa: PLC0415
 
+    if output is not None:
+        check_output_file(output, {"CONFIG": config})
     a, b = geodesic_request(start, end, rounds, points, tolerance, max_rounds)
     job = load_config(config)
     surface = build_surface(job.mandrel, job.source, job.name)

@@ -229,16 +229,18 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     import json  # noqa: PLC0415
 
     from winder.config.job import load_config, read_text  # noqa: PLC0415
-    from winder.export.atomic import write_atomic  # noqa: PLC0415
+    from winder.export.atomic import check_output_file, write_atomic  # noqa: PLC0415
     from winder.winding.plan import plan as plan_job  # noqa: PLC0415
 
+    if output is not None:
+        check_output_file(output, {"CONFIG": config, "PROGRAM": program})
     job = load_config(config)
     # Read before planning: a program that is not one (/dev/zero, a FIFO) is refused at once. One
     # edited on another system may carry other bytes in its comments (a Latin-1 accent, a byte-order
     # mark): the codes are ASCII, so such bytes are read as replacements, not refused.
     text = read_text(program, program, "winding program", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
     sim = simulate(job.machine, plan_job(job), text, program)
-    if output:
+    if output is not None:
         write_atomic(output, simulation_csv(sim))
     if as_json:
         return json.dumps(sim.summary())

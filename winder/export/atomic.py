@@ -13,7 +13,7 @@ import os
 import stat
 from pathlib import Path
 
-from winder.errors import ExportError
+from winder.errors import ConfigError, ExportError
 
 # O_EXCL: the name is ours alone (no file or link of that name is followed or truncated); the
 # temporary file is made directly with the permissions an output gets (0666 less the umask).
@@ -46,6 +46,20 @@ def output_target(path: str | Path) -> Path:
     """The path a write to path replaces: the file a symbolic link names (so the link stays), else path."""
     path = Path(path)
     return path.resolve() if path.is_symlink() and not is_stream(path) else path
+
+
+def check_output_file(output: str, inputs: dict[str, str]) -> None:
+    """Refuse (ConfigError, exit 2, naming -o) an output file path that is empty, ends in a slash (a
+    folder), or is one of the inputs (name -> path) by any path or link, which the write would destroy."""
+    if not output or output.endswith(("/", os.sep)):
+        raise ConfigError(f"must name a file, got {output!r}", key_path="-o")
+    for name, given in inputs.items():
+        try:
+            same = os.path.samefile(output, given)
+        except OSError:  # one of them missing: not the same file
+            continue
+        if same:
+            raise ConfigError(f"is {name} itself, which writing there would destroy, got {output!r}", key_path="-o")
 
 
 def _write_stream(path: Path, payload: bytes) -> None:
