@@ -197,15 +197,8 @@ def _parse_formats(ctx: click.Context, param: click.Parameter, values: tuple[str
     return tuple(f for f in FORMATS if f in chosen)
 
 
-def _workers(jobs: int, tasks: int) -> int:
-    from winder.app.jobs import default_workers  # noqa: PLC0415
-
-    return max(1, min(jobs or default_workers(), tasks))
-
-
 def _progress(length: int, label: str):
-    """A progress bar on stderr for a batch (more than one job) on a terminal; a no-op context otherwise
-    (off a terminal click would still print its label: a log keeps only the Error lines)."""
+    """A batch's progress bar on stderr, on a terminal only (a log keeps only the Error lines)."""
     return click.progressbar(length=length, label=label, file=sys.stderr, show_pos=True, show_eta=False,
                              hidden=length <= 1 or not sys.stderr.isatty())
 
@@ -249,7 +242,7 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
     tally; exit with the batch's SPEC status."""
     from winder.app.batch import name_clash, summary_lines  # noqa: PLC0415
     from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
-                                 run_job, run_jobs)
+                                 run_job, run_jobs, workers_for)
     from winder.config.job import load_config  # noqa: PLC0415
 
     reports: list[JobReport | None] = [None] * len(configs)
@@ -276,7 +269,7 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
     try:
         with _progress(len(configs), f"winding {len(configs)} jobs") as bar:
             bar.update(len(configs) - len(tasks))
-            for k, report in run_jobs(tasks, _workers(jobs, len(tasks)), job=job):
+            for k, report in run_jobs(tasks, workers_for(jobs, len(tasks)), job=job):
                 reports[index[k]] = report
                 bar.update(1)
     finally:
@@ -382,11 +375,12 @@ def regress_cmd(directory: str, update: bool, jobs: int) -> None:
     Exit status: 0 all match (or were updated), 1 a difference or a failed job, 2 an invalid sample.
     """
     from winder.app import regress as regress_mod  # noqa: PLC0415
+    from winder.app.jobs import workers_for  # noqa: PLC0415
 
     samples = regress_mod.find_samples(directory)
     label = f"{'updating' if update else 'comparing'} {len(samples)} samples"
     with _progress(len(samples), label) as bar:
-        results = regress_mod.regress(directory, update=update, workers=_workers(jobs, len(samples)),
+        results = regress_mod.regress(directory, update=update, workers=workers_for(jobs, len(samples)),
                                       on_result=lambda _: bar.update(1))
     for result in results:
         for line in regress_mod.format_result(result):

@@ -289,6 +289,11 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def workers_for(jobs: int, tasks: int) -> int:
+    """The worker processes for `tasks` jobs with --jobs `jobs` (0: one per CPU), at least one."""
+    return max(1, min(jobs or default_workers(), tasks))
+
+
 def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
              job: Callable[..., JobReport] = run_job) -> Iterator[tuple[int, JobReport]]:
     """Run the tasks, yielding (index, report) as each finishes (completion order).
