@@ -299,3 +299,14 @@ def test_laid_path_over_the_program_is_refused(tmp_path):
     with pytest.raises(ConfigError, match=r"^-o: is PROGRAM itself, which writing there would destroy"):
         simulate_files(str(SAMPLES / "pipe.yaml"), str(program), str(program))
     assert program.read_text() == "G21\n"
+
+
+def test_a_program_without_its_pass_comments_is_refused(plan):
+    """simulate reads each row's pass from the comments winder writes: a move before any says so (not
+    that the pass 0 of layer 0 is not in the plan)."""
+    lines = [line for line in gcode_text(plan, MACHINE).splitlines() if not line.startswith("; layer 1 circuit 1 pass 1 ")]
+    first = next(k for k, line in enumerate(lines) if line.startswith("G1 "))
+    with pytest.raises(ConfigError, match=rf"line {first + 1}: a move before any '; layer L circuit C pass P "
+                                          r"kind' comment") as err:
+        simulate(MACHINE, plan, "\n".join(lines))
+    assert err.value.exit_code == 2

@@ -289,3 +289,15 @@ def test_hemisphere_great_circle():
     # Every vertex lies in the plane of the great circle through the end points and the centre.
     normal = np.cross(pa, pb)
     assert np.max(np.abs((res.points - centre) @ normal)) / np.linalg.norm(normal) < 1e-3
+
+
+TINY_REL = 1e-6  # a path of 1e-7 mm far from the origin: its ends carry the stations' roundoff
+
+
+@pytest.mark.parametrize("dt", [1e-7, 1e-9])
+def test_a_path_shorter_than_the_coordinates_resolve_converges(straight_tube, dt):
+    """Ends 1e-7 mm apart at t = 10 on a 40 mm tube: the energy is all roundoff, so the line search
+    cannot judge a step; a step below the points' own roundoff is converged, the length the chord."""
+    res = geodesic(straight_tube, (10.0, 0.0), (10.0 + dt, 0.0))
+    assert res.converged
+    assert res.length == pytest.approx(dt, rel=TINY_REL)

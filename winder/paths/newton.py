@@ -34,6 +34,7 @@ ARMIJO = 1e-4
 PREDICTED_MARGIN = 5e-2
 CHORD_STEP = 1e-3  # a Newton step below this fraction of the segment: the next step reuses the factor
 ENERGY_NOISE = 1.4e-14  # E's relative roundoff per sqrt(point) (64 ulp): smaller decreases are noise
+COORD_NOISE = 1e-12  # relative to the largest coordinate: a vertex move this small is at roundoff
 BOUNDARY_TOL = 1e-9  # a vertex this close (mm) to an end of the mandrel is on it
 # With a length tolerance (tolerance mode) a solve may stop once the vertices' remaining error can no
 # longer move the smooth length by LENGTH_SHARE of it. The smooth length is stationary at the geodesic,
@@ -245,7 +246,10 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
                     break
                 alpha *= 0.5
             if e_try >= e:
-                if -slope <= 1e-13 * e or disp * alpha <= step_tol * h:
+                # A step below the points' own roundoff (a path of 1e-7 mm at 50 mm from the origin: E is
+                # then all noise) is converged too: nothing finer is representable.
+                floor = COORD_NOISE * float(np.maximum.reduce(np.abs(y), axis=None)) if y.size else 0.0
+                if -slope <= 1e-13 * e or disp * alpha <= step_tol * h or disp <= floor:
                     converged, reason = True, StopReason.ROUNDOFF
                 elif bounded and alpha < 1e-9:
                     _raise_left(surface, si)

@@ -125,6 +125,9 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
         missing = [c for c in letters if c not in values]
         if missing:
             raise ConfigError(f"{source}: line {number}: axis {missing[0]} missing in {line[:60]!r}")
+        if key == (0, 0, 0):  # winder writes a pass comment before a pass's first move
+            raise ConfigError(f"{source}: line {number}: a move before any '; layer L circuit C pass P kind' "
+                              f"comment, which winder writes before each pass and simulate reads, got {line[:60]!r}")
         rows.append([values[c] for c in letters])
         keys.append(key)
         kinds.append(kind)
