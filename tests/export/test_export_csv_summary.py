@@ -107,3 +107,20 @@ def test_summary_not_finite_is_null(plan):
     data = json.loads(summary_text(replace(plan, layers=(layer,))))
     assert data["layers"][0]["coverage"]["max_gap_mm"] is None
     assert data["layers"][0]["turnaround_radius_mm"] == 37.123
+
+
+def test_axis_travel_is_the_programs_range_as_written():
+    """axis_travel: each axis's [least, largest] over the program's rows, at the program's decimals."""
+    from winder.config.machine import MachineConfig  # noqa: PLC0415
+    from winder.export.gcode import gcode_text  # noqa: PLC0415
+
+    tube = surface_of(LineAxis(300.0), ConstantProfile(40.0))
+    plan = cylinder_plan(tube)
+    machine = MachineConfig(eye_clearance=20.0)
+    rows = np.array([[float(w[1:]) for w in line.split()[1:5]] for line in gcode_text(plan, machine).splitlines()
+                     if line.startswith("G1 ")])
+    travel = summary_dict(plan, machine)["axis_travel"]
+    assert list(travel) == ["carriage", "rotation", "cross_feed", "yaw"]
+    for k, axis in enumerate(travel):
+        assert travel[axis] == [rows[:, k].min(), rows[:, k].max()]
+    assert travel["cross_feed"] == [60.0, 60.0]  # R + clearance on a cylinder

@@ -18,6 +18,9 @@ outer_radius_mm; without one these keys are absent.
 With the machine: winding_time_s in total and per layer, the machine's time over the motion program
 from machine.dynamics, acceleration and deceleration included (winder.machine.dynamics); null when
 no program can be built (an axis limit). estimated_time_s / time_s stay the fiber length at the feed.
+And axis_travel: each logical axis's [least, largest] value over the program as written (carriage,
+rotation, cross_feed, yaw; for robot poses x, y, z, i, j, k), to set against the machine's travel;
+null when no program can be built.
 """
 
 from __future__ import annotations
@@ -26,11 +29,15 @@ import json
 import math
 from typing import Any
 
+import numpy as np
+
 from winder.errors import ExportError, WinderError
 from winder.export.programs import program_of
+from winder.machine.limits import AXIS_DECIMALS
 from winder.winding.results import LayerPlan, WindingPlan
 
 LENGTH_DECIMALS = 3
+DIRECTION_DECIMALS = 6  # a robot pose's unit direction, as the program writes it
 ANGLE_DECIMALS = 4
 FRACTION_DECIMALS = 6
 CURVATURE_DECIMALS = 8  # 1/mm
@@ -118,14 +125,26 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
             "outer_radius_mm": _num(walls[-1].outer_radius_mm, LENGTH_DECIMALS + 1)}
 
 
-def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None]]:
-    """(total, per layer) machine time from the dynamics; None where no program can be built."""
+def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None], dict | None]:
+    """(total, per layer) machine time from the dynamics and the axis travel; None where no program
+    can be built."""
     try:
         program = program_of(plan, machine)
     except ExportError:
-        return None, [None] * len(plan.layers)
+        return None, [None] * len(plan.layers), None
     layers = list(program.layer_times_s)
-    return program.times.total_s, layers
+    return program.times.total_s, layers, _axis_travel(program)
+
+
+def _axis_travel(program) -> dict[str, list[float]]:
+    """Each logical axis's [least, largest] value over the program, as it is written (a shop checks
+    them against its machine's travel; robot poses: position mm and direction components)."""
+    values = program.values
+    if values.shape[0] == 0:
+        return {}
+    decimals = [DIRECTION_DECIMALS if axis in ("i", "j", "k") else AXIS_DECIMALS for axis in program.axes]
+    return {axis: [round(float(values[:, c].min()), k) + 0.0, round(float(values[:, c].max()), k) + 0.0]
+            for c, (axis, k) in enumerate(zip(program.axes, decimals))}
 
 
 def summary_dict(plan: WindingPlan, machine=None) -> dict[str, Any]:
@@ -141,8 +160,9 @@ def summary_dict(plan: WindingPlan, machine=None) -> dict[str, Any]:
         **_totals(plan),
     }
     if machine is not None:
-        total, layers = _winding_times(plan, machine)
+        total, layers, travel = _winding_times(plan, machine)
         out["winding_time_s"] = _num(total, TIME_DECIMALS)
+        out["axis_travel"] = travel
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
     return out
