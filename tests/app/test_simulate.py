@@ -310,3 +310,13 @@ def test_a_program_without_its_pass_comments_is_refused(plan):
                                           r"kind' comment") as err:
         simulate(MACHINE, plan, "\n".join(lines))
     assert err.value.exit_code == 2
+
+
+def test_another_jobs_program_is_named_by_its_job_line():
+    """The cone sample's program read against the pipe's config: its passes are not the pipe's, and
+    the program's own `; job:` line says whose it is."""
+    pipe, cone = (load_config(SAMPLES / f"{name}.yaml") for name in ("pipe", "cone"))
+    text = gcode_text(plan_job(cone), cone.machine)
+    with pytest.raises(ConfigError, match=r"is not in the plan of .*pipe\.yaml: the program was written for "
+                                          r"another job \('cone', by its job line; this config plans 'pipe'\)"):
+        simulate(pipe.machine, plan_job(pipe), text)

@@ -117,8 +117,10 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         raise ConfigError(f"{source}: the program has no moves")
     unknown = [tuple(k) for k in parsed.keys if tuple(k) not in order]
     if unknown:
+        named = (f" ({parsed.job!r}, by its job line; this config plans {plan.name!r})"
+                 if parsed.job and parsed.job != plan.name else "")
         raise ConfigError(f"{source}: layer {unknown[0][0]} circuit {unknown[0][1]} pass {unknown[0][2]} "
-                          f"is not in the plan of {plan.source}: the program was written for another job")
+                          f"is not in the plan of {plan.source}: the program was written for another job{named}")
     eye = eye_positions(parsed)
     final_key = tuple(by_key)[-1] if by_key else None
     pass_of = np.array([order[tuple(k)] for k in parsed.keys])

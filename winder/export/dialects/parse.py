@@ -23,6 +23,7 @@ from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
 from winder.records import record
 
+JOB_LINE = "; job:"  # the header line naming the job (winder.export.dialects.text)
 _PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
 _END = ("M2", "M30")  # either ends a program (M30 also rewinds it)
 _COMMENT = re.compile(r"\([^)]*\)|;.*$")  # (...) anywhere, ; to the end of the line
@@ -42,6 +43,7 @@ class ParsedProgram:
     dialect : the dialect it was read as. values : (m, 4) or (m, 6) rows (module docstring).
     keys : (m, 3) int, (layer, circuit, pass) of each row. kinds : (m,) the pass kind words.
     feed : (m,) the F word of each row (nan where none). line : (m,) the line number of each row.
+    job : the name on the program's `; job:` line, if it has one.
     """
 
     dialect: str
@@ -50,6 +52,7 @@ class ParsedProgram:
     kinds: tuple[str, ...]
     feed: np.ndarray
     line: np.ndarray | None = None
+    job: str | None = None
 
     @property
     def robot(self) -> bool:
@@ -93,6 +96,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
     kinds: list[str] = []
     feeds: list[float] = []
     key, kind = (0, 0, 0), ""
+    job = None
     fixed_z = None
     numbers: list[int] = []
     end = None
@@ -102,6 +106,8 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
             hit = _PASS.match(line)
             if hit:
                 key, kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
+            elif line.startswith(JOB_LINE) and job is None:
+                job = line[len(JOB_LINE):].strip()
             elif line.upper().startswith(marlin.FIXED_EYE.upper()):
                 fixed_z = _fixed_eye(line, number, source)
             continue
@@ -147,7 +153,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
         _check_limits(table, lines, machine, letters if dialect != "marlin" else (ax.carriage, ax.rotation,
                                                                                   ax.cross_feed, ax.yaw), source)
     return ParsedProgram(dialect, table, np.array(keys, dtype=int).reshape(-1, 3), tuple(kinds),
-                         np.array(feeds, dtype=float), lines)
+                         np.array(feeds, dtype=float), lines, job)
 
 
 def _fixed_eye(line: str, number: int, source: str) -> float:
