@@ -86,6 +86,15 @@ def test_total_points_and_memory_are_held(tmp_path: Path) -> None:
     with pytest.raises(ConfigError) as info:
         _budget(fine)
     assert info.value.key_path == "winding.points" and "GB of memory" in info.value.message
+    hoops = tmp_path / "hoops.yaml"
+    # One hoop traverse of 0.05 mm pitch over 460 mm, 9,200 turns: 662,000 points and 2.1 GB of it
+    # alone; the memory comes from the hoop's turns, not from winding.points.
+    hoops.write_text(text.replace("band_width: 10", "band_width: 0.05").replace(
+        "    - {type: helical, angle: 55, pattern: auto}\n", "").replace("{type: hoop, passes: 2}", "{type: hoop, passes: 1}"),
+        encoding="utf-8")
+    with pytest.raises(ConfigError) as info:
+        _budget(hoops)
+    assert info.value.key_path == "winding.layers[0]" and "GB of memory" in info.value.message
 
 
 def test_validate_refuses_what_run_needs() -> None:

@@ -210,8 +210,12 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                       f"{layer.passes} passes of up to {layer.pass_points} points), more than the limit of "
                       f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
     if budget.memory_bytes > MAX_MEMORY_BYTES:
-        solver = max(layer.solve_points for layer in budget.layers) * SOLVER_BYTES_PER_POINT
-        raise _refuse(job.source, "winding.points" if 2 * solver > budget.memory_bytes else "winding",
+        largest = max(range(len(budget.layers)), key=lambda i: budget.layers[i].solve_points)
+        solver = budget.layers[largest].solve_points * SOLVER_BYTES_PER_POINT
+        # A hoop's points come from its turns (band width and length), not from winding.points.
+        hoop = job.winding.layers[largest].type is LayerType.HOOP
+        key = f"winding.layers[{largest}]" if hoop else "winding.points"
+        raise _refuse(job.source, key if 2 * solver > budget.memory_bytes else "winding",
                       f"the job would need about {budget.memory_bytes / 1e9:.3g} GB of memory, more than the "
                       f"limit of {MAX_MEMORY_BYTES / 1e9:g} GB; fewer points or a wider band")
     return budget
