@@ -30,6 +30,7 @@ from winder.app.contacts import candidates, forward, monotone_points, ray_distan
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
+from winder.geometry.surface import SweepSurface
 from winder.machine.collision import move_distances
 from winder.machine.envelope import EyeEnvelope, eye_envelope
 from winder.machine.kinematics import make_guide
@@ -85,10 +86,10 @@ def eye_positions(parsed: ParsedProgram) -> np.ndarray:
     return np.column_stack([v[:, 2] * np.cos(-a), v[:, 2] * np.sin(-a), v[:, 0]])
 
 
-def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, env_surface, source: str) -> None:
+def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, surface: SweepSurface, source: str) -> None:
     """Refuse a program whose eye centre enters the mandrel along a move: a collision machine.limits
     need not show. The moves are measured as the program writer measures them (machine.collision)."""
-    guide = make_guide(env_surface, env) if parsed.robot else None
+    guide = make_guide(surface, env) if parsed.robot else None
     dist, frac = move_distances(parsed.values, env, guide)
     row = int(np.argmin(dist)) if dist.size else 0
     if not dist.size or dist[row] >= -INSIDE_TOL * env.max_radius:

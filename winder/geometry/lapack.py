@@ -4,11 +4,10 @@ Why: `import scipy.linalg` takes about 0.17 s (its package pulls in scipy's arra
 numpy.f2py), longer than a small job's whole plan, and winder calls only four LAPACK routines (dgbsv,
 dgtsv, dpbsv, dpbtrs). Even scipy's compiled `_flapack` extension alone, loaded from its own file,
 brings its own OpenBLAS: about 4 ms of wall time (measured: 3.9-4.5 ms against 0.7 ms), some 3 % of
-a small job. numpy's wheels carry
-OpenBLAS too, LAPACK included (64-bit integers, symbols `scipy_<name>_64_`), and numpy has loaded it
-already: called there through ctypes (which numpy imports too) the routines cost nothing to load, and
-a process goes over to scipy's extension only once it has made enough calls for its faster calls to
-pay for the load (EXTENSION_AFTER). Where numpy carries no OpenBLAS of its own (built against
+a small job. numpy's wheels carry OpenBLAS too, LAPACK included (64-bit integers, symbols
+`scipy_<name>_64_`), and numpy has loaded it already: called there through ctypes (which numpy
+imports too) the routines cost nothing to load, and a process goes over to scipy's extension only
+once it has made enough calls for its faster calls to pay for the load (EXTENSION_AFTER). Where numpy carries no OpenBLAS of its own (built against
 another BLAS), the extension is used from the start, and where it cannot be loaded from its file,
 `scipy.linalg.lapack` itself.
 
@@ -171,7 +170,9 @@ class NumpyLapack:
 
     def dpbtrs(self, ab: np.ndarray, b: np.ndarray, lower: Any = 0, overwrite_b: Any = 0) -> tuple:
         b = _fortran(b, overwrite_b)
-        return b, self._banded(self._pbtrs, _fortran(ab, ab.flags.f_contiguous), b, lower)  # ab is only read
+        # ab is only read (f2py's intent(in)): used as it is wherever it is Fortran-ordered and writable
+        # (ctypes points into writable buffers only).
+        return b, self._banded(self._pbtrs, _fortran(ab, overwrite=True), b, lower)
 
     def _banded(self, routine: Any, ab: np.ndarray, b: np.ndarray, lower: Any) -> int:
         """pbsv or pbtrs (the same arguments) on the Fortran-ordered ab and b; their INFO."""

@@ -23,19 +23,27 @@ def pass_where(plan: WindingPlan, fp: FiberPass) -> str:
 def all_poses(plan: WindingPlan, machine: MachineConfig, env, guide) -> list[RobotPoses]:
     """Robot poses of every non-empty pass, solved in one batch (the solver's cost is per call)."""
     passes = [fp for layer in plan.layers for fp in layer.passes if len(fp.points)]
+    return batch_poses(plan, machine, env, guide, passes, [fp.points for fp in passes],
+                       [fp.direction for fp in passes])
+
+
+def batch_poses(plan: WindingPlan, machine: MachineConfig, env, guide, passes: list[FiberPass],
+                points: list[np.ndarray], directions: list[np.ndarray],
+                guess: np.ndarray | None = None) -> list[RobotPoses]:
+    """Robot poses at the contact points (k_i, 3) with fiber directions of each pass in passes, all
+    in one solve (guess: the leads of all points, as robot_poses takes it); where that fails, pass by
+    pass, so that the refusal names the pass."""
     if not passes:
         return []
-    sizes = np.cumsum([len(fp.points) for fp in passes])[:-1]
     try:
-        batch = robot_poses(np.concatenate([fp.points for fp in passes]),
-                            np.concatenate([fp.direction for fp in passes]), plan.surface, machine,
-                            envelope=env, guide=guide)
+        batch = robot_poses(np.concatenate(points), np.concatenate(directions), plan.surface, machine,
+                            envelope=env, guide=guide, guess=guess)
     except ExportError:
-        for fp in passes:  # name the pass that fails
-            robot_poses(fp.points, fp.direction, plan.surface, machine, envelope=env, guide=guide,
-                        where=pass_where(plan, fp))
+        for fp, p, d in zip(passes, points, directions):  # name the pass that fails
+            robot_poses(p, d, plan.surface, machine, envelope=env, guide=guide, where=pass_where(plan, fp))
         raise
-    parts = [np.split(np.asarray(getattr(batch, f)), sizes) for f in
+    cuts = np.cumsum([len(p) for p in points])[:-1]
+    parts = [np.split(np.asarray(getattr(batch, f)), cuts) for f in
              ("position", "direction", "station", "lead", "on_envelope")]
     return [RobotPoses(*fields) for fields in zip(*parts)]
 

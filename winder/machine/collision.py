@@ -102,8 +102,10 @@ def move_distances(values: np.ndarray, env: EyeEnvelope, guide: Guide | None = N
     start = np.vstack([values[:1], values[:-1]])
     if guide is not None:
         e = start[:, None, :3] + f[:, None] * (values[:, None, :3] - start[:, None, :3])
-        at_row = guide.project(values[:, :3])[0]  # each sample's closest station starts between its move's
-        near = np.concatenate([at_row[:1], at_row[:-1]])[:, None] + f * (at_row - np.concatenate([at_row[:1], at_row[:-1]]))[:, None]
+        # Each sample's closest station starts between those of its move's two ends.
+        at_row = guide.project(values[:, :3])[0]
+        before = np.concatenate([at_row[:1], at_row[:-1]])
+        near = before[:, None] + f * (at_row - before)[:, None]
         dist = tube_distance(e.reshape(-1, 3), env, guide, near.ravel()).reshape(e.shape[:2])
     else:
         x = start[:, None, 0] + f * (values[:, None, 0] - start[:, None, 0])

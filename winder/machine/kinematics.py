@@ -293,8 +293,11 @@ def robot_poses(points: np.ndarray, directions: np.ndarray, surface: SweepSurfac
         rate = np.einsum("ij,ij->i", rel, d[i]) / np.where(dist > 0.0, dist, 1.0)
         return dist - env.at(zs), rate - env.slope(zs) * dz
 
-    near = z0 if guess is None else g.project(p + np.clip(guess, 0.0, lmax)[:, None] * d)[0]
-    lam, ok = first_crossing(f, p.shape[0], lmax, guess=guess, fd=fd if guess is not None else None)
+    if guess is None:
+        lam, ok = first_crossing(f, p.shape[0], lmax)
+    else:  # fd starts each line's closest station from the last one found on it
+        near = g.project(p + np.clip(guess, 0.0, lmax)[:, None] * d)[0]
+        lam, ok = first_crossing(f, p.shape[0], lmax, guess=guess, fd=fd)
     e = p + lam[:, None] * d
     station, _ = g.project(e)
     return RobotPoses(position=e, direction=-d, station=station, lead=lam, on_envelope=ok)

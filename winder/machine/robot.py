@@ -15,12 +15,11 @@ from __future__ import annotations
 import numpy as np
 
 from winder.config.machine import MachineConfig
-from winder.errors import ExportError
 from winder.geometry.measure import row_norms
-from winder.machine.batch import all_poses, pass_where
+from winder.machine.batch import all_poses, batch_poses
 from winder.machine.densify import dense_factor, dense_u
 from winder.machine.envelope import EyeEnvelope
-from winder.machine.kinematics import Guide, RobotPoses, robot_poses
+from winder.machine.kinematics import Guide, RobotPoses
 from winder.machine.smooth import SmoothPaths
 from winder.records import record
 from winder.winding.results import FiberPass, WindingPlan
@@ -70,14 +69,16 @@ def robot_rows(plan: WindingPlan, machine: MachineConfig, env: EyeEnvelope, guid
         if factor is not None:
             dense_u_of[id(fp)] = dense_u(len(fp.points), factor)
     dense_fp = [fp for fp in two if id(fp) in dense_u_of]
+    # The planned points, every factor-th dense row, have their poses already: only the others are solved.
+    between = {id(fp): np.mod(dense_u_of[id(fp)], 1.0) != 0.0 for fp in dense_fp}
     found = dict(zip(map(id, dense_fp), _poses_at(plan, machine, env, guide, smooth,
-                                                   [(fp, slot[id(fp)], dense_u_of[id(fp)]) for fp in dense_fp],
+                                                   [(fp, slot[id(fp)], dense_u_of[id(fp)][between[id(fp)]])
+                                                    for fp in dense_fp],
                                                    [base[where[id(fp)]].lead.ravel() for fp in dense_fp])))
     rows = []
     for fp, poses in zip(passes, base):
         if id(fp) in found:
-            poses, contacts = found[id(fp)]
-            rows.append((poses, dense_u_of[id(fp)], contacts))
+            rows.append(_merged(poses, fp, *found[id(fp)], dense_u_of[id(fp)], between[id(fp)]))
         else:
             rows.append((poses, np.arange(len(fp.points), dtype=float), np.asarray(fp.points, dtype=float)))
     return RobotRows(table=np.concatenate([np.column_stack([p.position, p.direction]) for p, _, _ in rows]),
@@ -86,6 +87,21 @@ def robot_rows(plan: WindingPlan, machine: MachineConfig, env: EyeEnvelope, guid
                      lead=np.concatenate([p.lead for p, _, _ in rows]).ravel(),
                      sizes=np.array([len(u) for _, u, _ in rows], dtype=int),
                      dense=np.array([id(fp) in found for fp in passes], dtype=bool))
+
+
+def _merged(planned: RobotPoses, fp: FiberPass, poses: RobotPoses, contacts: np.ndarray, u: np.ndarray,
+            between: np.ndarray) -> tuple[RobotPoses, np.ndarray, np.ndarray]:
+    """(poses, u, contacts) of a densified pass: its planned points' poses at the integer u, the
+    dense ones solved (at u[between]) between them."""
+    fields = []
+    for name in ("position", "direction", "station", "lead", "on_envelope"):
+        mine, theirs = np.asarray(getattr(planned, name)), np.asarray(getattr(poses, name))
+        out = np.empty((u.size,) + mine.shape[1:], dtype=np.result_type(mine, theirs))
+        out[~between], out[between] = mine, theirs
+        fields.append(out)
+    points = np.empty((u.size, 3))
+    points[~between], points[between] = np.asarray(fp.points, dtype=float), contacts
+    return RobotPoses(*fields), u, points
 
 
 def _scaled(poses: RobotPoses, angle_scale: float) -> np.ndarray:
@@ -108,14 +124,5 @@ def _poses_at(plan: WindingPlan, machine: MachineConfig, env: EyeEnvelope, guide
         points.append(p)
         directions.append(d)
     guess = np.concatenate([np.interp(u, np.arange(lead.size), lead) for (_, _, u), lead in zip(requests, leads)])
-    try:
-        batch = robot_poses(np.concatenate(points), np.concatenate(directions), plan.surface, machine,
-                            envelope=env, guide=guide, guess=guess)
-    except ExportError:
-        for (fp, _, _), p, d in zip(requests, points, directions):
-            robot_poses(p, d, plan.surface, machine, envelope=env, guide=guide, where=pass_where(plan, fp))
-        raise
-    cuts = np.cumsum([len(p) for p in points])[:-1]
-    parts = [np.split(np.asarray(getattr(batch, f)), cuts) for f in
-             ("position", "direction", "station", "lead", "on_envelope")]
-    return [(RobotPoses(*fields), p) for p, *fields in zip(points, *parts)]
+    poses = batch_poses(plan, machine, env, guide, [fp for fp, _, _ in requests], points, directions, guess)
+    return list(zip(poses, points))
