@@ -142,9 +142,10 @@ def _axis_travel(program) -> dict[str, list[float]]:
     values = program.values
     if values.shape[0] == 0:
         return {}
+    lows, highs = values.min(axis=0).tolist(), values.max(axis=0).tolist()
     decimals = [DIRECTION_DECIMALS if axis in ("i", "j", "k") else AXIS_DECIMALS for axis in program.axes]
-    return {axis: [round(float(values[:, c].min()), k) + 0.0, round(float(values[:, c].max()), k) + 0.0]
-            for c, (axis, k) in enumerate(zip(program.axes, decimals))}
+    return {axis: [round(lo, k) + 0.0, round(hi, k) + 0.0]  # + 0.0: no -0.0 at a rounded zero
+            for axis, lo, hi, k in zip(program.axes, lows, highs, decimals)}
 
 
 def summary_dict(plan: WindingPlan, machine=None) -> dict[str, Any]:

@@ -16,7 +16,8 @@ from winder.winding.results import FiberPass, WindingPlan
 
 
 def pass_where(plan: WindingPlan, fp: FiberPass) -> str:
-    """How messages name a pass: file, layer, circuit, pass and kind."""
+    """How messages name a pass (a FiberPass, or a program's Segment of one): file, layer, circuit,
+    pass and kind."""
     return f"{plan.source}: layer {fp.layer} circuit {fp.circuit} pass {fp.number} ({fp.kind.value})"
 
 

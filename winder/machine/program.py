@@ -276,9 +276,8 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
         layer_segments.append(tuple(segments))
     starts = [(seg.start, seg) for segs in layer_segments for seg in segs if seg.stop > seg.start]
 
-    def where(row: int) -> str:
-        seg = max((s for s in starts if s[0] <= row), key=lambda s: s[0])[1]
-        return f"{plan.source}: layer {seg.layer} circuit {seg.circuit} pass {seg.number} ({seg.kind.value})"
+    def where(row: int) -> str:  # the pass of a row, named as the batches name a pass
+        return pass_where(plan, max((s for s in starts if s[0] <= row), key=lambda s: s[0])[1])
 
     # A robot goes straight from one pass's last pose to the next's first (no approach lift).
     joins = np.array([row for row, _ in starts if row > 0], dtype=int) if robot else None
