@@ -21,9 +21,9 @@ from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
+from winder.export.dialects.text import JOB_LINE
 from winder.records import record
 
-JOB_LINE = "; job:"  # the header line naming the job (winder.export.dialects.text)
 _PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
 _END = ("M2", "M30")  # either ends a program (M30 also rewinds it)
 _COMMENT = re.compile(r"\([^)]*\)|;.*$")  # (...) anywhere, ; to the end of the line

@@ -18,6 +18,7 @@ from winder.machine.program import APPROACH, MotionProgram
 from winder.records import record
 from winder.winding.results import LayerPlan, PassKind
 
+JOB_LINE = "; job:"  # the header line naming the job (simulate reads it back)
 DECIMALS = AXIS_DECIMALS  # mm and deg: the limits hold for the values as written
 PREAMBLE = ("G21", "G90", "G94")
 END = "M2"
@@ -130,7 +131,7 @@ def layer_line(layer: LayerPlan) -> str:
 
 
 def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
-    lines = ["; winder filament-winding program", f"; job: {clean(program.name)}",
+    lines = ["; winder filament-winding program", f"{JOB_LINE} {clean(program.name)}",
              f"; source: {clean(program.source)}"]
     lines += dialect.describe(program)
     if program.envelope_radius is not None:
