@@ -11,6 +11,7 @@
   winder's is its tolerance mode at level x length (it has to find n itself, estimate included),
   and, like for like, its fastest fixed n whose error meets the level (and every larger n's of
   HINDSIGHT_N too), without the estimate: the best setting in hindsight, as solve_bvp is given.
+  The two sides of each ratio are timed interleaved in one loop (bench.timing.interleaved).
 """
 
 from __future__ import annotations
@@ -26,6 +27,9 @@ LEVELS = (1e-6, 1e-9, 1e-12)
 BVP_MAX_NODES = 20_000
 # winder at a fixed n, for the like-for-like column: interior points from 15 up, about 1.19x apart
 HINDSIGHT_N = tuple(sorted({int(round(15 * 2 ** (k / 4))) for k in range(40)} | {31, 63, 127, 255}))
+BVP_CANDIDATES = 3  # solve_bvp's fastest qualifying tols in the sweep, timed again side by side with winder
+SIDE_REPEATS = 40  # samples per task in the side-by-side timing at the full settings (speed_repeats = 5)
+SIDE_BUDGET = 0.4  # s per task at most, about: a slow task gets fewer samples
 
 
 def torus_equations(bend_radius: float, radius: float):
@@ -153,7 +157,13 @@ def solver_targets(repeats: int = 7) -> dict[str, Any]:
 
 
 def against_bvp(repeats: int = 5) -> dict[str, Any]:
-    """solve_bvp (analytic Jacobians, best tol in hindsight) against winder's tolerance mode per level."""
+    """solve_bvp (analytic Jacobians, best tol in hindsight) against winder per level, side by side.
+
+    The tol sweep (each tol a median of `repeats`) finds which tols meet each level; then, per level,
+    the qualifying candidates (solve_bvp's BVP_CANDIDATES fastest tols in the sweep, winder's fixed n of
+    _hindsight_ns) and winder's tolerance mode are timed interleaved (bench.timing.interleaved), and the
+    fastest median of each side counts: a burst of load hits both sides of a ratio alike.
+    """
     from winder.paths.geodesic import geodesic  # noqa: PLC0415
 
     out: dict[str, Any] = {}
@@ -170,20 +180,36 @@ def against_bvp(repeats: int = 5) -> dict[str, Any]:
         fixed_errors = _fixed_errors(case, surface, truth_len)
         for level in LEVELS:
             ok = [p for k, p in enumerate(sweep) if all(q["rel_error"] <= level and q["status"] == 0 for q in sweep[k:])]
-            best = min(ok, key=lambda p: p["seconds"]) if ok else None
-
-            def ours(level=level):
-                return geodesic(surface, case.start, case.end, rounds=case.rounds, tolerance=level * truth_len)
-            sec, res = _median(ours, repeats)
+            bvp_cands = sorted(ok, key=lambda p: p["seconds"])[:BVP_CANDIDATES]
+            tasks: list[tuple[Any, Callable[[], Any]]] = [
+                (("tolerance",), lambda level=level: geodesic(surface, case.start, case.end, rounds=case.rounds,
+                                                              tolerance=level * truth_len))]
+            tasks += [(("bvp", p["tol"]), lambda tol=p["tol"]: bvp_length(eq, start, end, tol, nodes)) for p in bvp_cands]
+            tasks += [(("fixed", n), lambda n=n: geodesic(surface, case.start, case.end, rounds=case.rounds, n=n,
+                                                          estimate=False))
+                      for n in _hindsight_ns(fixed_errors, level)]
+            timed = _side_by_side(tasks, repeats)
+            res, sec = timed[("tolerance",)].value, timed[("tolerance",)].median
             err = abs(res.length - truth_len)
-            fixed = _hindsight(case, surface, truth_len, level, fixed_errors, repeats)
+            best = min(({**p, "seconds": timed[("bvp", p["tol"])].median} for p in bvp_cands),
+                       key=lambda p: p["seconds"], default=None)
+            fixed = min(({"n": key[1], "seconds": t.median, "rel_error": fixed_errors[key[1]]}
+                         for key, t in timed.items() if key[0] == "fixed"), key=lambda r: r["seconds"], default=None)
             rows.append({"level": level, "bvp": best, "winder_s": sec, "winder_n": res.n,
-                         "winder_rel_error": err / truth_len,
+                         "winder_rel_error": err / truth_len, "samples": len(timed[("tolerance",)].samples),
                          "estimate_over_true": res.smooth_error_estimate / err if err > 0 else None,
                          "ratio": best["seconds"] / sec if best else None, "fixed": fixed,
                          "fixed_ratio": best["seconds"] / fixed["seconds"] if best and fixed else None})
         out[case.key] = {"title": case.title, "sweep": sweep, "levels": rows}
     return out
+
+
+def _side_by_side(tasks: list[tuple[Any, Callable[[], Any]]], repeats: int):
+    """The tasks timed round-robin: SIDE_REPEATS x repeats / 5 samples each (fewer for a slow one)."""
+    from bench.timing import interleaved  # noqa: PLC0415
+
+    return interleaved(tasks, repeats=max(3, SIDE_REPEATS * repeats // 5), min_repeats=min(repeats, 5),
+                       budget=SIDE_BUDGET)
 
 
 def _fixed_errors(case, surface, truth_len: float) -> dict[int, float]:
@@ -199,23 +225,13 @@ def _fixed_errors(case, surface, truth_len: float) -> dict[int, float]:
     return out
 
 
-def _hindsight(case, surface, truth_len: float, level: float, errors: dict[int, float],
-               repeats: int) -> dict[str, Any] | None:
-    """winder's fastest fixed n meeting the level (as every larger n measured does), timed: the n
-    from the least such n up to twice it (a smaller n can cost more, solved from a coarser level)."""
-    from winder.paths.geodesic import geodesic  # noqa: PLC0415
-
+def _hindsight_ns(errors: dict[int, float], level: float) -> list[int]:
+    """The fixed n that count for winder's like-for-like column: those whose error meets the level, as
+    every larger n measured does (solve_bvp's rule), from the least such n up to twice it (a smaller n
+    can cost more, solved from a coarser level); empty where none does."""
     ns = sorted(errors)
     ok = [n for k, n in enumerate(ns) if all(errors[m] <= level for m in ns[k:])]
-    if not ok:
-        return None
-    timed = []
-    for n in (m for m in ok if m <= 2 * ok[0]):
-        def solve(n=n):
-            return geodesic(surface, case.start, case.end, rounds=case.rounds, n=n, estimate=False)
-        sec, _ = _median(solve, repeats)
-        timed.append({"n": n, "seconds": sec, "rel_error": errors[n]})
-    return min(timed, key=lambda r: r["seconds"])
+    return [m for m in ok if m <= 2 * ok[0]]
 
 
 def markdown(data: dict[str, Any]) -> list[str]:
@@ -232,8 +248,9 @@ def markdown(data: dict[str, Any]) -> list[str]:
               "equations: solve_bvp at its fastest tol whose error meets the level (chosen in hindsight); winder "
               "in tolerance mode at level x length (it finds n itself; the time includes the 2n + 1 solve of "
               "its error bound). Like for like, winder too at its best setting in hindsight: its fastest fixed n "
-              "whose error meets the level, one solve without the estimate (`--points N`). Target: winder >= 5x "
-              "faster.", "",
+              "whose error meets the level, one solve without the estimate (`--points N`). The sweeps pick the "
+              "candidates; the fastest few of each side are then timed interleaved, round-robin, and each "
+              "ratio is of two medians from that one loop. Target: winder >= 5x faster.", "",
               "| mandrel | level | solve_bvp | winder, tolerance mode | bvp / winder | winder n | estimate / true error "
               "| winder, n in hindsight | bvp / winder |",
               "|---|---|---:|---:|---:|---:|---:|---:|---:|"]
