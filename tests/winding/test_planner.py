@@ -234,3 +234,26 @@ def test_end_headings_are_each_points_heading():
             assert h == heading_deg(p.surface, q.s[[end]], q.theta[[end]], q.direction[[end]])[0]
     # forward passes leave the start at the layer angle (45 deg at the reference section, near it elsewhere)
     assert np.all(np.abs(got[0::2, 0] - 45.0) < 15.0)
+
+
+def test_hoop_with_gaps_says_so():
+    """A hoop angle below the closed one (cos(alpha) = B / P) advances more per turn than the band covers
+    along the axis (B / sin(alpha)): the layer is planned as asked, but its notes name the gap."""
+    layer = plan(job(PIPE, {"band_width": 10, "region": {"start": 20, "end": 480},
+                            "layers": [{"type": "hoop", "angle": 80}]})).layers[0]
+    pitch = 2 * math.pi * 50 / math.tan(math.radians(80))  # 55.4 mm per turn
+    axial = 10 / math.sin(math.radians(80))  # 10.15 mm
+    assert layer.coverage.covered_fraction == pytest.approx(axial / pitch, abs=0.01)
+    assert len(layer.notes) == 1
+    note = layer.notes[0]
+    assert f"advances {pitch:.3f} mm per turn" in note and f"({axial:.3f} mm)" in note, note
+    assert f"{layer.coverage.covered_fraction:.4f}" in note, note
+    closed = math.degrees(math.acos(10 / (2 * math.pi * 50)))
+    assert f"leave the angle out ({closed:.3f} deg here)" in note, note
+
+
+def test_hoop_steeper_than_closed_has_no_gap_note():
+    layer = plan(job(PIPE, {"band_width": 10, "region": {"start": 20, "end": 480},
+                            "layers": [{"type": "hoop", "angle": 89}]})).layers[0]
+    assert_even(layer, 10.0)
+    assert layer.notes == ()
