@@ -257,3 +257,23 @@ def test_hoop_steeper_than_closed_has_no_gap_note():
                             "layers": [{"type": "hoop", "angle": 89}]})).layers[0]
     assert_even(layer, 10.0)
     assert layer.notes == ()
+
+
+def test_angle_range_is_the_laid_one_at_the_region_ends():
+    """On a cone a geodesic's angle follows Clairaut, r sin(alpha) = R0 sin(alpha0): the layer's range
+    runs from the asked angle on the large end to asin(60 sin(40) / 40) on the small one, whatever the
+    number of points (the pass ends are laid too)."""
+    cone = {"axis": {"type": "line", "length": 600},
+            "profile": {"type": "cone", "start_radius": 60, "end_radius": 40}}
+    layer = plan(job(cone, {"band_width": 12, "points": 30, "dwell": {"start": 15, "end": 15},
+                            "layers": [{"type": "helical", "angle": 40, "pattern": 3}]})).layers[0]
+    small_end = math.degrees(math.asin(60 * math.sin(math.radians(40)) / 40))  # 74.618 deg
+    assert layer.alpha_min_deg == pytest.approx(40.0, abs=1e-3)
+    assert layer.alpha_max_deg == pytest.approx(small_end, abs=1e-3)
+
+
+def test_angle_range_on_a_vessel_reaches_the_hoop_at_the_turnaround(vessel_plan):
+    # Clairaut: r sin(alpha) = c, so alpha = 90 deg where the fiber turns round on the parallel r = c.
+    layer = vessel_plan.layers[0]
+    assert layer.alpha_min_deg == pytest.approx(layer.angle_deg, abs=1e-6)
+    assert layer.alpha_max_deg == pytest.approx(90.0, abs=1e-6)
