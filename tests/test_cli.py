@@ -517,3 +517,16 @@ def test_geodesic_output_over_its_config_is_refused_before_the_solve(tmp_path):
     assert result.exit_code == 2
     assert error_lines(result) == [f"Error: -o: is CONFIG itself, which writing there would destroy, got '{config}'"]
     assert config.read_bytes() == before
+
+
+def test_run_format_names_given_as_configs_are_a_usage_error(tmp_path):
+    """`--format csv gcode` takes gcode for a config: refused before any job with the way to ask for more
+    formats, instead of running the config with csv alone and failing on a file named gcode."""
+    out = tmp_path / "out"
+    result = invoke("run", tiny(tmp_path), "-o", out, "--format", "csv", "gcode", "ply")
+    assert result.exit_code == 2
+    assert error_lines(result) == [
+        "Error: gcode: not a config file but a format: give one format per --format (--format csv "
+        "--format gcode) or comma-separate them (--format csv,gcode)"]
+    assert result.stderr.count("\n") == 1
+    assert not out.exists()

@@ -320,8 +320,10 @@ def run_cmd(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], wi
     run. Exit status: 0 all ok, 2 if any config was invalid, else 1 if any job could not be
     computed or written.
     """
+    from winder.app.batch import refuse_format_among_configs  # noqa: PLC0415
     from winder.app.jobs import FORMATS  # noqa: PLC0415
 
+    refuse_format_among_configs(configs)
     if with_report and "report" not in formats:
         formats = tuple(f for f in FORMATS if f in formats or f == "report")
     if "report" in formats:

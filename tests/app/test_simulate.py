@@ -178,6 +178,14 @@ def test_a_program_cut_short_is_refused(plan):
         simulate(MACHINE, plan, ended)
 
 
+@pytest.mark.parametrize("text", ["", "; a comment only\n", "G21\nG90\nM2\n"])
+def test_a_program_without_moves_is_refused_without_a_line_zero(plan, text):
+    with pytest.raises(ConfigError) as err:
+        simulate(MACHINE, plan, text, "p.gcode")
+    assert str(err.value) == "p.gcode: the program has no moves"
+    assert err.value.exit_code == 2
+
+
 def test_a_move_beyond_the_limits_is_refused():
     """An edited X word outside machine.limits.carriage is refused with its line and value."""
     job = load_config(SAMPLES / "pipe.yaml")

@@ -56,6 +56,19 @@ def test_a_move_through_the_mandrel_is_refused(tube):
     check_collision(values[:2], env, machine, lambda row: "pass X")  # the first move keeps 20 mm
 
 
+def test_an_eye_inside_the_mandrel_is_said_to_cut_into_it(tube):
+    """The eye's centre at 35 mm on a 40 mm tube: its 4 mm body reaches 5 + 2 = 7 mm into the mandrel
+    (first on the move to X150), where the body must keep 20 less the chord tolerance,
+    said as such rather than as coming "within -7 mm"."""
+    machine = MachineConfig(eye_clearance=20.0, eye_size=4.0)
+    env = eye_envelope(tube, machine)
+    values = np.array([[100.0, 0.0, 62.0, 0.0], [150.0, 0.0, 35.0, 0.0], [200.0, 0.0, 35.0, 0.0]])
+    with pytest.raises(ExportError, match=r"pass X: the payout eye \(size 4 mm\) cuts 7.000 mm into the "
+                                          r"mandrel \(as wound so far\) on the move to X150.000 A0.000; it must "
+                                          r"stay 19.950 mm clear$"):
+        check_collision(values, env, machine, lambda row: "pass X")
+
+
 def _brute_distance(rho: np.ndarray, z: np.ndarray, t: np.ndarray, r: np.ndarray) -> np.ndarray:
     """Distance of (z, rho) from every meridian segment at once, the least kept (no search)."""
     q = np.column_stack([z, rho])[:, None, :]

@@ -194,3 +194,15 @@ def test_bend_at_the_end_of_the_region_reports_its_angle():
     assert layer.angle_deg == pytest.approx(alpha_m) and layer.requested_angle_deg == 50.0
     assert layer.alpha_min_deg == pytest.approx(alpha_m, abs=1e-6)
     assert any("the angle there is the bend's" in n for n in layer.notes)
+
+
+def test_circuits_above_the_closed_form_are_explained():
+    """Through a bend the bands part on its outside, so the planner winds more circuits than the straight
+    tube's N_c = ceil(2 pi a cos(alpha) / B) (MATH.md 5); the notes say so with both counts."""
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    axis = {"type": "path", "segments": [{"line": 150}, {"arc": {"radius": 300, "angle": 90}}, {"line": 150}]}
+    layer = plan(open_job(axis, {"type": "helical", "angle": 55, "slip": "auto"}, friction=0.25)).layers[0]
+    closed = math.ceil(2 * math.pi * A * math.cos(math.radians(55)) / 8)  # 19
+    assert layer.circuits > closed
+    assert any(n.startswith(f"{layer.circuits} circuits instead of {closed}:") for n in layer.notes), layer.notes

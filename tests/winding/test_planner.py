@@ -234,3 +234,46 @@ def test_end_headings_are_each_points_heading():
             assert h == heading_deg(p.surface, q.s[[end]], q.theta[[end]], q.direction[[end]])[0]
     # forward passes leave the start at the layer angle (45 deg at the reference section, near it elsewhere)
     assert np.all(np.abs(got[0::2, 0] - 45.0) < 15.0)
+
+
+def test_hoop_with_gaps_says_so():
+    """A hoop angle below the closed one (cos(alpha) = B / P) advances more per turn than the band covers
+    along the axis (B / sin(alpha)): the layer is planned as asked, but its notes name the gap."""
+    layer = plan(job(PIPE, {"band_width": 10, "region": {"start": 20, "end": 480},
+                            "layers": [{"type": "hoop", "angle": 80}]})).layers[0]
+    pitch = 2 * math.pi * 50 / math.tan(math.radians(80))  # 55.4 mm per turn
+    axial = 10 / math.sin(math.radians(80))  # 10.15 mm
+    assert layer.coverage.covered_fraction == pytest.approx(axial / pitch, abs=0.01)
+    assert len(layer.notes) == 1
+    note = layer.notes[0]
+    assert f"advances {pitch:.3f} mm per turn" in note and f"({axial:.3f} mm)" in note, note
+    assert f"{layer.coverage.covered_fraction:.4f}" in note, note
+    closed = math.degrees(math.acos(10 / (2 * math.pi * 50)))
+    assert f"leave the angle out ({closed:.3f} deg here)" in note, note
+
+
+def test_hoop_steeper_than_closed_has_no_gap_note():
+    layer = plan(job(PIPE, {"band_width": 10, "region": {"start": 20, "end": 480},
+                            "layers": [{"type": "hoop", "angle": 89}]})).layers[0]
+    assert_even(layer, 10.0)
+    assert layer.notes == ()
+
+
+def test_angle_range_is_the_laid_one_at_the_region_ends():
+    """On a cone a geodesic's angle follows Clairaut, r sin(alpha) = R0 sin(alpha0): the layer's range
+    runs from the asked angle on the large end to asin(60 sin(40) / 40) on the small one, whatever the
+    number of points (the pass ends are laid too)."""
+    cone = {"axis": {"type": "line", "length": 600},
+            "profile": {"type": "cone", "start_radius": 60, "end_radius": 40}}
+    layer = plan(job(cone, {"band_width": 12, "points": 30, "dwell": {"start": 15, "end": 15},
+                            "layers": [{"type": "helical", "angle": 40, "pattern": 3}]})).layers[0]
+    small_end = math.degrees(math.asin(60 * math.sin(math.radians(40)) / 40))  # 74.618 deg
+    assert layer.alpha_min_deg == pytest.approx(40.0, abs=1e-3)
+    assert layer.alpha_max_deg == pytest.approx(small_end, abs=1e-3)
+
+
+def test_angle_range_on_a_vessel_reaches_the_hoop_at_the_turnaround(vessel_plan):
+    # Clairaut: r sin(alpha) = c, so alpha = 90 deg where the fiber turns round on the parallel r = c.
+    layer = vessel_plan.layers[0]
+    assert layer.alpha_min_deg == pytest.approx(layer.angle_deg, abs=1e-6)
+    assert layer.alpha_max_deg == pytest.approx(90.0, abs=1e-6)

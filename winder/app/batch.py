@@ -3,9 +3,10 @@ command line prints (as text lines: the library never prints)."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 
-from winder.app.jobs import JobReport
+from winder.app.jobs import FORMATS, JobReport
 from winder.errors import ConfigError
 
 
@@ -18,6 +19,15 @@ def name_clash(path: str, name: str, owner: dict[str, str], where: str) -> Confi
                            f"both would write {name}.* into {where}")
     owner[key] = path
     return None
+
+
+def refuse_format_among_configs(configs: Sequence[str]) -> None:
+    """A format name given where a config goes is bad usage (exit 2): `--format csv gcode` leaves gcode
+    to the configs, and the batch would run with csv alone."""
+    for path in configs:
+        if path.lower() in FORMATS and not os.path.lexists(path):
+            raise ConfigError(f"{path}: not a config file but a format: give one format per --format "
+                              f"(--format csv --format gcode) or comma-separate them (--format csv,gcode)")
 
 
 def summary_lines(reports: Sequence[JobReport], out_dir: str) -> list[str]:

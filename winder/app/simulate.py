@@ -114,8 +114,6 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     order = {key: j for j, key in enumerate(by_key)}
     passes = list(by_key.values())
     m = parsed.values.shape[0]
-    if m == 0:
-        raise ConfigError(f"{source}: the program has no moves")
     unknown = [tuple(k) for k in parsed.keys if tuple(k) not in order]
     if unknown:
         named = (f" ({parsed.job!r}, by its job line; this config plans {plan.name!r})"

@@ -107,7 +107,7 @@ class MachineConfig:
         with a radius the body must clear the mandrel.
     feed: G-code feed rate F, mm/min, > 0 (default 3000).
     chord_tolerance: largest deviation (mm) between the programmed straight moves and the exact
-        eye path, > 0 (default 0.05); the exporter drops points within it.
+        eye path, >= 0.001 and below the eye clearance (default 0.05); the exporter drops points within it.
     limits: axis travel limits (see MachineLimits); the exporter refuses a program exceeding them.
     robot: true: write eye poses (position and fiber direction in the mandrel frame) for a robot
         instead of G-code axes. Default: true exactly when the mandrel axis is bent, which a
@@ -165,6 +165,16 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
         raise rd.error(rd.at(path, "chord_tolerance"), f"must be >= {WRITTEN_RESOLUTION:g} mm (the program writes "
                        f"the axes to {WRITTEN_RESOLUTION:g}: a finer tolerance cannot be held, only multiply the "
                        f"points)", m["chord_tolerance"])
+    if eye_clearance is not None and not chord_tolerance < eye_clearance:
+        # The collision check lets the moves' chords cut up to the tolerance into the clearance
+        # (winder.machine.collision); at or beyond it the eye could pass through the mandrel unrefused.
+        if "chord_tolerance" in m:
+            raise rd.error(rd.at(path, "chord_tolerance"), f"must be smaller than the eye's clearance "
+                           f"({eye_clearance:g} mm): the programmed moves may cut that far inside the eye's "
+                           f"path, into the mandrel", m["chord_tolerance"])
+        raise rd.error(rd.at(rd.at(path, "eye"), "clearance"), f"must be larger than the chord tolerance "
+                       f"({chord_tolerance:g} mm, machine.chord_tolerance): the programmed moves may cut that far "
+                       f"inside the eye's path, into the mandrel", m["eye"]["clearance"])
     robot = bent
     if "robot" in m:
         robot = rd.boolean(m["robot"], rd.at(path, "robot"))

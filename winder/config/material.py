@@ -16,6 +16,9 @@ if TYPE_CHECKING:
     from winder.config.reader import Reader
 
 MAX_TOWS = 1000
+# Densities are read in g/cm^3; the densest element (osmium) is 22.6, so a larger value is one typed
+# in kg/m^3 (2560 for glass), which would make bands and resin masses a thousand times too small.
+MAX_DENSITY = 25.0
 
 
 @record
@@ -23,7 +26,7 @@ class MaterialConfig:
     """A band's material (YAML `winding.material`, or a layer's `material`).
 
     fiber_tex: linear density of one tow, g/km (tex), > 0. tows: tows per band, whole number >= 1.
-    fiber_density, resin_density: g/cm^3, > 0. fiber_volume_fraction: V_f, in (0, 1).
+    fiber_density, resin_density: g/cm^3, > 0 and <= MAX_DENSITY. fiber_volume_fraction: V_f, in (0, 1).
     ply_thickness: instead of fiber_tex and tows: the thickness of one band as laid, mm, > 0 and
         below the band width.
     With fiber_tex, tows, fiber_density and fiber_volume_fraction are required and resin_density is
@@ -52,9 +55,14 @@ def parse_material(rd: Reader, value: Any, path: str, band_width: float) -> Mate
         raise rd.error(path, "needs fiber_tex (g/km, with tows, fiber_density and fiber_volume_fraction) "
                        "or ply_thickness (mm per band)", value)
     out: dict[str, Any] = {}
-    for key in ("fiber_tex", "fiber_density", "resin_density"):
+    if "fiber_tex" in m:
+        out["fiber_tex"] = rd.positive(m["fiber_tex"], rd.at(path, "fiber_tex"))
+    for key in ("fiber_density", "resin_density"):
         if key in m:
             out[key] = rd.positive(m[key], rd.at(path, key))
+            if out[key] > MAX_DENSITY:
+                raise rd.error(rd.at(path, key), f"must be at most {MAX_DENSITY:g} g/cm^3 (densities are in "
+                               "g/cm^3, not kg/m^3: carbon 1.78, glass 2.56, epoxy 1.15)", m[key])
     if "tows" in m:
         out["tows"] = rd.integer(m["tows"], rd.at(path, "tows"), minimum=1, maximum=MAX_TOWS)
     if "fiber_volume_fraction" in m:

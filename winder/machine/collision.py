@@ -146,6 +146,11 @@ def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig
         row = int(bad[np.argmin(worst[bad] - need[bad])])
         target = (f"X{values[row, 0]:.3f} Y{values[row, 1]:.3f} Z{values[row, 2]:.3f}" if guide is not None
                   else f"X{values[row, 0]:.3f} A{values[row, 1]:.3f}")
-        raise ExportError(f"{where(row)}: the payout eye (size {machine.eye_size:g} mm) comes within "
-                          f"{worst[row]:.3f} mm of the mandrel on the move to {target}, closer than "
-                          f"{max(need[row], 0.0):.3f} mm")
+        eye = f"{where(row)}: the payout eye (size {machine.eye_size:g} mm)"
+        if worst[row] < 0.0:
+            # The body is inside the part: its depth says more than a negative distance would.
+            keep = f"; it must stay {need[row]:.3f} mm clear" if need[row] > 0.0 else ""
+            raise ExportError(f"{eye} cuts {-worst[row]:.3f} mm into the mandrel (as wound so far) on the move "
+                              f"to {target}{keep}")
+        raise ExportError(f"{eye} comes within {worst[row]:.3f} mm of the mandrel on the move to {target}, "
+                          f"closer than {max(need[row], 0.0):.3f} mm")

@@ -298,8 +298,9 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
     caller measured them on these passes already, are not measured again."""
     laid = [p for p in passes if p.kind is not PassKind.DWELL]
     # The angle range is the winding region's: turnarounds run through every angle up to the hoop.
+    # A pass's ends are laid too: a cone's angle is extreme at the region's ends, a vessel's (90) at c.
     wound = [p for p in laid if p.kind is not PassKind.TURNAROUND]
-    folded = np.concatenate([np.abs(p.alpha_deg[1:-1]) for p in wound]) if wound else np.zeros(1)
+    folded = np.concatenate([np.abs(p.alpha_deg) for p in wound]) if wound else np.zeros(1)
     length = float(sum(p.length for p in passes))
     if coverage is None:
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)

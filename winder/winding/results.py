@@ -79,7 +79,8 @@ class LayerPlan:
         requested_angle_deg the config's. circuits N_c, pattern k (circuit advance 2 pi k / N_c).
     dwell_start_deg, dwell_end_deg : mandrel turn at each end of an open mandrel per circuit.
     turnaround_radius : vessels: the Clairaut constant c where the fiber turns on the domes (mm).
-    alpha_min_deg, alpha_max_deg : range of the winding angle (folded to [0, 90]) over all passes.
+    alpha_min_deg, alpha_max_deg : range of the winding angle (folded to [0, 90]) over the wound
+        passes, their ends included (turnarounds and dwells left out).
     time_s : estimated winding time at the machine feed.
     max_slip : largest |k_g / k_n| the layer's fibers need; min_normal_curvature : least k_n (1/mm, > 0:
         every fiber presses), both measured from the passes' points (winder.winding.slip).

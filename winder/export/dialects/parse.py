@@ -139,8 +139,10 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
         kinds.append(kind)
         feeds.append(values.get("F", np.nan))
         numbers.append(number)
+    if not rows:  # an empty file, or comments only: there is no last move to name a line by
+        raise ConfigError(f"{source}: the program has no moves")
     if end is None and dialect != "marlin":
-        last = numbers[-1] if numbers else 0
+        last = numbers[-1]
         raise ConfigError(f"{source}: line {last}: the program stops without its end (M2): cut short? "
                           f"got {len(rows)} moves, the last on line {last}")
     table = np.array(rows, dtype=float).reshape(-1, len(letters))

@@ -84,6 +84,11 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
             or pat.dwell_end * 360.0 > max(w.dwell_end_deg, SWING_MIN_DEG) + 1e-9):
         notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
                      f"the pattern (k = {pat.pattern} of {n_c})")
+    n_c0 = max(1, math.ceil(perimeter * math.cos(min(ends)) / w.band_width - 1e-9))  # MATH.md 5, straight tube
+    if n_c > n_c0:
+        # Without this a count above the closed form the engineer checks against reads as an error.
+        notes.append(f"{n_c} circuits instead of {n_c0}: the bands spread apart on the outside of a bend, so "
+                     f"more circuits close the gaps there (the straight pieces are covered more than once)")
     if abs(ends[0] - alpha) > 1e-12:
         notes.append(f"the bend reaches the end of the winding region: the angle there is the bend's, "
                      f"{math.degrees(ends[0]):.4f} deg instead of {cfg.angle_deg:g}")

@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from winder.config.winding import LayerConfig
+from winder.winding.coverage import layer_coverage
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import SolverError
 from winder.winding.slip import check_slip
@@ -28,6 +29,8 @@ from winder.winding.turnaround import SWING_MIN_DEG, heading_deg, trace_leg
 from winder.geometry.measure import row_norms
 
 HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
+# A pitch this much above the band's axial width is a gap, not round-off (the angle is read in degrees).
+PITCH_GAP_REL = 1e-9
 
 
 def _cylinder_region(ctx: PlanContext) -> tuple[float, float]:
@@ -41,8 +44,9 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
     surf, w = ctx.surface, ctx.winding
     t_a, t_b = _cylinder_region(ctx)
     s_ref, perimeter = reference_section(ctx, t_a, t_b)
+    closed = w.band_width < perimeter
     if cfg.angle_deg is None:
-        if w.band_width >= perimeter:
+        if not closed:
             raise SolverError(f"{ctx.key(index)}: the band ({w.band_width:g} mm) is wider than the perimeter "
                               f"({perimeter:.3f} mm): a hoop layer cannot be laid")
         alpha = math.degrees(math.acos(w.band_width / perimeter))
@@ -86,4 +90,16 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
             theta_start = float(passes[-1].theta[-1])
     check_slip(ctx, index, passes[0], turns)
     stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
-    return finish_layer(ctx, cfg, index, alpha, cfg.passes, 1, 0.0, 0.0, None, passes, stations, [])
+    coverage = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
+    notes = []
+    axial = w.band_width / math.sin(math.radians(alpha))  # the band's width along the axis
+    if pitch > axial * (1.0 + PITCH_GAP_REL):
+        # Planned as asked (a spaced hoop can be meant), but a program that leaves most of the surface
+        # bare must say so where the engineer reads the layer, as incomplete helical coverage does.
+        hint = (f"; leave the angle out ({math.degrees(math.acos(w.band_width / perimeter)):.3f} deg here) "
+                f"for a closed hoop" if closed else "")
+        notes.append(f"the hoop at {alpha:g} deg advances {pitch:.3f} mm per turn, more than the band covers "
+                     f"along the axis ({axial:.3f} mm): coverage stays incomplete ({coverage.covered_fraction:.4f}, "
+                     f"gap {coverage.max_gap_mm:.3f} mm){hint}")
+    return finish_layer(ctx, cfg, index, alpha, cfg.passes, 1, 0.0, 0.0, None, passes, stations, notes,
+                        coverage=coverage)
