@@ -71,3 +71,19 @@ def test_refusals_are_pyyamls(tmp_path: Path, text: str, message: str) -> None:
     with pytest.raises(ConfigError) as info:
         load_config(path)
     assert message in str(info.value)
+
+
+@pytest.mark.skipif(reader._CParser is None, reason="PyYAML without libyaml: its own composer raises RecursionError")
+def test_nesting_is_counted_before_libyaml_composes_it() -> None:
+    """libyaml's composer recurses in C (PyYAML 6.0.3 overflowed the stack on 100,000 '['): the depth is
+    read from the event stream first, and past MAX_NESTING the document is refused as too deep."""
+    depth = reader.MAX_NESTING
+    value = reader.load_yaml("a: " + "[" * (depth - 1) + "1" + "]" * (depth - 1))["a"]
+    for _ in range(depth - 1):
+        value = value[0]
+    assert value == 1
+    with pytest.raises(RecursionError):
+        reader.load_yaml("a: " + "[" * depth + "1" + "]" * depth)
+    with pytest.raises(RecursionError):
+        reader.load_yaml("x:\n" + "".join("  " * k + "- \n" for k in range(1, 3 * depth)))
+    assert reader._deeper_than("a: {b: [1, {c: 2}]}", 3) and not reader._deeper_than("a: {b: [1, {c: 2}]}", 4)

@@ -131,6 +131,31 @@ class _FastLoader(_Rules, _CParser or object, yaml.constructor.SafeConstructor, 
         yaml.resolver.Resolver.__init__(self)
 
 
+# Collections nested deeper than this are refused (RecursionError, as PyYAML's own composer raises):
+# a job file needs a few levels. libyaml's composer recurses in C, and some PyYAML builds (6.0.3's)
+# overflow the C stack on a file of 100,000 '[' instead of raising.
+MAX_NESTING = 100
+
+
+def _deeper_than(text: str, limit: int) -> bool:
+    """Whether the document nests collections deeper than limit, from libyaml's event stream (its
+    parser keeps its own stack, so no recursion), read only until the limit is passed: libyaml's
+    scanner costs time in proportion to the depth for every token. A YAMLError where it cannot read."""
+    parser = _CParser(text)  # type: ignore[misc]
+    depth = 0
+    try:
+        while (event := parser.get_event()) is not None and not isinstance(event, yaml.StreamEndEvent):
+            if isinstance(event, (yaml.SequenceStartEvent, yaml.MappingStartEvent)):
+                depth += 1
+                if depth > limit:
+                    return True
+            elif isinstance(event, (yaml.SequenceEndEvent, yaml.MappingEndEvent)):
+                depth -= 1
+    finally:
+        parser.dispose()
+    return False
+
+
 def load_yaml(text: str) -> Any:
     """The data of a YAML document read by YamlLoader's rules.
 
@@ -139,6 +164,12 @@ def load_yaml(text: str) -> Any:
     with or without libyaml.
     """
     if _CParser is not None:
+        try:
+            deep = _deeper_than(text, MAX_NESTING)
+        except yaml.YAMLError:
+            deep = False  # PyYAML's parser below names the problem
+        if deep:
+            raise RecursionError(f"collections nested deeper than {MAX_NESTING} levels")
         try:
             return yaml.load(text, Loader=_FastLoader)  # noqa: S506 - SafeConstructor
         except (yaml.YAMLError, ValueError, RecursionError):
