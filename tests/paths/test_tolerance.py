@@ -8,7 +8,8 @@ import pytest
 
 from conftest import ellipse_arc
 from winder.geometry.measure import smooth_length
-from winder.paths.geodesic import _lengths, _predicted_points, coarsest_points, geodesic, solve_path, straight_path
+from winder.paths.geodesic import _lengths, _predicted_points, geodesic, solve_path, straight_path
+from winder.paths.resolution import coarsest_points
 from winder.paths.newton import LENGTH_SHARE, StopReason
 
 LEVELS = (1e-6, 1e-9, 1e-12)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from winder.config.job import parse_config
-from winder.errors import SolverError
+from winder.errors import ConfigError, SolverError
 from winder.geometry.build import build_surface
 from winder.geometry.sections import arc_map
 from winder.winding import passes as P
@@ -71,3 +71,14 @@ def test_a_tolerance_past_double_precision_names_winding_tolerance():
         P.fine_geodesic(ctx, (0.0, 0.0), (300.0, 4.0), None)
     assert (err.value.file, err.value.key_path) == ("t.yaml", "winding.tolerance")
     assert str(err.value).startswith("t.yaml: winding.tolerance: 1e-300 mm is below")
+
+
+def test_too_few_points_for_a_pass_of_many_rounds_names_winding_points():
+    """A pass sweeping more rounds than a third of its segments is refused as the solver refuses it,
+    under the config's key: 10 points cannot follow 5 rounds (a chord would span 180 deg)."""
+    ctx = _ctx({"axis": {"type": "line", "length": 300}, "profile": {"type": "constant", "radius": 50}}, 10)
+    with pytest.raises(ConfigError) as err:
+        P.fine_geodesic(ctx, (0.0, 0.0), (300.0, 10.0 * math.pi), None)
+    assert (err.value.file, err.value.key_path) == ("t.yaml", "winding.points")
+    assert str(err.value).startswith("t.yaml: winding.points: must be at least 14 for a path of 5 rounds")
+    assert P.fine_geodesic(ctx, (0.0, 0.0), (300.0, 6.0 * math.pi), None).converged  # 3 rounds: 9 segments do

@@ -30,6 +30,7 @@ from winder.paths.energy import energy_terms
 from winder.paths.lbfgs import _lbfgs
 from winder.paths.newton import (LENGTH_SHARE, LEVEL_PREDICTED, LEVEL_STEP_TOL, MAX_NEWTON, STEP_TOL, Level,
                                  PathSolve, StopReason, _newton, chain_bend)
+from winder.paths.resolution import MAX_POINTS, check_points, coarsest_points, default_points, too_few_hint
 from winder.records import record
 
 __all__ = ["DEFAULT_POINTS", "STEP_TOL", "GeodesicResult", "Level", "Method", "PathSolve", "StopReason",
@@ -41,11 +42,7 @@ class Method(Enum):
     LBFGS = "lbfgs"
 
 
-COARSEST = 31  # interior points of the coarsest level
 LEVEL_FACTOR = 8  # segments multiply by this from one level to the next (measured: 4 needs more levels, 16 is no faster)
-POINTS_PER_ROUND = 24  # the coarsest level keeps this many points per round of a helix
-DEFAULT_PER_ROUND = 48  # the default n keeps at least this many points per round of a helix
-MAX_POINTS = 1_000_000  # the solver holds ~1 kB per point: beyond this, refuse instead of swapping
 # The smooth length's error at n is at most twice |L_n - L_2n+1| whenever halving the segments at
 # least halves the error (convergence rate >= 1; the theory and the measurements give 4, for which
 # the factor would be 16/15): so the reported estimate bounds the error, by about 1.9x asymptotically.
@@ -152,11 +149,6 @@ def _levels(n: int, coarsest: int) -> list[int]:
     while levels[-1] > LEVEL_FACTOR * coarsest:
         levels.append((levels[-1] + 1) // LEVEL_FACTOR - 1)
     return levels[::-1]
-
-
-def coarsest_points(rounds: float) -> int:
-    """Interior points of the coarsest level for a path sweeping this many rounds."""
-    return max(COARSEST, int(POINTS_PER_ROUND * rounds))
 
 
 def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
@@ -328,15 +320,9 @@ def _message(sol: PathSolve, levels: tuple[Level, ...], rounds: float, n: int) -
     if capped:
         text += "; coarse levels stopped at their iteration caps: " + ", ".join(
             f"n = {lv.n} after {lv.iterations} of {lv.max_iter}" for lv in capped)
-    if not sol.converged and n < POINTS_PER_ROUND * rounds:
-        text += (f"; {n} points are fewer than {POINTS_PER_ROUND} per round for {rounds:.3g} rounds: raise "
-                 f"--points to at least {int(np.ceil(POINTS_PER_ROUND * rounds))}")
+    if not sol.converged:
+        text += too_few_hint(n, rounds)
     return text
-
-
-def default_points(rounds: float) -> int:
-    """The default n: DEFAULT_POINTS, and at least DEFAULT_PER_ROUND per round swept."""
-    return max(DEFAULT_POINTS, int(np.ceil(DEFAULT_PER_ROUND * rounds)))
 
 
 def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float, float], *,
@@ -356,10 +342,7 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
     th0, th1 = float(start[1]), float(end[1]) + 2.0 * np.pi * rounds
     swept = abs(th1 - th0) / (2.0 * np.pi)
     n = default_points(swept) if n is None else n
-    if n < 1:
-        raise ConfigError(f"must be >= 1, got {n}", key_path="points")
-    if n > max_points:
-        raise ConfigError(f"at most {max_points} (memory and time grow with n), got {n}", key_path="points")
+    check_points(n, swept, max_points)
     t0 = time.perf_counter()
     s0, s1 = (float(v) for v in surface.s_of_t(np.array([start[0], end[0]])))
     if init is not None:

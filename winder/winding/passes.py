@@ -11,7 +11,7 @@ from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
 from winder.records import record
 from winder.winding.coverage import layer_coverage
-from winder.errors import SolverError
+from winder.errors import ConfigError, SolverError
 from winder.progress import Progress
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_of
 from winder.winding.slip import LayerSlip, check as check_held
@@ -181,6 +181,10 @@ def _solve(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: 
         if exc.key_path != "tolerance":
             raise
         raise SolverError(exc.message, file=ctx.job.source, key_path="winding.tolerance") from exc
+    except ConfigError as exc:  # too few points for the rounds a pass sweeps
+        if exc.key_path != "points":
+            raise
+        raise ConfigError(exc.message, file=ctx.job.source, key_path="winding.points") from exc
 
 
 def solved_passes(surface: SweepSurface, fines: list[GeodesicResult]) -> list[SolvedPass]:
