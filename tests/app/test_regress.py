@@ -284,3 +284,29 @@ def test_regress_failed_job(tmp_path):
     assert not (folder / "reference" / "bad").exists()
     assert "the job failed" in format_result(results[1])[0]
     assert failure_line(results[1]).endswith("mandrel: invalid")
+
+
+def test_regress_fails_on_a_reference_without_its_sample(tmp_path):
+    # A sample deleted while its reference stayed: the CI would stop checking it and still pass.
+    folder = make_samples(tmp_path, a=1.0, b=1.0)
+    regress(folder, update=True, job=fake_job)
+    (folder / "b.yaml").unlink()
+    results = regress(folder, job=fake_job)
+    assert [r.sample.name for r in results] == ["a", "b"] and [r.ok for r in results] == [True, False]
+    assert regress_exit_status(results) == 1
+    assert format_result(results[1]) == [
+        f"FAIL b: {folder / 'reference' / 'b'} holds the reference of b.yaml, which is not there "
+        "(restore the sample, or remove its reference with `winder regress --update`)"]
+    assert failure_line(results[1]) == f"{folder / 'b.yaml'}: no such sample, but {folder / 'reference' / 'b'} holds its reference"
+
+    (folder / "reference" / "b" / "notes.txt").write_text("kept: not a winder output")
+    results = regress(folder, update=True, job=fake_job)
+    assert all(r.ok for r in results) and regress_exit_status(results) == 0
+    assert {f.file: f.status for f in results[1].files} == {
+        "b.csv": "removed", "b.gcode": "removed", "b.summary.json": "removed"}
+    assert format_result(results[1])[0].startswith("removed b:")
+    assert sorted(p.name for p in (folder / "reference" / "b").iterdir()) == ["notes.txt"]
+    (folder / "reference" / "b" / "notes.txt").unlink()
+    regress(folder, update=True, job=fake_job)
+    assert not (folder / "reference" / "b").exists()
+    assert [r.ok for r in regress(folder, job=fake_job)] == [True]
