@@ -310,3 +310,15 @@ def test_regress_fails_on_a_reference_without_its_sample(tmp_path):
     regress(folder, update=True, job=fake_job)
     assert not (folder / "reference" / "b").exists()
     assert [r.ok for r in regress(folder, job=fake_job)] == [True]
+
+
+def test_gcode_comment_numbers_are_named_by_their_word():
+    # "word s" for the circuit count of "circuits 19" sent the reader looking for an axis S.
+    head = "; layer 1: helical, angle 55.000 deg (requested 55.000), circuits 19, fiber 33512.338 mm\n"
+    shown, count = compare_lines(head + GCODE, head.replace("circuits 19", "circuits 18") + GCODE)
+    assert count == 1 and shown[0].where == "line 1, circuits (in a comment)"
+    assert (shown[0].expected, shown[0].got) == ("19", "18")
+    shown, count = compare_lines(head + GCODE, head.replace("(requested 55.000)", "(requested 55.500)") + GCODE)
+    assert count == 1 and shown[0].where == "line 1, requested (in a comment)"
+    shown, count = compare_lines(GCODE, GCODE.replace("A36.250", "A36.260"))
+    assert shown[0].where == "line 6, word A"  # axis words keep their letter

@@ -265,9 +265,12 @@ def compare_lines(expected: str, got: str, limit: int = MAX_SHOWN) -> tuple[list
             ok, note = _printed_close(pa[k], pb[k])
             if not ok:
                 prev = pa[k - 1].rstrip()
-                where = f"line {n}, word {prev[-1]}" if prev[-1:].isalpha() else f"line {n}, number {k // 2 + 1}"
                 if ";" in "".join(pa[:k]):
-                    where += " (in a comment)"
+                    # In a comment the number follows a word ("circuits 19"), not an axis letter.
+                    words = re.findall(r"[A-Za-z_]+", prev)
+                    where = (f"line {n}, {words[-1]}" if words else f"line {n}, number {k // 2 + 1}") + " (in a comment)"
+                else:
+                    where = f"line {n}, word {prev[-1]}" if prev[-1:].isalpha() else f"line {n}, number {k // 2 + 1}"
                 out.add(where, pa[k], pb[k], note + f"; line: {lb.strip()}")
     return out.shown, out.count
 
