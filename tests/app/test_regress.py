@@ -322,3 +322,55 @@ def test_gcode_comment_numbers_are_named_by_their_word():
     assert count == 1 and shown[0].where == "line 1, requested (in a comment)"
     shown, count = compare_lines(GCODE, GCODE.replace("A36.250", "A36.260"))
     assert shown[0].where == "line 6, word A"  # axis words keep their letter
+
+
+def _floats(value, path=""):
+    if isinstance(value, dict):
+        for key, sub in value.items():
+            yield from _floats(sub, f"{path}.{key}" if path else key)
+    elif isinstance(value, list):
+        for i, sub in enumerate(value):
+            yield from _floats(sub, f"{path}[{i}]")
+    elif isinstance(value, float):
+        yield path, value
+
+
+def test_summary_keys_are_compared_at_the_decimals_they_are_written_with():
+    # The stored summaries as the writer printed them: every float sits on the grid regress compares
+    # it at (a coarser grid than written lets a real change pass, a relative 1e-6 fails a flipped last
+    # digit of a value under 1000).
+    from winder.export.summary import decimals_of
+
+    stored = sorted((Path(__file__).parents[2] / "samples" / "reference").glob("*/*.summary.json"))
+    assert len(stored) >= 7
+    keys = set()
+    for file in stored:
+        for path, value in _floats(json.loads(file.read_text())):
+            decimals = decimals_of(path)
+            assert decimals is not None, (file.name, path)
+            assert round(value, decimals) == value, (file.name, path, value, decimals)
+            keys.add(path.rsplit(".", 1)[-1].split("[")[0])
+    assert {"min_normal_curvature_per_mm", "max_slip", "thickness_mm", "outer_radius_mm", "yaw", "i"} <= keys
+
+
+def test_summary_curvature_thickness_and_travel_at_their_printed_unit():
+    summary = {"layers": [{"min_normal_curvature_per_mm": 0.0125, "max_slip": 0.452311, "thickness_mm": 3.3472}],
+               "axis_travel": {"yaw": [-44.43, 44.43], "i": [-0.999871, 0.5]}}
+
+    def changed(path, value):
+        other = json.loads(json.dumps(summary))
+        node = other
+        for step in path[:-1]:
+            node = node[step]
+        node[path[-1]] = value
+        return compare_json(json.dumps(summary), json.dumps(other))[1]
+
+    assert changed(("layers", 0, "min_normal_curvature_per_mm"), 0.0134) == 1  # 7 % stiffer: was within 1e-3
+    assert changed(("layers", 0, "min_normal_curvature_per_mm"), 0.01250001) == 0
+    assert changed(("layers", 0, "thickness_mm"), 3.3481) == 1
+    assert changed(("layers", 0, "thickness_mm"), 3.3473) == 0
+    assert changed(("layers", 0, "max_slip"), 0.452312) == 0  # a flipped last digit is round-off
+    assert changed(("layers", 0, "max_slip"), 0.452315) == 1
+    assert changed(("axis_travel", "yaw", 1), 44.431) == 0
+    assert changed(("axis_travel", "yaw", 1), 44.433) == 1
+    assert changed(("axis_travel", "i", 0), -0.99987) == 0
