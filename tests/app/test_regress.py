@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from winder.errors import ConfigError
@@ -374,3 +375,40 @@ def test_summary_curvature_thickness_and_travel_at_their_printed_unit():
     assert changed(("axis_travel", "yaw", 1), 44.431) == 0
     assert changed(("axis_travel", "yaw", 1), 44.433) == 1
     assert changed(("axis_travel", "i", 0), -0.99987) == 0
+
+
+def _ply(points, colors=(190, 190, 190, 255), faces=((0, 1, 2),)) -> bytes:
+    """A binary PLY in the layout winder.export.ply writes (float32 xyz, uchar RGBA, uchar 3 + int32 faces)."""
+    v = np.zeros(len(points), dtype=[("p", "<f4", 3), ("c", "u1", 4)])
+    v["p"], v["c"] = points, colors
+    f = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
+    f["n"], f["i"] = 3, faces
+    head = ("ply\nformat binary_little_endian 1.0\ncomment winder\n"
+            f"element vertex {len(points)}\nproperty float x\nproperty float y\nproperty float z\n"
+            "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
+            f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    return head.encode("ascii") + v.tobytes() + f.tobytes()
+
+
+def test_ply_vertices_within_their_last_bit():
+    # The vessel_hemi sample's PLY from numpy 2.0.2 and 2.4.6 differs in 7 of 31,060 vertices by one
+    # float32 step (20.888504 against 20.888506): the same mesh, yet byte for byte it failed.
+    points = np.array([[20.888504, 97.89631, 228.72789], [0.0, 1.0, 2.0], [-3.5, 0.25, 500.0]], np.float32)
+    ref = _ply(points)
+    flipped = points.copy()
+    flipped[0, 0] = np.nextafter(flipped[0, 0], np.float32(100))
+    assert compare_file("a.ply", ref, _ply(flipped)) == ([], 0)
+    zeros = points.copy()  # a rounded zero beside 97.9 (seen: -1.29e-12 against -3.85e-12)
+    zeros[0, 0], flipped[0, 0] = -1.2939653e-12, -3.8463607e-12
+    assert compare_file("a.ply", _ply(zeros), _ply(flipped)) == ([], 0)
+    moved = points.copy()
+    moved[2, 2] += np.float32(0.001)
+    shown, count = compare_file("a.ply", ref, _ply(moved))
+    assert count == 1 and shown[0].where == "vertex 2, property z"
+    assert compare_file("a.ply", ref, _ply(points, colors=(190, 190, 191, 255)))[1] == 3  # colors exact
+    shown, count = compare_file("a.ply", ref, _ply(points, faces=((0, 2, 1),)))
+    assert count == 1 and shown[0].where.startswith("faces")
+    shown, count = compare_file("a.ply", ref, _ply(points[:2], faces=((0, 1, 1),)))
+    assert count == 1 and shown[0].where == "header"
+    assert compare_file("a.ply", ref, ref[:-5])[1] == 1  # a face cut short
+    assert compare_file("a.ply", b"not a ply", b"not a ply either")[1] == 1  # unreadable: the bytes

@@ -13,7 +13,8 @@ modulo their period. See samples/README.md.
   PERIODIC_COLUMNS) compared modulo 180.
 - G-code (and any other text): the same lines and words; each number within one unit of its
   printed last place.
-- anything else (PLY): byte for byte.
+- PLY: header and faces exact, vertex floats within their last bit (winder.app.compare_ply).
+- anything else: byte for byte.
 """
 
 from __future__ import annotations
@@ -290,7 +291,11 @@ def compare_file(file_name: str, expected: bytes, got: bytes,
         return [], 0
     fmt = registry.format_of(file_name)
     compare = compare_lines if fmt is None else _TEXT_COMPARE.get(fmt.name, compare_bytes)
-    if compare is compare_bytes:  # a binary output (PLY)
+    if fmt is not None and fmt.name == "ply":  # float32 vertices: within their last bit
+        from winder.app.compare_ply import compare_ply  # noqa: PLC0415
+
+        return compare_ply(expected, got, limit=limit)
+    if compare is compare_bytes:  # another binary output
         return compare_bytes(expected, got)
     try:
         a, b = expected.decode("utf-8"), got.decode("utf-8")
