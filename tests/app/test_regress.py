@@ -92,6 +92,20 @@ def test_json_numbers_in_text():
     assert compare_json(a, a.replace("dwells", "dwell"))[1] == 1
 
 
+def test_numbers_in_text_printed_to_different_places():
+    # configs/vessel_friction.yaml with friction 0.2 -> 0.25 changes only its note's "(friction 0.25)";
+    # compared at the coarser place of "0.2" (0.1) the change passed.
+    a = json.dumps({"notes": ["|k_g / k_n| up to 0.155 (friction 0.2); pattern k = 3 of 77"]})
+    shown, count = compare_json(a, a.replace("friction 0.2)", "friction 0.25)"))
+    assert count == 1 and shown[0].where == "notes[0]"
+    assert compare_json(a, a.replace("friction 0.2)", "friction 0.21)"))[1] == 0  # one unit of 0.21
+    assert compare_json(a, a.replace("friction 0.2)", "friction 0.2001)"))[1] == 0  # %g: 0.20005 either way
+    b = json.dumps({"notes": ["stations at 5 mm"]})
+    assert compare_json(b, b.replace("5 mm", "5.00001 mm"))[1] == 0  # %g of 5.000005
+    assert compare_json(b, b.replace("5 mm", "5.5 mm"))[1] == 1
+    assert compare_json(b, b.replace("5 mm", "6 mm"))[1] == 1
+
+
 def test_json_nan_and_inf():
     assert compare_json('{"a": NaN, "b": Infinity}', '{"a": NaN, "b": Infinity}')[1] == 0
     assert compare_json('{"a": NaN}', '{"a": 1.0}')[1] == 1

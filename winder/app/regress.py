@@ -21,7 +21,8 @@ from pathlib import Path
 from winder.errors import ConfigError
 from winder.export import registry
 from winder.app.compare import (JSON_ATOL, JSON_RTOL, PRINT_SLACK, REL_NOISE, Difference, compare_bytes,
-                                compare_csv, compare_file, compare_json, compare_lines)
+                                compare_csv, compare_file, compare_lines)
+from winder.app.compare_summary import compare_json
 from winder.app.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
 from winder.records import record
 
