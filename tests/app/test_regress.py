@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from winder.errors import ConfigError
@@ -89,6 +90,20 @@ def test_json_numbers_in_text():
     shown, count = compare_json(a, a.replace("14.561 /", "14.563 /"))
     assert count == 1 and shown[0].where == "notes[0]"
     assert compare_json(a, a.replace("dwells", "dwell"))[1] == 1
+
+
+def test_numbers_in_text_printed_to_different_places():
+    # configs/vessel_friction.yaml with friction 0.2 -> 0.25 changes only its note's "(friction 0.25)";
+    # compared at the coarser place of "0.2" (0.1) the change passed.
+    a = json.dumps({"notes": ["|k_g / k_n| up to 0.155 (friction 0.2); pattern k = 3 of 77"]})
+    shown, count = compare_json(a, a.replace("friction 0.2)", "friction 0.25)"))
+    assert count == 1 and shown[0].where == "notes[0]"
+    assert compare_json(a, a.replace("friction 0.2)", "friction 0.21)"))[1] == 0  # one unit of 0.21
+    assert compare_json(a, a.replace("friction 0.2)", "friction 0.2001)"))[1] == 0  # %g: 0.20005 either way
+    b = json.dumps({"notes": ["stations at 5 mm"]})
+    assert compare_json(b, b.replace("5 mm", "5.00001 mm"))[1] == 0  # %g of 5.000005
+    assert compare_json(b, b.replace("5 mm", "5.5 mm"))[1] == 1
+    assert compare_json(b, b.replace("5 mm", "6 mm"))[1] == 1
 
 
 def test_json_nan_and_inf():
@@ -284,3 +299,130 @@ def test_regress_failed_job(tmp_path):
     assert not (folder / "reference" / "bad").exists()
     assert "the job failed" in format_result(results[1])[0]
     assert failure_line(results[1]).endswith("mandrel: invalid")
+
+
+def test_regress_fails_on_a_reference_without_its_sample(tmp_path):
+    # A sample deleted while its reference stayed: the CI would stop checking it and still pass.
+    folder = make_samples(tmp_path, a=1.0, b=1.0)
+    regress(folder, update=True, job=fake_job)
+    (folder / "b.yaml").unlink()
+    results = regress(folder, job=fake_job)
+    assert [r.sample.name for r in results] == ["a", "b"] and [r.ok for r in results] == [True, False]
+    assert regress_exit_status(results) == 1
+    assert format_result(results[1]) == [
+        f"FAIL b: {folder / 'reference' / 'b'} holds the reference of b.yaml, which is not there "
+        "(restore the sample, or remove its reference with `winder regress --update`)"]
+    assert failure_line(results[1]) == f"{folder / 'b.yaml'}: no such sample, but {folder / 'reference' / 'b'} holds its reference"
+
+    (folder / "reference" / "b" / "notes.txt").write_text("kept: not a winder output")
+    results = regress(folder, update=True, job=fake_job)
+    assert all(r.ok for r in results) and regress_exit_status(results) == 0
+    assert {f.file: f.status for f in results[1].files} == {
+        "b.csv": "removed", "b.gcode": "removed", "b.summary.json": "removed"}
+    assert format_result(results[1])[0].startswith("removed b:")
+    assert sorted(p.name for p in (folder / "reference" / "b").iterdir()) == ["notes.txt"]
+    (folder / "reference" / "b" / "notes.txt").unlink()
+    regress(folder, update=True, job=fake_job)
+    assert not (folder / "reference" / "b").exists()
+    assert [r.ok for r in regress(folder, job=fake_job)] == [True]
+
+
+def test_gcode_comment_numbers_are_named_by_their_word():
+    # "word s" for the circuit count of "circuits 19" sent the reader looking for an axis S.
+    head = "; layer 1: helical, angle 55.000 deg (requested 55.000), circuits 19, fiber 33512.338 mm\n"
+    shown, count = compare_lines(head + GCODE, head.replace("circuits 19", "circuits 18") + GCODE)
+    assert count == 1 and shown[0].where == "line 1, circuits (in a comment)"
+    assert (shown[0].expected, shown[0].got) == ("19", "18")
+    shown, count = compare_lines(head + GCODE, head.replace("(requested 55.000)", "(requested 55.500)") + GCODE)
+    assert count == 1 and shown[0].where == "line 1, requested (in a comment)"
+    shown, count = compare_lines(GCODE, GCODE.replace("A36.250", "A36.260"))
+    assert shown[0].where == "line 6, word A"  # axis words keep their letter
+
+
+def _floats(value, path=""):
+    if isinstance(value, dict):
+        for key, sub in value.items():
+            yield from _floats(sub, f"{path}.{key}" if path else key)
+    elif isinstance(value, list):
+        for i, sub in enumerate(value):
+            yield from _floats(sub, f"{path}[{i}]")
+    elif isinstance(value, float):
+        yield path, value
+
+
+def test_summary_keys_are_compared_at_the_decimals_they_are_written_with():
+    # The stored summaries as the writer printed them: every float sits on the grid regress compares
+    # it at (a coarser grid than written lets a real change pass, a relative 1e-6 fails a flipped last
+    # digit of a value under 1000).
+    from winder.export.summary import decimals_of
+
+    stored = sorted((Path(__file__).parents[2] / "samples" / "reference").glob("*/*.summary.json"))
+    assert len(stored) >= 7
+    keys = set()
+    for file in stored:
+        for path, value in _floats(json.loads(file.read_text())):
+            decimals = decimals_of(path)
+            assert decimals is not None, (file.name, path)
+            assert round(value, decimals) == value, (file.name, path, value, decimals)
+            keys.add(path.rsplit(".", 1)[-1].split("[")[0])
+    assert {"min_normal_curvature_per_mm", "max_slip", "thickness_mm", "outer_radius_mm", "yaw", "i"} <= keys
+
+
+def test_summary_curvature_thickness_and_travel_at_their_printed_unit():
+    summary = {"layers": [{"min_normal_curvature_per_mm": 0.0125, "max_slip": 0.452311, "thickness_mm": 3.3472}],
+               "axis_travel": {"yaw": [-44.43, 44.43], "i": [-0.999871, 0.5]}}
+
+    def changed(path, value):
+        other = json.loads(json.dumps(summary))
+        node = other
+        for step in path[:-1]:
+            node = node[step]
+        node[path[-1]] = value
+        return compare_json(json.dumps(summary), json.dumps(other))[1]
+
+    assert changed(("layers", 0, "min_normal_curvature_per_mm"), 0.0134) == 1  # 7 % stiffer: was within 1e-3
+    assert changed(("layers", 0, "min_normal_curvature_per_mm"), 0.01250001) == 0
+    assert changed(("layers", 0, "thickness_mm"), 3.3481) == 1
+    assert changed(("layers", 0, "thickness_mm"), 3.3473) == 0
+    assert changed(("layers", 0, "max_slip"), 0.452312) == 0  # a flipped last digit is round-off
+    assert changed(("layers", 0, "max_slip"), 0.452315) == 1
+    assert changed(("axis_travel", "yaw", 1), 44.431) == 0
+    assert changed(("axis_travel", "yaw", 1), 44.433) == 1
+    assert changed(("axis_travel", "i", 0), -0.99987) == 0
+
+
+def _ply(points, colors=(190, 190, 190, 255), faces=((0, 1, 2),)) -> bytes:
+    """A binary PLY in the layout winder.export.ply writes (float32 xyz, uchar RGBA, uchar 3 + int32 faces)."""
+    v = np.zeros(len(points), dtype=[("p", "<f4", 3), ("c", "u1", 4)])
+    v["p"], v["c"] = points, colors
+    f = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
+    f["n"], f["i"] = 3, faces
+    head = ("ply\nformat binary_little_endian 1.0\ncomment winder\n"
+            f"element vertex {len(points)}\nproperty float x\nproperty float y\nproperty float z\n"
+            "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
+            f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    return head.encode("ascii") + v.tobytes() + f.tobytes()
+
+
+def test_ply_vertices_within_their_last_bit():
+    # The vessel_hemi sample's PLY from numpy 2.0.2 and 2.4.6 differs in 7 of 31,060 vertices by one
+    # float32 step (20.888504 against 20.888506): the same mesh, yet byte for byte it failed.
+    points = np.array([[20.888504, 97.89631, 228.72789], [0.0, 1.0, 2.0], [-3.5, 0.25, 500.0]], np.float32)
+    ref = _ply(points)
+    flipped = points.copy()
+    flipped[0, 0] = np.nextafter(flipped[0, 0], np.float32(100))
+    assert compare_file("a.ply", ref, _ply(flipped)) == ([], 0)
+    zeros = points.copy()  # a rounded zero beside 97.9 (seen: -1.29e-12 against -3.85e-12)
+    zeros[0, 0], flipped[0, 0] = -1.2939653e-12, -3.8463607e-12
+    assert compare_file("a.ply", _ply(zeros), _ply(flipped)) == ([], 0)
+    moved = points.copy()
+    moved[2, 2] += np.float32(0.001)
+    shown, count = compare_file("a.ply", ref, _ply(moved))
+    assert count == 1 and shown[0].where == "vertex 2, property z"
+    assert compare_file("a.ply", ref, _ply(points, colors=(190, 190, 191, 255)))[1] == 3  # colors exact
+    shown, count = compare_file("a.ply", ref, _ply(points, faces=((0, 2, 1),)))
+    assert count == 1 and shown[0].where.startswith("faces")
+    shown, count = compare_file("a.ply", ref, _ply(points[:2], faces=((0, 1, 1),)))
+    assert count == 1 and shown[0].where == "header"
+    assert compare_file("a.ply", ref, ref[:-5])[1] == 1  # a face cut short
+    assert compare_file("a.ply", b"not a ply", b"not a ply either")[1] == 1  # unreadable: the bytes

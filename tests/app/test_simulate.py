@@ -178,6 +178,19 @@ def test_a_program_cut_short_is_refused(plan):
         simulate(MACHINE, plan, ended)
 
 
+def test_a_whole_program_of_another_config_is_not_only_called_cut_short():
+    """The elbow sample's program (band 10: 18 circuits) read against configs/elbow.yaml (band 8: 23
+    circuits, every pass of the program among them): complete, ended by M2, yet short of that plan."""
+    job = load_config(SAMPLES.parent / "configs" / "elbow.yaml")
+    program = (SAMPLES / "reference" / "elbow" / "elbow.gcode").read_text()
+    with pytest.raises(ConfigError) as err:
+        simulate(job.machine, plan_job(job), program, "elbow.gcode")
+    text = str(err.value)
+    assert "the program stops before the end of the plan of" in text and "configs/elbow.yaml" in text
+    assert "(layer 1 circuit 23 pass 92): cut short, or written for another config?" in text
+    assert "got its last move in layer 1 circuit 18 pass 72" in text
+
+
 @pytest.mark.parametrize("text", ["", "; a comment only\n", "G21\nG90\nM2\n"])
 def test_a_program_without_moves_is_refused_without_a_line_zero(plan, text):
     with pytest.raises(ConfigError) as err:

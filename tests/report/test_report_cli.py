@@ -184,3 +184,19 @@ def test_the_passes_column_counts_the_passes_that_lay_fiber(tmp_path):
     column = heads.index("passes")
     assert "passes<br><span class=unit>laid</span>" in table
     assert [row[column] for row in rows] == ["38", "2"]
+
+
+def test_the_page_shows_the_travel_of_each_axis_from_the_summary(tmp_path):
+    # Before winding a shop sets the program's axis travel against its machine's: the pipe's eye runs
+    # from X -27.699 to 527.699 (past both mandrel ends at the turnarounds), as the summary says.
+    import json  # noqa: PLC0415
+
+    res = _run("run", str(PIPE), "--report", "--format", "csv", "-o", str(tmp_path))
+    assert res.exit_code == 0, res.output
+    summary = json.loads((tmp_path / "pipe.summary.json").read_text(encoding="utf-8"))
+    page = (tmp_path / "pipe.html").read_text(encoding="utf-8")
+    assert summary["axis_travel"]["carriage"] == [-27.699, 527.699]
+    assert "<tr><th>carriage travel</th><td>-27.699 to 527.699 mm</td></tr>" in page
+    low, high = summary["axis_travel"]["rotation"]
+    assert f"<tr><th>rotation travel</th><td>{low:,.3f} to {high:,.3f} deg</td></tr>".replace(",", "\u2009") in page
+    assert "<tr><th>cross-feed travel</th>" in page and "<tr><th>yaw travel</th>" in page

@@ -13,7 +13,8 @@ modulo their period. See samples/README.md.
   PERIODIC_COLUMNS) compared modulo 180.
 - G-code (and any other text): the same lines and words; each number within one unit of its
   printed last place.
-- anything else (PLY): byte for byte.
+- PLY: header and faces exact, vertex floats within their last bit (winder.app.compare_ply).
+- anything else: byte for byte.
 """
 
 from __future__ import annotations
@@ -22,11 +23,9 @@ import json
 import math
 import re
 from dataclasses import dataclass, field
-from typing import Any
 
 from winder.export import registry
 from winder.export.job_csv import PERIODIC_COLUMNS
-from winder.export.summary import decimals_of
 from winder.records import record
 
 JSON_RTOL = 1e-6  # summary numbers under a key without fixed decimals
@@ -103,88 +102,16 @@ def _printed_close(x: str, y: str, period: float | None = None) -> tuple[bool, s
     a, b = float(x), float(y)
     if not (math.isfinite(a) and math.isfinite(b)):
         return (a == b or (math.isnan(a) and math.isnan(b))), ""
-    tol = number_tolerance(max(printed_unit(x), printed_unit(y)), a, b)
+    # Where the two are printed to different places (%g drops trailing zeros: "0.2" is "0.20"), the
+    # finer place is the precision; an integer-looking one ("5" for 5.00001) has no place of its own.
+    units = [u for u in (printed_unit(x), printed_unit(y)) if u > 0.0]
+    tol = number_tolerance(min(units, default=0.0), a, b)
     diff = abs(a - b)
     if period:
         diff = abs((a - b + 0.5 * period) % period - 0.5 * period)
     ok = diff <= tol
     return ok, ("" if ok else f"off by {diff:.3g}" + (f" modulo {period:g}" if period else "")
                 + f", tolerance {tol:.3g}")
-
-
-# -- JSON ------------------------------------------------------------------------------------------
-def compare_json(expected: str, got: str, rtol: float = JSON_RTOL, atol: float = JSON_ATOL,
-                 limit: int = MAX_SHOWN) -> tuple[list[Difference], int]:
-    """Differences between two JSON texts (first `limit` of them) and their count."""
-    out = _Collector(limit)
-    try:
-        a = json.loads(expected)
-    except ValueError as exc:
-        out.add("(reference)", "valid JSON", f"unreadable: {exc}")
-        return out.shown, out.count
-    try:
-        b = json.loads(got)
-    except ValueError as exc:
-        out.add("(output)", "valid JSON", f"unreadable: {exc}")
-        return out.shown, out.count
-    _walk(a, b, "", out, rtol, atol)
-    return out.shown, out.count
-
-
-def _kind(v: Any) -> str:
-    if v is None:
-        return "null"
-    if isinstance(v, bool):
-        return "boolean"
-    if isinstance(v, (int, float)):
-        return "number"
-    if isinstance(v, str):
-        return "text"
-    return "list" if isinstance(v, list) else "object"
-
-
-def _walk(a: Any, b: Any, path: str, out: _Collector, rtol: float, atol: float) -> None:
-    where = path or "(top level)"
-    ka, kb = _kind(a), _kind(b)
-    if ka != kb:
-        out.add(where, f"{ka} {_short(a)}", f"{kb} {_short(b)}")
-    elif ka == "object":
-        for key in a:
-            sub = f"{path}.{key}" if path else key
-            if key not in b:
-                out.add(sub, _short(a[key]), "(key missing)")
-            else:
-                _walk(a[key], b[key], sub, out, rtol, atol)
-        for key in b:
-            if key not in a:
-                sub = f"{path}.{key}" if path else key
-                out.add(sub, "(no such key)", _short(b[key]))
-    elif ka == "list":
-        if len(a) != len(b):
-            out.add(where, f"{len(a)} items", f"{len(b)} items")
-        for i, (x, y) in enumerate(zip(a, b)):
-            _walk(x, y, f"{path}[{i}]", out, rtol, atol)
-    elif ka == "number":
-        decimals = decimals_of(path) if isinstance(a, float) or isinstance(b, float) else None
-        x, y = float(a), float(b)
-        if isinstance(a, int) and isinstance(b, int):
-            if a != b:
-                out.add(where, a, b)
-        elif decimals is not None and math.isfinite(x) and math.isfinite(y):
-            tol = number_tolerance(10.0 ** -decimals, x, y)
-            if abs(x - y) > tol:
-                out.add(where, a, b, f"off by {abs(x - y):.3g}, tolerance {tol:.3g}")
-        elif not _close(x, y, rtol, atol):
-            out.add(where, a, b, _tol_note(x, y, rtol, atol))
-    elif ka == "text" and a != b:
-        # Text may quote numbers ("dwells lengthened to 14.561 deg"): the same words, and each
-        # number within the tolerance, is the same text.
-        pa, pb = _split_numbers(a), _split_numbers(b)
-        if len(pa) != len(pb) or any(x != y for x, y in zip(pa[0::2], pb[0::2])) or not all(
-                _printed_close(x, y)[0] for x, y in zip(pa[1::2], pb[1::2])):
-            out.add(where, json.dumps(a), json.dumps(b))
-    elif a != b:
-        out.add(where, json.dumps(a), json.dumps(b))
 
 
 # -- CSV -------------------------------------------------------------------------------------------
@@ -265,9 +192,12 @@ def compare_lines(expected: str, got: str, limit: int = MAX_SHOWN) -> tuple[list
             ok, note = _printed_close(pa[k], pb[k])
             if not ok:
                 prev = pa[k - 1].rstrip()
-                where = f"line {n}, word {prev[-1]}" if prev[-1:].isalpha() else f"line {n}, number {k // 2 + 1}"
                 if ";" in "".join(pa[:k]):
-                    where += " (in a comment)"
+                    # In a comment the number follows a word ("circuits 19"), not an axis letter.
+                    words = re.findall(r"[A-Za-z_]+", prev)
+                    where = (f"line {n}, {words[-1]}" if words else f"line {n}, number {k // 2 + 1}") + " (in a comment)"
+                else:
+                    where = f"line {n}, word {prev[-1]}" if prev[-1:].isalpha() else f"line {n}, number {k // 2 + 1}"
                 out.add(where, pa[k], pb[k], note + f"; line: {lb.strip()}")
     return out.shown, out.count
 
@@ -286,8 +216,16 @@ def compare_file(file_name: str, expected: bytes, got: bytes,
     if expected == got:
         return [], 0
     fmt = registry.format_of(file_name)
-    compare = compare_lines if fmt is None else _TEXT_COMPARE.get(fmt.name, compare_bytes)
-    if compare is compare_bytes:  # a binary output (PLY)
+    kind = "gcode" if fmt is None else fmt.name  # an unknown file: as lines of words and numbers
+    if kind == "ply":  # float32 vertices: within their last bit
+        from winder.app.compare_ply import compare_ply  # noqa: PLC0415
+
+        return compare_ply(expected, got, limit=limit)
+    if kind == "summary":
+        from winder.app.compare_summary import compare_json as compare  # noqa: PLC0415
+    elif kind in _TEXT_COMPARE:
+        compare = _TEXT_COMPARE[kind]
+    else:  # another binary output
         return compare_bytes(expected, got)
     try:
         a, b = expected.decode("utf-8"), got.decode("utf-8")
@@ -296,4 +234,4 @@ def compare_file(file_name: str, expected: bytes, got: bytes,
     return compare(a, b, limit=limit)
 
 
-_TEXT_COMPARE = {"summary": compare_json, "csv": compare_csv, "layup": compare_csv, "gcode": compare_lines}
+_TEXT_COMPARE = {"csv": compare_csv, "layup": compare_csv, "gcode": compare_lines}

@@ -21,7 +21,8 @@ from pathlib import Path
 from winder.errors import ConfigError
 from winder.export import registry
 from winder.app.compare import (JSON_ATOL, JSON_RTOL, PRINT_SLACK, REL_NOISE, Difference, compare_bytes,
-                                compare_csv, compare_file, compare_json, compare_lines)
+                                compare_csv, compare_file, compare_lines)
+from winder.app.compare_summary import compare_json
 from winder.app.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
 from winder.records import record
 
@@ -49,7 +50,8 @@ class Sample:
 @record
 class FileCheck:
     """The comparison of one output file. status: same | differs | missing (not produced) |
-    unexpected (produced, no reference) | new / changed / refreshed / removed (with --update)."""
+    unexpected (produced, no reference) | orphaned (a reference, no sample) | new / changed / refreshed /
+    removed (with --update)."""
 
     file: str
     status: str
@@ -89,6 +91,34 @@ def find_samples(directory: str | Path) -> list[Sample]:
     if not configs:
         raise ConfigError(f"{directory}: no samples (*.yaml) in this folder")
     return [Sample(p.stem, p, root / REFERENCE / p.stem) for p in configs]
+
+
+def find_orphans(directory: str | Path, samples: Sequence[Sample]) -> list[Sample]:
+    """The reference folders of DIR with no sample beside them (its sample deleted or renamed), as
+    samples whose config is missing: a CI that silently stopped checking one would pass forever."""
+    root = Path(directory) / REFERENCE
+    if not root.is_dir():
+        return []
+    names = {s.name for s in samples}
+    return [Sample(p.name, Path(directory) / f"{p.name}.yaml", p) for p in sorted(root.iterdir())
+            if p.is_dir() and not p.name.startswith(".") and p.name not in names]
+
+
+def _orphan(sample: Sample, update: bool) -> SampleResult:
+    """The result of a reference without its sample: a failure, or with update its outputs removed."""
+    report = JobReport(str(sample.config), sample.name, True, 0, "")
+    if not update:
+        return SampleResult(sample, report, (FileCheck(str(sample.reference), "orphaned", (Difference(
+            "sample", f"{sample.config.name} (this folder is its reference)", "no such file",
+            "restore the sample, or remove its reference with `winder regress --update`"),), 1),))
+    checks = []
+    for file_name in sorted(_reference_files(sample)):
+        if file_name.endswith(registry.suffixes()):
+            (sample.reference / file_name).unlink()
+            checks.append(FileCheck(file_name, "removed"))
+    if not any(sample.reference.iterdir()):
+        sample.reference.rmdir()
+    return SampleResult(sample, report, tuple(checks), updated=True)
 
 
 def _reference_files(sample: Sample) -> dict[str, bytes]:
@@ -158,6 +188,7 @@ def regress(directory: str | Path, update: bool = False, workers: int = 1,
     rewrite, its reference. on_result is called as each sample finishes; the list returned is in
     sample order. Raises ConfigError if directory holds no samples."""
     samples = find_samples(directory)
+    orphans = find_orphans(directory, samples)
     results: list[SampleResult | None] = [None] * len(samples)
     with tempfile.TemporaryDirectory(prefix="winder-regress-") as tmp:
         tasks = []
@@ -179,7 +210,7 @@ def regress(directory: str | Path, update: bool = False, workers: int = 1,
             results[i] = result
             if on_result is not None:
                 on_result(result)
-    return [r for r in results if r is not None]
+    return [r for r in results if r is not None] + [_orphan(o, update) for o in orphans]
 
 
 def regress_exit_status(results: Sequence[SampleResult]) -> int:
@@ -197,6 +228,11 @@ def format_result(result: SampleResult) -> list[str]:
     s, r = result.sample, result.report
     if not r.ok:
         return [f"FAIL {s.name}: the job failed: {_full_path(result)}"]
+    if any(f.status == "orphaned" for f in result.files):
+        return [f"FAIL {s.name}: {s.reference} holds the reference of {s.config.name}, which is not there "
+                "(restore the sample, or remove its reference with `winder regress --update`)"]
+    if result.updated and not s.config.exists():
+        return [f"removed {s.name}: the reference of a sample that is not there ({s.reference})"]
     if result.updated:
         changed = [f for f in result.files if f.status != "same"]
         if not changed:
@@ -232,6 +268,8 @@ def failure_line(result: SampleResult) -> str:
     if not result.report.ok:
         return _full_path(result)
     bad = [f for f in result.files if not f.ok]
+    if any(f.status == "orphaned" for f in bad):
+        return f"{result.sample.config}: no such sample, but {result.sample.reference} holds its reference"
     total = sum(f.count for f in bad)
     return (f"{result.sample.config}: {total} difference{'s' if total != 1 else ''} from the reference "
             f"in {', '.join(f.file for f in bad)}")

@@ -183,8 +183,10 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     if tuple(parsed.keys[-1]) != final_key or short > 1.0:
         # The program must lay the plan to its end: a file cut short (marlin writes no end of its own).
         line = int(parsed.line[-1]) if parsed.line is not None else m
-        raise ConfigError(f"{source}: line {line}: the program stops before the end of the plan (layer "
-                          f"{final_key[0]} circuit {final_key[1]} pass {final_key[2]}): cut short? got its last "
+        # A complete program of another config that plans more passes ends here too: say both.
+        raise ConfigError(f"{source}: line {line}: the program stops before the end of the plan of {plan.source} "
+                          f"(layer {final_key[0]} circuit {final_key[1]} pass {final_key[2]}): cut short, or "
+                          f"written for another config? got its last "
                           f"move in layer {parsed.keys[-1][0]} circuit {parsed.keys[-1][1]} pass {parsed.keys[-1][2]}"
                           f"{f', {short:.1f} points before its end' if short > 1.0 else ''}")
     dev = ray_distance(all_eye, p, d)

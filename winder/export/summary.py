@@ -43,15 +43,26 @@ FRACTION_DECIMALS = 6
 CURVATURE_DECIMALS = 8  # 1/mm
 TIME_DECIMALS = 2
 MASS_DECIMALS = 6  # kg: to the milligram
+THICKNESS_DECIMALS = LENGTH_DECIMALS + 1  # a wall grows by tenths of a millimetre a layer
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
-# at (one unit in the last place). A key matching none of these is compared relatively (1e-6).
+# at (one unit in the last place). Keys written otherwise are named in DECIMALS_BY_NAME (a looser
+# unit would let a real change pass, a tighter one fail on round-off); axis_travel is written at
+# the program's decimals. A key matching none of these is compared relatively (1e-6).
 DECIMALS_BY_SUFFIX = (("_mm", LENGTH_DECIMALS), ("_deg", ANGLE_DECIMALS), ("_fraction", FRACTION_DECIMALS),
                       ("_s", TIME_DECIMALS), ("_kg", MASS_DECIMALS), ("_mm3", LENGTH_DECIMALS))
+DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm": CURVATURE_DECIMALS,
+                    "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
+                    "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS}
+_DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
 
 
 def decimals_of(key: str) -> int | None:
     """Decimals the summary writes the number at key path `key` with ("layers[0].alpha_range_deg[1]")."""
     name = key.rsplit(".", 1)[-1].split("[", 1)[0]
+    if key.startswith("axis_travel.") and "." not in key[len("axis_travel."):]:
+        return DIRECTION_DECIMALS if name in _DIRECTIONS else AXIS_DECIMALS
+    if name in DECIMALS_BY_NAME:
+        return DECIMALS_BY_NAME[name]
     return next((d for suffix, d in DECIMALS_BY_SUFFIX if name.endswith(suffix)), None)
 
 
@@ -103,14 +114,14 @@ def _laminate(layer: LayerPlan) -> dict[str, Any]:
     if lam is None:
         return {}
     return {
-        "thickness_mm": _num(lam.thickness_mm, LENGTH_DECIMALS + 1),
-        "max_thickness_mm": _num(lam.max_thickness_mm, LENGTH_DECIMALS + 1),
-        "ply_thickness_mm": _num(lam.ply_mm, LENGTH_DECIMALS + 1),
+        "thickness_mm": _num(lam.thickness_mm, THICKNESS_DECIMALS),
+        "max_thickness_mm": _num(lam.max_thickness_mm, THICKNESS_DECIMALS),
+        "ply_thickness_mm": _num(lam.ply_mm, THICKNESS_DECIMALS),
         "volume_mm3": _num(lam.volume_mm3, LENGTH_DECIMALS),
         "fiber_mass_kg": _num(lam.fiber_mass_kg, MASS_DECIMALS),
         "resin_mass_kg": _num(lam.resin_mass_kg, MASS_DECIMALS),
         "material_length_mm": _num(lam.material_length_mm, LENGTH_DECIMALS),
-        "outer_radius_mm": _num(lam.outer_radius_mm, LENGTH_DECIMALS + 1),
+        "outer_radius_mm": _num(lam.outer_radius_mm, THICKNESS_DECIMALS),
     }
 
 
@@ -122,7 +133,7 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
     resin = sum(w.resin_mass_kg for w in walls)
     return {"fiber_mass_kg": _num(fiber, MASS_DECIMALS), "resin_mass_kg": _num(resin, MASS_DECIMALS),
             "mass_kg": _num(fiber + resin, MASS_DECIMALS),
-            "outer_radius_mm": _num(walls[-1].outer_radius_mm, LENGTH_DECIMALS + 1)}
+            "outer_radius_mm": _num(walls[-1].outer_radius_mm, THICKNESS_DECIMALS)}
 
 
 def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None], dict | None]:
@@ -143,7 +154,7 @@ def _axis_travel(program) -> dict[str, list[float]]:
     if values.shape[0] == 0:
         return {}
     lows, highs = values.min(axis=0).tolist(), values.max(axis=0).tolist()
-    decimals = [DIRECTION_DECIMALS if axis in ("i", "j", "k") else AXIS_DECIMALS for axis in program.axes]
+    decimals = [DIRECTION_DECIMALS if axis in _DIRECTIONS else AXIS_DECIMALS for axis in program.axes]
     return {axis: [round(lo, k) + 0.0, round(hi, k) + 0.0]  # + 0.0: no -0.0 at a rounded zero
             for axis, lo, hi, k in zip(program.axes, lows, highs, decimals)}
 

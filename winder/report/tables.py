@@ -124,8 +124,22 @@ def layer_table(summary: dict[str, Any]) -> str:
     return out + (f"<ul class=notes>{notes}</ul>" if notes else "")
 
 
+# The unit and the decimals of each logical axis of axis_travel as the program writes them.
+_AXIS_UNITS = {"carriage": "mm", "rotation": "deg", "cross_feed": "mm", "yaw": "deg", "x": "mm", "y": "mm",
+               "z": "mm"}
+
+
+def _travel_rows(travel: dict[str, list[float]] | None) -> list[tuple[str, str]]:
+    """One row per axis of the program's travel: what a shop sets against its machine before winding
+    (the eye runs well past the mandrel's ends at the turnarounds). A robot's eye position only: its
+    direction components bound no axis."""
+    return [(f"{axis.replace('_', '-')} travel", f"{_num(low, 3)} to {_num(high, 3)} {_AXIS_UNITS[axis]}")
+            for axis, (low, high) in (travel or {}).items() if axis in _AXIS_UNITS]
+
+
 def job_table(summary: dict[str, Any], extra: list[tuple[str, str]]) -> str:
-    """The job's totals (HTML): layers, fiber length, time, and mass / outer radius when present."""
+    """The job's totals (HTML): layers, fiber length, time, mass / outer radius when present, and the
+    travel of each machine axis over the program."""
     time_s = summary.get("winding_time_s")
     why = ""
     if time_s is None:  # the summary's null: no program could be built (its key is absent without a machine)
@@ -138,6 +152,7 @@ def job_table(summary: dict[str, Any], extra: list[tuple[str, str]]) -> str:
         rows.append(("laminate mass", f"{_num(summary['mass_kg'], 4)} kg"))
     if summary.get("outer_radius_mm") is not None:
         rows.append(("outer radius", f"{_num(summary['outer_radius_mm'], 3)} mm"))
+    rows += _travel_rows(summary.get("axis_travel"))
     rows += extra
     body = "".join(f"<tr><th>{html.escape(k)}</th><td>{v}</td></tr>" for k, v in rows)
     return f"<table class=job>{body}</table>"

@@ -80,16 +80,30 @@ def index_of(spline: NotAKnotCubic, s_vert: np.ndarray, targets: np.ndarray) -> 
     return x
 
 
-def pass_volumes(cells: StationCells, p: FiberPass, area: float) -> np.ndarray:
+_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(5)
+
+
+def _arc_lengths(surface: SweepSurface, s_spline, th_spline, m: int) -> np.ndarray:
+    """Length along the smooth curve through a pass's m vertices (the curve its length is measured
+    on) at each vertex, (m,) float. The polyline's chords fall short most where the mandrel curves
+    most: scaled to the pass's length as a whole, they moved a dome's shortfall onto the cylinder
+    (0.08 % too thick there on a 33-point vessel pass)."""
+    u = (np.arange(m - 1, dtype=float)[:, None] + 0.5 * (_GAUSS_X + 1.0)[None, :]).ravel()
+    ev = surface.evaluate(s_spline(u), th_spline(u), order=1)
+    speed = row_norms(ev.ps * s_spline(u, 1)[:, None] + ev.pt * th_spline(u, 1)[:, None])
+    return np.concatenate([[0.0], np.cumsum(0.5 * speed.reshape(m - 1, -1) @ _GAUSS_W)])
+
+
+def pass_volumes(cells: StationCells, p: FiberPass, area: float, surface: SweepSurface) -> np.ndarray:
     """Composite volume (mm^3) of one pass in each cell, (k,) float."""
     out = np.zeros(cells.centres.size)
     if p.kind is PassKind.DWELL or np.ptp(p.s) <= 0.0:
         return out
-    seg = row_norms(np.diff(p.points, axis=0))
-    ell = np.concatenate([[0.0], np.cumsum(seg)])
-    ell *= p.length / ell[-1] if ell[-1] > 0.0 else 0.0
     idx = np.arange(p.s.size, dtype=float)
-    s_spline, l_spline = interp_spline(idx, p.s), interp_spline(idx, ell)
+    s_spline = interp_spline(idx, p.s)
+    ell = _arc_lengths(surface, s_spline, interp_spline(idx, p.theta), p.s.size)
+    ell *= p.length / ell[-1] if ell[-1] > 0.0 else 0.0  # the volume of the pass's own length, kept
+    l_spline = interp_spline(idx, ell)
     lo, hi = min(p.s[0], p.s[-1]), max(p.s[0], p.s[-1])
     e = np.clip(cells.edges, lo, hi)
     at = l_spline(index_of(s_spline, p.s, e))
@@ -104,13 +118,13 @@ def ring_volumes(cells: StationCells, s0: float, volume: float, band_width: floa
     return volume * frac / frac.sum()
 
 
-def layer_density(cells: StationCells, passes: tuple[FiberPass, ...], area: float, band_width: float,
-                  turnarounds: tuple[float, ...] = (), dwells: bool = True) -> np.ndarray:
+def layer_density(surface: SweepSurface, cells: StationCells, passes: tuple[FiberPass, ...], area: float,
+                  band_width: float, turnarounds: tuple[float, ...] = (), dwells: bool = True) -> np.ndarray:
     """V'(s) (mm^3 per mm of station) of a layer's passes in each cell, (k,) float.
 
     turnarounds : stations where the passes turn tangent to a parallel (vessel domes); the volume
     within B/2 of each is spread over the band's width there. dwells : whether the rings the dwells
-    lay at an open mandrel's ends count.
+    lay at an open mandrel's ends count. surface : the mandrel the passes lie on.
     """
     vol = np.zeros(cells.centres.size)
     seen: dict[tuple[bytes, float], np.ndarray] = {}
@@ -122,7 +136,7 @@ def layer_density(cells: StationCells, passes: tuple[FiberPass, ...], area: floa
         # circuits on a surface of revolution are rotated copies: the same stations, the same volumes
         key = (p.s.tobytes(), p.length)
         if key not in seen:
-            seen[key] = pass_volumes(cells, p, area)
+            seen[key] = pass_volumes(cells, p, area, surface)
         vol += seen[key]
     density = vol / cells.widths
     for s_c in turnarounds:
