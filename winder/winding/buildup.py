@@ -24,7 +24,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.records import record
 from winder.winding.laminate import turnaround_zone
 from winder.winding.results import FiberPass, PassKind
-from winder.geometry.measure import row_norms
+from winder.geometry.measure import GAUSS_T, GAUSS_W, row_norms
 
 CELLS_PER_BAND = 16  # station cells per band width (the law's cell averages, the zone edges)
 MAX_CELLS = 4000  # over the whole station range
@@ -80,18 +80,15 @@ def index_of(spline: NotAKnotCubic, s_vert: np.ndarray, targets: np.ndarray) -> 
     return x
 
 
-_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(5)
-
-
 def _arc_lengths(surface: SweepSurface, s_spline, th_spline, m: int) -> np.ndarray:
     """Length along the smooth curve through a pass's m vertices (the curve its length is measured
     on) at each vertex, (m,) float. The polyline's chords fall short most where the mandrel curves
     most: scaled to the pass's length as a whole, they moved a dome's shortfall onto the cylinder
     (0.08 % too thick there on a 33-point vessel pass)."""
-    u = (np.arange(m - 1, dtype=float)[:, None] + 0.5 * (_GAUSS_X + 1.0)[None, :]).ravel()
+    u = (np.arange(m - 1, dtype=float)[:, None] + GAUSS_T[None, :]).ravel()
     ev = surface.evaluate(s_spline(u), th_spline(u), order=1)
     speed = row_norms(ev.ps * s_spline(u, 1)[:, None] + ev.pt * th_spline(u, 1)[:, None])
-    return np.concatenate([[0.0], np.cumsum(0.5 * speed.reshape(m - 1, -1) @ _GAUSS_W)])
+    return np.concatenate([[0.0], np.cumsum(0.5 * speed.reshape(m - 1, -1) @ GAUSS_W)])
 
 
 def pass_volumes(cells: StationCells, p: FiberPass, area: float, surface: SweepSurface) -> np.ndarray:
