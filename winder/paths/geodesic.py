@@ -144,6 +144,12 @@ def resample(s: np.ndarray, th: np.ndarray, n: int) -> tuple[np.ndarray, np.ndar
     return out[:, 0], out[:, 1]
 
 
+def first_level(n: int, rounds: float) -> int:
+    """Interior points of the first level solve_path solves from a straight path to reach n."""
+    coarsest = coarsest_points(rounds)
+    return coarsest if n < coarsest else _levels(n, coarsest)[0]
+
+
 def _levels(n: int, coarsest: int) -> list[int]:
     levels = [n]
     while levels[-1] > LEVEL_FACTOR * coarsest:
@@ -166,13 +172,15 @@ def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
     """
     if method is Method.LBFGS:
         return _lbfgs(surface, *resample(s, th, n))
-    coarsest = coarsest_points(abs(th[-1] - th[0]) / (2.0 * np.pi))
-    if warm or s.shape[0] - 2 >= n:
+    coarsest, given = coarsest_points(abs(th[-1] - th[0]) / (2.0 * np.pi)), s.shape[0] - 2
+    if warm:
         levels = [n]
-    elif n < coarsest:
-        levels = [coarsest, n] if s.shape[0] - 2 < coarsest else [n]
+    elif n < coarsest:  # the coarsest level first, from a coarser path or the straight one at its size
+        levels = [coarsest, n] if given < n or given == coarsest else [n]
+    elif given >= n:
+        levels = [n]
     else:
-        levels = [k for k in _levels(n, coarsest) if k >= s.shape[0] - 2]
+        levels = [k for k in _levels(n, coarsest) if k >= given]
     total = nfev = 0
     sol = None
     report = []
@@ -352,8 +360,8 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
     else:
         if tolerance is not None:
             n = min(n, coarsest_points(swept))
-        one = tolerance is not None and n == coarsest_points(swept)  # one level: the straight path at n
-        s_init, th_init = straight_path(s0, th0, s1, th1, n if one else 1)
+        # The straight path at the first level's size: solve_path then starts on it without a resample.
+        s_init, th_init = straight_path(s0, th0, s1, th1, first_level(n, swept))
     sol = solve_path(surface, s_init, th_init, n, method, warm=init is not None, length_tol=tolerance,
                      loose=tolerance is not None and method is Method.NEWTON)
     if estimate or tolerance is not None:
