@@ -230,8 +230,14 @@ def test_find_samples(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(ConfigError, match="no samples"):
         find_samples(tmp_path / "empty")
-    with pytest.raises(ConfigError, match="not a folder"):
+    with pytest.raises(ConfigError, match="missing: no such folder$"):
         find_samples(tmp_path / "missing")
+    with pytest.raises(ConfigError, match="notes.txt: not a folder of samples$"):
+        find_samples(folder / "notes.txt")
+    # A sample that is a broken link is not skipped: CI would stop checking it and pass forever.
+    (folder / "c.yaml").symlink_to(tmp_path / "gone.yaml")
+    with pytest.raises(ConfigError, match=r"c\.yaml: a sample that is a broken link$"):
+        find_samples(folder)
 
 
 @pytest.mark.parametrize("workers", [1, 2])

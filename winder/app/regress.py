@@ -85,9 +85,15 @@ class SampleResult:
 def find_samples(directory: str | Path) -> list[Sample]:
     """The samples of DIR (its *.yaml / *.yml files), sorted by name."""
     root = Path(directory)
+    if not root.exists():
+        raise ConfigError(f"{directory}: no such folder")
     if not root.is_dir():
         raise ConfigError(f"{directory}: not a folder of samples")
-    configs = sorted(p for p in root.iterdir() if p.suffix in (".yaml", ".yml") and p.is_file())
+    named = sorted(p for p in root.iterdir() if p.suffix in (".yaml", ".yml"))
+    broken = [p for p in named if not p.exists()]
+    if broken:  # a sample that silently stopped being checked would pass CI forever
+        raise ConfigError(f"{broken[0]}: a sample that is a broken link")
+    configs = [p for p in named if p.is_file()]
     if not configs:
         raise ConfigError(f"{directory}: no samples (*.yaml) in this folder")
     return [Sample(p.stem, p, root / REFERENCE / p.stem) for p in configs]
