@@ -116,15 +116,17 @@ def ring_volumes(cells: StationCells, s0: float, volume: float, band_width: floa
 
 
 def layer_density(surface: SweepSurface, cells: StationCells, passes: tuple[FiberPass, ...], area: float,
-                  band_width: float, turnarounds: tuple[float, ...] = (), dwells: bool = True) -> np.ndarray:
+                  band_width: float, turnarounds: tuple[float, ...] = (), dwells: bool = True,
+                  seen: dict[tuple[bytes, float], np.ndarray] | None = None) -> np.ndarray:
     """V'(s) (mm^3 per mm of station) of a layer's passes in each cell, (k,) float.
 
     turnarounds : stations where the passes turn tangent to a parallel (vessel domes); the volume
     within B/2 of each is spread over the band's width there. dwells : whether the rings the dwells
-    lay at an open mandrel's ends count. surface : the mandrel the passes lie on.
+    lay at an open mandrel's ends count. surface : the mandrel the passes lie on. seen : the passes'
+    volumes by (stations, length), to share between the calls of one layer and these cells.
     """
     vol = np.zeros(cells.centres.size)
-    seen: dict[tuple[bytes, float], np.ndarray] = {}
+    seen = {} if seen is None else seen
     for p in passes:
         if p.kind is PassKind.DWELL:
             if dwells:

@@ -129,11 +129,12 @@ class Buildup:
         area = material.composite_area(band)
         cells = station_cells(surf, band)
         turns = _turnarounds(surf, layer)
-        density = layer_density(surf, cells, layer.passes, area, band, turns)
+        volumes: dict = {}  # each pass's volumes, for both densities
+        density = layer_density(surf, cells, layer.passes, area, band, turns, seen=volumes)
         thickness = density / area_rate(surf, cells.centres)
         # the dwells' rings lie at an open mandrel's very ends, where the next layer turns too: the
         # shape it winds on leaves them out (hoops would slip on them), the wall keeps them
-        laid = layer_density(surf, cells, layer.passes, area, band, turns, dwells=False)
+        laid = layer_density(surf, cells, layer.passes, area, band, turns, dwells=False, seen=volumes)
         try:
             nxt = grown(surf, cells, smooth_thickness(surf, cells, laid, band))
         except OffsetError as exc:
