@@ -23,6 +23,7 @@ from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
 from winder.records import record
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
+from winder.winding.layers.helical_vessel import turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
@@ -83,7 +84,8 @@ def _refuse(source: str, key: str, what: str) -> ConfigError:
     return ConfigError(what, file=source, key_path=key)
 
 
-def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> LayerBudget:
+def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, bare: bool) -> LayerBudget:
+    """bare : the layer winds on the mandrel itself (not on a laminate grown by earlier layers)."""
     w = job.winding
     vessel = isinstance(surface.profile, VesselMeridian)
     if vessel:
@@ -112,6 +114,11 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) 
                       f"be wound twice and others never; allowed: {', '.join(map(str, skips[:12]))}"
                       f"{' ...' if len(skips) > 12 else ''} or auto, got {cfg.pattern}")
     slip = getattr(cfg, "slip", 0.0)
+    if vessel and bare and slip == 0.0 and cfg.turnaround_radius is None:
+        why = turnaround_refusal(surface.profile, cfg.angle_deg, w.band_width)
+        if why is not None:  # geodesic turnarounds: closed form on the bare mandrel (a grown one: run)
+            raise _refuse(job.source, f"{key}.angle", f"{why} (or slip: auto, a friction-held turnaround just "
+                          f"outside it), got {cfg.angle_deg:g}")
     if not vessel and slip not in (0.0, SLIP_AUTO):
         from winder.winding.layers.friction_open import is_bent_tube  # noqa: PLC0415 - friction jobs only
         ctx = PlanContext(job, w, surface, arc_map(surface.section), job.machine.feed)
@@ -178,7 +185,7 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     for index, cfg in enumerate(job.winding.layers):
         key = f"winding.layers[{index}]"
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
-                      else _helical(job, surface, cfg, key))
+                      else _helical(job, surface, cfg, key, index == 0 or not job.winding.has_laminate))
     w = job.winding
     vessel = isinstance(surface.profile, VesselMeridian)
     if w.region is None and not vessel and surface.axial_length < w.band_width:

@@ -166,6 +166,19 @@ def clairaut_path(prof: VesselMeridian, c: float, s_from: float, s_to: float, th
     return np.interp(target, ell, s), np.interp(target, ell, th)
 
 
+def turnaround_refusal(prof: VesselMeridian, angle_deg: float, band_width: float) -> str | None:
+    """Why a geodesic layer at angle_deg cannot wind on this vessel, or None: its Clairaut turnaround
+    R sin(alpha) must clear the larger polar opening by half a band."""
+    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
+    c_min = r_open + 0.5 * band_width
+    c0 = prof.radius * math.sin(math.radians(angle_deg))
+    if c0 > c_min:
+        return None
+    least = math.degrees(math.asin(min(1.0, c_min / prof.radius)))
+    return (f"{angle_deg:g} deg turns around at r = {c0:.3f} mm, inside the polar opening ({r_open:.3f} mm) "
+            f"plus half a band ({c_min:.3f} mm); the least angle on this vessel is {least:.3f} deg")
+
+
 def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
     surf, w = ctx.surface, ctx.winding
     prof = surf.profile
@@ -173,11 +186,9 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
     r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
     c_min = r_open + 0.5 * w.band_width
     c0 = big_r * math.sin(math.radians(cfg.angle_deg))
-    if c0 <= c_min:
-        least = math.degrees(math.asin(min(1.0, c_min / big_r)))
-        raise SolverError(f"{ctx.key(index, 'angle')}: {cfg.angle_deg:g} deg turns around at r = {c0:.3f} mm, "
-                          f"inside the polar opening ({r_open:.3f} mm) plus half a band ({c_min:.3f} mm); "
-                          f"the least angle on this vessel is {least:.3f} deg")
+    if (why := turnaround_refusal(prof, cfg.angle_deg, w.band_width)) is not None:
+        # check refuses it on the bare mandrel (winder.winding.budget); here, a laminate's grown one
+        raise SolverError(f"{ctx.key(index, 'angle')}: {why}")
     c_hi = big_r * math.sin(math.radians(89.0))
     perimeter = 2.0 * math.pi * big_r
 
