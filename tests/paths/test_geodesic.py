@@ -317,3 +317,18 @@ def test_a_path_shorter_than_the_coordinates_resolve_converges(straight_tube, dt
     res = geodesic(straight_tube, (10.0, 0.0), (10.0 + dt, 0.0))
     assert res.converged
     assert res.length == pytest.approx(dt, rel=TINY_REL)
+
+
+def test_geodesic_curvature_on_first_use_is_the_solvers(quarter_bend):
+    """max_geodesic_curvature, computed when asked, takes the same surface derivatives as the solve's
+    last evaluation: the evaluation is per point and order 1 gives order 2's first derivatives."""
+    from winder.geometry.measure import geodesic_curvature  # noqa: PLC0415
+    from winder.paths.geodesic import solve_path, straight_path  # noqa: PLC0415
+
+    res = geodesic(quarter_bend, (10.0, 0.3), (200.0, 2.0), rounds=1, n=64, estimate=False)
+    s0, s1 = (float(v) for v in quarter_bend.s_of_t(np.array([10.0, 200.0])))
+    sol = solve_path(quarter_bend, *straight_path(s0, 0.3, s1, 2.0 + 2.0 * np.pi, 64), 64)
+    assert np.array_equal(sol.s, res.s) and np.array_equal(sol.theta, res.theta)
+    kg = geodesic_curvature(quarter_bend, sol.s, sol.theta, sol.points(), (sol.ev.ps, sol.ev.pt))
+    assert "max_geodesic_curvature" not in vars(res)  # not computed by the solve
+    assert res.max_geodesic_curvature == float(np.max(np.abs(kg)))

@@ -80,7 +80,8 @@ def evaluate_arc(arc: ArcFrame, jet: np.ndarray, z, z1, z2, p, p1, p2, c: np.nda
         np.add(x, r * n, out=jet[0])
     if order == 0:
         return
-    kn, km = kappa * parts[:2]
+    knm = kappa * parts[:2]
+    kn, km = knm[0], knm[1]  # indexing: unpacking iterates the array, slower
     r_s, r_t = p1 * q, p * q1
     stretch = times(z1, 1.0 - r * kn)  # Phi_s . T: the section's point runs faster outside a bend
     plain = zero(r_s) and zero(z2) and isinstance(z1, float) and z1 == 1.0 and zero(p2 * q)

@@ -219,13 +219,13 @@ def _spacing(lens: np.ndarray) -> float:
     return float(np.max(np.abs(lens / lens.mean() - 1.0)))
 
 
-def path_measures(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, points: np.ndarray,
-                  jac: tuple[np.ndarray, np.ndarray]) -> tuple[float, np.ndarray, float]:
-    """(polyline_length, geodesic_curvature, spacing_deviation) of one path, bit for bit, from one
-    set of segments and lengths instead of three. jac : as geodesic_curvature's."""
-    seg = points[1:] - points[:-1]
-    lens = row_norms(seg)
-    return float(np.add.reduce(lens)), _curvature(surface, s, theta, seg, lens, jac), _spacing(lens)
+def segment_measures(points: np.ndarray) -> tuple[float, float]:
+    """(polyline_length, spacing_deviation) of the polyline through points (m, 3), bit for bit, from
+    one set of segment lengths instead of two."""
+    lens = row_norms(points[1:] - points[:-1])
+    total = np.add.reduce(lens)
+    # lens.mean() is this sum over the count, and np.max the maximum's reduction: without their wrappers
+    return float(total), float(np.maximum.reduce(np.abs(lens / (total / lens.shape[0]) - 1.0)))
 
 
 def richardson(l_n: float, l_2n: float) -> tuple[float, float]:

@@ -17,29 +17,24 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
-from enum import Enum
 
 import numpy as np
 
 from winder.config.winding import DEFAULT_POINTS
 from winder.errors import ConfigError, SolverError
 from winder.geometry.index_spline import resample_index
-from winder.geometry.measure import GAUSS_SEGMENTS, path_measures, polyline_length, richardson, smooth_lengths
+from winder.geometry.measure import GAUSS_SEGMENTS, polyline_length, richardson, segment_measures, smooth_lengths
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.paths.energy import energy_terms
+from winder.paths.geodesic_result import GeodesicResult, Method
 from winder.paths.lbfgs import _lbfgs
 from winder.paths.newton import (LENGTH_SHARE, LEVEL_PREDICTED, LEVEL_STEP_TOL, MAX_NEWTON, STEP_TOL, Level,
-                                 PathSolve, StopReason, _newton, chain_bend)
+                                 PathSolve, StopReason, _newton, chain_bend,
+                                 evaluate_with_ends)
 from winder.paths.resolution import MAX_POINTS, check_points, coarsest_points, default_points, too_few_hint
-from winder.records import record
 
 __all__ = ["DEFAULT_POINTS", "STEP_TOL", "GeodesicResult", "Level", "Method", "PathSolve", "StopReason",
            "energy_terms", "geodesic", "solve_path", "straight_path", "_lbfgs", "_newton"]
-
-
-class Method(Enum):
-    NEWTON = "newton"
-    LBFGS = "lbfgs"
 
 
 LEVEL_FACTOR = 8  # segments multiply by this from one level to the next (measured: 4 needs more levels, 16 is no faster)
@@ -68,67 +63,13 @@ ROUNDOFF_FLOOR = 1e-15  # relative: about 4 ulp, the roundoff of a length in dou
 STALL_FLOOR = 1e3  # an error bound that stops falling this close to the roundoff floor is roundoff
 
 
-@record(eq=False)
-class GeodesicResult:
-    """A geodesic between two surface points.
-
-    t, s, theta : (n + 2,) float: axial station (mm), internal station, unwrapped angle (rad).
-    points : (n + 2, 3) float, xyz on the surface (mm).
-    length : smooth-path length through the points (mm), the reported length.
-    polyline_length, length_extrapolated (Richardson), error_estimate (|L_2n - L_n| / 3): mm.
-    smooth_error_estimate : SMOOTH_SAFETY |length at n - length at 2n+1| + ROUNDOFF_FLOOR length (mm),
-        a bound on the reported length's error (nan without the 2n + 1 solve); in tolerance mode plus
-        5 LENGTH_SHARE tolerance where a solve stopped on the length's tolerance.
-    spacing_deviation : max |segment / mean - 1|.  max_geodesic_curvature : 1/mm.
-    refined_s, refined_theta : (n + 2,) float, Richardson-extrapolated vertices (O(h^4) from the
-        geodesic instead of O(h^2)); None without the 2n + 1 solve.
-    levels : every solve made, coarse-to-fine ladders and refinements, with its iteration cap.
-    message : why the solve stopped (and which coarse levels stopped at their caps).
-    """
-
-    t: np.ndarray
-    s: np.ndarray
-    theta: np.ndarray
-    points: np.ndarray
-    length: float
-    polyline_length: float
-    length_extrapolated: float
-    error_estimate: float
-    smooth_error_estimate: float
-    n: int
-    iterations: int
-    converged: bool
-    reason: StopReason
-    method: Method
-    spacing_deviation: float
-    max_geodesic_curvature: float
-    seconds: float
-    history: np.ndarray
-    refined_s: np.ndarray | None = None
-    refined_theta: np.ndarray | None = None
-    nfev: int = 0
-    levels: tuple[Level, ...] = ()
-    message: str = ""
-
-    # scipy's result vocabulary (scipy.optimize.OptimizeResult); message is a field, above
-    @property
-    def success(self) -> bool:
-        return self.converged
-
-    @property
-    def status(self) -> int:
-        """0 converged, 1 the iteration limit was reached (scipy's codes)."""
-        return 1 if self.reason is StopReason.MAX_ITER else 0
-
-    @property
-    def nit(self) -> int:
-        return self.iterations
-
-
 # -- paths --------------------------------------------------------------------------------------------
 def straight_path(s0: float, th0: float, s1: float, th1: float, n: int) -> tuple[np.ndarray, np.ndarray]:
     """The straight segment in the (s, theta) domain with n interior points."""
-    f = np.linspace(0.0, 1.0, n + 2)
+    # linspace's arithmetic (i * step, the last fraction exactly 1) without its wrapper
+    f = np.arange(n + 2, dtype=float)
+    f *= 1.0 / (n + 1)
+    f[-1] = 1.0
     return s0 + (s1 - s0) * f, th0 + (th1 - th0) * f
 
 
@@ -184,13 +125,18 @@ def solve_path(surface: SweepSurface, s: np.ndarray, th: np.ndarray, n: int,
     total = nfev = 0
     sol = None
     report = []
-    if ends is None:  # fixed: shared by every level
+    ev = None  # the first level's start, where it comes with the ends (fixed: shared by every level)
+    if ends is None and s.shape[0] == levels[0] + 2:
+        ends, ev = evaluate_with_ends(surface, s, th)
+        nfev = 1  # the first level's starting evaluation, made here
+    elif ends is None:
         ends = surface.evaluate(s[[0, -1]], th[[0, -1]], order=1)
     for k, level in enumerate(levels):
         cur_s, cur_t = (s, th) if s.shape[0] == level + 2 else resample(s, th, level)  # _newton copies it
         last = k == len(levels) - 1
-        sol = (_newton(surface, cur_s, cur_t, STEP_TOL, ends=ends, length_tol=length_tol) if last and not loose else
-               _newton(surface, cur_s, cur_t, LEVEL_STEP_TOL, ends=ends, predicted_tol=LEVEL_PREDICTED))
+        sol = (_newton(surface, cur_s, cur_t, STEP_TOL, ends=ends, length_tol=length_tol, ev=ev) if last and not loose
+               else _newton(surface, cur_s, cur_t, LEVEL_STEP_TOL, ends=ends, predicted_tol=LEVEL_PREDICTED, ev=ev))
+        ev = None
         total += sol.iterations
         nfev += sol.nfev
         report.append(Level(level, sol.iterations, MAX_NEWTON, sol.converged))
@@ -373,7 +319,7 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         length, smooth_err, levels = _lengths(surface, sol), float("nan"), sol.levels
         iterations, nfev = sol.iterations, sol.nfev
     pts = sol.points()
-    poly, kg, spacing = path_measures(surface, sol.s, sol.theta, pts, (sol.ev.ps, sol.ev.pt))
+    poly, spacing = segment_measures(pts)
     refined = (None, None)
     if fine is not None:
         refined = extrapolate_vertices(sol, fine)
@@ -386,6 +332,5 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
         polyline_length=poly, length_extrapolated=extrapolated, error_estimate=err,
         smooth_error_estimate=smooth_err, n=n, iterations=iterations, converged=converged,
         reason=sol.reason, method=method, spacing_deviation=spacing,
-        max_geodesic_curvature=float(np.maximum.reduce(np.abs(kg))) if kg.size else 0.0,
         seconds=time.perf_counter() - t0, history=sol.history, refined_s=refined[0], refined_theta=refined[1],
-        nfev=nfev, levels=levels, message=_message(sol, levels, swept, n))
+        nfev=nfev, levels=levels, message=_message(sol, levels, swept, n), surface=surface)

@@ -16,7 +16,7 @@ from enum import Enum
 import numpy as np
 
 from winder.errors import SolverError
-from winder.geometry.surface import SurfaceEval, SweepSurface
+from winder.geometry.surface import SurfaceEval, SweepSurface, jet_of
 from winder.paths.energy import (_einsum, banded_direction, chain_segments, chord_direction, newton_banded,
                                  newton_terms, step_moves)
 from winder.records import record
@@ -107,6 +107,18 @@ class PathSolve:
     def points(self) -> np.ndarray:
         """The vertices on the surface, (n + 2, 3)."""
         return np.concatenate([self.ends.p[:1], self.ev.p, self.ends.p[1:]])
+
+
+def evaluate_with_ends(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> tuple[SurfaceEval, SurfaceEval]:
+    """(ends, interior) of the path (s, th) (n + 2,): the two end points at order 1 and the n interior
+    ones at order 2, from one evaluation where the surface writes a jet (a cold solve's first two,
+    otherwise two evaluations of their own: the same numbers, as the evaluation is per point)."""
+    full = surface.evaluate(s, th, order=2)
+    jet = jet_of(full, 6)
+    if jet is None:
+        return surface.evaluate(s[[0, -1]], th[[0, -1]], order=1), surface.evaluate(s[1:-1], th[1:-1], order=2)
+    edge, inner = jet[:3, :, ::max(s.shape[0] - 1, 1)].copy(), jet[:, :, 1:-1].copy()
+    return SurfaceEval(*edge.transpose(0, 2, 1)), SurfaceEval(*inner.transpose(0, 2, 1))
 
 
 def _max_step(s: np.ndarray, ds: np.ndarray, s_max: float, moved: np.ndarray | None = None) -> float:
