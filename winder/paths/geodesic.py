@@ -29,8 +29,7 @@ from winder.paths.energy import energy_terms
 from winder.paths.geodesic_result import GeodesicResult, Method
 from winder.paths.lbfgs import _lbfgs
 from winder.paths.newton import (LENGTH_SHARE, LEVEL_PREDICTED, LEVEL_STEP_TOL, MAX_NEWTON, STEP_TOL, Level,
-                                 PathSolve, StopReason, _newton, chain_bend,
-                                 evaluate_with_ends)
+                                 PathSolve, StopReason, _newton, chain_bend, evaluate_with_ends)
 from winder.paths.resolution import MAX_POINTS, check_points, coarsest_points, default_points, too_few_hint
 
 __all__ = ["DEFAULT_POINTS", "STEP_TOL", "GeodesicResult", "Level", "Method", "PathSolve", "StopReason",
