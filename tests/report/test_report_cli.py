@@ -20,7 +20,6 @@ from winder.cli import main
 ROOT = Path(__file__).resolve().parents[2]
 PIPE = ROOT / "samples" / "pipe.yaml"
 INVALID = ROOT / "tests" / "config" / "invalid" / "bad_radius.yaml"
-
 ELBOW = ROOT / "samples" / "elbow.yaml"
 
 
