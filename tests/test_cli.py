@@ -40,21 +40,25 @@ winding:
     - {{type: helical, angle: 45}}
 {machine}"""
 
-# A hemispherical vessel whose helical turnaround radius (100 sin 10 = 17 mm) is inside the 30 mm
-# polar opening: valid YAML, valid values, but no winding exists (exit 1, not 2).
+# A 90 deg elbow (bend radius 150, tube 40) wound geodesically at 20 deg: the fiber bridges at the
+# inside of the bend, where no friction holds it below 31.1 deg. Valid YAML and values, but no winding
+# exists (exit 1, not 2). (A vessel angle whose turnaround falls inside the polar opening is refused as
+# invalid by check, exit 2: tests/config/invalid/vessel_angle_inside_opening.yaml.)
 INFEASIBLE = """\
 name: {name}
 mandrel:
-  profile:
-    type: vessel
-    radius: 100
-    cylinder_length: 200
-    dome: {{type: hemisphere, polar_opening: 30}}
+  axis:
+    type: path
+    segments:
+      - line: 100
+      - arc: {{radius: 150, angle: 90, toward: 0}}
+      - line: 100
+  profile: {{type: constant, radius: 40}}
 winding:
   band_width: 10
   points: 8
   layers:
-    - {{type: helical, angle: 10}}
+    - {{type: helical, angle: 20}}
 """
 
 SPEC_JSON_KEYS = {"length_mm", "polyline_length_mm", "length_extrapolated_mm", "error_estimate_mm", "points",
@@ -300,10 +304,10 @@ def test_run_config_without_winding_exit_2(tmp_path):
 
 def test_run_infeasible_exit_1(tmp_path):
     out = tmp_path / "out"
-    result = invoke("run", tiny(tmp_path, "polar", INFEASIBLE), "-o", out)
+    result = invoke("run", tiny(tmp_path, "bridging", INFEASIBLE), "-o", out)
     assert result.exit_code == 1, result.output
     lines = error_lines(result)
-    assert len(lines) == 1 and "polar.yaml" in lines[0]
+    assert len(lines) == 1 and "bridging.yaml" in lines[0]
     assert files_of(out) == set()
 
 
@@ -320,18 +324,18 @@ def test_run_export_error_exit_1_leaves_nothing(tmp_path):
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_run_batch_with_broken_configs(tmp_path, jobs):
     good = [tiny(tmp_path, "good1"), tiny(tmp_path, "good2")]
-    infeasible = tiny(tmp_path, "polar", INFEASIBLE)
+    infeasible = tiny(tmp_path, "bridging", INFEASIBLE)
     invalid = INVALID / "bad_radius.yaml"
     out = tmp_path / "out"
     result = invoke("run", good[0], infeasible, invalid, good[1], "-o", out, "--jobs", jobs)
     assert result.exit_code == 2, result.output  # an invalid config outranks an infeasible one
     lines = error_lines(result)
     assert len(lines) == 2
-    assert "polar.yaml" in lines[0] and "bad_radius.yaml" in lines[1]  # in the order given
+    assert "bridging.yaml" in lines[0] and "bad_radius.yaml" in lines[1]  # in the order given
     expected = {f"{n}.{ext}" for n in ("good1", "good2") for ext in ("csv", "gcode", "ply", "summary.json")}
     assert files_of(out) == expected  # the others ran; nothing of the failed ones, no temp files
     table = result.stdout
-    assert table.index("good1") < table.index("polar") < table.index("bad_radius") < table.index("good2")
+    assert table.index("good1") < table.index("bridging") < table.index("bad_radius") < table.index("good2")
     assert "failed" in table and "invalid" in table
 
     result = invoke("run", good[0], infeasible, "-o", tmp_path / "out1", "--jobs", jobs)

@@ -16,9 +16,11 @@ from winder.config.job import load_config
 from winder.config.machine import MachineConfig
 from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ConfigError
+from winder.app.contacts import ray_distance
 from winder.app.simulate import simulate, simulate_files, simulation_csv
 from winder.export.gcode import gcode_text
 from winder.machine.program import build_program
+from winder.machine.smooth import SmoothPaths
 from winder.winding.plan import plan as plan_job
 
 TANGENT_TOL = 0.01  # mm: a programmed eye from the exact tangent line (3-decimal axes)
@@ -162,7 +164,43 @@ def test_flat_faces_read_back_along_the_pass():
     assert sim.time_s == pytest.approx(build_program(plan, job.machine).times.total_s, rel=FLAT_TIME_TOL)
 
 
-FLAT_TIME_TOL = 5e-3  # relative: the rounded tube's contacts on corners are not all refined yet (0.5 mm off)
+FLAT_TIME_TOL = 5e-3  # relative: at corners the program's carriage steps back, the contacts cannot (0.14 mm off)
+DENSE = 200  # brute-force samples per point interval of a pass
+
+
+def test_no_contact_between_the_neighbours_fits_better():
+    """On the rounded tube an eye far out (some 200 mm past a flat face) sees a corner's tangent sweep
+    millimetres between two of the search's candidates. Truth by brute force: for every sample read
+    back off its tangent by more than the chord tolerance, no point of the planned pass between its
+    neighbours' contacts (the contacts move forward, so that stretch is open to it) has a ray nearer
+    its eye (the program's point 3140 was put 0.51 mm off, a ray 0.006 mm off lay between them)."""
+    job = load_config(CONFIGS / "rounded_tube.yaml")
+    plan = plan_job(job)
+    sim = simulate(job.machine, plan, gcode_text(plan, job.machine))
+    sm = sim.samples
+    by_key = {(fp.layer, fp.circuit, fp.number): fp for layer in plan.layers for fp in layer.passes}
+    position = 2 * np.asarray(sm["i"]) - np.asarray(sm["mid"], dtype=int)
+    order = np.lexsort((position, sm["pass"], sm["circuit"], sm["layer"]))
+    checked = 0
+    for j in range(1, order.size - 1):
+        k, before, after = order[j], order[j - 1], order[j + 1]
+        key = (sm["layer"][k], sm["circuit"][k], sm["pass"][k])
+        same = all((sm["layer"][x], sm["circuit"][x], sm["pass"][x]) == key for x in (before, after))
+        if not same or sm["kind"][k] not in ("forward", "return") or sm["deviation_mm"][k] <= job.machine.chord_tolerance:
+            continue
+        fp = by_key[tuple(int(v) for v in key)]
+        paths = SmoothPaths(plan.surface_of(fp.layer), [fp])
+        s, _, p, d = paths.point(np.linspace(0.0, len(fp.points) - 1, (len(fp.points) - 1) * DENSE + 1))
+        t = plan.surface_of(fp.layer).t_of_s(s)
+        lo, hi = sorted((sm["t"][before], sm["t"][after]))
+        inside = (t >= lo - 1e-9) & (t <= hi + 1e-9)
+        if not inside.any():  # the neighbours at one point: nothing between them to choose
+            continue
+        best = ray_distance(np.repeat(sm["eye"][k][None, :], inside.sum(), axis=0), p[inside], d[inside]).min()
+        assert best > sm["deviation_mm"][k] - 1e-3, (key, sm["i"][k], best, sm["deviation_mm"][k])
+        checked += 1
+    assert checked  # the check ran: some samples remain off (below)
+    assert sim.max_point_deviation_mm < 0.3  # what remains: the program's own carriage steps back (report)
 
 
 def test_a_program_cut_short_is_refused(plan):

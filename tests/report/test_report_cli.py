@@ -20,17 +20,16 @@ from winder.cli import main
 ROOT = Path(__file__).resolve().parents[2]
 PIPE = ROOT / "samples" / "pipe.yaml"
 INVALID = ROOT / "tests" / "config" / "invalid" / "bad_radius.yaml"
-
-VESSEL = ROOT / "samples" / "vessel_hemi.yaml"
+ELBOW = ROOT / "samples" / "elbow.yaml"
 
 
 def _infeasible(folder: Path) -> Path:
-    """The hemispherical sample at 10 deg: its turnaround (100 sin 10 = 17 mm) lies inside the 30 mm
-    polar opening, a valid config no winding exists for (exit 1)."""
-    text = VESSEL.read_text(encoding="utf-8").replace("{type: helical, angle: 22}", "{type: helical, angle: 10}")
-    assert "angle: 10" in text
+    """The elbow sample wound geodesically at 20 deg: the fiber bridges at the inside of the bend
+    (below 31.1 deg no friction holds it there), a valid config no winding exists for (exit 1)."""
+    text = ELBOW.read_text(encoding="utf-8").replace("{type: helical, angle: 45, slip: auto}", "{type: helical, angle: 20}")
+    assert "angle: 20}" in text
     path = folder / "infeasible.yaml"
-    path.write_text(text.replace("name: vessel_hemi", "name: infeasible"), encoding="utf-8")
+    path.write_text(text.replace("name: elbow", "name: infeasible"), encoding="utf-8")
     return path
 
 

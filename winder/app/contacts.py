@@ -9,7 +9,9 @@ the order the machine lays it, and the contact only moves forward along the pass
 a pass's samples are chosen together: the nondecreasing sequence of planned points with the least
 total ray distance (a dynamic program over the samples in order, all passes of a group in each
 step), then each refined between the points on either side (sampled finer, then golden-section
-search), then held nondecreasing along the pass (a tie on a flat resolves forward, never back).
+search), then held nondecreasing along the pass (a tie on a flat resolves forward, never back); a sample
+still off its ray by more than the chord tolerance is searched again finely between its neighbours'
+contacts (`repair`: an eye far out sees a corner's rays sweep millimetres between two candidates).
 """
 
 from __future__ import annotations
@@ -24,6 +26,11 @@ TURN_STEP = 0.01  # rad: the most the tangent turns between candidates (an eye 1
 TURN_READS = 4  # the tangent is read at that many even steps along each interval for its turning
 MAX_SPLIT = 64  # at most that many candidates per point interval
 TIE = 1e-3  # mm: rays that near an eye's best fit it as well (the program's values are rounded to 1e-3)
+REPAIR_TURN = 2e-4  # rad between the repair's samples: an eye 250 mm out, 0.05 mm apart
+REPAIR_SPLIT = 256  # at most that many per point interval
+REPAIR_STEP = 1.0 / 64.0  # and evenly that far apart (u): the rays also move sideways where they turn little
+REPAIR_GRID = 2048  # at most that many even reads per window
+REPAIR_ROUNDS = 12  # half-sweeps (alternate samples of a chain, then the others)
 TABLE_ENTRIES = 8_000_000  # back-pointers kept at once by the dynamic program (int32 each)
 _INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
 
@@ -117,7 +124,8 @@ def monotone_points(eye: np.ndarray, chain: np.ndarray, position: np.ndarray, pa
     return out
 
 
-def candidates(paths: SmoothPaths) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def candidates(paths: SmoothPaths, step: float = TURN_STEP,
+               max_split: int = MAX_SPLIT) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Points of the smooth paths the contact search starts from: the planned points, and between
     two of them where the tangent turns by more than TURN_STEP, evenly spaced ones (in u) that it
     turns less between (at a corner the rays of neighbouring points miss an eye between them by far).
@@ -134,7 +142,7 @@ def candidates(paths: SmoothPaths) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
     dq[:, 0], dq[:, -1] = _unit(paths.d[k]), _unit(paths.d[k + 1])
     turn = np.zeros(count - 1 if count else 0)
     turn[k] = np.arccos(np.clip(np.einsum("kij,kij->ki", dq[:, :-1], dq[:, 1:]), -1.0, 1.0)).sum(axis=1)
-    split = np.where(inside, np.clip(np.ceil(turn / TURN_STEP), 1, MAX_SPLIT), 0).astype(int)
+    split = np.where(inside, np.clip(np.ceil(turn / step), 1, max_split), 0).astype(int)
     per_node = np.concatenate([split, [0]]) + last  # a pass's last node: one more
     at = np.repeat(np.arange(count), per_node)
     within = np.arange(at.size) - np.repeat(np.cumsum(per_node) - per_node, per_node)
@@ -217,4 +225,66 @@ def widen_ends(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.nda
             bad = np.minimum.accumulate(np.where(fits, jmax, at)[:, ::-1], axis=1)[:, ::-1]
             reach = np.minimum(bad[np.arange(k.size), here], start[j + 1] - start[j]) - 1
             out[k] = np.maximum(u[k], cu[start[j] + reach])
+    return out
+
+
+def repair(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray,
+           position: np.ndarray, tol: float) -> np.ndarray:
+    """u with each sample whose ray misses its eye by more than tol searched again over the whole
+    stretch its neighbours' contacts leave it (the previous sample's contact to the next one's).
+    The candidates' rays sweep an eye far out by millimetres between two candidates where the tangent
+    turns fast, and a spline's small overshoot where a corner meets a flat turns the tangent back: the
+    dynamic program may then prefer the flat, off by the sweep, and refine only looks beside it.
+    The search reads the path where its tangent turns by at most REPAIR_TURN between reads (on a flat
+    one read an interval: one tangent line), then golden-section between the best read's neighbours.
+    Alternate samples of a chain are searched in turn, so every window stays between the contacts
+    of its neighbours and the contacts stay nondecreasing; a search is kept only where it does better."""
+    order = np.lexsort((position, chain))
+    ch = chain[order]
+    first = np.concatenate([[True], ch[1:] != ch[:-1]])
+    last = np.concatenate([ch[1:] != ch[:-1], [True]])
+    rank = np.arange(order.size) - np.maximum.accumulate(np.where(first, np.arange(order.size), 0))
+    out = u.astype(float, copy=True)
+    fu = None
+
+    def miss(k, v):
+        _, _, p, d = paths.point(v.ravel())
+        return ray_distance(np.repeat(eye[k], v.size // k.size, axis=0), p, d).reshape(v.shape)
+
+    for sweep in range(REPAIR_ROUNDS):
+        _, _, p, d = paths.point(out[order])
+        bad = ray_distance(eye[order], p, d) > tol
+        if not bad.any():
+            break
+        # A neighbour within tol may still hold the window shut (its contact a little past the true
+        # one, on a flat its ray fits nearly as well): it is searched again too.
+        near = bad | np.concatenate([bad[1:] & ~last[:-1], [False]]) | np.concatenate([[False], bad[:-1] & ~first[1:]])
+        todo = np.flatnonzero(near & (rank % 2 == sweep % 2))
+        if not todo.size:
+            continue
+        if fu is None:
+            fu, fp, fd, _ = candidates(paths, REPAIR_TURN, REPAIR_SPLIT)
+        k = order[todo]
+        lo = np.where(first[todo], out[k], out[order[np.maximum(todo - 1, 0)]])
+        hi = np.where(last[todo], out[k], out[order[np.minimum(todo + 1, order.size - 1)]])
+        a0, b0 = np.searchsorted(fu, lo, "left"), np.searchsorted(fu, hi, "right")
+        found, a, b = out[k].copy(), out[k].copy(), out[k].copy()
+        for r in range(k.size):  # windows of any length: one slice of the reads each
+            even = np.linspace(lo[r], hi[r], int(min(np.ceil((hi[r] - lo[r]) / REPAIR_STEP), REPAIR_GRID)) + 1)
+            _, _, ep, ed = paths.point(even)
+            reads = np.concatenate([fu[a0[r]:b0[r]], even])
+            at = np.argsort(reads, kind="stable")
+            reads = reads[at]
+            dist = ray_distance(eye[k[r]][None, :], np.vstack([fp[a0[r]:b0[r]], ep])[at],
+                                np.vstack([fd[a0[r]:b0[r]], ed])[at])
+            j = int(np.argmin(dist))
+            found[r], a[r], b[r] = reads[j], reads[max(j - 1, 0)], reads[min(j + 1, reads.size - 1)]
+        fbest = miss(k, found[:, None])[:, 0]
+        for _ in range(GOLDEN_STEPS):
+            c, e = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
+            left_side = miss(k, c[:, None])[:, 0] < miss(k, e[:, None])[:, 0]
+            b, a = np.where(left_side, e, b), np.where(left_side, a, c)
+        found = np.where(miss(k, (0.5 * (a + b))[:, None])[:, 0] <= fbest, 0.5 * (a + b), found)
+        better = miss(k, found[:, None])[:, 0] < miss(k, out[k][:, None])[:, 0]
+        out[k] = np.where(better, found, out[k])
     return out

@@ -26,7 +26,7 @@ import io
 
 import numpy as np
 
-from winder.app.contacts import candidates, forward, monotone_points, ray_distance, refine, widen_ends
+from winder.app.contacts import candidates, forward, monotone_points, ray_distance, refine, repair, widen_ends
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
@@ -170,6 +170,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         lo = cu[np.maximum(pick - 1, cstart[where])]
         hi = cu[np.minimum(pick + 1, cstart[where + 1] - 1)]
         u = forward(refine(paths, all_eye[mine], lo, cu[pick], hi), chain[mine], position[mine])
+        # A move's midpoint may bow off the tangents by up to the chord tolerance; more is searched again.
+        u = repair(paths, all_eye[mine], u, chain[mine], position[mine], machine.chord_tolerance)
         u = widen_ends(paths, all_eye[mine], u, chain[mine], position[mine], where, cand)
         s[mine], th[mine], p[mine], d[mine] = paths.point(u)
         toward = all_eye[mine] - p[mine]
