@@ -7,6 +7,7 @@ failed job leaves no file behind.
 
 from __future__ import annotations
 
+import html
 import io
 import sys
 from pathlib import Path
@@ -157,10 +158,12 @@ def test_a_job_past_the_axis_limits_says_so_and_keeps_the_feed_estimate(tmp_path
 
     summary = json.loads((tmp_path / "run" / "pipe.summary.json").read_text(encoding="utf-8"))
     assert summary["winding_time_s"] is None
+    assert "machine.limits.carriage: axis X (carriage) would reach 514.303 mm" in summary["program_error"]
     res = _run("report", str(config), "-o", str(tmp_path / "page"))
     assert res.exit_code == 0, res.output
     page = (tmp_path / "page" / "pipe.html").read_text(encoding="utf-8")
     assert "no machine program fits this machine" in page
+    assert html.escape(summary["program_error"]) in page  # where, as `run` says it
     assert duration(summary["estimated_time_s"]) in page
     for layer in summary["layers"]:
         assert f"<td>{duration(layer['time_s'])}" in page

@@ -20,7 +20,7 @@ from machine.dynamics, acceleration and deceleration included (winder.machine.dy
 no program can be built (an axis limit). estimated_time_s / time_s stay the fiber length at the feed.
 And axis_travel: each logical axis's [least, largest] value over the program as written (carriage,
 rotation, cross_feed, yaw; for robot poses x, y, z, i, j, k), to set against the machine's travel;
-null when no program can be built.
+null when no program can be built, and then program_error: why (the axis, the value and the limit).
 """
 
 from __future__ import annotations
@@ -136,15 +136,15 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
             "outer_radius_mm": _num(walls[-1].outer_radius_mm, THICKNESS_DECIMALS)}
 
 
-def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None], dict | None]:
-    """(total, per layer) machine time from the dynamics and the axis travel; None where no program
-    can be built."""
+def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None], dict | None, str | None]:
+    """(total, per layer) machine time from the dynamics, the axis travel and None; None, None and
+    why where no program can be built."""
     try:
         program = program_of(plan, machine)
-    except ExportError:
-        return None, [None] * len(plan.layers), None
+    except ExportError as exc:
+        return None, [None] * len(plan.layers), None, str(exc)
     layers = list(program.layer_times_s)
-    return program.times.total_s, layers, _axis_travel(program)
+    return program.times.total_s, layers, _axis_travel(program), None
 
 
 def _axis_travel(program) -> dict[str, list[float]]:
@@ -172,9 +172,11 @@ def summary_dict(plan: WindingPlan, machine=None) -> dict[str, Any]:
         **_totals(plan),
     }
     if machine is not None:
-        total, layers, travel = _winding_times(plan, machine)
+        total, layers, travel, why = _winding_times(plan, machine)
         out["winding_time_s"] = _num(total, TIME_DECIMALS)
         out["axis_travel"] = travel
+        if why is not None:
+            out["program_error"] = why
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
     return out

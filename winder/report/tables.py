@@ -33,8 +33,7 @@ def duration(seconds: float | None) -> str:
     return f"{h}:{m:02d}:{s:02d}" if h else f"{m}:{s:02d}"
 
 
-NO_PROGRAM = ("no machine program fits this machine (machine.limits, the eye envelope or its clearance; "
-              "`winder run` says where): the fiber length at the feed")
+NO_PROGRAM = "no machine program fits this machine: the time is the fiber length at the feed"
 
 
 def _time(layer: dict[str, Any]) -> float | None:
@@ -143,7 +142,9 @@ def job_table(summary: dict[str, Any], extra: list[tuple[str, str]]) -> str:
     time_s = summary.get("winding_time_s")
     why = ""
     if time_s is None:  # the summary's null: no program could be built (its key is absent without a machine)
-        why = f" <span class=bad>{html.escape(NO_PROGRAM)}</span>" if "winding_time_s" in summary else ""
+        if "winding_time_s" in summary:
+            cause = summary.get("program_error")
+            why = f" <span class=bad>{html.escape(NO_PROGRAM + (f' ({cause})' if cause else ''))}</span>"
         time_s = summary.get("estimated_time_s")
     rows = [("layers", _num(summary.get("layer_count"), 0)),
             ("fiber length", f"{_num(_scaled(summary.get('total_fiber_length_mm'), 1e-3), 3)} m"),
