@@ -40,8 +40,9 @@ winding:
     - {{type: helical, angle: 45}}
 {machine}"""
 
-# A hemispherical vessel whose helical turnaround radius (100 sin 10 = 17 mm) is inside the 30 mm
-# polar opening: valid YAML, valid values, but no winding exists (exit 1, not 2).
+# A hemispherical vessel whose geodesic turnaround (100 sin 10 = 17 mm) is inside the 30 mm polar
+# opening, turned by friction just outside it instead (slip: auto): valid YAML, valid values, but
+# the domes need more friction than the default 0.2, which only planning finds (exit 1, not 2).
 INFEASIBLE = """\
 name: {name}
 mandrel:
@@ -54,7 +55,7 @@ winding:
   band_width: 10
   points: 8
   layers:
-    - {{type: helical, angle: 10}}
+    - {{type: helical, angle: 10, slip: auto}}
 """
 
 SPEC_JSON_KEYS = {"length_mm", "polyline_length_mm", "length_extrapolated_mm", "error_estimate_mm", "points",
