@@ -49,6 +49,7 @@ REFUSED = {
     "tight_spline": (0, {1}, ("winding.layers[0]: the fiber bridges", "time limit of 20 s")),
     "flat_ellipse": (2, 2, "mandrel.section.b"),
     "cross_feed_80": (0, 0, None),
+    "slow_rotation": (0, 1, "machine.dynamics: a move's feed would be written F0.000"),
 }
 
 
