@@ -25,10 +25,12 @@ VESSEL = ROOT / "samples" / "vessel_hemi.yaml"
 
 
 def _infeasible(folder: Path) -> Path:
-    """The hemispherical sample at 10 deg: its turnaround (100 sin 10 = 17 mm) lies inside the 30 mm
-    polar opening, a valid config no winding exists for (exit 1)."""
-    text = VESSEL.read_text(encoding="utf-8").replace("{type: helical, angle: 22}", "{type: helical, angle: 10}")
-    assert "angle: 10" in text
+    """The hemispherical sample at 5 deg, turned by friction (slip: auto) just outside the 30 mm polar
+    opening, where its geodesic (100 sin 5 = 8.7 mm) cannot: the dome needs |k_g / k_n| = 0.28, above
+    the default friction 0.2, which only planning finds: a valid config no winding exists for (exit 1)."""
+    text = VESSEL.read_text(encoding="utf-8").replace("{type: helical, angle: 22}",
+                                                      "{type: helical, angle: 5, slip: auto}")
+    assert "angle: 5, slip: auto" in text
     path = folder / "infeasible.yaml"
     path.write_text(text.replace("name: vessel_hemi", "name: infeasible"), encoding="utf-8")
     return path
