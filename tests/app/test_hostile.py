@@ -49,6 +49,7 @@ REFUSED = {
     "tight_spline": (0, {1}, ("winding.layers[0]: the fiber bridges", "time limit of 20 s")),
     "flat_ellipse": (2, 2, "mandrel.section.b"),
     "cross_feed_80": (0, 0, None),
+    "slow_rotation": (0, 1, "machine.dynamics: a move's feed would be written F0.000"),
 }
 
 
@@ -120,6 +121,11 @@ CLI_CASES = {
     "simulate_dev_zero": (["simulate", str(PIPE), "/dev/zero"], 2, "/dev/zero: not a regular file"),
     "usage": (["run", "--bogus", str(PIPE)], 2, "No such option"),
     "near_zero": (["geodesic", str(PIPE), "--start", "10,0", "--end", "10,1e-9", "--json"], None, ""),
+    # below double precision: refused before the solve, as winding.tolerance is (not exit 1 after it)
+    "tolerance_1e-300": (["geodesic", str(PIPE), "--start", "0,0", "--end", "500,0", "--tolerance", "1e-300"], 2,
+                         "--tolerance: must be above what double precision resolves on this path"),
+    "underscore_start": (["geodesic", str(PIPE), "--start", "1_0,0", "--end", "500,0"], 2,
+                         "--start: expected T,DEG"),
 }
 
 

@@ -74,6 +74,20 @@ def geodesic_text(name: str, res, rounds: int, output: str | None) -> str:
     return "\n".join(lines + ([f"  wrote {output}"] if output else []))
 
 
+def _check_tolerance(surface, a: tuple[float, float], b: tuple[float, float], tolerance: float) -> None:
+    """Refuse a --tolerance that the solver would find below double precision after solving (as the
+    config's winding.tolerance is refused): against the straight distance between the ends, which no
+    path is shorter than."""
+    import numpy as np  # noqa: PLC0415
+    from winder.paths.geodesic import ROUNDOFF_FLOOR  # noqa: PLC0415
+
+    ends = surface.points(surface.s_of_t(np.array([a[0], b[0]])), np.array([a[1], b[1]]))
+    floor = ROUNDOFF_FLOOR * float(np.linalg.norm(ends[1] - ends[0]))
+    if tolerance <= floor:
+        raise ConfigError(f"--tolerance: must be above what double precision resolves on this path ({floor:.2g} mm "
+                          f"for its ends {floor / ROUNDOFF_FLOOR:.6g} mm apart), got {tolerance:g}")
+
+
 def solve_geodesic(config: str, start: str, end: str, rounds: int, points: int | None, tolerance: float | None,
                    method: str, seconds: float | None, max_rounds: int, max_points: int, output: str | None = None):
     """(job, GeodesicResult) of a request on the mandrel of config; the config's limit on points
@@ -90,6 +104,8 @@ def solve_geodesic(config: str, start: str, end: str, rounds: int, points: int |
     a, b = geodesic_request(start, end, rounds, points, tolerance, max_rounds)
     job = load_config(config)
     surface = build_surface(job.mandrel, job.source, job.name)
+    if tolerance is not None:
+        _check_tolerance(surface, a, b, tolerance)
     try:
         with time_limit(seconds):
             res = geodesic(surface, a, b, rounds=rounds, n=points, tolerance=tolerance, method=Method(method),

@@ -150,6 +150,9 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
             eye_size = rd.number(eye["size"], rd.at(rd.at(path, "eye"), "size"))
             if eye_size < 0.0:
                 raise rd.error(rd.at(rd.at(path, "eye"), "size"), "must be >= 0 (the eye's diameter, mm)", eye["size"])
+            if eye_size > MAX_EYE_CLEARANCE:  # far larger, the search for the eye's lead never ends
+                raise rd.error(rd.at(rd.at(path, "eye"), "size"), f"must be <= {MAX_EYE_CLEARANCE:g} mm (the eye's "
+                               f"diameter; an eye that large cannot guide the band)", eye["size"])
             eye = {k: v for k, v in eye.items() if k != "size"}
         eye_radius, eye_clearance = _parse_eye(rd, eye, rd.at(path, "eye"), max_radius, limits)
         if eye_radius is not None and max_radius is not None and eye_radius - eye_size / 2 <= max_radius:
@@ -213,9 +216,12 @@ def _parse_dynamics(rd: Reader, value: Any, path: str) -> MachineDynamics:
         where = rd.at(path, role)
         d = rd.mapping(spec, where, ("speed", "acceleration"))
         default = _default_dynamics(role)
-        axes[role] = AxisDynamics(
-            rd.positive(d.get("speed", default.speed), rd.at(where, "speed")),
-            rd.positive(d.get("acceleration", default.acceleration), rd.at(where, "acceleration")))
+        speed = rd.positive(d.get("speed", default.speed), rd.at(where, "speed"))
+        if speed < WRITTEN_RESOLUTION:
+            raise rd.error(rd.at(where, "speed"), f"must be >= {WRITTEN_RESOLUTION:g} (the program writes F with 3 "
+                           f"decimals: a move this slow reads F0.000, at which no controller moves)", d["speed"])
+        axes[role] = AxisDynamics(speed, rd.positive(d.get("acceleration", default.acceleration),
+                                                     rd.at(where, "acceleration")))
     return MachineDynamics(**axes)
 
 

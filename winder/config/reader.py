@@ -354,7 +354,7 @@ def station_option(text: str, option: str) -> tuple[float, float]:
     """A command-line point `T,DEG` as (t mm, theta rad); ConfigError naming the option otherwise."""
     parts = text.split(",")
     try:
-        if len(parts) != 2:
+        if len(parts) != 2 or "_" in text:  # Python's float reads 1_0 as 10; YAML and a user do not
             raise ValueError
         t, deg = float(parts[0]), float(parts[1])
     except ValueError as exc:

@@ -17,13 +17,13 @@ import numpy as np
 
 from winder.config.job import JobConfig
 from winder.config.winding import DEFAULT_POINTS, SLIP_AUTO, LayerConfig, LayerType, WindingConfig
-from winder.errors import ConfigError
+from winder.errors import ConfigError, SolverError
 from winder.geometry.sections import arc_map
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
 from winder.records import record
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
-from winder.winding.layers.helical_vessel import turnaround_refusal
+from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
@@ -46,6 +46,7 @@ BYTES_PER_POINT = 600
 SOLVER_BYTES_PER_POINT = 2_500
 MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
+START_SAMPLES = 257  # start fractions of a turn sampled for a pass's widest angle span
 
 
 @record
@@ -119,6 +120,13 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
         if why is not None:  # geodesic turnarounds: closed form on the bare mandrel (a grown one: run)
             raise _refuse(job.source, f"{key}.angle", f"{why} (or slip: auto, a friction-held turnaround just "
                           f"outside it), got {cfg.angle_deg:g}")
+    if vessel and bare and cfg.turnaround_radius is not None:
+        _check_turnaround_radius(job, surface.profile, cfg.turnaround_radius, key)
+    # The geodesic planner's layers (winding.layers.friction: slip auto is geodesic where that covers)
+    geodesic = slip in (0.0, SLIP_AUTO) if not vessel else cfg.turnaround_radius is None and (
+        slip == 0.0 or (slip == SLIP_AUTO and turnaround_refusal(surface.profile, cfg.angle_deg, w.band_width) is None))
+    if bare and geodesic:
+        _check_pass_points(job, surface, cfg, key, vessel, (t_a, t_b))
     if not vessel and slip not in (0.0, SLIP_AUTO):
         from winder.winding.layers.friction_open import is_bent_tube  # noqa: PLC0415 - friction jobs only
         ctx = PlanContext(job, w, surface, arc_map(surface.section), job.machine.feed)
@@ -143,6 +151,65 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
     # from a solve on TANGENT_REFINE times finer segments, with its Richardson twin.
     solve = 2 * (TANGENT_REFINE * (max(n, REFINE_MAX_POINTS) + 1))
     return LayerBudget(most, 2 * most, pass_points, most * (2 * pass_points + dwell_points), solve)
+
+
+def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radius: float, key: str) -> None:
+    """A turnaround_radius the friction-held planner (winding.layers.friction_vessel) can lay on the
+    bare vessel: below the cylinder's radius, and clear of both polar openings by half a band."""
+    where = f"{key}.turnaround_radius"
+    if radius >= prof.radius:
+        raise _refuse(job.source, where, f"must be smaller than the vessel's radius ({prof.radius:g} mm): the "
+                      f"fiber turns around on the domes, got {radius:g}")
+    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
+    c_min = r_open + 0.5 * job.winding.band_width
+    if radius < c_min - 1e-9:  # the planner's own comparison
+        raise _refuse(job.source, where, f"must be at least the larger polar opening ({r_open:.3f} mm) plus half a "
+                      f"band ({c_min:.3f} mm), or the band runs off the dome, got {radius:g}")
+
+
+def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, vessel: bool,
+                       region: tuple[float, float]) -> None:
+    """Refuse, from the geodesic's closed forms, what the planner would refuse on the bare mandrel:
+    an open-mandrel layer whose geodesic turns around (Clairaut) before the end of the region, and
+    too few points for the rounds a pass sweeps (winder.paths.resolution.check_points). Vessels: the
+    cylinder piece alone, with all the points (a lower bound on what the planner needs); mandrels
+    without a closed form (bends, varying non-circular sections): left to the planner."""
+    from winder.paths.resolution import check_points  # noqa: PLC0415 - the solver's own rule
+
+    w = job.winding
+    n = w.points or DEFAULT_POINTS
+    alpha = math.radians(cfg.angle_deg)
+    if vessel:
+        prof = surface.profile
+        rounds = prof.cylinder_length * math.tan(alpha) / prof.radius / (2.0 * math.pi)
+        n = max(n, PIECE_MIN_POINTS)
+    else:
+        from winder.winding.advance import reach_theta  # noqa: PLC0415 - open helical layers only
+        from winder.winding.passes import reference_section  # noqa: PLC0415
+
+        ctx = PlanContext(job, w, surface, arc_map(surface.section), job.machine.feed)
+        s_a, s_b = (float(v) for v in surface.s_of_t(np.array(region)))
+        s_ref, _ = reference_section(ctx, *region)
+        ends = []
+        try:
+            for heading, s_end in ((cfg.angle_deg, s_b), (cfg.angle_deg + 180.0, s_a)):
+                th = reach_theta(surface, s_ref, np.array([0.0]), heading, s_end)
+                if th is None:
+                    return
+                ends.append(th)
+        except SolverError as exc:  # the geodesic turns around on a narrowing mandrel
+            raise _refuse(job.source, f"{key}.angle", f"{exc.message}, got {cfg.angle_deg:g}") from exc
+        natural = float(np.mean(ctx.arcs.fraction(ends[0]) - ctx.arcs.fraction(ends[1])))
+        # A pass spans natural turns of the perimeter from where it starts; on a non-circular section
+        # its angle's span depends on that start: the narrowest, so that what is refused here every
+        # pass would be refused for (the planner refuses the widest; exact on a circle).
+        starts = np.linspace(0.0, 1.0, START_SAMPLES)
+        span = ctx.arcs.theta(starts + natural) - ctx.arcs.theta(starts)
+        rounds = float(np.min(np.abs(span))) / (2.0 * math.pi)
+    try:
+        check_points(n, rounds, max(REFINE_MAX_POINTS, n))
+    except ConfigError as exc:
+        raise _refuse(job.source, "winding.points", exc.message) from exc
 
 
 def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> LayerBudget:

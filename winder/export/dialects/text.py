@@ -12,6 +12,7 @@ from typing import Protocol
 
 import numpy as np
 
+from winder.errors import ExportError
 from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
@@ -89,8 +90,23 @@ class BaseDialect:
         cached = getattr(self, "_feeds", None)
         if cached is None or cached[0] is not program:
             cached = (program, fmt_column(program.feed))
+            _refuse_zero_feed(program, cached[1])
             self._feeds = cached
         return [f"{self.prefix} {words} F{cached[1][row]}"]
+
+
+def _refuse_zero_feed(program: MotionProgram, feeds: list[str]) -> None:
+    """A feed the axes' top speeds hold below what DECIMALS decimals write reads F0.000, at which no
+    controller moves (simulate refuses it): ExportError naming the move's pass."""
+    zero = fmt(0.0)
+    if zero not in feeds:
+        return
+    row = feeds.index(zero)
+    where = next((f"layer {seg.layer} circuit {seg.circuit} pass {seg.number}: " for segments in program.segments
+                  for seg in segments if seg.start <= row < seg.stop), "")
+    raise ExportError(f"{where}machine.dynamics: a move's feed would be written F{zero} ({program.feed[row]:.3g} "
+                      f"mm/min, held down by the axes' top speeds); raise the speeds in machine.dynamics, or use the "
+                      f"linuxcnc dialect (inverse time)")
 
 
 def fmt_significant(value: float, digits: int = 6) -> str:

@@ -30,6 +30,7 @@ from winder.geometry.measure import row_norms
 QUAD_NODES = 64  # Gauss-Legendre nodes per half dome for the turnaround advance (converged to 1e-14)
 RADIUS_TABLE = 65  # stations tabulated to start the inversion r -> s near the turnaround
 RADIUS_NEWTON = 4  # Newton steps from the table's guess: quadratic, to the last bits
+PIECE_MIN_POINTS = 5  # the least points of a pass's piece (a dome or the cylinder)
 
 
 @functools.cache
@@ -123,7 +124,7 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
         if hi - lo <= 1e-12:
             continue  # no cylinder
         inside = (guide_s >= lo) & (guide_s <= hi)
-        n_i = max(5, int(round(n_total * np.count_nonzero(inside) / guide_s.size)))
+        n_i = max(PIECE_MIN_POINTS, int(round(n_total * np.count_nonzero(inside) / guide_s.size)))
         warm = (np.concatenate([[knots[i]], guide_s[inside], [knots[i + 1]]]),
                 np.concatenate([[thetas[i]], guide_th[inside], [thetas[i + 1]]]))
         t_a, t_b = (float(v) for v in prof.t_of_s(np.array([knots[i], knots[i + 1]])))
