@@ -274,10 +274,9 @@ def markdown(data: dict[str, Any]) -> list[str]:
               "whose error meets the level, winder at its fastest fixed n whose error meets it (one solve "
               "without the estimate, `--points N`). Target: winder >= 5x faster. Beside it, winder's tolerance "
               "mode at level x length, against the same hindsight solve_bvp: it finds n itself, and its time "
-              "includes the 2n + 1 solve of the error bound it reports, which solve_bvp does not give (asked "
-              "for tol = 1e-6 itself, solve_bvp takes the time of that row in the sweep below). The sweeps pick "
-              "the candidates; the fastest few of each side are then timed interleaved, round-robin, and each "
-              "ratio is of two medians from that one loop.", "",
+              "includes the 2n + 1 solve of the error bound it reports, which solve_bvp does not give. The sweeps "
+              "pick the candidates; the fastest few of each side are then timed interleaved, round-robin, and "
+              "each ratio is of two medians from that one loop.", "",
               "| mandrel | level | solve_bvp | winder, n in hindsight | bvp / winder | winder, tolerance mode "
               "| bvp / winder | winder n | estimate / true error |",
               "|---|---|---:|---:|---:|---:|---:|---:|---:|"]
@@ -292,4 +291,9 @@ def markdown(data: dict[str, Any]) -> list[str]:
             fratio = f"{r['fixed_ratio']:.2f}x" if r.get("fixed_ratio") else "-"
             lines.append(f"| {c['title']} | {r['level']:.0e} | {bcell} | {fcell} | {fratio} | "
                          f"{r['winder_s'] * 1e3:.1f} ms | {ratio} | {r['winder_n']} | {est} |")
+    asked = [f"{c['title']}: {p['seconds'] * 1e3:.1f} ms (relative error {p['rel_error']:.1e})"
+             for c in bvp.values() for p in c.get("sweep", ()) if p["tol"] == LEVELS[0] and p["status"] == 0]
+    if asked:
+        lines += ["", f"solve_bvp asked for tol = {LEVELS[0]:g} itself, the setting a user without hindsight would "
+                  "type (in the sweep, median of repeats): " + "; ".join(asked) + "."]
     return lines + [""]
