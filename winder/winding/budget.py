@@ -115,16 +115,16 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
                       f"be wound twice and others never; allowed: {', '.join(map(str, skips[:12]))}"
                       f"{' ...' if len(skips) > 12 else ''} or auto, got {cfg.pattern}")
     slip = getattr(cfg, "slip", 0.0)
-    if vessel and bare and slip == 0.0 and cfg.turnaround_radius is None:
-        why = turnaround_refusal(surface.profile, cfg.angle_deg, w.band_width)
-        if why is not None:  # geodesic turnarounds: closed form on the bare mandrel (a grown one: run)
-            raise _refuse(job.source, f"{key}.angle", f"{why} (or slip: auto, a friction-held turnaround just "
-                          f"outside it), got {cfg.angle_deg:g}")
+    # Where a vessel's geodesic turnaround R sin(alpha) misses the opening: closed form on the bare mandrel
+    why = turnaround_refusal(surface.profile, cfg.angle_deg, w.band_width) if vessel else None
+    if vessel and bare and slip == 0.0 and cfg.turnaround_radius is None and why is not None:
+        raise _refuse(job.source, f"{key}.angle", f"{why} (or slip: auto, a friction-held turnaround just "
+                      f"outside it), got {cfg.angle_deg:g}")  # on a grown mandrel: run refuses it
     if vessel and bare and cfg.turnaround_radius is not None:
         _check_turnaround_radius(job, surface.profile, cfg.turnaround_radius, key)
     # The geodesic planner's layers (winding.layers.friction: slip auto is geodesic where that covers)
     geodesic = slip in (0.0, SLIP_AUTO) if not vessel else cfg.turnaround_radius is None and (
-        slip == 0.0 or (slip == SLIP_AUTO and turnaround_refusal(surface.profile, cfg.angle_deg, w.band_width) is None))
+        slip == 0.0 or (slip == SLIP_AUTO and why is None))
     if bare and geodesic:
         _check_pass_points(job, surface, cfg, key, vessel, (t_a, t_b))
     if not vessel and slip not in (0.0, SLIP_AUTO):
