@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parent.parent / "winder"
-STAGES = ("errors", "progress", "records", "config", "geometry", "paths", "winding", "machine", "export", "report", "app",
+STAGES = ("errors", "progress", "records", "config", "geometry", "paths", "winding", "analysis", "machine", "export", "report", "app",
           "cli", "__main__")
 MAX_LINES = 400
 

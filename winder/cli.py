@@ -348,6 +348,23 @@ def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int, time_limit: fl
     _batch(configs, out_dir, ("report",), jobs, summary=False, seconds=time_limit)
 
 
+# -- design (issue 32) -----------------------------------------------------------------------------
+@main.command("design", short_help="Netting sizing of CONFIG's layers for its pressure, before planning.")
+@click.argument("config", type=click.Path(dir_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
+@_guard
+def design_cmd(config: str, as_json: bool) -> None:
+    """Netting design of CONFIG (its `analysis:` pressure): each layer's thickness as configured, the
+    helical and hoop thickness the pressure needs at each helical layer's angle, the burst pressure of
+    the layers and the optimum angle; no path is planned. Exit status: 0, 2 an invalid config."""
+    from winder.analysis.design import design, design_text  # noqa: PLC0415
+    from winder.app.validate import validate  # noqa: PLC0415
+
+    job, surface, _ = validate(config)
+    result = design(job, surface)
+    _echo(json.dumps(result.as_json(), allow_nan=False) if as_json else design_text(result))
+
+
 # -- regress ---------------------------------------------------------------------------------------
 @main.command("simulate", short_help="Read a program back: what it lays, and its time.")
 @click.argument("config", type=click.Path(dir_okay=False))

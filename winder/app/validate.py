@@ -25,6 +25,9 @@ def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
     if job.winding is None:
         raise ConfigError("required key missing; `run` needs a winding plan (band_width and layers)",
                           file=job.source, key_path="winding")
+    from winder.analysis.job import check_analysis  # noqa: PLC0415 - ply names and data, SPEC "Structural analysis"
+
+    check_analysis(job)
     return surface, check_budget(job, surface)
 
 

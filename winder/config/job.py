@@ -15,6 +15,7 @@ from pathlib import Path
 
 import yaml
 
+from winder.config.analysis import AnalysisConfig, parse_analysis
 from winder.config.extent import is_bent, mandrel_reach
 from winder.config.machine import MachineConfig, parse_machine
 from winder.config.mandrel import MandrelConfig, axis_length, is_vessel, parse_mandrel
@@ -37,6 +38,7 @@ class JobConfig:
     mandrel: MandrelConfig
     winding: WindingConfig | None = None
     machine: MachineConfig | None = field(default_factory=MachineConfig)
+    analysis: AnalysisConfig | None = None  # the load case (SPEC.md "Structural analysis")
 
 
 # A job file is a page of YAML; a table or spline of 10,000 points is about 300 kB. Beyond this it is
@@ -97,7 +99,7 @@ _NAME = re.compile(r"[A-Za-z0-9_.-]+")
 def parse_config(data: dict, source: str) -> JobConfig:
     """Validate the loaded YAML of a job file; source is the file name used in messages."""
     rd = Reader(source)
-    top = rd.mapping(data, "", ("name", "mandrel", "winding", "machine"), required=("name", "mandrel"))
+    top = rd.mapping(data, "", ("name", "mandrel", "winding", "machine", "analysis"), required=("name", "mandrel"))
     name = rd.text(top["name"], "name")
     if not _NAME.fullmatch(name):
         raise rd.error("name", "must use only letters, digits, '_', '.' and '-' (it names the output "
@@ -117,4 +119,7 @@ def parse_config(data: dict, source: str) -> JobConfig:
     check_bend_angles(mandrel, winding, source)
     machine = parse_machine(rd, top.get("machine"), "machine", bent=is_bent(mandrel.axis),
                             max_radius=mandrel_reach(mandrel, 0.0, math.inf, None))
-    return JobConfig(name, source, mandrel, winding, machine)
+    analysis = None
+    if top.get("analysis") is not None:
+        analysis = parse_analysis(rd, top["analysis"], "analysis", vessel)
+    return JobConfig(name, source, mandrel, winding, machine, analysis)

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from winder.analysis.structure import DECIMALS as STRUCTURE_DECIMALS
 from winder.errors import ExportError, WinderError
 from winder.export.programs import program_of
 from winder.machine.limits import AXIS_DECIMALS
@@ -54,6 +55,7 @@ DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm"
                     "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
                     "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS}
 _DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
+DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.structure)
 
 
 def decimals_of(key: str) -> int | None:
@@ -159,9 +161,10 @@ def _axis_travel(program) -> dict[str, list[float]]:
             for axis, lo, hi, k in zip(program.axes, lows, highs, decimals)}
 
 
-def summary_dict(plan: WindingPlan, machine=None) -> dict[str, Any]:
+def summary_dict(plan: WindingPlan, machine=None, job=None) -> dict[str, Any]:
     """The summary as plain Python data (what summary_text serializes); machine: a MachineConfig
-    for the winding times (left out: no winding_time_s keys)."""
+    for the winding times (left out: no winding_time_s keys); job: its `analysis:` section gives the
+    `analysis` block (winder.analysis.structure)."""
     out = {
         "name": plan.name,
         "source": plan.source,
@@ -179,18 +182,22 @@ def summary_dict(plan: WindingPlan, machine=None) -> dict[str, Any]:
             out["program_error"] = why
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
+    if job is not None and getattr(job, "analysis", None) is not None:
+        from winder.analysis.structure import analyze, summary_block  # noqa: PLC0415
+
+        out["analysis"] = summary_block(analyze(plan, job), job)
     return out
 
 
-def summary_text(plan: WindingPlan, machine=None) -> str:
+def summary_text(plan: WindingPlan, machine=None, job=None) -> str:
     """The summary JSON text (sorted keys, indent 2, newline-terminated)."""
-    return json.dumps(summary_dict(plan, machine), sort_keys=True, indent=2, allow_nan=False) + "\n"
+    return json.dumps(summary_dict(plan, machine, job), sort_keys=True, indent=2, allow_nan=False) + "\n"
 
 
 def export(plan: WindingPlan, job) -> str:
     """The registry's entry (winder.export.registry). The summary must be JSON (regress and other
     tools read it): anything else is refused here rather than written to a file nobody can read."""
-    text = summary_text(plan, job.machine)
+    text = summary_text(plan, job.machine, job)
     try:
         json.loads(text)
     except ValueError as exc:
