@@ -30,8 +30,7 @@ MAX_ROUNDS = 1000  # --rounds and the turns of --start / --end: a 1000-round hel
 
 
 def _echo(message: str, err: bool = False) -> None:
-    """click.echo; standard output on a full disk is an ExportError (exit 1). A closed pipe goes on to
-    click, which ends quietly with exit 1; standard error closed or full leaves the exit status alone."""
+    """click.echo; a full stdout is an ExportError (exit 1), a closed pipe click's (quiet, exit 1), stderr's alone."""
     try:
         click.echo(message, err=err)
     except OSError as exc:
@@ -42,9 +41,7 @@ def _echo(message: str, err: bool = False) -> None:
 
 
 def _error(exc: BaseException, source: str | None = None) -> int:
-    """Print the one `Error: ...` line of exc (naming source if the message does not) and return
-    its SPEC exit status: 2 for an invalid config or bad input, 1 for anything that could not be
-    computed or written, 1 (with a please-report note) for an unexpected exception."""
+    """Print exc's one `Error: ...` line (naming source) and return its SPEC exit status (2 invalid, else 1)."""
     from winder.app.jobs import error_message, exit_code_of  # noqa: PLC0415
 
     _echo(f"Error: {error_message(exc, source)}", err=True)
@@ -52,10 +49,7 @@ def _error(exc: BaseException, source: str | None = None) -> int:
 
 
 def _guard(fn: Callable) -> Callable:
-    """Turn winder's errors into `Error: ...` and the SPEC exit codes; never a traceback.
-
-    The one place where an exception becomes an exit status (through winder.app.jobs.exit_code_of, which
-    the batch commands use for each of their jobs as well)."""
+    """Winder's errors as `Error: ...` and SPEC exit codes, never a traceback (via app.jobs.exit_code_of)."""
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
@@ -71,8 +65,7 @@ def _guard(fn: Callable) -> Callable:
 
 
 class WinderGroup(click.Group):
-    """Every way out is one `Error:` line and a SPEC exit status: usage errors without usage lines; TERM
-    and INT raise Interrupted (app.interrupts): the job in hand rolls back, exit 128 + the signal."""
+    """Every way out one `Error:` line and SPEC status; TERM, INT: Interrupted, rolled back, 128 + signal."""
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:  # a caller handling click's exceptions itself
@@ -208,9 +201,7 @@ BAR_STEPS = 1000
 
 
 class _JobBar:
-    """The progress bar of a single job (per layer, per circuit, then each output) on stderr: drawn
-    only on a terminal and only once the job has run SHOW_AFTER_S, so quick jobs and pipes stay quiet.
-    The library reports through this callback (winder.progress); only this draws."""
+    """A single job's progress bar on stderr (winder.progress's callback): on a terminal, after SHOW_AFTER_S."""
 
     def __init__(self, stream=None) -> None:
         self.stream = stream if stream is not None else sys.stderr
@@ -348,24 +339,16 @@ def report_cmd(configs: tuple[str, ...], out_dir: str, jobs: int, time_limit: fl
     _batch(configs, out_dir, ("report",), jobs, summary=False, seconds=time_limit)
 
 
-# -- design (issue 32) -----------------------------------------------------------------------------
 @main.command("design", short_help="Netting sizing of CONFIG's layers for its pressure, before planning.")
 @click.argument("config", type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object with the results.")
 @_guard
 def design_cmd(config: str, as_json: bool) -> None:
-    """Netting design of CONFIG (its `analysis:` pressure): each layer's thickness as configured, the
-    helical and hoop thickness the pressure needs at each helical layer's angle, the burst pressure of
-    the layers and the optimum angle; no path is planned. Exit status: 0, 2 an invalid config."""
-    from winder.analysis.design import design, design_text  # noqa: PLC0415
-    from winder.app.validate import validate  # noqa: PLC0415
-
-    job, surface, _ = validate(config)
-    result = design(job, surface)
-    _echo(json.dumps(result.as_json(), allow_nan=False) if as_json else design_text(result))
+    """Netting sizing of CONFIG for its `analysis:` pressure, no path planned. Exit status: 0, 2 invalid."""
+    from winder.app.design import design_output  # noqa: PLC0415
+    _echo(design_output(config, as_json))
 
 
-# -- regress ---------------------------------------------------------------------------------------
 @main.command("simulate", short_help="Read a program back: what it lays, and its time.")
 @click.argument("config", type=click.Path(dir_okay=False))
 @click.argument("program", type=click.Path(dir_okay=False))
