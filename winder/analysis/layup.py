@@ -10,6 +10,7 @@ import dataclasses
 import numpy as np
 
 LAYUP_STEP_BANDS = 0.5  # station spacing, in band widths
+LAYUP_ANGLES = 24  # rows around each station, 15 deg apart
 
 
 def station_rows(s: np.ndarray, thickness: np.ndarray, band_width: float) -> np.ndarray:
@@ -22,20 +23,23 @@ def station_rows(s: np.ndarray, thickness: np.ndarray, band_width: float) -> np.
 
 @dataclasses.dataclass(frozen=True)
 class LayerRows:
-    """One layer's layup rows along the mandrel (a surface of revolution: the same all around).
+    """One layer's layup rows along the mandrel.
 
     index : the layer (1-based); helical : a +-angle pair (else one hoop ply). t, angle_deg,
-    thickness : (m,) at its rows, as the CSV writes them (angle in [0, 90])."""
+    thickness : (m,) at its rows, the section's mean (angle in [0, 90]). share : (m, LAYUP_ANGLES) the
+    thickness around the section over its mean (1 on surfaces of revolution; buildup.share_around)."""
 
     index: int
     helical: bool
     t: np.ndarray
     angle_deg: np.ndarray
     thickness: np.ndarray
+    share: np.ndarray | None = None
 
-    def at(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(angle_deg, thickness) of the row nearest each station t (n,); thickness 0 (angle 0) past the
-        layer's rows by more than half their spacing."""
+    def at(self, t: np.ndarray, theta: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(angle_deg, thickness) of the row nearest each station t (n,) (and angle theta (n,) rad, the
+        nearest of the LAYUP_ANGLES around), as the CSV writes them (6 decimals); thickness 0 (angle 0)
+        past the layer's rows by more than half their spacing."""
         t = np.asarray(t, float)
         if self.t.size == 0:
             return np.zeros_like(t), np.zeros_like(t)
@@ -46,18 +50,27 @@ class LayerRows:
             j = np.clip(np.searchsorted(self.t, t), 1, self.t.size - 1)
             j = np.where(t - self.t[j - 1] <= self.t[j] - t, j - 1, j)
         inside = (t >= self.t[0] - half - 1e-9) & (t <= self.t[-1] + half + 1e-9)
-        return np.where(inside, self.angle_deg[j], 0.0), np.where(inside, self.thickness[j], 0.0)
+        thick = self.thickness[j]
+        if self.share is not None and theta is not None:
+            around = np.rint(np.mod(theta, 2.0 * np.pi) / (2.0 * np.pi) * LAYUP_ANGLES).astype(int) % LAYUP_ANGLES
+            thick = np.round(thick * self.share[j, around], 6)
+        return np.where(inside, np.round(self.angle_deg[j], 6), 0.0), np.where(inside, np.round(thick, 6), 0.0)
 
 
 def layer_rows(plan) -> tuple[LayerRows, ...]:
-    """Every layer's rows of a plan with a laminate (layers without one are left out), rounded as the CSV
-    writes them (6 decimals) so that what a model reads back is what the file says."""
+    """Every layer's rows of a plan with a laminate (layers without one are left out)."""
+    from winder.winding.buildup import share_around  # noqa: PLC0415 - bends and non-circular sections only
+
     out = []
+    theta = np.arange(LAYUP_ANGLES) * 2.0 * np.pi / LAYUP_ANGLES
     for layer in plan.layers:
         lam = layer.laminate
         if lam is None:
             continue
         pick = station_rows(lam.s, lam.thickness, plan.band_width)
+        surface = plan.surface_of(layer.index)
+        share = None if surface.is_revolution else share_around(surface, layer.passes, plan.band_width,
+                                                                 lam.s[pick], theta)
         out.append(LayerRows(layer.index, layer.type.value == "helical", np.round(lam.t[pick], 6),
-                             np.round(np.nan_to_num(lam.angle_deg[pick]), 6), np.round(lam.thickness[pick], 6)))
+                             np.nan_to_num(lam.angle_deg[pick]), lam.thickness[pick], share))
     return tuple(out)

@@ -222,6 +222,10 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                 from winder.export.layup import require_material  # noqa: PLC0415
 
                 require_material(job)
+            if "abaqus" in formats:  # likewise: the ply data and the load case (SPEC "Structural analysis")
+                from winder.export.abaqus import require_analysis  # noqa: PLC0415
+
+                require_analysis(job)
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))

@@ -38,6 +38,7 @@ FORMATS: tuple[Format, ...] = (  # in writing order
     Format("gcode", ".gcode", "winder.export.gcode"),
     Format("ply", ".ply", "winder.export.ply"),
     Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
+    Format("abaqus", ".inp", "winder.export.abaqus", default=False),  # needs ply data and analysis:
     Format("report", ".html", "winder.report.export", default=False),
     Format("summary", ".summary.json", "winder.export.summary", always=True),
 )
