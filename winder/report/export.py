@@ -11,4 +11,9 @@ from winder.winding.results import WindingPlan
 def export(plan: WindingPlan, job, progress: Progress | None = None) -> str:
     """The page of plan, with the summary `<name>.summary.json` holds: job's machine gives the winding
     times (the program is built once for the G-code and the summary, winder.export.programs)."""
-    return report_html(plan, summary_dict(plan, job.machine), progress=progress)
+    structure = None
+    if getattr(job, "analysis", None) is not None:  # the structure section (issue 32)
+        from winder.analysis.structure import analyze  # noqa: PLC0415
+
+        structure = analyze(plan, job)
+    return report_html(plan, summary_dict(plan, job.machine, job), progress=progress, structure=structure)
