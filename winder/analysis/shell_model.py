@@ -29,8 +29,9 @@ class ShellModel:
     and torque). fixed_axial : node indices held along the axis (the start ring); fixed_x, fixed_y : the
     start ring's nodes at 90 and 270 deg held in x, at 0 and 180 deg in y (their tangents): no rigid-body
     motion left, and what the twist of an unbalanced wall puts on them is a couple, not a side force
-    that would bend the tube (two nodes alone bent it 0.06 mm at mid-length under 10 MPa). rings : (2, K) the corner nodes of the two rings nearest mid-length
-    (what the tests read back), ring_t : (2,) their stations."""
+    that would bend the tube (two nodes alone bent it 0.06 mm at mid-length under 10 MPa).
+    rings : (2, K) the corner nodes of the two rings nearest mid-length (what the tests read back),
+    ring_t : (2,) their stations."""
 
     nodes: np.ndarray
     elements: np.ndarray

@@ -72,9 +72,9 @@ def structure_table(block: dict[str, Any]) -> str:
              + f" (layer {cell(block.get('max_stress_layer'))}, t = {cell(block.get('max_stress_t'), ' mm')})"),
             ("netting optimum angle", cell(block.get("netting_optimum_angle_deg"), "°"))]
     body = "".join(f"<tr><th>{html.escape(k)}</th><td>{v}</td></tr>" for k, v in rows)
-    per = "".join(f"<tr><td>layer {cell(x.get('layer'))}</td><td>{cell(x.get('first_ply_failure_pressure_mpa'))}</td>"
-                  f"<td>{cell(x.get('first_ply_failure_max_stress_mpa'))}</td><td>{cell(x.get('tsai_wu_index'))}</td></tr>"
-                  for x in block.get("layers") or [])
+    keys = ("first_ply_failure_pressure_mpa", "first_ply_failure_max_stress_mpa", "tsai_wu_index")
+    per = "".join(f"<tr><td>layer {cell(x.get('layer'))}</td>" + "".join(f"<td>{cell(x.get(k))}</td>" for k in keys)
+                  + "</tr>" for x in block.get("layers") or [])
     return (f"<table class=job>{body}</table><table class=job style='margin-top:10px'><tr><th></th>"
             "<th>first-ply failure (Tsai-Wu, MPa)</th><th>(max stress, MPa)</th><th>largest Tsai-Wu index</th></tr>"
             f"{per}</table>")
