@@ -142,9 +142,33 @@ def _expected(layers: dict[int, np.ndarray], types: dict[int, str], t: float, th
     return plies
 
 
-def test_vessel_deck_plies_are_the_layup_csv_at_each_element():
+@pytest.fixture(scope="module")
+def vessel():
     job = load_config(SAMPLES / "vessel_laminate.yaml")
-    planned = plan(job)
+    return job, plan(job)
+
+
+def test_vessel_end_loads_are_the_bosses_thrust(vessel):
+    """Closed ends: each end ring carries p pi r^2 along the axis, outward (the polar bosses' thrust), and
+    the nodal loads balance."""
+    from winder.analysis.layup import layer_rows
+    from winder.analysis.shell_model import build_model
+
+    job, planned = vessel
+    p = job.analysis.pressure
+    model = build_model(planned.surface, layer_rows(planned), planned.band_width, p, True)
+    z = model.nodes[:, 2]
+    scale = p * math.pi * 30.0**2
+    assert np.abs(model.loads.sum(axis=0)).max() < 1e-9 * scale
+    for ring, sign in ((z < z.min() + 1e-9, -1.0), (z > z.max() - 1e-9, 1.0)):
+        r = float(np.hypot(model.nodes[ring, 0], model.nodes[ring, 1]).mean())
+        force = model.loads[ring].sum(axis=0)
+        assert abs(force[2] - sign * p * math.pi * r * r) < 1e-3 * p * math.pi * r * r  # the 96-gon's area
+        assert np.abs(force[:2]).max() < 1e-9 * scale
+
+
+def test_vessel_deck_plies_are_the_layup_csv_at_each_element(vessel):
+    job, planned = vessel
     deck = _deck(job, planned)
     layup = next(f for f in registry.FORMATS if f.name == "layup").render(planned, job).decode("utf-8")
     layers = _layup(layup)

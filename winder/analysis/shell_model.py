@@ -117,9 +117,13 @@ def _ring_loads(loads: np.ndarray, ids: np.ndarray, ring: np.ndarray, surface, s
     """Add an end ring's nodal forces: the pressure's thrust on the area the ring encloses (closed ends)
     plus the axial force along the outward axis, and the torque (+ about the axis at the far end),
     spread per unit length along the ring's S8R edges (1/6, 2/3, 1/6 of each edge's share)."""
-    axis = surface.evaluate(np.array([s_end]), np.array([0.0]), order=1).ps[0]
-    axis = end * axis / np.linalg.norm(axis)
+    # the axis there: the normal of the ring's plane (a section of the sweep), pointing away from the part
+    # (the meridian's tangent is no axis on a dome: near a polar opening it runs almost radially)
     centre = ring.mean(axis=0)
+    axis = np.linalg.svd(ring - centre)[2][-1]
+    along = surface.evaluate(np.full(ring.shape[0], s_end), np.arange(ring.shape[0]) * 2.0 * np.pi / ring.shape[0],
+                             order=1).ps.mean(axis=0)
+    axis = axis * end * np.sign(axis @ along)
     arm = ring - centre - np.outer((ring - centre) @ axis, axis)
     xy = np.stack([arm @ _perp(axis)[0], arm @ _perp(axis)[1]], axis=1)
     area = 0.5 * abs(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1]))
