@@ -120,7 +120,7 @@ def _ring_loads(loads: np.ndarray, ids: np.ndarray, ring: np.ndarray, surface, s
     # the axis there: the normal of the ring's plane (a section of the sweep), pointing away from the part
     # (the meridian's tangent is no axis on a dome: near a polar opening it runs almost radially)
     centre = ring.mean(axis=0)
-    axis = np.linalg.svd(ring - centre)[2][-1]
+    axis = np.linalg.svd(ring - centre, full_matrices=False)[2][-1]
     along = surface.evaluate(np.full(ring.shape[0], s_end), np.arange(ring.shape[0]) * 2.0 * np.pi / ring.shape[0],
                              order=1).ps.mean(axis=0)
     axis = axis * end * np.sign(axis @ along)

@@ -58,18 +58,22 @@ def deck_text(model: ShellModel, plies: dict[int, Lamina], pressure: float, titl
     for layer in sorted(set(model.ply_layer.tolist())):
         buf.write(_material(f"PLY{layer}", plies[layer]))
     present = model.ply_thickness > 0.0
-    lines = []
-    for k in range(e):
-        cols = np.nonzero(present[k])[0]
-        lines.append(f"*ELSET, ELSET=E{k + 1}\n{k + 1}\n")
+    number = np.arange(1, e + 1)
+    for c in range(present.shape[1]):  # orientations first: the sections name them
+        k = np.nonzero(present[:, c])[0]
+        np.savetxt(buf, np.column_stack([number[k], np.full(k.size, c + 1), model.fiber[k, c], model.across[k, c]]),
+                   fmt="*ORIENTATION, NAME=O%d_%d, SYSTEM=RECTANGULAR\n" + ", ".join(["%.9f"] * 6))
+    # one section per element, written a group of elements with the same plies at a time
+    masks, group = np.unique(present, axis=0, return_inverse=True)
+    for g, mask in enumerate(masks):
+        k = np.nonzero(group.ravel() == g)[0]
+        cols = np.nonzero(mask)[0]
+        fmt = "*ELSET, ELSET=E%d\n%d\n*SHELL SECTION, ELSET=E%d, COMPOSITE, OFFSET=-0.5" + "".join(
+            f"\n%.6f, , PLY{model.ply_layer[c]}, O%d_{c + 1}" for c in cols)
+        table = [number[k]] * 3
         for c in cols:
-            a, b = model.fiber[k, c], model.across[k, c]
-            lines.append(f"*ORIENTATION, NAME=O{k + 1}_{c + 1}, SYSTEM=RECTANGULAR\n"
-                         f"{a[0]:.9f}, {a[1]:.9f}, {a[2]:.9f}, {b[0]:.9f}, {b[1]:.9f}, {b[2]:.9f}\n")
-        lines.append(f"*SHELL SECTION, ELSET=E{k + 1}, COMPOSITE, OFFSET=-0.5\n")
-        lines.extend(f"{model.ply_thickness[k, c]:.6f}, , PLY{model.ply_layer[c]}, O{k + 1}_{c + 1}\n"
-                     for c in cols)
-    buf.write("".join(lines))
+            table += [model.ply_thickness[k, c], number[k]]
+        np.savetxt(buf, np.column_stack(table), fmt=fmt)
     buf.write("*BOUNDARY\nSTART, 3, 3, 0.\n" + "".join(f"{n + 1}, 1, 1, 0.\n" for n in model.fixed_x)
               + "".join(f"{n + 1}, 2, 2, 0.\n" for n in model.fixed_y))
     buf.write("*STEP\n*STATIC\n")
