@@ -64,3 +64,29 @@ def test_design_text_and_refusals(tmp_path):
     path = _config(tmp_path, "    - {type: helical, angle: 45}", "{pressure: 0}")
     result = CliRunner().invoke(main, ["design", str(path)])
     assert result.exit_code == 2 and "analysis.pressure: must be > 0" in result.output
+
+
+def test_design_refuses_a_bent_mandrel(tmp_path):
+    path = tmp_path / "bend.yaml"
+    path.write_text("""name: bend
+mandrel:
+  axis: {type: arc, radius: 150, angle: 90}
+  profile: {type: constant, radius: 40}
+winding:
+  band_width: 10
+  material: {name: eglass_epoxy, ply_thickness: 0.4}
+  layers:
+    - {type: helical, angle: 60, slip: auto}
+analysis: {pressure: 3, ends: open}
+""", encoding="utf-8")
+    result = CliRunner().invoke(main, ["design", str(path)])
+    assert result.exit_code == 2 and "mandrel: winder design needs a surface of revolution" in result.output
+
+
+def test_abaqus_without_a_load_case_is_refused_before_planning(tmp_path):
+    path = _config(tmp_path, "    - {type: helical, angle: 45}")
+    text = path.read_text(encoding="utf-8").replace("analysis: {pressure: 30}\n", "")
+    path.write_text(text, encoding="utf-8")
+    result = CliRunner().invoke(main, ["run", str(path), "-o", str(tmp_path / "out"), "--format", "abaqus"])
+    assert result.exit_code == 2 and "analysis: required for --format abaqus" in result.output
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())

@@ -29,6 +29,7 @@ SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 CCX = shutil.which("ccx") or next((shutil.which(f"ccx_2.{k}") for k in range(30, 10, -1) if shutil.which(f"ccx_2.{k}")),
                                   None)
 STRAIN_AGREEMENT = 0.02  # the issue's 2 %: a thin shell (h / R = 0.012) against membrane CLT
+VESSEL_AGREEMENT = 0.03  # its wall is 1.8 mm on R 100 (h / R = 0.018): the thin-shell error doubles
 SOLVE_SECONDS = 60.0
 CSV_DECIMALS = 1e-6  # the layup CSV's and the deck's 6 decimals
 ANGLE_DEG = 1e-3  # a ply's angle read back from its orientation vector (9 decimals) and the element's chords
@@ -79,39 +80,67 @@ def _nodes(deck: str) -> np.ndarray:
     return out
 
 
-def test_ccx_solves_a_closed_cylinder_and_matches_clt(tmp_path):
+def _solve(tmp_path: Path, deck: str) -> tuple[str, float]:
+    """ccx's .dat of the deck and its wall time (s); skipped, with the reason printed, without ccx."""
     if CCX is None:
         print("SKIP reason: CalculiX (ccx) is not installed (apt-get install calculix-ccx)")
         pytest.skip("CalculiX (ccx) is not installed (apt-get install calculix-ccx)")
-    config = tmp_path / "closed_cylinder.yaml"
-    config.write_text(CYLINDER, encoding="utf-8")
-    job = load_config(config)
-    planned = plan(job)
-    deck = _deck(job, planned)
-    (tmp_path / "cyl.inp").write_text(deck, encoding="utf-8")
+    (tmp_path / "part.inp").write_text(deck, encoding="utf-8")
     started = time.perf_counter()
-    run = subprocess.run([CCX, "-i", "cyl"], cwd=tmp_path, capture_output=True, text=True, timeout=300,
+    run = subprocess.run([CCX, "-i", "part"], cwd=tmp_path, capture_output=True, text=True, timeout=600,
                          env={**os.environ, "OMP_NUM_THREADS": "1"})
     seconds = time.perf_counter() - started
     assert run.returncode == 0 and "Job finished" in run.stdout, run.stdout[-2000:] + run.stderr[-2000:]
-    assert seconds < SOLVE_SECONDS, f"ccx took {seconds:.1f} s"
-    dat = (tmp_path / "cyl.dat").read_text()
+    return (tmp_path / "part.dat").read_text(), seconds
+
+
+def _mid_strains(deck: str, dat: str) -> tuple[np.ndarray, float, float, float]:
+    """u_r of ring A, the hoop strain u_r / r there, the axial strain between rings A and B, their mid z."""
     nodes = _nodes(deck)
     a, b = _node_table(dat, "MIDA"), _node_table(dat, "MIDB")
     xyz_a, xyz_b = nodes[a[:, 0].astype(int)], nodes[b[:, 0].astype(int)]
     r = np.hypot(xyz_a[:, 0], xyz_a[:, 1])
     u_r = (a[:, 1] * xyz_a[:, 0] + a[:, 2] * xyz_a[:, 1]) / r
-    hoop_fe = float(np.mean(u_r / r))
     dz = float(xyz_b[:, 2].mean() - xyz_a[:, 2].mean())
-    axial_fe = float((b[:, 3].mean() - a[:, 3].mean()) / dz)
-    # CLT: the station analysis's membrane strains at the rings' mid-station, at 10 MPa
+    axial = float((b[:, 3].mean() - a[:, 3].mean()) / dz)
+    return u_r, float(np.mean(u_r / r)), axial, 0.5 * float(xyz_a[:, 2].mean() + xyz_b[:, 2].mean())
+
+
+def _clt(job, planned, t: float) -> np.ndarray:
+    """The station analysis's membrane strains [m, h, mh] at the design pressure at the station nearest t."""
     st = analyze(planned, job).stations
-    k = int(np.argmin(np.abs(st.geometry.t - 0.5 * (xyz_a[:, 2].mean() + xyz_b[:, 2].mean()))))
-    eps = 10.0 * st.strain_per_mpa[k] + st.strain_held[k]
+    k = int(np.argmin(np.abs(st.geometry.t - t)))
+    return job.analysis.pressure * st.strain_per_mpa[k] + st.strain_held[k]
+
+
+def test_ccx_solves_a_closed_cylinder_and_matches_clt(tmp_path):
+    config = tmp_path / "closed_cylinder.yaml"
+    config.write_text(CYLINDER, encoding="utf-8")
+    job = load_config(config)
+    planned = plan(job)
+    deck = _deck(job, planned)
+    dat, seconds = _solve(tmp_path, deck)
+    assert seconds < SOLVE_SECONDS, f"ccx took {seconds:.1f} s"
+    u_r, hoop_fe, axial_fe, t_mid = _mid_strains(deck, dat)
+    eps = _clt(job, planned, t_mid)
     print(f"ccx {seconds:.1f} s; hoop FE {hoop_fe:.6e} CLT {eps[1]:.6e}; axial FE {axial_fe:.6e} CLT {eps[0]:.6e}")
     assert abs(hoop_fe / eps[1] - 1.0) < STRAIN_AGREEMENT
     assert abs(axial_fe / eps[0] - 1.0) < STRAIN_AGREEMENT
     assert np.ptp(u_r) < 1e-3 * np.mean(u_r)  # axisymmetric: the supports bend nothing
+
+
+@pytest.mark.skipif(not os.environ.get("WINDER_NIGHTLY"), reason="nightly: a minute of ccx (WINDER_NIGHTLY=1)")
+def test_ccx_solves_the_vessel_and_matches_clt_on_its_cylinder(tmp_path, vessel):
+    """The sample vessel's whole deck (domes, bosses' thrust): mid-cylinder strains against CLT."""
+    job, planned = vessel
+    deck = _deck(job, planned)
+    dat, seconds = _solve(tmp_path, deck)
+    u_r, hoop_fe, axial_fe, t_mid = _mid_strains(deck, dat)
+    eps = _clt(job, planned, t_mid)
+    print(f"vessel: ccx {seconds:.1f} s; hoop FE {hoop_fe:.6e} CLT {eps[1]:.6e}; axial FE {axial_fe:.6e} "
+          f"CLT {eps[0]:.6e}")
+    assert abs(hoop_fe / eps[1] - 1.0) < VESSEL_AGREEMENT and abs(axial_fe / eps[0] - 1.0) < VESSEL_AGREEMENT
+    assert np.ptp(u_r) < 1e-3 * np.mean(u_r)
 
 
 def _layup(text: str) -> dict[int, dict]:
