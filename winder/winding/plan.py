@@ -10,7 +10,7 @@ import math
 from dataclasses import replace
 
 from winder.config.job import JobConfig
-from winder.config.winding import LayerType
+from winder.config.winding import LayerConfig, LayerType
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError
 from winder.progress import Progress, monotone
@@ -18,7 +18,7 @@ from winder.winding.layers.friction import friction_layer
 from winder.winding.layers.helical_open import open_helical_layer
 from winder.winding.layers.hoop import hoop_layer
 from winder.winding.passes import PlanContext
-from winder.winding.results import WindingPlan
+from winder.winding.results import LayerPlan, WindingPlan
 from winder.winding.turnaround import SWING_MIN_DEG
 from winder.geometry.sections import arc_map
 from winder.geometry.build import build_surface
@@ -42,15 +42,7 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
         from winder.winding.wall import material_of, start_buildup  # noqa: PLC0415
         build = start_buildup(ctx)
     for index, cfg in enumerate(job.winding.layers):
-        if cfg.type is LayerType.HOOP:
-            layer = hoop_layer(ctx, cfg, index, theta0)
-        elif (held := friction_layer(ctx, cfg, index, theta0)) is not None:
-            layer = held
-        elif isinstance(surface.profile, VesselMeridian):
-            from winder.winding.layers.helical_vessel import vessel_helical_layer  # noqa: PLC0415
-            layer = vessel_helical_layer(ctx, cfg, index, theta0)
-        else:
-            layer = open_helical_layer(ctx, cfg, index, theta0)
+        layer = plan_layer(ctx, cfg, index, theta0)
         if build is not None:  # the next layer winds on the mandrel grown by this one
             layer, build = build.add(layer, material_of(job.winding.material_of(index)), ctx.key(index))
             ctx = replace(ctx, surface=build.surface)
@@ -61,3 +53,28 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
         theta0 = float(layer.passes[-1].theta[-1]) + math.radians(SWING_MIN_DEG)
     return WindingPlan(job.name, job.source, surface, tuple(layers), float(job.winding.band_width),
                        outer=build.surface if build is not None else None)
+
+
+def plan_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
+    """One layer planned in ctx (the mandrel as the layers before it left it), from theta0 (rad)."""
+    if cfg.type is LayerType.HOOP:
+        return hoop_layer(ctx, cfg, index, theta0)
+    if (held := friction_layer(ctx, cfg, index, theta0)) is not None:
+        return held
+    if isinstance(ctx.surface.profile, VesselMeridian):
+        from winder.winding.layers.helical_vessel import vessel_helical_layer  # noqa: PLC0415
+        return vessel_helical_layer(ctx, cfg, index, theta0)
+    return open_helical_layer(ctx, cfg, index, theta0)
+
+
+def layer_context(job: JobConfig, index: int) -> tuple[PlanContext, float]:
+    """The context and start angle (rad) layer `index` (0-based) is planned in by `plan`: the layers
+    before it planned, the mandrel grown by them where the job has a laminate."""
+    surface = build_surface(job.mandrel, job.source, job.name)
+    ctx = PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed)
+    if index == 0:
+        return ctx, 0.0
+    before = plan(replace(job, winding=replace(job.winding, layers=job.winding.layers[:index])))
+    if before.outer is not None:
+        ctx = replace(ctx, surface=before.outer)
+    return ctx, float(before.layers[-1].passes[-1].theta[-1]) + math.radians(SWING_MIN_DEG)
