@@ -1,4 +1,4 @@
-"""The feasible patterns of a helical layer, side by side (docs/math/20_pattern_choices.md).
+"""The feasible patterns of a helical layer, side by side (docs/math/10-pattern-choices.md).
 
 A choice is a circuit count N and a skip k coprime with it; the planner closes it as it closes its own
 (open mandrels: the dwells lengthened, at the angle asked; vessels: the turnaround radius, hence the
