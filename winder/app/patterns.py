@@ -101,7 +101,7 @@ def patterns_text(tables: list) -> str:
     for table, seconds, cfg in tables:
         lines.append(f"layer {table.layer}: helical at {table.requested_angle_deg:g} deg, {len(table.choices)} "
                      f"choices in {seconds:.2f} s ({table.plans} layer plans; {table.method})")
-        lines.append(f"sorted by: {SORT_RULE}; * the planner's own; p: circuits before a band lands beside the "
+        lines.append(f"sorted by: {SORT_RULE}; * the layer as configured (the planner's own choice where it has none); p: circuits before a band lands beside the "
                      f"first (+ leading, - lagging); dwell+: turn added to the least dwells to close")
         rows = [_HEAD]
         for c in table.choices:

@@ -142,7 +142,9 @@ def pattern_choices(job: JobConfig, index: int, angle: float | None = None,
     ctx, theta0 = layer_context(job, index)
     own = plan_layer(ctx, cfg, index, theta0)
     kind = _geodesic_kind(ctx, cfg)
-    counts = range(own.circuits, own.circuits + EXTRA_CIRCUITS + 1) if cfg.circuits is None else [own.circuits]
+    # The planner's count and more; a count the config gives is listed beside them
+    auto = own if cfg.circuits is None else plan_layer(ctx, replace(cfg, circuits=None, pattern=None), index, theta0)
+    counts = sorted({own.circuits, *range(auto.circuits, auto.circuits + EXTRA_CIRCUITS + 1)})
     free = replace(cfg, pattern=None)
     if kind == "open":
         choices, plans = _open_choices(ctx, free, index, theta0, own, counts)
