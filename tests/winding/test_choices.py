@@ -3,8 +3,8 @@
 Over every sample's helical layers: the planner's own choice is listed and marked; the choices planned
 through their pasted YAML (a new config read by the config reader, then `plan`, the whole job) give the
 listed circuits, skip, angle (ANGLE_TOL) and coverage (COVERAGE_TOL), and the fiber length within
-LENGTH_RTOL. The samples whose choices cost seconds each (SLOW: the isotensoid and laminate vessels, the
-elliptic tube) run with WINDER_SLOW=1 (`WINDER_SLOW=1 pytest tests/winding/test_choices.py`, about 2 min).
+LENGTH_RTOL. The samples whose choices cost seconds each (SLOW: the isotensoid and laminate vessels) run
+with WINDER_SLOW=1 (`WINDER_SLOW=1 pytest tests/winding/test_choices.py`, about 2 min).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from winder.winding.plan import plan
 
 ROOT = Path(__file__).resolve().parents[2]
 SAMPLES = sorted((ROOT / "samples").glob("*.yaml"))
-SLOW = {"vessel_isotensoid", "vessel_laminate", "elliptic_tube"}  # 15-35 s each on a loaded machine
+SLOW = {"vessel_isotensoid", "vessel_laminate"}  # 15-35 s each on a loaded machine
 ANGLE_TOL = 0.01  # deg
 COVERAGE_TOL = 1e-3
 LENGTH_RTOL = 1e-3

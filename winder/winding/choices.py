@@ -3,11 +3,11 @@
 A choice is a circuit count N and a skip k coprime with it; the planner closes it as it closes its own
 (open mandrels: the dwells lengthened, at the angle asked; vessels: the turnaround radius, hence the
 angle, moved). Every figure comes from the planner's own code: each circuit count is planned (passes,
-coverage, slip) and, on an open surface of revolution, where a skip changes only the dwells and turns
-the return bands as a whole, each skip's dwells come from close_open_pattern, its bands' union from
+coverage, slip) and, on an open surface of revolution or straight tube of one section, where a skip
+changes only the dwells and moves the return bands as a whole, each skip's dwells come from close_open_pattern, its bands' union from
 layer_coverage on the planned passes turned, its fiber from the dwell's length per turn measured on two
 plans. Elsewhere each choice is planned in full. Cost: one plan per circuit count plus one coverage
-evaluation per choice (open surfaces of revolution); one plan per choice elsewhere (at most
+evaluation per choice (there); one plan per choice elsewhere (at most
 MAX_PLANNED of them, nearest the angle first).
 """
 
@@ -126,7 +126,10 @@ def _geodesic_kind(ctx: PlanContext, cfg: LayerConfig) -> str:
         geodesic = cfg.turnaround_radius is None and (slip == 0.0 or (slip == SLIP_AUTO and outside))
         return "vessel" if geodesic else "other"
     if slip == 0.0 or (slip == SLIP_AUTO and surf.curve.is_straight):
-        return "open" if surf.is_revolution else "other"
+        # a surface of revolution, or a straight tube of one section (no profile): unrolled, its passes
+        # are the same lines moved along the section (docs/math/10-pattern-choices.md 10.2)
+        cylinder = surf.curve.is_straight and surf.profile is None
+        return "open" if surf.is_revolution or cylinder else "other"
     return "other"
 
 
@@ -148,7 +151,7 @@ def pattern_choices(job: JobConfig, index: int, angle: float | None = None,
     free = replace(cfg, pattern=None)
     if kind == "open":
         choices, plans = _open_choices(ctx, free, index, theta0, own, counts)
-        method = "one plan per circuit count; each skip's return bands turned by its dwells (open revolution)"
+        method = "one plan per circuit count; each skip's return bands moved by its dwells"
     elif kind == "vessel":
         choices, plans = _vessel_choices(ctx, free, index, theta0, own, counts, within)
         method = f"each choice planned (vessel: the angle moves with the skip; the {MAX_PLANNED_VESSEL} nearest)"
@@ -191,8 +194,8 @@ def _open_choices(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float,
             if k == base.pattern:
                 choices.append(_choice(index, asked, base, chosen, "planned", dwell - least))
                 continue
-            shift = 2.0 * math.pi * (pat.dwell_end - base.dwell_end_deg / 360.0)
-            turned = [replace(p, theta=p.theta + shift) for p in ret]
+            shift = pat.dwell_end - base.dwell_end_deg / 360.0  # of the perimeter, along the section
+            turned = [replace(p, theta=ctx.arcs.theta(ctx.arcs.fraction(p.theta) + shift)) for p in ret]
             cov = layer_coverage(ctx.surface, ctx.arcs, fwd + turned, ctx.winding.band_width, stations)
             length = base.fiber_length_mm + n * (per_turn or 0.0) * (dwell - dwell_b) / 360.0
             choices.append(_choice(index, asked, base, chosen, "turned", dwell - least, pattern=k,

@@ -236,7 +236,8 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     (toward the inside of a bend, which is shorter); the circuit count is then raised until the
     measured coverage is complete, and the note says by how much."""
     surf, w = ctx.surface, ctx.winding
-    t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, least = open_closure(ctx, cfg, index)
+    closure = open_closure(ctx, cfg, index)
+    t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, least = closure
     alpha = cfg.angle_deg
     n_c0 = n_c = circuits_for_coverage(perimeter, math.radians(alpha), w.band_width)
     notes: list[str] = []
@@ -250,9 +251,8 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     last_cov = None
     cov = None
     held = None
-    turns = (legs[0].turn + legs[1].turn) / (2.0 * math.pi)
     while True:
-        pat = close_open_pattern(n_c, 2.0 * natural_fwd + turns, *least, cfg.pattern, ctx.key(index, "pattern"))
+        pat = close_open_pattern(n_c, closure.natural, *least, cfg.pattern, ctx.key(index, "pattern"))
         passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
         held = check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index),
