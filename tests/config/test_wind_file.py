@@ -88,7 +88,7 @@ INVALID = [
     ("wrong_type", _bad(("mandrelParameters", "diameter"), "100"), "mandrelParameters.diameter: must be a number, got '100'"),
     ("missing_key", _bad(("towParameters", "width"), KeyError), "towParameters.width: required key missing"),
     ("unknown_wind_type", _bad(("layers", 0, "windType"), "spiral"),
-     "layers[0].windType: must be one of hoop, helical, skip (fiberpath's wind types), got 'spiral'"),
+     "layers[0].windType: must be one of hoop, helical, skip, got 'spiral'"),
     ("no_wind_type", _bad(("layers", 3, "windType"), KeyError), "layers[3].windType: required key missing"),
     ("helical_missing", _bad(("layers", 2, "lockDegrees"), KeyError), "layers[2].lockDegrees: required key missing"),
     ("angle_90", _bad(("layers", 2, "windAngle"), 90), "layers[2].windAngle: must be below 90 degrees"),

@@ -59,17 +59,7 @@ def _load(path: str | Path, source: str) -> Any:
 
 def _layer(rd: Reader, value: Any, path: str) -> tuple[str, dict[str, Any]]:
     """(windType, the layer's checked values) of one .wind layer."""
-    names = ", ".join(_KINDS)
-    if not isinstance(value, dict):
-        raise rd.error(path, f"must be an object with a windType ({names})", value)
-    where = rd.at(path, "windType")
-    if "windType" not in value:
-        raise rd.error(where, f"required key missing; one of {names}")
-    kind = value["windType"]
-    if not isinstance(kind, str) or kind not in _KINDS:
-        raise rd.error(where, f"must be one of {names} (fiberpath's wind types)", kind)
-    required, optional = _KINDS[kind]
-    m = rd.mapping(value, path, ("windType", *required, *optional), required, kind=f"a {kind} layer")
+    kind, m = rd.typed(value, path, "layer", _KINDS, tag="windType")
     out: dict[str, Any] = {}
     if kind == "hoop":
         out["terminal"] = rd.boolean(m.get("terminal", False), rd.at(path, "terminal"))
