@@ -70,11 +70,16 @@ def patterns_tables(config: str, layer: int | None, angle: float | None, within:
         raise ConfigError(f"--angle: must be in (0, 90) degrees from the meridian, got {angle:g}")
     if not (math.isfinite(within) and within >= 0.0):
         raise ConfigError(f"--within: must be >= 0 degrees, got {within:g}")
+    from winder.winding.plan import layer_contexts  # noqa: PLC0415
+
+    wanted = [layer - 1] if layer is not None else helical
+    start = time.perf_counter()
+    contexts = layer_contexts(job, max(wanted) + 1)  # one plan of the layers up to the last one asked
     tables = []
-    for index in ([layer - 1] if layer is not None else helical):
-        start = time.perf_counter()
-        table = pattern_choices(job, index, angle, within)
+    for index in wanted:
+        table = pattern_choices(job, index, angle, within, contexts[index])
         tables.append((table, time.perf_counter() - start, job.winding.layers[index]))
+        start = time.perf_counter()
     return tables
 
 

@@ -25,7 +25,7 @@ from winder.winding.coverage import layer_coverage
 from winder.winding.layers.helical_open import COVERED_TARGET, open_closure
 from winder.winding.passes import PlanContext
 from winder.winding.pattern import close_open_pattern, close_vessel_pattern, coprime_skips
-from winder.winding.plan import layer_context, plan_layer
+from winder.winding.plan import layer_contexts, plan_layer
 from winder.winding.results import LayerPlan, PassKind
 
 EXTRA_CIRCUITS = 2  # circuit counts listed: the planner's and this many more (more overlap, finer patterns)
@@ -133,16 +133,17 @@ def _geodesic_kind(ctx: PlanContext, cfg: LayerConfig) -> str:
     return "other"
 
 
-def pattern_choices(job: JobConfig, index: int, angle: float | None = None,
-                    within: float = DEFAULT_WITHIN) -> PatternTable:
-    """The feasible patterns of helical layer `index` (0-based), at `angle` (deg; None: the layer's)."""
+def pattern_choices(job: JobConfig, index: int, angle: float | None = None, within: float = DEFAULT_WITHIN,
+                    context: tuple[PlanContext, float] | None = None) -> PatternTable:
+    """The feasible patterns of helical layer `index` (0-based), at `angle` (deg; None: the layer's);
+    context: the layer's context and start angle (winding.plan.layer_contexts), when the caller has it."""
     cfg = job.winding.layers[index]
     if cfg.type is not LayerType.HELICAL:
         raise ConfigError(f"{job.source}: winding.layers[{index}]: a hoop layer has no pattern to choose "
                           f"(winder patterns lists helical layers)")
     if angle is not None:
         cfg = replace(cfg, angle_deg=float(angle))
-    ctx, theta0 = layer_context(job, index)
+    ctx, theta0 = context if context is not None else layer_contexts(job, index + 1)[index]
     own = plan_layer(ctx, cfg, index, theta0)
     kind = _geodesic_kind(ctx, cfg)
     # The planner's count and more; a count the config gives is listed beside them

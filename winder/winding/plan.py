@@ -24,10 +24,12 @@ from winder.geometry.sections import arc_map
 from winder.geometry.build import build_surface
 
 
-def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
+def plan(job: JobConfig, progress: Progress | None = None,
+         contexts: list[tuple[PlanContext, float]] | None = None) -> WindingPlan:
     """Plan every layer of a job; raises ConfigError for what the config cannot do, SolverError for
     what cannot be computed (infeasible winding, no convergence). progress, if given, is told the
-    fraction of the job done, per layer and per circuit (winder.progress)."""
+    fraction of the job done, per layer and per circuit (winder.progress); contexts, if given, gets
+    each layer's context and start angle (rad) as the layer is planned in them."""
     if job.winding is None:
         raise ConfigError(f"{job.source}: winding: missing; `winder run` needs the winding plan (band_width, "
                           f"layers)")
@@ -42,6 +44,8 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
         from winder.winding.wall import material_of, start_buildup  # noqa: PLC0415
         build = start_buildup(ctx)
     for index, cfg in enumerate(job.winding.layers):
+        if contexts is not None:
+            contexts.append((ctx, theta0))
         layer = plan_layer(ctx, cfg, index, theta0)
         if build is not None:  # the next layer winds on the mandrel grown by this one
             layer, build = build.add(layer, material_of(job.winding.material_of(index)), ctx.key(index))
@@ -67,14 +71,9 @@ def plan_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
     return open_helical_layer(ctx, cfg, index, theta0)
 
 
-def layer_context(job: JobConfig, index: int) -> tuple[PlanContext, float]:
-    """The context and start angle (rad) layer `index` (0-based) is planned in by `plan`: the layers
-    before it planned, the mandrel grown by them where the job has a laminate."""
-    surface = build_surface(job.mandrel, job.source, job.name)
-    ctx = PlanContext(job, job.winding, surface, arc_map(surface.section), job.machine.feed)
-    if index == 0:
-        return ctx, 0.0
-    before = plan(replace(job, winding=replace(job.winding, layers=job.winding.layers[:index])))
-    if before.outer is not None:
-        ctx = replace(ctx, surface=before.outer)
-    return ctx, float(before.layers[-1].passes[-1].theta[-1]) + math.radians(SWING_MIN_DEG)
+def layer_contexts(job: JobConfig, count: int) -> list[tuple[PlanContext, float]]:
+    """The contexts and start angles (rad) `plan` plans the first count layers in (the mandrel grown
+    by the layers before each, where the job has a laminate): one plan of those layers."""
+    contexts: list[tuple[PlanContext, float]] = []
+    plan(replace(job, winding=replace(job.winding, layers=job.winding.layers[:count])), contexts=contexts)
+    return contexts
