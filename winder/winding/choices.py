@@ -230,8 +230,11 @@ def _vessel_choices(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: floa
                 near.append((abs(target - a0), n, k))
     choices = [_choice(index, asked, own, True, "planned", 0.0)]
     for _, n, k in sorted(near)[:MAX_PLANNED_VESSEL]:
-        choices.append(_choice(index, asked, plan_layer(ctx, replace(cfg, circuits=n, pattern=k), index, theta0),
-                               False, "planned", 0.0))
+        try:
+            plan = plan_layer(ctx, replace(cfg, circuits=n, pattern=k), index, theta0)
+        except SolverError:  # its turnaround cannot be wound (inside the opening on a grown mandrel): not feasible
+            continue
+        choices.append(_choice(index, asked, plan, False, "planned", 0.0))
     return choices, len(choices) - 1
 
 
