@@ -74,10 +74,10 @@ def patterns_tables(config: str, layer: int | None, angle: float | None, within:
 
     wanted = [layer - 1] if layer is not None else helical
     start = time.perf_counter()
-    contexts = layer_contexts(job, max(wanted) + 1)  # one plan of the layers up to the last one asked
+    contexts, done = layer_contexts(job, max(wanted) + 1)  # one plan of the layers up to the last one asked
     tables = []
     for index in wanted:
-        table = pattern_choices(job, index, angle, within, contexts[index])
+        table = pattern_choices(job, index, angle, within, contexts[index], done.layers[index])
         tables.append((table, time.perf_counter() - start, job.winding.layers[index]))
         start = time.perf_counter()
     return tables

@@ -134,17 +134,21 @@ def _geodesic_kind(ctx: PlanContext, cfg: LayerConfig) -> str:
 
 
 def pattern_choices(job: JobConfig, index: int, angle: float | None = None, within: float = DEFAULT_WITHIN,
-                    context: tuple[PlanContext, float] | None = None) -> PatternTable:
+                    context: tuple[PlanContext, float] | None = None, planned: LayerPlan | None = None) -> PatternTable:
     """The feasible patterns of helical layer `index` (0-based), at `angle` (deg; None: the layer's);
-    context: the layer's context and start angle (winding.plan.layer_contexts), when the caller has it."""
+    context: the layer's context and start angle, planned: its plan as configured (both from
+    winding.plan.layer_contexts), when the caller has them."""
     cfg = job.winding.layers[index]
     if cfg.type is not LayerType.HELICAL:
         raise ConfigError(f"{job.source}: winding.layers[{index}]: a hoop layer has no pattern to choose "
                           f"(winder patterns lists helical layers)")
     if angle is not None:
         cfg = replace(cfg, angle_deg=float(angle))
-    ctx, theta0 = context if context is not None else layer_contexts(job, index + 1)[index]
-    own = plan_layer(ctx, cfg, index, theta0)
+    if context is None:
+        contexts, done = layer_contexts(job, index + 1)
+        context, planned = contexts[index], done.layers[index]
+    ctx, theta0 = context
+    own = planned if planned is not None and angle is None else plan_layer(ctx, cfg, index, theta0)
     kind = _geodesic_kind(ctx, cfg)
     # The planner's count and more; a count the config gives is listed beside them
     auto = own if cfg.circuits is None else plan_layer(ctx, replace(cfg, circuits=None, pattern=None), index, theta0)

@@ -71,9 +71,9 @@ def plan_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
     return open_helical_layer(ctx, cfg, index, theta0)
 
 
-def layer_contexts(job: JobConfig, count: int) -> list[tuple[PlanContext, float]]:
+def layer_contexts(job: JobConfig, count: int) -> tuple[list[tuple[PlanContext, float]], WindingPlan]:
     """The contexts and start angles (rad) `plan` plans the first count layers in (the mandrel grown
-    by the layers before each, where the job has a laminate): one plan of those layers."""
+    by the layers before each, where the job has a laminate), and the plan of those layers: one plan."""
     contexts: list[tuple[PlanContext, float]] = []
-    plan(replace(job, winding=replace(job.winding, layers=job.winding.layers[:count])), contexts=contexts)
-    return contexts
+    done = plan(replace(job, winding=replace(job.winding, layers=job.winding.layers[:count])), contexts=contexts)
+    return contexts, done
