@@ -10,6 +10,7 @@ import os
 import time
 from typing import Any
 
+from winder.config.wind_yaml import yaml_number as _num
 from winder.config.winding import SLIP_AUTO, LayerConfig
 from winder.errors import ConfigError
 
@@ -31,11 +32,6 @@ def convert_file(wind: str, output: str) -> str:
         raise ConfigError(f"-o: {output} is the .wind file itself; give another file for the config")
     write_atomic(output, convert_wind(wind))
     return f"ok: {wind} -> {output}"
-
-
-def _num(value: float) -> str:
-    """A number as YAML reads it back to the same float."""
-    return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else repr(float(value))
 
 
 def choice_yaml(cfg: LayerConfig, angle: float, circuits: int, pattern: int) -> str:

@@ -9,7 +9,7 @@ from typing import Any
 from winder.config.wind_file import WindJob, read_wind
 
 
-def _num(value: float) -> str:
+def yaml_number(value: float) -> str:
     """A number as YAML reads it back to the same float."""
     return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else repr(float(value))
 
@@ -20,9 +20,9 @@ def _flow(m: dict[str, Any]) -> str:
         if isinstance(value, dict):
             text = _flow(value)
         elif isinstance(value, list):
-            text = "[" + ", ".join(_num(v) for v in value) + "]"
+            text = "[" + ", ".join(yaml_number(v) for v in value) + "]"
         elif isinstance(value, (int, float)) and not isinstance(value, bool):
-            text = _num(value)
+            text = yaml_number(value)
         else:
             text = str(value)
         parts.append(f"{key}: {text}")
@@ -33,8 +33,8 @@ def _layer_comment(kind: str, layer: dict[str, Any]) -> str:
     if kind == "hoop":
         return f"fiberpath: hoop, terminal: {'true' if layer['terminal'] else 'false'} (there and back unless terminal)"
     return (f"fiberpath: patternNumber {layer['patternNumber']}, skipIndex {layer['skipIndex']}, lockDegrees "
-            f"{_num(layer['lockDegrees'])}, leadInMM {_num(layer['leadInMM'])}, leadOutDegrees "
-            f"{_num(layer['leadOutDegrees'])}; winder closes its own pattern (winder patterns lists them)")
+            f"{yaml_number(layer['lockDegrees'])}, leadInMM {yaml_number(layer['leadInMM'])}, leadOutDegrees "
+            f"{yaml_number(layer['leadOutDegrees'])}; winder closes its own pattern (winder patterns lists them)")
 
 
 def wind_yaml(job: WindJob, source: str) -> str:
@@ -42,13 +42,13 @@ def wind_yaml(job: WindJob, source: str) -> str:
     d = job.data
     m, w, mc = d["mandrel"], d["winding"], d["machine"]
     lines = [f"# Converted by `winder convert` from fiberpath's {Path(source).name} (schemaVersion {job.version}).",
-             f"# Tow thickness {_num(job.thickness)} mm: not used for the plan (give winding.material for a "
+             f"# Tow thickness {yaml_number(job.thickness)} mm: not used for the plan (give winding.material for a "
              f"laminate that grows as wound).",
              f"name: {d['name']}", "", "mandrel:",
              f"  axis: {_flow(m['axis'])}            # = fiberpath windLength (mm)",
              f"  profile: {_flow(m['profile'])}   # = fiberpath diameter / 2 (and endDiameter / 2: a cone)",
              f"  section: {_flow(m['section'])}", "", "winding:",
-             f"  band_width: {_num(w['band_width'])}              # = fiberpath towParameters.width"]
+             f"  band_width: {yaml_number(w['band_width'])}              # = fiberpath towParameters.width"]
     if "dwell" in w:
         lines.append(f"  dwell: {_flow(w['dwell'])}   # = fiberpath lockDegrees (the least turn at each end; "
                      f"the largest of the layers')")
@@ -56,7 +56,7 @@ def wind_yaml(job: WindJob, source: str) -> str:
     wound = iter(w["layers"])
     for kind, layer in job.layers:
         if kind == "skip":
-            lines.append(f"    # fiberpath skip: the mandrel turns {_num(layer['mandrelRotation'])} deg without "
+            lines.append(f"    # fiberpath skip: the mandrel turns {yaml_number(layer['mandrelRotation'])} deg without "
                          f"fiber; winder starts each layer where the last one ended")
             continue
         lines.append(f"    - {_flow(next(wound))}   # {_layer_comment(kind, layer)}")
@@ -64,9 +64,9 @@ def wind_yaml(job: WindJob, source: str) -> str:
               f"  axes: {_flow(mc['axes'])}",
               f"  dialect: {mc['dialect']}",
               f"  eye: {_flow(mc['eye'])}      # the eye at a fixed radius: the largest mandrel radius + 20 mm",
-              f"  feed: {_num(mc['feed'])}                  # = fiberpath defaultFeedRate (mm/min)",
-              f"  chord_tolerance: {_num(mc['chord_tolerance'])}", "  limits:"]
-    lines += [f"    {axis}: [{', '.join(_num(v) for v in span)}]" for axis, span in mc["limits"].items()]
+              f"  feed: {yaml_number(mc['feed'])}                  # = fiberpath defaultFeedRate (mm/min)",
+              f"  chord_tolerance: {yaml_number(mc['chord_tolerance'])}", "  limits:"]
+    lines += [f"    {axis}: [{', '.join(yaml_number(v) for v in span)}]" for axis, span in mc["limits"].items()]
     return "\n".join(lines) + "\n"
 
 
