@@ -175,19 +175,12 @@ def check_cmd(configs: tuple[str, ...]) -> None:
 # -- run -------------------------------------------------------------------------------------------
 def _parse_formats(ctx: click.Context, param: click.Parameter, values: tuple[str, ...]) -> tuple[str, ...]:
     """--format csv --format gcode, or --format csv,gcode; none given: csv, gcode, ply."""
-    from winder.app.jobs import ALL_FORMATS, FORMATS  # noqa: PLC0415
+    from winder.app.batch import parse_formats  # noqa: PLC0415
 
-    if not values:
-        return ALL_FORMATS
-    chosen = set()
-    for value in values:
-        for part in value.split(","):
-            part = part.strip().lower()
-            if part not in FORMATS:
-                raise click.BadParameter(f"{part!r} is not one of {', '.join(FORMATS)} (the summary "
-                                         "JSON is always written)", ctx=ctx, param=param)
-            chosen.add(part)
-    return tuple(f for f in FORMATS if f in chosen)
+    try:
+        return parse_formats(values)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), ctx=ctx, param=param) from exc
 
 
 def _progress(length: int, label: str):
@@ -231,30 +224,10 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
            summary: bool = True, seconds: float | None = None) -> None:
     """Run each config as a job (see run_cmd) and report: one Error line per failure, a table, a
     tally; exit with the batch's SPEC status."""
-    from winder.app.batch import name_clash, summary_lines  # noqa: PLC0415
-    from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
-                                 run_job, run_jobs, workers_for)
-    from winder.config.job import load_config  # noqa: PLC0415
+    from winder.app.batch import batch_tasks, summary_lines  # noqa: PLC0415
+    from winder.app.jobs import exit_status, run_job, run_jobs, workers_for  # noqa: PLC0415
 
-    reports: list[JobReport | None] = [None] * len(configs)
-    tasks: list[JobTask] = []
-    index: list[int] = []
-    owner: dict[str, str] = {}
-    for i, path in enumerate(configs):
-        # Jobs in one folder must not share a name: they would overwrite each other's files. The
-        # names are known only from the configs, so read them first (cheap: no computation); a
-        # config that cannot be read goes to the job anyway, which reports it in order.
-        try:  # a single job clashes with nothing: it reads its config once, in run_job
-            name = load_config(path).name if len(configs) > 1 else None
-        except Exception:  # noqa: BLE001 - reported by run_job, in its turn
-            name = None
-        exc = name_clash(path, name, owner, out_dir) if name is not None else None
-        if exc is not None:
-            reports[i] = JobReport(path, name, False, exit_code_of(exc), error_message(exc, path))
-            continue
-        tasks.append(JobTask(path, out_dir, formats, summary=summary, seconds=seconds))
-        index.append(i)
-
+    reports, tasks, index = batch_tasks(configs, out_dir, formats, summary, seconds)
     single = _JobBar() if len(tasks) == 1 else None
     job = functools.partial(run_job, progress=single) if single is not None else run_job
     try:
@@ -349,6 +322,33 @@ def design_cmd(config: str, as_json: bool) -> None:
     _echo(design_output(config, as_json))
 
 
+# -- patterns and fiberpath files (issue 33) -------------------------------------------------------
+@main.command("patterns", short_help="The feasible patterns of helical layers, side by side.")
+@click.argument("config", type=click.Path(dir_okay=False))
+@click.option("--layer", type=click.IntRange(min=1), help="The layer (1-based); default: every helical one.")
+@click.option("--angle", type=FiniteRange(0, 90, True, True), metavar="DEG", help="Ask this angle instead.")
+@click.option("--within", type=FiniteRange(0, 45), default=2.0, show_default=True, metavar="DEG",
+              help="Vessels: the choices whose closed angle lies this near the angle asked.")
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON list, one object per choice.")
+@_guard
+def patterns_cmd(config: str, layer: int | None, angle: float | None, within: float, as_json: bool) -> None:
+    """Each feasible pattern of CONFIG's helical layers as the planner computes it, `*` the planner's own, with
+    the layer's YAML that makes `run` wind it. Exit status: 0, 2 an invalid config or option, 1 not planned."""
+    from winder.app.patterns import patterns_output  # noqa: PLC0415
+    _echo(patterns_output(config, layer, angle, within, as_json))
+
+
+@main.command("convert", short_help="Write a fiberpath .wind job as a winder config (YAML).")
+@click.argument("wind", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="The YAML config to write.")
+@_guard
+def convert_cmd(wind: str, output: str) -> None:
+    """WIND's job as the winder config `run WIND` winds, commented. Exit status: 0, 2 invalid, 1 not written."""
+    from winder.app.patterns import convert_file  # noqa: PLC0415
+    _echo(convert_file(wind, output))
+
+
+# -- regress ---------------------------------------------------------------------------------------
 @main.command("simulate", short_help="Read a program back: what it lays, and its time.")
 @click.argument("config", type=click.Path(dir_okay=False))
 @click.argument("program", type=click.Path(dir_okay=False))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 
-from winder.app.jobs import FORMATS, JobReport
+from winder.app.jobs import ALL_FORMATS, FORMATS, JobReport, JobTask, error_message, exit_code_of
 from winder.errors import ConfigError
 
 
@@ -43,3 +43,45 @@ def summary_lines(reports: Sequence[JobReport], out_dir: str) -> list[str]:
     written = sum(len(r.outputs) for r in reports)
     tally = f"{ok} of {len(reports)} jobs ok" if len(reports) > 1 else ("ok" if ok else "failed")
     return lines + [f"{tally}; {written} file{'s' if written != 1 else ''} written to {out_dir}"]
+
+
+def batch_tasks(configs: Sequence[str], out_dir: str, formats: tuple[str, ...], summary: bool,
+                seconds: float | None) -> tuple[list[JobReport | None], list[JobTask], list[int]]:
+    """The batch's reports so far (a name clash refused before any job runs), its tasks, and each
+    task's place among the configs."""
+    from winder.config.job import load_config  # noqa: PLC0415
+
+    reports: list[JobReport | None] = [None] * len(configs)
+    tasks: list[JobTask] = []
+    index: list[int] = []
+    owner: dict[str, str] = {}
+    for i, path in enumerate(configs):
+        # Jobs in one folder must not share a name: they would overwrite each other's files. The
+        # names are known only from the configs, so read them first (cheap: no computation); a
+        # config that cannot be read goes to the job anyway, which reports it in order.
+        try:  # a single job clashes with nothing: it reads its config once, in run_job
+            name = load_config(path).name if len(configs) > 1 else None
+        except Exception:  # noqa: BLE001 - reported by run_job, in its turn
+            name = None
+        exc = name_clash(path, name, owner, out_dir) if name is not None else None
+        if exc is not None:
+            reports[i] = JobReport(path, name, False, exit_code_of(exc), error_message(exc, path))
+            continue
+        tasks.append(JobTask(path, out_dir, formats, summary=summary, seconds=seconds))
+        index.append(i)
+    return reports, tasks, index
+
+
+def parse_formats(values: Sequence[str]) -> tuple[str, ...]:
+    """`run --format`'s values (repeated or comma-separated) in FORMATS order; none given: ALL_FORMATS.
+    ValueError names a value that is no format."""
+    if not values:
+        return ALL_FORMATS
+    chosen = set()
+    for value in values:
+        for part in value.split(","):
+            part = part.strip().lower()
+            if part not in FORMATS:
+                raise ValueError(f"{part!r} is not one of {', '.join(FORMATS)} (the summary JSON is always written)")
+            chosen.add(part)
+    return tuple(f for f in FORMATS if f in chosen)

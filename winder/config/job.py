@@ -74,6 +74,10 @@ def read_text(path: str | Path, source: str, kind: str = "job file", limit: int 
 def load_config(path: str | Path) -> JobConfig:
     """Read and validate a job file; every problem is a ConfigError starting with the path."""
     source = str(path)
+    if source.lower().endswith(".wind"):  # fiberpath's job format (JSON), read as the same job
+        from winder.config.wind_file import load_wind  # noqa: PLC0415
+
+        return load_wind(path)
     text = read_text(path, source)
     try:
         data = load_yaml(text)

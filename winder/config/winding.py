@@ -6,6 +6,7 @@ message), plus the few facts about the mandrel it checks against; winder.config.
 
 from __future__ import annotations
 
+import math
 from enum import Enum
 from typing import TYPE_CHECKING, Any
 
@@ -22,6 +23,7 @@ MAX_POINTS = 100_000
 DEFAULT_FRICTION = 0.2
 # Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
 MIN_HOOP_ANGLE = 70.0
+MAX_LAYER_CIRCUITS = 20_000  # YAML `circuits:`; = winder.winding.budget.MAX_CIRCUITS (the work budget)
 SLIP_AUTO = "auto"
 
 
@@ -53,6 +55,9 @@ class LayerConfig:
         cannot cover or turn: bent tubes, vessels whose Clairaut turnaround is inside an opening).
     turnaround_radius: helical on vessels only: turn around on the domes at this radius (mm), lambda
         solved for (|lambda| <= friction); None: where the slip leads (Clairaut for slip 0).
+    circuits: helical only. YAML `circuits: N` (whole, >= 1): wind exactly N circuits instead of the
+        planner's count (the fewest that cover, raised where passes bunch); `winder patterns` lists
+        the choices. None: the planner's count.
     """
 
     type: LayerType
@@ -62,6 +67,7 @@ class LayerConfig:
     slip: float | str = 0.0
     turnaround_radius: float | None = None
     material: MaterialConfig | None = None  # this layer's own (config.material), else the job's
+    circuits: int | None = None
 
 
 @record
@@ -106,7 +112,7 @@ class WindingConfig:
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material")
 _LAYER_KINDS = {
-    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material")),
+    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits")),
     "hoop": ((), ("angle", "passes", "material")),
 }
 
@@ -210,6 +216,17 @@ def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -
     return slip, radius
 
 
+def _parse_circuits(rd: Reader, m: dict, path: str, pattern: int | None) -> int | None:
+    """A helical layer's `circuits: N`, the pattern (when given) coprime with it."""
+    if "circuits" not in m:
+        return None
+    circuits = rd.integer(m["circuits"], rd.at(path, "circuits"), minimum=1, maximum=MAX_LAYER_CIRCUITS)
+    if pattern is not None and circuits > 1 and math.gcd(pattern, circuits) != 1:
+        raise rd.error(rd.at(path, "pattern"), f"shares a factor with circuits: {circuits}, so some slots would be "
+                       f"wound twice and others never (winder patterns lists the skips that close)", pattern)
+    return circuits
+
+
 def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
     kind, m = rd.typed(value, path, "layer", _LAYER_KINDS)
     angle_path = rd.at(path, "angle")
@@ -223,7 +240,8 @@ def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: boo
             pattern = rd.integer(m["pattern"], rd.at(path, "pattern"), minimum=1,
                                  what="must be auto or a whole number >= 1")
         slip, radius = _parse_slip(rd, m, path, friction, vessel)
-        return LayerConfig(LayerType.HELICAL, angle, pattern, 1, slip, radius)
+        circuits = _parse_circuits(rd, m, path, pattern)
+        return LayerConfig(LayerType.HELICAL, angle, pattern, 1, slip, radius, circuits=circuits)
 
     angle_deg = None
     if "angle" in m:

@@ -107,7 +107,7 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
                       f"layer {key} needs {need:.4g} circuits (perimeter {perimeter:.6g} mm x cos "
                       f"{cfg.angle_deg:g} deg / band width), more than the limit of {MAX_CIRCUITS} (a wider "
                       f"band needs fewer), got {w.band_width:g}")
-    circuits = circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
+    circuits = cfg.circuits or circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
     if cfg.pattern is not None and circuits > 1 and math.gcd(cfg.pattern, circuits) != 1:
         skips = coprime_skips(circuits)
         raise _refuse(job.source, f"{key}.pattern",
@@ -133,7 +133,7 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
         if not is_bent_tube(ctx):  # as winder.winding.layers.friction refuses it, before any path
             raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels and to bent tubes of lines and "
                           f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
-    grows = not vessel and not surface.is_revolution and cfg.pattern is None
+    grows = not vessel and not surface.is_revolution and cfg.pattern is None and cfg.circuits is None
     most = circuits * (MAX_CIRCUIT_FACTOR if grows else 1)
     n = w.points or DEFAULT_POINTS
     pass_points = n + 2

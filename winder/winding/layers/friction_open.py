@@ -62,7 +62,7 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     perimeter = 2.0 * math.pi * a
     # The angle at the end sections: the layer's, unless a bend reaches an end (then the bend's).
     ends = (pieces[0].alpha0, pieces[-1].alpha1)
-    n_c = circuits_needed(pieces, perimeter, min(ends), w.band_width)
+    n_c = cfg.circuits or circuits_needed(pieces, perimeter, min(ends), w.band_width)
     stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     # The advance is the same for every pass: one reference pass gives it.
     adv_f = pass_curves(pieces, a, np.zeros(1), 8, True)[4]
@@ -72,7 +72,7 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
                                  max(w.dwell_end_deg, SWING_MIN_DEG) / 360.0, cfg.pattern, ctx.key(index, "pattern"))
         passes = _passes(ctx, index, pieces, a, pat, theta0, points)
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
-        if (cfg.pattern is not None or cov.covered_fraction >= COVERED_TARGET
+        if (cfg.pattern is not None or cfg.circuits is not None or cov.covered_fraction >= COVERED_TARGET
                 and cov.max_gap_mm <= GAP_TARGET * w.band_width):
             break
         n_c += 1

@@ -9,6 +9,7 @@ copies of the first; elsewhere every pass is solved on its own.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -195,37 +196,68 @@ def _least_dwells(ctx: PlanContext, legs: tuple[Leg, Leg]) -> tuple[float, float
                  for d, leg in ((w.dwell_start_deg, legs[0]), (w.dwell_end_deg, legs[1])))
 
 
+class OpenClosure(NamedTuple):
+    """What closes an open helical layer's pattern: the region (t_a, t_b, s_a, s_b), the reference
+    section (s_ref, perimeter), a forward pass's natural advance (turns), the end legs and the least
+    dwells (turns)."""
+
+    t_a: float
+    t_b: float
+    s_a: float
+    s_b: float
+    s_ref: float
+    perimeter: float
+    natural_fwd: float
+    legs: tuple[Leg, Leg]
+    least: tuple[float, float]
+
+    @property
+    def natural(self) -> float:
+        """A circuit's advance (turns) before the dwells: both passes and both turnarounds."""
+        return 2.0 * self.natural_fwd + (self.legs[0].turn + self.legs[1].turn) / (2.0 * math.pi)
+
+
+def open_closure(ctx: PlanContext, cfg: LayerConfig, index: int) -> OpenClosure:
+    """The quantities an open helical layer's pattern is closed with (close_open_pattern), without its passes."""
+    t_a, t_b = winding_region(ctx)
+    s_a, s_b = (float(v) for v in ctx.surface.s_of_t(np.array([t_a, t_b])))
+    s_ref, perimeter = reference_section(ctx, t_a, t_b)
+    try:
+        natural_fwd = _natural_advance(ctx, s_ref, s_a, s_b, cfg.angle_deg)
+    except SolverError as exc:
+        raise SolverError(f"{ctx.key(index, 'angle')}: {exc}") from exc
+    legs = _legs(ctx, s_ref, s_a, s_b, cfg.angle_deg)
+    return OpenClosure(t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, _least_dwells(ctx, legs))
+
+
 def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
     """Open mandrels. On a surface of revolution N_c = ceil(P cos(alpha) / B) covers by construction.
     Elsewhere (bends, non-circular sections) geodesics between evenly spaced slots drift apart
     (toward the inside of a bend, which is shorter); the circuit count is then raised until the
     measured coverage is complete, and the note says by how much."""
     surf, w = ctx.surface, ctx.winding
-    t_a, t_b = winding_region(ctx)
-    s_a, s_b = (float(v) for v in surf.s_of_t(np.array([t_a, t_b])))
-    s_ref, perimeter = reference_section(ctx, t_a, t_b)
+    closure = open_closure(ctx, cfg, index)
+    t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, least = closure
     alpha = cfg.angle_deg
     n_c0 = n_c = circuits_for_coverage(perimeter, math.radians(alpha), w.band_width)
-    try:
-        natural_fwd = _natural_advance(ctx, s_ref, s_a, s_b, alpha)
-    except SolverError as exc:
-        raise SolverError(f"{ctx.key(index, 'angle')}: {exc}") from exc
-    stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     notes: list[str] = []
+    if cfg.circuits is not None:  # the engineer's count (winder patterns): wound as given, never raised
+        if cfg.circuits < n_c0:
+            notes.append(f"{cfg.circuits} circuits as given, fewer than the {n_c0} whose bands span the perimeter "
+                         f"(P cos(alpha) / B): the layer leaves gaps")
+        n_c0 = n_c = cfg.circuits
+    stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     ends = (t_a, t_b, s_a, s_b)
     last_cov = None
     cov = None
     held = None
-    legs = _legs(ctx, s_ref, s_a, s_b, alpha)
-    turns = (legs[0].turn + legs[1].turn) / (2.0 * math.pi)
-    least = _least_dwells(ctx, legs)
     while True:
-        pat = close_open_pattern(n_c, 2.0 * natural_fwd + turns, *least, cfg.pattern, ctx.key(index, "pattern"))
+        pat = close_open_pattern(n_c, closure.natural, *least, cfg.pattern, ctx.key(index, "pattern"))
         passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
         held = check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index),
                           alpha)
-        if surf.is_revolution or cfg.pattern is not None:
+        if surf.is_revolution or cfg.pattern is not None or cfg.circuits is not None:
             break
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
         if cov.covered_fraction >= COVERED_TARGET and cov.max_gap_mm <= GAP_TARGET * w.band_width:
