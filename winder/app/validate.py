@@ -25,6 +25,10 @@ def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
     if job.winding is None:
         raise ConfigError("required key missing; `run` needs a winding plan (band_width and layers)",
                           file=job.source, key_path="winding")
+    if job.machine is not None and job.machine.cell is not None:  # a ring out of the arm's reach
+        from winder.machine.cell_check import check_cell_reach  # noqa: PLC0415
+
+        check_cell_reach(job.machine.cell, surface, job.source)
     return surface, check_budget(job, surface)
 
 

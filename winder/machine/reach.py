@@ -21,6 +21,7 @@ JOINT_NAMES = {"KUKA": ("A1", "A2", "A3", "A4", "A5", "A6"),
                "ABB": ("axis 1", "axis 2", "axis 3", "axis 4", "axis 5", "axis 6"),
                "Universal Robots": ("base", "shoulder", "elbow", "wrist 1", "wrist 2", "wrist 3")}
 WRIST = 4  # the joint whose zero (and 180 deg) is the wrist singularity
+ELBOW = 2  # the joint a pose beyond the arm's reach would stretch
 
 
 @dataclasses.dataclass(frozen=True)
@@ -63,7 +64,8 @@ def _first_failure(q: np.ndarray, arm: Arm, cell: RobotCell) -> _Failure | None:
     checks = []
     nan = np.isnan(q).any(axis=1)
     if nan.any():
-        checks.append(_Failure(int(np.argmax(nan)), -1, "no solution: the pose is beyond the arm's reach"))
+        checks.append(_Failure(int(np.argmax(nan)), ELBOW, "has no solution: the pose is beyond the arm's reach (the elbow "
+                                                           "would have to stretch past straight)"))
     with np.errstate(invalid="ignore"):
         out = (q < lo) | (q > hi)
         rows = np.flatnonzero(out.any(axis=1))
@@ -71,12 +73,12 @@ def _first_failure(q: np.ndarray, arm: Arm, cell: RobotCell) -> _Failure | None:
             r = int(rows[0])
             j = int(np.argmax(out[r]))
             bound = lo[j] if q[r, j] < lo[j] else hi[j]
-            checks.append(_Failure(r, j, f"{q[r, j]:.2f} deg, beyond its limit {bound:g} deg"))
+            checks.append(_Failure(r, j, f"at {q[r, j]:.2f} deg, beyond its limit {bound:g} deg"))
         wrist = np.degrees(np.arcsin(np.minimum(np.abs(np.sin(np.radians(q[:, WRIST]))), 1.0)))
         near = np.flatnonzero(wrist < cell.singularity_margin)
         if near.size:
             r = int(near[0])
-            checks.append(_Failure(r, WRIST, f"{q[r, WRIST]:.2f} deg, within {cell.singularity_margin:g} deg of the "
+            checks.append(_Failure(r, WRIST, f"at {q[r, WRIST]:.2f} deg, within {cell.singularity_margin:g} deg of the "
                                              f"wrist singularity (machine.robot.singularity_margin)"))
         step = np.abs(np.diff(q, axis=0))
         jumps = np.flatnonzero((step > cell.max_joint_step).any(axis=1))
