@@ -238,3 +238,13 @@ def test_shipped_cells(tmp_path, config: str) -> None:
     assert sim.max_deviation_mm <= job.machine.chord_tolerance
     expected = summary_dict(plan, job.machine)["winding_time_s"]
     assert abs(sim.time_s - expected) <= TIME_TOL * expected
+
+
+def test_each_language_for_its_arm(programs) -> None:
+    """KRL and RAPID hold the cell's poses for any arm (configuration bits only for their maker's);
+    URScript moves a UR arm in its own base frame and refuses another arm."""
+    _, abb = programs["abb_irb4600"]
+    assert ",S " not in krl.serialize(abb)[".dat"]
+    _, kuka = programs["kuka_kr16"]
+    with pytest.raises(ExportError, match="machine.robot.arm: URScript moves a Universal Robots arm"):
+        urscript.serialize(kuka)

@@ -52,9 +52,13 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     xyz = cell.frames[:, :3, 3]
     ext = cell.external
     s, t = status_turn(program)
+    turns = cell.arm.maker == "KUKA"  # S and T are a KUKA arm's; LIN itself ignores them
     time = cell.times.time_s
     top_e1 = program.machine.dynamics.rotation.speed / 60.0  # deg/s
     src = ["&ACCESS RVP", "&REL 1", f"DEF {name}( )"] + header(program, ";")
+    if cell.arm.maker != "KUKA":
+        src.append(f"; the cell's arm is not a KUKA: the poses are the cell's, without S and T (a KUKA arm in its "
+                   f"place chooses its own configuration)")
     src += [";FOLD INI", "  BAS(#INITMOV, 0)", ";ENDFOLD",
             f"$TOOL = {_frame_text(c.tool)}  ; the mandrel frame on the flange",
             f"$BASE = {_frame_text(c.ring)}  ; the winding ring, a fixed external TCP",
@@ -72,9 +76,10 @@ def serialize(program: MotionProgram) -> dict[str, str]:
         n += 1
         dat.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
                    f"Z {fmt(xyz[row, 2], POSITION_DECIMALS)},A {fmt(abc[row, 0], ANGLE_DECIMALS)},"
-                   f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},S {s[row]},T {t[row]},"
-                   f"E1 {fmt(ext[row, 0], ANGLE_DECIMALS)},E2 {fmt(ext[row, 1], ANGLE_DECIMALS)},"
-                   f"E3 {fmt(ext[row, 2], POSITION_DECIMALS)},E4 0.0,E5 0.0,E6 0.0}}")
+                   f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},"
+                   + (f"S {s[row]},T {t[row]}," if turns else "")
+                   + f"E1 {fmt(ext[row, 0], ANGLE_DECIMALS)},E2 {fmt(ext[row, 1], ANGLE_DECIMALS)},"
+                   + f"E3 {fmt(ext[row, 2], POSITION_DECIMALS)},E4 0.0,E5 0.0,E6 0.0}}")
         if n > 1:
             if cell.tool_path[row] >= TOOL_STILL_MM:
                 if slow:

@@ -56,6 +56,9 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     conf = configuration(program)
     time = cell.times.time_s
     lines = [f"MODULE {name}"] + header(program, "  !")
+    if cell.arm.maker != "ABB":  # robconf is an ABB arm's; ConfL \Off lets an ABB arm in its place choose
+        conf = np.zeros_like(conf)
+        lines.append("  ! the cell's arm is not an ABB: the poses are the cell's, robconf left [0,0,0,0]")
     lines += [f"  PERS tooldata tRing := [FALSE,{_frame(c.ring)},[1,[0,0,1],[1,0,0,0],0,0,0]];",
               f"  PERS wobjdata wMandrel := [TRUE,TRUE,\"\",{_frame(c.tool)},[[0,0,0],[1,0,0,0]]];"]
     q0 = cell.reach.joints[0]

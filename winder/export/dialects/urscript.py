@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.config.arms import UR
+from winder.errors import ExportError
 from winder.export.dialects.robot_text import TIME_DECIMALS, cell_of, checked_name, header, rotation_vectors, rows
 from winder.export.dialects.text import fmt
 from winder.machine.program import MotionProgram
@@ -32,6 +34,9 @@ def _pose(position_mm: np.ndarray, rotvec: np.ndarray) -> str:
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .script text of the program."""
     cell = cell_of(program)
+    if cell.arm.kind != UR:
+        raise ExportError(f"machine.robot.arm: URScript moves a Universal Robots arm in its own base frame; the cell's "
+                          f"arm is {cell.arm.name} ({cell.arm.maker}): write krl or rapid for it")
     name = checked_name(program.name, "URScript", NAME_LENGTH)
     c = cell.cell
     tool = c.tool.matrix()
