@@ -78,7 +78,7 @@ def _agreement(maps: tuple[LayerCoverageMap, ...], summary: dict[str, Any]) -> s
 
 
 def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | None = None,
-                progress: Progress | None = None) -> str:
+                progress: Progress | None = None, cell: dict[str, Any] | None = None) -> str:
     """The whole report page of a planned job.
 
     Parameters
@@ -86,6 +86,7 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     plan : the job's plan. summary : its summary dict (winder.export.summary.summary_dict(plan)).
     band_width : the band width (mm) the coverage map draws; default the plan's own.
     progress : called as progress(fraction done, label) after each step (winder.progress).
+    cell : a robot cell's figure (winder.report.cell_view), shown after the 3D view.
 
     Raises ConfigError (exit 2) when plotly, the `plot` extra, is not installed.
     """
@@ -128,9 +129,12 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
         _section("profiles", "Along the mandrel", figures[2]),
         _section("view3d", "3D view", figures[3]),
     ]
+    if cell is not None:
+        sections.append(_section("cell", "Robot cell", figure_html(cell, "winder-cell", include_plotlyjs=False)))
     nav = "".join(f'<a href="#{k}">{t}</a>' for k, t in (("summary", "Summary"), ("unrolled", "Unrolled pattern"),
                                                         ("coverage", "Coverage map"), ("profiles", "Along the mandrel"),
-                                                        ("view3d", "3D view")))
+                                                        ("view3d", "3D view"))
+                  + ((("cell", "Robot cell"),) if cell is not None else ()))
     return (f"<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>{name}: winding report</title>"
             f"<meta name=viewport content='width=device-width, initial-scale=1'><style>{STYLE}</style></head>"
             f"<body><header><h1>{name}: winding report</h1><p>winder {html.escape(__version__)} · "
