@@ -218,6 +218,9 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                 job = dataclasses.replace(job, source=source)
                 shown = source
             name = job.name
+            cell_dialect = job.machine.dialect if job.machine is not None and job.machine.cell is not None else None
+            if formats == tuple(ALL_FORMATS) and cell_dialect in FORMATS:  # a robot cell's language by default
+                formats += (cell_dialect,)
             if "layup" in formats:  # a request refused from the config alone, before any planning
                 from winder.export.layup import require_material  # noqa: PLC0415
 
@@ -229,6 +232,10 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
+            if cell_dialect is not None:  # the cell's reach check refuses before any file, whatever is written
+                from winder.export.programs import program_of  # noqa: PLC0415
+
+                program_of(plan, job.machine)
             rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0))
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:

@@ -140,7 +140,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     mid_rows = np.flatnonzero(same | joined)
     # Samples: the rows, then the midpoints of the moves within a pass.
     mid_values = 0.5 * (parsed.values[mid_rows - 1] + parsed.values[mid_rows])
-    mid_eye = eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0)))
+    mid_eye = (parsed.mids[mid_rows] if parsed.mids is not None else  # a robot cell's eye moves on the ring
+               eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0))))
     all_eye = np.vstack([eye, mid_eye])
     _refuse_entering(parsed, eye_envelope(plan.surface, machine), plan.surface, source)
     all_pass = np.concatenate([pass_of, pass_of[mid_rows]])
@@ -207,7 +208,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
                "t": t, "theta_deg": np.degrees(th), "xyz": p, "alpha_deg": alpha,
                "eye": all_eye, "deviation_mm": dev, "mid": np.arange(n) >= m}
     return Simulation(dialect=parsed.dialect, moves=m, transitions=int(m - 1 - mid_rows.size),
-                      time_s=times.total_s, fiber_length_mm=float(np.sum(fiber)),
+                      time_s=float(np.sum(parsed.move_s)) if parsed.move_s is not None else times.total_s,
+                      fiber_length_mm=float(np.sum(fiber)),
                       planned_fiber_length_mm=plan.total_fiber_length_mm,
                       max_deviation_mm=float(np.nanmax(dev)), max_point_deviation_mm=float(np.nanmax(dev[:m])),
                       samples=samples)
@@ -244,6 +246,9 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     # edited on another system may carry other bytes in its comments (a Latin-1 accent, a byte-order
     # mark): the codes are ASCII, so such bytes are read as replacements, not refused.
     text = read_text(program, program, "winding program", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
+    if program.lower().endswith(".src"):  # a KRL program's points are in the .dat beside it
+        dat = program[:-4] + (".DAT" if program.endswith(".SRC") else ".dat")
+        text += read_text(dat, dat, "KRL data list", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
     sim = simulate(job.machine, plan_job(job), text, program)
     if output is not None:
         write_atomic(output, simulation_csv(sim))

@@ -28,6 +28,10 @@ def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
     from winder.analysis.job import check_analysis  # noqa: PLC0415 - ply names and data, SPEC "Structural analysis"
 
     check_analysis(job)
+    if job.machine is not None and job.machine.cell is not None:  # a ring out of the arm's reach
+        from winder.machine.cell_check import check_cell_reach  # noqa: PLC0415
+
+        check_cell_reach(job.machine.cell, surface, job.source)
     return surface, check_budget(job, surface)
 
 

@@ -27,9 +27,11 @@ class Format:
     module: str
     always: bool = False
     default: bool = True
+    part_of: str | None = None  # written with that format, never asked for alone (KRL's .dat)
 
     def render(self, plan, job) -> bytes:
-        data = importlib.import_module(self.module).export(plan, job)
+        module, _, function = self.module.partition(":")  # `module:function`, default export
+        data = getattr(importlib.import_module(module), function or "export")(plan, job)
         return data.encode("utf-8") if isinstance(data, str) else bytes(data)
 
 
@@ -40,9 +42,13 @@ FORMATS: tuple[Format, ...] = (  # in writing order
     Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
     Format("abaqus", ".inp", "winder.export.abaqus", default=False),  # needs ply data and analysis:
     Format("report", ".html", "winder.report.export", default=False),
+    Format("krl", ".src", "winder.export.robot_programs:krl_src", default=False),  # robot cells
+    Format("krl_dat", ".dat", "winder.export.robot_programs:krl_dat", default=False, part_of="krl"),
+    Format("rapid", ".mod", "winder.export.robot_programs:rapid", default=False),
+    Format("urscript", ".script", "winder.export.robot_programs:urscript", default=False),
     Format("summary", ".summary.json", "winder.export.summary", always=True),
 )
-SELECTABLE = tuple(f.name for f in FORMATS if not f.always)  # the formats a job may leave out
+SELECTABLE = tuple(f.name for f in FORMATS if not f.always and f.part_of is None)  # the formats a job may leave out
 DEFAULT = tuple(f.name for f in FORMATS if not f.always and f.default)  # written when none is named
 
 
@@ -69,4 +75,4 @@ def chosen(names: Iterable[str], always: bool = True) -> tuple[Format, ...]:
     unknown = wanted - set(SELECTABLE)
     if unknown:
         raise ConfigError(f"unknown output format {sorted(unknown)[0]!r}; allowed: {', '.join(SELECTABLE)}")
-    return tuple(f for f in FORMATS if (f.always and always) or f.name in wanted)
+    return tuple(f for f in FORMATS if (f.always and always) or f.name in wanted or f.part_of in wanted)

@@ -29,6 +29,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.machine.collision import check_collision
+from winder.machine.cell import CellMotion, cell_motion
 from winder.machine.batch import all_dense, all_leads, all_midpoints, pass_where
 from winder.machine.densify import DENSE_SHARE
 from winder.machine.dynamics import MoveTimes, move_times
@@ -100,6 +101,7 @@ class MotionProgram:
     times: MoveTimes
     mandrel_radius: float = 0.0  # the mandrel's largest section radius (mm)
     axial_length: float = 0.0  # the mandrel's length along its axis (mm)
+    cell: CellMotion | None = None  # a robot cell's motion (machine.robot as a mapping), its times the program's
 
     @property
     def layer_times_s(self) -> tuple[float, ...]:
@@ -282,11 +284,12 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     # A robot goes straight from one pass's last pose to the next's first (no approach lift).
     joins = np.array([row for row, _ in starts if row > 0], dtype=int) if robot else None
     check_collision(values, env, machine, where, guide, joins)
-    times = move_times(values[:, :3] if robot else values, fiber, machine, robot)
+    cell = cell_motion(machine, guide, values, fiber, where, plan.source) if robot and machine.cell else None
+    times = cell.times if cell is not None else move_times(values[:, :3] if robot else values, fiber, machine, robot)
     return MotionProgram(
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
         total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,
         envelope_clearance=env.clearance, values=values, feed=times.feed,
         index=index,
         segments=tuple(layer_segments), fiber=fiber, times=times,
-        mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(surface.axial_length))
+        mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(surface.axial_length), cell=cell)

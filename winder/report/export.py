@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from winder.export.summary import summary_dict
 from winder.progress import Progress
 from winder.report.html import report_html
@@ -16,4 +18,12 @@ def export(plan: WindingPlan, job, progress: Progress | None = None) -> str:
         from winder.analysis.structure import analyze  # noqa: PLC0415
 
         structure = analyze(plan, job)
-    return report_html(plan, summary_dict(plan, job.machine, job), progress=progress, structure=structure)
+    cell = None
+    if job.machine is not None and job.machine.cell is not None:  # a robot cell: its view too
+        from winder.export.programs import program_of  # noqa: PLC0415
+        from winder.report.cell_view import cell_figure  # noqa: PLC0415
+
+        program = program_of(plan, job.machine)
+        guide = plan.surface.curve.evaluate(np.linspace(0.0, plan.surface.axial_length, 200)).x
+        cell = cell_figure(program.cell, guide) if program.cell is not None else None
+    return report_html(plan, summary_dict(plan, job.machine, job), progress=progress, structure=structure, cell=cell)

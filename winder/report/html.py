@@ -78,7 +78,7 @@ def _agreement(maps: tuple[LayerCoverageMap, ...], summary: dict[str, Any]) -> s
 
 
 def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | None = None,
-                progress: Progress | None = None, structure=None) -> str:
+                progress: Progress | None = None, structure=None, cell: dict[str, Any] | None = None) -> str:
     """The whole report page of a planned job.
 
     Parameters
@@ -87,6 +87,7 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     band_width : the band width (mm) the coverage map draws; default the plan's own.
     progress : called as progress(fraction done, label) after each step (winder.progress).
     structure : the job's winder.analysis.structure.Structure (a job with `analysis:`), for its section.
+    cell : a robot cell's figure (winder.report.cell_view), shown after the 3D view.
 
     Raises ConfigError (exit 2) when plotly, the `plot` extra, is not installed.
     """
@@ -140,6 +141,9 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
         HOW.setdefault("structure", STRUCTURE_HOW)
         sections.append(_section("structure", "Will it hold?", body))
         links.append(("structure", "Structure"))
+    if cell is not None:
+        sections.append(_section("cell", "Robot cell", figure_html(cell, "winder-cell", include_plotlyjs=False)))
+        links.append(("cell", "Robot cell"))
     nav = "".join(f'<a href="#{k}">{t}</a>' for k, t in links)
     return (f"<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>{name}: winding report</title>"
             f"<meta name=viewport content='width=device-width, initial-scale=1'><style>{STYLE}</style></head>"

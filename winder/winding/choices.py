@@ -1,4 +1,4 @@
-"""The feasible patterns of a helical layer, side by side (docs/math/10-pattern-choices.md).
+"""The feasible patterns of a helical layer, side by side (docs/math/11-pattern-choices.md).
 
 A choice is a circuit count N and a skip k coprime with it; the planner closes it as it closes its own
 (open mandrels: the dwells lengthened, at the angle asked; vessels: the turnaround radius, hence the
@@ -127,7 +127,7 @@ def _geodesic_kind(ctx: PlanContext, cfg: LayerConfig) -> str:
         return "vessel" if geodesic else "other"
     if slip == 0.0 or (slip == SLIP_AUTO and surf.curve.is_straight):
         # a surface of revolution, or a straight tube of one section (no profile): unrolled, its passes
-        # are the same lines moved along the section (docs/math/10-pattern-choices.md 10.2)
+        # are the same lines moved along the section (docs/math/11-pattern-choices.md 10.2)
         cylinder = surf.curve.is_straight and surf.profile is None
         return "open" if surf.is_revolution or cylinder else "other"
     return "other"

@@ -53,10 +53,12 @@ class ParsedProgram:
     feed: np.ndarray
     line: np.ndarray | None = None
     job: str | None = None
+    mids: np.ndarray | None = None  # (m, 3) a robot cell's eye halfway along each move (winder.export.dialects.cell_parse)
+    move_s: np.ndarray | None = None  # (m,) a robot cell's move times, as its program states them
 
     @property
     def robot(self) -> bool:
-        return self.dialect == "robot"
+        return self.dialect in ("robot", "krl", "rapid", "urscript")
 
 
 def detect(text: str) -> str:
@@ -83,6 +85,11 @@ def _code(line: str) -> str:
 
 def parse_program(text: str, machine: MachineConfig, source: str = "program") -> ParsedProgram:
     """Read a program's text written for `machine` (its dialect detected from the text)."""
+    from winder.export.dialects.cell_parse import detect_cell, parse_cell  # noqa: PLC0415
+
+    cell = detect_cell(text)
+    if cell is not None:
+        return parse_cell(text, machine, source, cell)
     dialect = detect(text)
     ax = machine.axes
     if dialect == "robot":
