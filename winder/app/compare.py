@@ -19,6 +19,7 @@ modulo their period. See samples/README.md.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
@@ -26,7 +27,6 @@ from dataclasses import dataclass, field
 
 from winder.export import registry
 from winder.export.job_csv import PERIODIC_COLUMNS
-from winder.records import record
 
 JSON_RTOL = 1e-6  # summary numbers under a key without fixed decimals
 JSON_ATOL = 1e-9
@@ -35,7 +35,7 @@ PRINT_SLACK = 1.0 + 1e-6  # one printed unit, and the binary round-off of the di
 MAX_SHOWN = 5  # differences listed per file
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Difference:
     """One difference: where (line/field or key path), what was expected, what came out."""
 

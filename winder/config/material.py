@@ -7,10 +7,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
-
-from winder.records import record
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -21,7 +20,7 @@ MAX_TOWS = 1000
 MAX_DENSITY = 25.0
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MaterialConfig:
     """A band's material (YAML `winding.material`, or a layer's `material`).
 

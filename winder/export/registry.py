@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Iterable
+import dataclasses
 
 from winder.errors import ConfigError
-from winder.records import record
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Format:
     """One output: its name (as in `--format`), its file suffix, the module rendering it, whether
     every job writes it (the summary), and whether `run` writes it when no format is named (not the

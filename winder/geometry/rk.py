@@ -19,6 +19,7 @@ with a direction, located on the dense output between steps.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import field
 from typing import Callable, Sequence
@@ -26,7 +27,6 @@ from typing import Callable, Sequence
 import numpy as np
 
 from winder.geometry.roots import bracketed_root
-from winder.records import record
 
 SAFETY = 0.9  # of the step the error estimate asks for
 MIN_FACTOR, MAX_FACTOR = 0.2, 10.0  # step change per step
@@ -128,7 +128,7 @@ def _horner(r: np.ndarray, x):
     return y
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class RKResult:
     """solve_ivp's result fields. t : (m,) steps (the last a terminal event's time); y : (n, m);
     sol : DenseOutput or None; t_events, y_events : per event, (j,) and (j, n); status 0 (the end

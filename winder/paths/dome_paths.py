@@ -19,6 +19,7 @@ pattern closes with the cylinder angle and the turnaround radius both kept.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import field
 from typing import Callable
@@ -27,7 +28,6 @@ import numpy as np
 
 from winder.errors import SolverError
 from winder.geometry.rk import solve_rk
-from winder.records import record
 
 RTOL = 1e-9
 SLIP_BOUND = 1.0  # the search for lambda stays within this (a friction coefficient)
@@ -66,7 +66,7 @@ def dome_meridian(profile, end: bool) -> DomeMeridian:
     return DomeMeridian(profile, e2, profile.length) if end else DomeMeridian(profile, 0.0, e1)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Leg:
     """A fiber from an equator to its turnaround (or to the opening, if it does not turn).
 

@@ -21,6 +21,7 @@ Stations here are the internal station s (the axial t except on vessels), as in 
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import field
 from typing import Callable
 
@@ -30,7 +31,6 @@ from winder.errors import ConfigError, SolverError
 from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.geometry.rk import solve_rk
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 
 Slip = float | Callable[[float], float]
 STATION_TOL = 1e-9  # mm: a start this far outside [0, length] is still on the mandrel
@@ -60,7 +60,7 @@ def _slip_at(slip: Slip, arc: float) -> float:
 
 
 # -- tracing ----------------------------------------------------------------------------------------------
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class FrictionTrace:
     """A friction-held path traced from one point in one direction.
 

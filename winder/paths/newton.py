@@ -10,6 +10,7 @@ positive-definite Gauss-Newton matrix; Armijo backtracking otherwise.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from enum import Enum
 
@@ -19,7 +20,6 @@ from winder.errors import SolverError
 from winder.geometry.surface import SurfaceEval, SweepSurface, jet_of
 from winder.paths.energy import (_einsum, banded_direction, chain_segments, chord_direction, newton_banded,
                                  newton_terms, step_moves)
-from winder.records import record
 
 STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
 LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
@@ -57,7 +57,7 @@ class StopReason(Enum):
     MAX_ITER = "the iteration limit was reached"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Level:
     """One solve at n interior points: Newton iterations used of its cap, whether it converged."""
 
@@ -67,7 +67,7 @@ class Level:
     converged: bool
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class PathSolve:
     """A solved polyline in the parameter domain.
 

@@ -15,13 +15,14 @@ The shape the next layer winds on (smoothed, grown) is growth.py's.
 
 from __future__ import annotations
 
+import dataclasses
+
 
 import numpy as np
 
 from winder.geometry.interp import NotAKnotCubic, interp_spline
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.records import record
 from winder.winding.laminate import turnaround_zone
 from winder.winding.results import FiberPass, PassKind
 from winder.geometry.measure import GAUSS_T, GAUSS_W, row_norms
@@ -32,7 +33,7 @@ AREA_THETA_NODES = 96  # periodic rule for A'(s) on non-circular sections
 NEWTON_STEPS = 4  # index of a station along a pass (from a linear first guess; quadratic)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class StationCells:
     """Cells along the station range: edges (k + 1,) and centres (k,) of the internal station s,
     and the pieces (index ranges into the cells) of the smooth parts: one for open mandrels, three

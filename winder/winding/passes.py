@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -9,7 +10,6 @@ import numpy as np
 
 from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
-from winder.records import record
 from winder.winding.coverage import layer_coverage
 from winder.errors import ConfigError, SolverError
 from winder.progress import Progress
@@ -49,7 +49,7 @@ class SolvedPass(NamedTuple):
     length: float
     result: GeodesicResult
 
-@record
+@dataclasses.dataclass(frozen=True)
 class PlanContext:
     job: JobConfig
     winding: WindingConfig

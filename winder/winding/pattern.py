@@ -8,6 +8,7 @@ of the section's perimeter (arc length), so the same arithmetic serves non-circu
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Callable
 
@@ -15,7 +16,6 @@ import numpy as np
 
 from winder.errors import ConfigError, SolverError
 from winder.geometry.roots import bracketed_root
-from winder.records import record
 
 
 def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:
@@ -42,7 +42,7 @@ def _check_skip(pattern: int | None, circuits: int, key: str) -> list[int]:
     return [pattern % circuits if circuits > 1 else 1]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class OpenPattern:
     """Pattern of an open mandrel: the passes' natural advance plus the dwells close it.
 
