@@ -27,7 +27,6 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import SolverError
-from winder.geometry.rk import solve_rk
 
 RTOL = 1e-9
 SLIP_BOUND = 1.0  # the search for lambda stays within this (a friction coefficient)
@@ -102,8 +101,10 @@ def trace_leg(meridian: DomeMeridian, s_eq: float, heading: float, slip: Callabl
     turn.direction = -math.copysign(1.0, math.cos(heading))
     opening.direction = -1.0
     span = 4.0 * s_max
-    res = solve_rk(fun, (0.0, span), [s_eq, 0.0, heading], rtol=RTOL, atol=RTOL, dense_output=True,
-                   events=(turn, opening), first_step=1e-3)
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - only where a path is traced
+
+    res = solve_ivp(fun, (0.0, span), [s_eq, 0.0, heading], method="DOP853", rtol=RTOL, atol=RTOL,
+                    dense_output=True, events=(turn, opening), first_step=1e-3)
     # Turned the way it winds: a fiber pushed across the meridian (alpha through 0) turns the other way.
     turned = bool(res.t_events[0].size) and math.sin(res.y[2, -1]) * math.sin(heading) > 0.0
     s_end = float(np.clip(res.y[0, -1], 0.0, s_max))

@@ -15,7 +15,6 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import ConfigError, SolverError
-from winder.geometry.roots import bracketed_root
 
 
 def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:
@@ -93,10 +92,12 @@ def close_vessel_pattern(advance: Callable[[float], float], c0: float, c_lo: flo
     for k in _check_skip(pattern, circuits, key):
         up = a0 + (k / circuits - a0) % 1.0
         candidates += [(abs(t - a0), k, t) for t in (up, up - 1.0) if a_lo <= t <= a_hi]
+    from scipy.optimize import brentq  # noqa: PLC0415 - a hoop job never closes a pattern
+
     best = None
     for _, k, target in sorted(candidates)[:4]:
-        c = c0 if abs(target - a0) < 1e-13 else bracketed_root(lambda x: advance(x) - target, c_lo, c_hi,
-                                                                xtol=1e-13, rtol=1e-14)
+        c = c0 if abs(target - a0) < 1e-13 else brentq(lambda x: advance(x) - target, c_lo, c_hi,
+                                                        xtol=1e-13, rtol=1e-14)
         if best is None or abs(c - c0) < abs(best[1] - c0):
             best = (k, c)
     if best is None:
