@@ -2,9 +2,8 @@
 
 A path's converged vertices are equally spaced in 3D, so the index is a good arc-length proxy; the
 spline through (s_i, theta_i) against i resamples a path between solver levels and carries the
-super-convergent length. Uniform knots make the knot slopes one tridiagonal solve (LAPACK gtsv, all
-columns at once) and every evaluation a fixed combination of the cubic Hermite basis, so no spline
-object is built. The spline is the one of scipy's CubicSpline(i, y, bc_type="not-a-knot").
+super-convergent length. The knot slopes are scipy's CubicSpline(i, y) (not-a-knot) at the knots; on
+uniform knots every evaluation is then a fixed combination of the cubic Hermite basis.
 """
 
 from __future__ import annotations
@@ -13,7 +12,6 @@ import functools
 
 import numpy as np
 
-from winder.geometry.lapack import lapack
 
 # Gauss-Lobatto with 4 nodes on [0, 1]: the knots and 1/2 -+ sqrt(5)/10, weights 1/12, 5/12, 5/12,
 # 1/12. Exact to degree 5, and the knots are shared with the neighbouring segments.
@@ -25,42 +23,15 @@ LOBATTO_W_MID = 5.0 / 12.0
 DIRECT_SEGMENTS = 64
 
 
-@functools.lru_cache(maxsize=16)
-def _knot_matrix(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The (lower, diagonal, upper) bands of the knot system for m > 3 knots, read-only: dgtsv
-    copies them (its overwrite flags are off), so a solver's levels share one set per size."""
-    diag = np.full(m, 4.0)
-    diag[[0, -1]] = 1.0
-    lower = np.ones(m - 1)
-    upper = np.ones(m - 1)
-    upper[0] = 2.0
-    lower[-1] = 2.0
-    for band in (lower, diag, upper):
-        band.flags.writeable = False
-    return lower, diag, upper
-
-
 def knot_slopes(y: np.ndarray) -> np.ndarray:
     """dy/di at the knots of the not-a-knot cubic spline through y (m, k) against i = 0..m-1.
 
     Returns (m, k) float. m = 2 is the line, m = 3 the parabola (as scipy's CubicSpline).
     """
-    m = y.shape[0]
-    sl = y[1:] - y[:-1]  # np.diff's arithmetic, without its wrapper
-    if m == 2:
-        return np.concatenate([sl, sl])
-    if m == 3:
-        curv = sl[1] - sl[0]
-        return np.stack([sl[0] - 0.5 * curv, 0.5 * (sl[0] + sl[1]), sl[1] + 0.5 * curv])
-    rhs = np.empty_like(y)
-    rhs[0] = 0.5 * (5.0 * sl[0] + sl[1])
-    rhs[1:-1] = 3.0 * (sl[:-1] + sl[1:])
-    rhs[-1] = 0.5 * (sl[-2] + 5.0 * sl[-1])
-    lower, diag, upper = _knot_matrix(m)
-    *_, slopes, info = lapack().dgtsv(lower, diag, upper, rhs, overwrite_b=True)
-    if info != 0:  # the matrix is strictly diagonally dominant but for the end rows: cannot happen
-        raise ArithmeticError(f"the spline's knot system is singular (LAPACK info {info})")
-    return slopes
+    from scipy.interpolate import CubicSpline  # noqa: PLC0415 - only when a path is measured or resampled
+
+    i = np.arange(y.shape[0], dtype=float)
+    return CubicSpline(i, y, axis=0)(i, 1)
 
 
 def _hermite(y0: np.ndarray, d0: np.ndarray, y1: np.ndarray, d1: np.ndarray, t,

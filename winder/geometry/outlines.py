@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import dataclasses
 
-
 import numpy as np
 
 from winder.geometry.sections import perimeter_of

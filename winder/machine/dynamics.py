@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import dataclasses
 
-
 import numpy as np
 
 from winder.config.machine import MACHINE_ROLES, MachineConfig

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import dataclasses
 
-
 import numpy as np
 
 from winder.config.machine import MachineConfig

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.geometry.lapack import lapack
 from winder.geometry.surface import SurfaceEval, SweepSurface, jet_of
 
 try:  # np.einsum without its Python dispatch (about 1 us a call, some 30 calls per Newton step)
@@ -185,13 +184,22 @@ def newton_direction(diag: np.ndarray, off: np.ndarray, grad: np.ndarray):
 
 def banded_direction(ab: np.ndarray, grad: np.ndarray):
     """newton_direction from H in lower banded storage ab (4, 2n), which it overwrites."""
-    factor, step, info = lapack().dpbsv(ab, -grad.ravel(), lower=1, overwrite_ab=1, overwrite_b=1)
-    if info != 0 or not np.logical_and.reduce(np.isfinite(step)):
+    from scipy.linalg import LinAlgError, cho_solve_banded, cholesky_banded  # noqa: PLC0415
+
+    if not np.all(np.isfinite(ab)):
+        return None, None
+    try:
+        factor = cholesky_banded(ab, overwrite_ab=True, lower=True, check_finite=False)
+    except LinAlgError:  # not positive definite
+        return None, None
+    step = cho_solve_banded((factor, True), -grad.ravel(), check_finite=False)
+    if not np.all(np.isfinite(step)):
         return None, None
     return step.reshape(-1, 2), factor
 
 
 def chord_direction(factor: np.ndarray, grad: np.ndarray) -> np.ndarray:
-    """-H^-1 grad with an earlier iterate's Cholesky factor (LAPACK pbtrs): (n, 2)."""
-    step, _ = lapack().dpbtrs(factor, -grad.ravel(), lower=1, overwrite_b=1)
-    return step.reshape(-1, 2)
+    """-H^-1 grad with an earlier iterate's Cholesky factor (cho_solve_banded): (n, 2)."""
+    from scipy.linalg import cho_solve_banded  # noqa: PLC0415
+
+    return cho_solve_banded((factor, True), -grad.ravel(), check_finite=False).reshape(-1, 2)

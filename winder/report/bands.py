@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import dataclasses
 
-
 import numpy as np
 
 from winder.geometry.sections import ArcMap
