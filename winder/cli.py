@@ -303,7 +303,7 @@ _JOBS = click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show
 @main.command("run", short_help="Plan and export whole jobs (CSV, G-code, PLY, summary, report).")
 @click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
 @_OUT_DIR
-@click.option("--format", "formats", multiple=True, callback=_parse_formats, metavar="csv|gcode|ply|layup|report",
+@click.option("--format", "formats", multiple=True, callback=_parse_formats, metavar="csv|gcode|ply|stl|obj|glb|layup|report",
               help="Outputs to write besides <name>.summary.json; repeat or comma-separate "
                    "(default: csv, gcode, ply; layup needs winding.material).")
 @click.option("--report", "with_report", is_flag=True,

@@ -1,8 +1,9 @@
 """Output formats: name -> file suffix and the module whose export(plan, job) renders it.
 
 The table is static, so that the formats are known (for `--format`, output names, regress) without
-importing an exporter; each exporter module defines export(plan, job) -> str | bytes and is imported
-only when its format is rendered. A new format is one row here and one module. The report
+importing an exporter; each exporter module defines export(plan, job) -> str | bytes (or the function a
+row names: the mesh formats share one module) and is imported only when its format is rendered. A new
+format is one row here and one module. The report
 (`winder.report.export`) is a row too: its module lives in the later report stage and is found by
 name only when a report is asked for, so `run` without `--report` never needs plotly.
 """
@@ -27,9 +28,10 @@ class Format:
     module: str
     always: bool = False
     default: bool = True
+    function: str = "export"
 
     def render(self, plan, job) -> bytes:
-        data = importlib.import_module(self.module).export(plan, job)
+        data = getattr(importlib.import_module(self.module), self.function)(plan, job)
         return data.encode("utf-8") if isinstance(data, str) else bytes(data)
 
 
@@ -37,6 +39,9 @@ FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
     Format("gcode", ".gcode", "winder.export.gcode"),
     Format("ply", ".ply", "winder.export.ply"),
+    Format("stl", ".stl", "winder.export.ply", default=False, function="export_stl"),
+    Format("obj", ".obj", "winder.export.ply", default=False, function="export_obj"),
+    Format("glb", ".glb", "winder.export.ply", default=False, function="export_glb"),
     Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
     Format("report", ".html", "winder.report.export", default=False),
     Format("summary", ".summary.json", "winder.export.summary", always=True),
