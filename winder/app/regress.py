@@ -22,7 +22,8 @@ from pathlib import Path
 from winder.errors import ConfigError
 from winder.export import registry
 from winder.app.compare import (JSON_ATOL, JSON_RTOL, PRINT_SLACK, REL_NOISE, Difference, compare_bytes,
-                                compare_csv, compare_file, compare_lines)
+                                compare_csv, compare_lines)
+from winder.app.compare_files import compare_file
 from winder.app.compare_summary import compare_json
 from winder.app.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
 

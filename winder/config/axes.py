@@ -1,6 +1,6 @@
 """Bent guide curves of the `mandrel.axis` key: arc, path (lines and arcs) and spline.
 
-The straight line is winder.config.mandrel's own; these load only for a file that names them.
+The straight line is winder.config.line's; these load only for a file that names them.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import dataclasses
 import math
 from typing import Any
 
-from winder.config.mandrel import LineAxis
+from winder.config.line import LineAxis
 from winder.config.reader import MAX_SIZE, Reader
 
 __all__ = ["ArcAxis", "PathAxis", "SplineAxis", "bent_axis_length", "parse_axis"]

@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 from typing import TYPE_CHECKING, Any
 
+from winder.config.line import LineAxis
 from winder.config.reader import LENGTH_SLACK, Reader
 
 if TYPE_CHECKING:
@@ -32,13 +33,6 @@ __all__ = ["CircleSection", "ConstantProfile", "LineAxis", "MandrelConfig", "axi
 
 
 # -- the dataclasses -------------------------------------------------------------------------------
-@dataclasses.dataclass(frozen=True)
-class LineAxis:
-    """A straight guide along +z; length in mm."""
-
-    length: float
-
-
 @dataclasses.dataclass(frozen=True)
 class ConstantProfile:
     radius: float
