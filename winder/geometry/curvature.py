@@ -29,7 +29,7 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def inward_normals(surface: SweepSurface, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """Unit normals Phi_s x Phi_theta / |...| (into the mandrel): (m, 3) float."""
     ev = surface.evaluate(s, theta, order=1)
-    nrm = cross(ev.ps, ev.pt)  # np.cross and np.linalg.norm bit for bit, without their axis handling
+    nrm = cross(ev.ps, ev.pt)
     return nrm / row_norms(nrm)[:, None]
 
 

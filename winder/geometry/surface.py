@@ -247,7 +247,7 @@ class SweepSurface:
 
     def grid_points(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """Phi on the grid of stations s (a,) by angles theta (b,): (a b, 3) float, row i b + j at (s_i,
-        theta_j), the values of points() on the meshgrid (indexing "ij") bit for bit. On a straight
+        theta_j), the values of points() on the meshgrid (indexing "ij"), to round-off. On a straight
         axis with a constant radius the point splits into x(s_i) + R(theta_j) n(theta_j), so the
         angles' cosines, sines and section radii are taken once per angle, not once per grid point."""
         s, theta = np.asarray(s, float), np.asarray(theta, float)

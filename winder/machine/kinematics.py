@@ -113,7 +113,7 @@ class RobotPoses:
 
 
 def _unwrap_each(b: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """np.unwrap of each consecutive run of b (k,) of the given sizes, bit for bit: a run with no
+    """np.unwrap of each consecutive run of b (k,) of the given sizes (to round-off): a run with no
     step of pi or more gets np.unwrap's zero corrections added to its tail, any other run is
     unwrapped on its own."""
     run = np.repeat(np.arange(sizes.size), sizes)
