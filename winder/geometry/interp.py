@@ -1,6 +1,7 @@
 """Interpolating splines: scipy's make_interp_spline (the not-a-knot spline of odd degree through a
 pass's samples), and the not-a-knot cubics of many passes at once in Hermite form (knot_slopes_runs,
-hermite: one banded solve for every pass, where one spline object per pass would loop in Python)."""
+hermite: one tridiagonal solve, LAPACK gtsv from scipy.linalg.lapack, for every pass, where one spline
+object per pass would loop in Python)."""
 
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ def knot_slopes_runs(x: np.ndarray, y: np.ndarray, first: np.ndarray, sizes: np.
     systems stand one after the other with zero couplings, so elimination never mixes them and each
     run gets the slopes it would get alone (CubicSpline(x_run, y_run)'s, to round-off). Many passes'
     splines in one vectorized solve instead of one spline object per pass."""
-    from scipy.linalg import solve_banded  # noqa: PLC0415
+    from scipy.linalg.lapack import dgtsv  # noqa: PLC0415
 
     h = np.diff(x)
     with np.errstate(all="ignore"):  # the differences across two passes' junction are not used
@@ -57,9 +58,10 @@ def knot_slopes_runs(x: np.ndarray, y: np.ndarray, first: np.ndarray, sizes: np.
     diag[last], lower[last - 1] = hm, s1
     rhs[last] = (hl * hl)[:, None] * d[last - 2] + ((2.0 * s1 + hl) * hm)[:, None] * d[last - 1]
     rhs[last] /= s1[:, None]
-    ab = np.zeros((3, n))
-    ab[0, 1:], ab[1], ab[2, :-1] = upper, diag, lower
-    return solve_banded((1, 1), ab, rhs, overwrite_ab=True, overwrite_b=True, check_finite=False)
+    *_, slopes, info = dgtsv(lower, diag, upper, rhs, overwrite_b=True)
+    if info != 0:
+        raise ArithmeticError(f"the spline's slope system is singular (LAPACK info {info})")
+    return slopes
 
 
 def hermite(x: np.ndarray, y: np.ndarray, m: np.ndarray, i: np.ndarray, q: np.ndarray, order: int) -> np.ndarray:
