@@ -268,7 +268,7 @@ _JOBS = click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show
 @click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
 @_OUT_DIR
 @click.option("--format", "formats", multiple=True, callback=_parse_formats,
-              metavar="csv|gcode|ply|layup|abaqus|report|krl|rapid|urscript",
+              metavar="csv|gcode|ply|stl|obj|glb|layup|abaqus|report|krl|rapid|urscript",
               help="Outputs besides <name>.summary.json; repeat or comma-separate (default: csv, gcode, ply, a robot "
                    "cell's language; layup and abaqus need winding.material; krl: .src and .dat, a robot cell's).")
 @click.option("--report", "with_report", is_flag=True,

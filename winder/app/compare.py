@@ -15,18 +15,18 @@ modulo their period. See samples/README.md.
   printed last place.
 - PLY: header and faces exact, vertex floats within their last bit (winder.app.compare_ply).
 - anything else: byte for byte.
+winder.app.compare_files picks the comparison by the file's kind.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
 from dataclasses import dataclass, field
 
-from winder.export import registry
 from winder.export.job_csv import PERIODIC_COLUMNS
-from winder.records import record
 
 JSON_RTOL = 1e-6  # summary numbers under a key without fixed decimals
 JSON_ATOL = 1e-9
@@ -35,7 +35,7 @@ PRINT_SLACK = 1.0 + 1e-6  # one printed unit, and the binary round-off of the di
 MAX_SHOWN = 5  # differences listed per file
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Difference:
     """One difference: where (line/field or key path), what was expected, what came out."""
 
@@ -208,30 +208,3 @@ def compare_bytes(expected: bytes, got: bytes) -> tuple[list[Difference], int]:
     at = next((i for i, (x, y) in enumerate(zip(expected, got)) if x != y), min(len(expected), len(got)))
     return [Difference(f"byte {at}", f"{len(expected)} bytes", f"{len(got)} bytes",
                        "binary files differ")], 1
-
-
-def compare_file(file_name: str, expected: bytes, got: bytes,
-                 limit: int = MAX_SHOWN) -> tuple[list[Difference], int]:
-    """Compare one output with its reference by the file's kind (see the module docstring)."""
-    if expected == got:
-        return [], 0
-    fmt = registry.format_of(file_name)
-    kind = "gcode" if fmt is None else fmt.name  # an unknown file: as lines of words and numbers
-    if kind == "ply":  # float32 vertices: within their last bit
-        from winder.app.compare_ply import compare_ply  # noqa: PLC0415
-
-        return compare_ply(expected, got, limit=limit)
-    if kind == "summary":
-        from winder.app.compare_summary import compare_json as compare  # noqa: PLC0415
-    elif kind in _TEXT_COMPARE:
-        compare = _TEXT_COMPARE[kind]
-    else:  # another binary output
-        return compare_bytes(expected, got)
-    try:
-        a, b = expected.decode("utf-8"), got.decode("utf-8")
-    except UnicodeDecodeError:
-        return compare_bytes(expected, got)
-    return compare(a, b, limit=limit)
-
-
-_TEXT_COMPARE = {"csv": compare_csv, "layup": compare_csv, "gcode": compare_lines}

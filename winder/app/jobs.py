@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
+import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -21,7 +22,6 @@ from winder.app.interrupts import TimeUp, in_worker, stop_workers, time_limit, w
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
 from winder.progress import Progress, part
-from winder.records import record
 
 if TYPE_CHECKING:
     from concurrent.futures import Future
@@ -38,7 +38,7 @@ FORMATS = registry.SELECTABLE
 ALL_FORMATS = registry.DEFAULT  # what a job writes when no format is named (the report only on request)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class JobReport:
     """What happened to one config.
 
@@ -272,7 +272,7 @@ def _layer_count(plan) -> int:
 
 
 # -- batches ---------------------------------------------------------------------------------------
-@record
+@dataclasses.dataclass(frozen=True)
 class JobTask:
     """One job of a batch: run_job(config, out_dir, formats[, source][, summary][, seconds])."""
 

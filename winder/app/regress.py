@@ -16,15 +16,16 @@ from __future__ import annotations
 import shutil
 import tempfile
 from collections.abc import Callable, Sequence
+import dataclasses
 from pathlib import Path
 
 from winder.errors import ConfigError
 from winder.export import registry
 from winder.app.compare import (JSON_ATOL, JSON_RTOL, PRINT_SLACK, REL_NOISE, Difference, compare_bytes,
-                                compare_csv, compare_file, compare_lines)
+                                compare_csv, compare_lines)
+from winder.app.compare_files import compare_file
 from winder.app.compare_summary import compare_json
 from winder.app.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
-from winder.records import record
 
 __all__ = [
     "Difference", "FileCheck", "JSON_ATOL", "JSON_RTOL", "PRINT_SLACK", "REL_NOISE", "SampleResult", "Sample",
@@ -38,7 +39,7 @@ REFERENCE_FORMATS = ("csv", "gcode")
 
 
 # -- what is compared ------------------------------------------------------------------------------
-@record
+@dataclasses.dataclass(frozen=True)
 class Sample:
     """A sample job and the folder of its reference outputs."""
 
@@ -47,7 +48,7 @@ class Sample:
     reference: Path
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class FileCheck:
     """The comparison of one output file. status: same | differs | missing (not produced) |
     unexpected (produced, no reference) | orphaned (a reference, no sample) | new / changed / refreshed /
@@ -63,7 +64,7 @@ class FileCheck:
         return self.status in ("same", "new", "changed", "refreshed", "removed")
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class SampleResult:
     sample: Sample
     report: JobReport

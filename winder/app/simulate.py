@@ -22,6 +22,7 @@ the time comes from machine.dynamics (winder.machine.dynamics) over the program'
 
 from __future__ import annotations
 
+import dataclasses
 import io
 
 import numpy as np
@@ -37,7 +38,6 @@ from winder.machine.kinematics import make_guide
 from winder.machine.dynamics import move_times
 from winder.machine.program import APPROACH
 from winder.machine.smooth import SmoothPaths
-from winder.records import record
 from winder.winding.results import WindingPlan, winding_angle_deg
 
 # The largest program the work budget allows, 1.5 million points of about 60 bytes (a move of
@@ -47,7 +47,7 @@ INSIDE_TOL = 1e-6  # of the mandrel's radius: an eye centre this far inside the 
 
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Simulation:
     """What a program lays.
 

@@ -6,6 +6,7 @@ Reads the file, refuses bad YAML, and hands each section to its parser (winder.c
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import re
@@ -23,12 +24,11 @@ from winder.config.reader import Reader, load_yaml
 from winder.config.bends import check_bend_angles
 from winder.config.winding import WindingConfig, parse_winding
 from winder.errors import ConfigError
-from winder.records import record
 
 __all__ = ["JobConfig", "load_config", "parse_config"]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class JobConfig:
     """A whole job file. source is the file name used in messages. winding is None when the file has
     none (enough for `geodesic` and `check`); machine is the default MachineConfig when left out."""

@@ -6,12 +6,12 @@ mandrel it checks against (bent axis, largest radius); winder.config.job calls i
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from winder.config.robot import DIALECT_OF_MAKER, ROBOT_DIALECTS, RobotCell, parse_robot_cell
 from winder.config.arms import ARMS
-from winder.records import record
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -34,7 +34,7 @@ DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0)
 AXIS_LETTERS = "XYZABCUVW"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineAxes:
     """G-code letters of the machine axes (YAML `machine.axes`); distinct, from X Y Z A B C U V W.
 
@@ -48,7 +48,7 @@ class MachineAxes:
     yaw: str = "B"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineLimits:
     """Travel limits (YAML `machine.limits`), each (min, max) in the axis' unit, or None: unlimited."""
 
@@ -68,7 +68,7 @@ class MachineLimits:
         return tuple((role, lim) for role in MACHINE_ROLES if (lim := getattr(self, role)) is not None)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class AxisDynamics:
     """One axis' top speed (mm/min or deg/min) and acceleration (mm/s^2 or deg/s^2), both > 0."""
 
@@ -80,7 +80,7 @@ def _default_dynamics(role: str) -> AxisDynamics:
     return AxisDynamics(*DEFAULT_DYNAMICS[role])
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineDynamics:
     """Per logical axis top speed and acceleration (YAML `machine.dynamics`); defaults DEFAULT_DYNAMICS."""
 
@@ -95,7 +95,7 @@ class MachineDynamics:
         return getattr(self, role)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineConfig:
     """The winder (YAML `machine:`). Every key has a default, so the section may be left out.
 

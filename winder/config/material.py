@@ -7,11 +7,11 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 from winder.config.analysis import LAMINA_KEYS, LaminaConfig, parse_lamina
-from winder.records import record
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -22,7 +22,7 @@ MAX_TOWS = 1000
 MAX_DENSITY = 25.0
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MaterialConfig:
     """A band's material (YAML `winding.material`, or a layer's `material`).
 

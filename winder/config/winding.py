@@ -6,6 +6,7 @@ message), plus the few facts about the mandrel it checks against; winder.config.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from enum import Enum
 from typing import TYPE_CHECKING, Any
@@ -15,7 +16,6 @@ if TYPE_CHECKING:
 
 from winder.config.material import MaterialConfig, parse_materials
 from winder.config.reader import LENGTH_SLACK
-from winder.records import record
 
 DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
@@ -34,7 +34,7 @@ class LayerType(Enum):
     HOOP = "hoop"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class LayerConfig:
     """One layer of the plan (YAML: an entry of `winding.layers`).
 
@@ -70,7 +70,7 @@ class LayerConfig:
     circuits: int | None = None
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class WindingConfig:
     """The winding plan (YAML `winding:`). band_width and layers are required.
 

@@ -23,18 +23,18 @@ dynamics (the direction columns are not axes).
 
 from __future__ import annotations
 
+import dataclasses
 
 import numpy as np
 
 from winder.config.machine import MACHINE_ROLES, MachineConfig
 from winder.geometry.measure import row_norms
-from winder.records import record
 
 JUNCTION_JUMP = 0.02  # fraction of an axis' top speed its velocity may jump at a junction
 _EPS = 1e-12
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class MoveTimes:
     """Timing of the m rows of a program; row i is the move from row i - 1 (row 0: none, 0 s).
 

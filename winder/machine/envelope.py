@@ -3,13 +3,13 @@ mandrel (the rule is in winder.machine.kinematics' module docstring, which uses 
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 
 SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
 ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
@@ -18,7 +18,7 @@ SKIP_MARGIN = 1e-9  # relative: the dilation's skipped steps are no-ops with thi
 HULL_SWEEPS = 64  # vectorized pruning sweeps of the upper hull before the monotone chain finishes it
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class EyeEnvelope:
     """The radius the eye keeps from the mandrel axis, as a function of the axial station.
 

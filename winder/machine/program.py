@@ -24,6 +24,7 @@ preamble, comments.
 
 from __future__ import annotations
 
+import dataclasses
 
 import numpy as np
 
@@ -40,7 +41,6 @@ from winder.machine.robot import robot_rows
 from winder.machine.reduce import reduce_many, reduce_points, reduce_table  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.machine.straight import straight_passes
-from winder.records import record
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 from winder.geometry.measure import row_norms
 
@@ -51,7 +51,7 @@ APPROACH = "approach"  # the comment word of a pass's approach rows (Segment.app
 POSE_AXES = ("x", "y", "z", "i", "j", "k")
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Segment:
     """One pass of the program: its moves are rows [start, stop) of the program's arrays.
 
@@ -70,7 +70,7 @@ class Segment:
     approach: int = 0  # leading rows that bring the eye from another pass clear of the part (no fiber)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class MotionProgram:
     """The machine's moves for a whole plan, before any controller's text.
 

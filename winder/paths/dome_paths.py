@@ -19,6 +19,7 @@ pattern closes with the cylinder angle and the turnaround radius both kept.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import field
 from typing import Callable
@@ -26,8 +27,6 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import SolverError
-from winder.geometry.rk import solve_rk
-from winder.records import record
 
 RTOL = 1e-9
 SLIP_BOUND = 1.0  # the search for lambda stays within this (a friction coefficient)
@@ -66,7 +65,7 @@ def dome_meridian(profile, end: bool) -> DomeMeridian:
     return DomeMeridian(profile, e2, profile.length) if end else DomeMeridian(profile, 0.0, e1)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Leg:
     """A fiber from an equator to its turnaround (or to the opening, if it does not turn).
 
@@ -102,8 +101,10 @@ def trace_leg(meridian: DomeMeridian, s_eq: float, heading: float, slip: Callabl
     turn.direction = -math.copysign(1.0, math.cos(heading))
     opening.direction = -1.0
     span = 4.0 * s_max
-    res = solve_rk(fun, (0.0, span), [s_eq, 0.0, heading], rtol=RTOL, atol=RTOL, dense_output=True,
-                   events=(turn, opening), first_step=1e-3)
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - only where a path is traced
+
+    res = solve_ivp(fun, (0.0, span), [s_eq, 0.0, heading], method="DOP853", rtol=RTOL, atol=RTOL,
+                    dense_output=True, events=(turn, opening), first_step=1e-3)
     # Turned the way it winds: a fiber pushed across the meridian (alpha through 0) turns the other way.
     turned = bool(res.t_events[0].size) and math.sin(res.y[2, -1]) * math.sin(heading) > 0.0
     s_end = float(np.clip(res.y[0, -1], 0.0, s_max))

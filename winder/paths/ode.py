@@ -25,6 +25,7 @@ parameter velocities.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import field
 from typing import Callable
 
@@ -33,7 +34,6 @@ import numpy as np
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
 from winder.paths.headings import heading_of_velocity, row_dot, velocity_of_heading
-from winder.records import record
 
 STATION_TOL = 1e-9  # mm: a start station this far outside [0, length] is still on the mandrel
 
@@ -91,7 +91,7 @@ def _leave_events(surface: SweepSurface):
     return below, above
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Trace:
     """A geodesic traced from one point in one direction.
 
@@ -173,7 +173,7 @@ def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float,
                  nfev=int(res.nfev))
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Fan:
     """k rays traced together from one start (one step sequence).
 

@@ -26,11 +26,7 @@ from winder.errors import SolverError
 from winder.geometry.surface import SweepSurface
 from winder.geometry.measure import row_norms
 
-# numpy.polynomial.legendre.leggauss(8), bit for bit, as literals: numpy.polynomial costs ~4 ms to import.
-GAUSS_X = np.array([-0.9602898564975362, -0.7966664774136267, -0.525532409916329, -0.18343464249564978,
-                    0.18343464249564978, 0.525532409916329, 0.7966664774136267, 0.9602898564975362])
-GAUSS_W = np.array([0.10122853629037706, 0.22238103445337443, 0.3137066458778869, 0.36268378337836166,
-                    0.36268378337836166, 0.3137066458778869, 0.22238103445337443, 0.10122853629037706])
+GAUSS_X, GAUSS_W = np.polynomial.legendre.leggauss(8)
 CLAIRAUT_PANELS = 16  # first level; doubled until two levels agree
 CLAIRAUT_MAX_PANELS = 1 << 15
 CLAIRAUT_TOL = 1e-13  # relative agreement of two levels (radians)

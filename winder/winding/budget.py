@@ -11,6 +11,7 @@ limit, instead of running for minutes and dying of memory. `check` and `run` bot
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -21,7 +22,6 @@ from winder.errors import ConfigError, SolverError
 from winder.geometry.sections import arc_map
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.records import record
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
@@ -49,7 +49,7 @@ REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the plann
 START_SAMPLES = 257  # start fractions of a turn sampled for a pass's widest angle span
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class LayerBudget:
     """The work of one layer: circuits (1 for a hoop), laid passes, points of its longest pass,
     points in total (dwells included) and points of the largest single solve."""
@@ -61,7 +61,7 @@ class LayerBudget:
     solve_points: int
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Budget:
     """The work of a job: per layer, and in total (points, estimated peak memory in bytes)."""
 

@@ -15,16 +15,20 @@ The shape the next layer winds on (smoothed, grown) is growth.py's.
 
 from __future__ import annotations
 
+import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from winder.geometry.interp import NotAKnotCubic, interp_spline
+from winder.geometry.interp import interp_spline
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.records import record
 from winder.winding.laminate import turnaround_zone
 from winder.winding.results import FiberPass, PassKind
 from winder.geometry.measure import GAUSS_T, GAUSS_W, row_norms
+
+if TYPE_CHECKING:
+    from scipy.interpolate import BSpline
 
 CELLS_PER_BAND = 16  # station cells per band width (the law's cell averages, the zone edges)
 MAX_CELLS = 4000  # over the whole station range
@@ -32,7 +36,7 @@ AREA_THETA_NODES = 96  # periodic rule for A'(s) on non-circular sections
 NEWTON_STEPS = 4  # index of a station along a pass (from a linear first guess; quadratic)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class StationCells:
     """Cells along the station range: edges (k + 1,) and centres (k,) of the internal station s,
     and the pieces (index ranges into the cells) of the smooth parts: one for open mandrels, three
@@ -65,7 +69,7 @@ def station_cells(surface: SweepSurface, band_width: float) -> StationCells:
     return StationCells(e, 0.5 * (e[1:] + e[:-1]), tuple(pieces))
 
 
-def index_of(spline: NotAKnotCubic, s_vert: np.ndarray, targets: np.ndarray) -> np.ndarray:
+def index_of(spline: BSpline, s_vert: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """Fractional vertex index where the pass's station spline reaches each target (s monotone)."""
     idx = np.arange(s_vert.size, dtype=float)
     rising = s_vert[-1] >= s_vert[0]

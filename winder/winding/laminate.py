@@ -21,19 +21,19 @@ compact C2 kernel one band wide, which also keeps the total volume.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
 from winder.config.material import MaterialConfig
-from winder.records import record
 
 TEX_G_PER_MM = 1e-6  # 1 tex = 1 g/km
 DENSITY_G_PER_MM3 = 1e-3  # 1 g/cm^3
 KG_PER_G = 1e-3
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Material(MaterialConfig):
     """A band's material (the fields of MaterialConfig) and what follows from it: areas, ply
     thickness, masses. Either fiber_tex, tows, fiber_density and fiber_volume_fraction

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -9,14 +10,13 @@ import numpy as np
 
 from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
-from winder.records import record
 from winder.winding.coverage import layer_coverage
 from winder.errors import ConfigError, SolverError
 from winder.progress import Progress
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_of
 from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
-from winder.geometry.interp import InterpSpline
+from winder.geometry.interp import interp_spline
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.geometry.measure import row_norms
@@ -49,7 +49,7 @@ class SolvedPass(NamedTuple):
     length: float
     result: GeodesicResult
 
-@record
+@dataclasses.dataclass(frozen=True)
 class PlanContext:
     job: JobConfig
     winding: WindingConfig
@@ -78,7 +78,7 @@ def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ev: Surf
     i = np.arange(s.shape[0], dtype=float)
     # Quintic: the cubic's end slopes are O(h^3) off, visible next to a turnaround.
     k = min(5, s.shape[0] - 1 - (s.shape[0] % 2 == 1 and s.shape[0] < 7))
-    ds, dth = InterpSpline(i, np.column_stack([s, theta]), k)(i, 1).T
+    ds, dth = interp_spline(i, np.column_stack([s, theta]), k)(i, 1).T
     if ev is None:
         ev = surface.evaluate(s, theta, order=1)
     v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
@@ -215,7 +215,7 @@ def _tangents(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarray]],
     i = np.arange(m, dtype=float)
     # the degree directions takes
     k = min(5, m - 1 - (m % 2 == 1 and m < 7))
-    rate = InterpSpline(i, np.column_stack([a for path in paths for a in path]), k)(i[::every], 1)
+    rate = interp_spline(i, np.column_stack([a for path in paths for a in path]), k)(i[::every], 1)
     q = rate.shape[0]
     s = np.concatenate([path[0][::every] for path in paths])
     th = np.concatenate([path[1][::every] for path in paths])

@@ -8,6 +8,7 @@ is refused (SolverError, exit 1) naming the layer, the station and the least mu.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -15,7 +16,6 @@ import numpy as np
 from winder.errors import SolverError
 from winder.geometry.curvature import curve_curvatures, polyline_curvatures
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 from winder.winding.results import FiberPass, PassKind
 
 if TYPE_CHECKING:  # passes.py checks every layer with this module: no import cycle at run time
@@ -55,7 +55,7 @@ def check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None
                           f"regions")
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class LayerSlip:
     """max_slip : largest |k_g / k_n| over the layer's passes; min_normal_curvature : least k_n (1/mm),
     max_normal_curvature : largest |k_n| (its scale). slip_t, bridge_t : stations (mm) of the largest

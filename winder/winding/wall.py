@@ -9,6 +9,7 @@ surface it was wound on.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import asdict, replace
 
 import numpy as np
@@ -19,7 +20,6 @@ from winder.geometry.interp import interp_spline
 from winder.geometry.offset import OffsetError
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.records import record
 from winder.winding.buildup import StationCells, area_rate, index_of, layer_density, station_cells
 from winder.winding.growth import grown, smooth_thickness
 from winder.winding.laminate import Material
@@ -27,7 +27,7 @@ from winder.winding.passes import PlanContext, winding_region
 from winder.winding.results import LayerPlan, PassKind
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class LayerLaminate:
     """What one layer adds to the wall.
 
@@ -110,7 +110,7 @@ def mean_radius(surface: SweepSurface, t: float) -> float:
     return float(surface.perimeter(surface.s_of_t(np.array([t])))[0] / (2.0 * np.pi))
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Buildup:
     """The build-up state between layers: the surface the next layer winds on."""
 

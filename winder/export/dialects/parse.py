@@ -13,6 +13,7 @@ given twice, a value not finite or past MAX_WORD_VALUE, a feed F <= 0), naming t
 
 from __future__ import annotations
 
+import dataclasses
 import re
 
 import numpy as np
@@ -22,7 +23,6 @@ from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
 from winder.export.dialects.text import JOB_LINE
-from winder.records import record
 
 _PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
 _END = ("M2", "M30")  # either ends a program (M30 also rewinds it)
@@ -36,7 +36,7 @@ _ROLE_COLUMN = {"carriage": 0, "rotation": 1, "cross_feed": 2, "yaw": 3}
 MAX_WORD_VALUE = 1e12
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class ParsedProgram:
     """A program read back.
 

@@ -32,7 +32,6 @@ from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_ope
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.slip import check as check_held
 from winder.geometry.surface import SweepSurface
-from winder.geometry.roots import bracketed_root
 from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
 from winder.winding.advance import reach_theta, turnaround_error
 
@@ -62,7 +61,9 @@ def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float
         return float(start[1])
     if ss[k] == s_target:
         return float(tr.sol(ls[k:k + 1])[1][0])
-    l_hit = bracketed_root(lambda l: tr.sol(np.array([l]))[0][0] - s_target, ls[k - 1], ls[k], xtol=1e-12)
+    from scipy.optimize import brentq  # noqa: PLC0415
+
+    l_hit = brentq(lambda l: tr.sol(np.array([l]))[0][0] - s_target, ls[k - 1], ls[k], xtol=1e-12)
     return float(tr.sol(np.array([l_hit]))[1][0])
 
 

@@ -16,7 +16,6 @@ import numpy as np
 from winder.config.winding import LayerConfig
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError, SolverError
-from winder.geometry.roots import bracketed_root
 from winder.winding.passes import (
     COVERAGE_STATIONS,
     PlanContext,
@@ -42,13 +41,14 @@ def _gauss() -> tuple[np.ndarray, np.ndarray]:
 
 def turnaround_stations(prof: VesselMeridian, c: float) -> tuple[float, float]:
     """Stations s where r = c on the first and the end dome."""
+    from scipy.optimize import brentq  # noqa: PLC0415 - vessel helicals only
+
     e1, e2 = prof.equator_s
 
     def r_minus_c(s: float) -> float:
         return float(prof.evaluate(np.array([s])).r[0]) - c
 
-    return (bracketed_root(r_minus_c, 0.0, e1, xtol=1e-13),
-            bracketed_root(r_minus_c, e2, prof.length, xtol=1e-13))
+    return brentq(r_minus_c, 0.0, e1, xtol=1e-13), brentq(r_minus_c, e2, prof.length, xtol=1e-13)
 
 
 def advances(prof: VesselMeridian, c: float) -> tuple[float, float, float]:
