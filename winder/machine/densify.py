@@ -25,6 +25,7 @@ from winder.geometry.measure import row_norms
 
 MAX_FACTOR = 64  # dense points per planned interval, at most
 DENSE_SHARE = 0.25  # of the chord tolerance, left to the dense polyline's own bow
+NEIGHBOURS = 2  # intervals either side whose factor an interval takes too (interval_factors)
 
 
 def dense_factor(bow: float, tol: float) -> int | None:
@@ -44,7 +45,14 @@ def interval_factors(bows: np.ndarray, tol: float) -> np.ndarray | None:
     factors = np.ones(bows.size, dtype=np.int64)
     big = np.isfinite(bows) & (bows > share)
     factors[big] = np.minimum(MAX_FACTOR, np.ceil(np.sqrt(bows[big] / share))).astype(np.int64)
-    return factors if np.any(factors > 1) else None
+    if not np.any(factors > 1):
+        return None
+    # A midpoint can miss a corner of the eye's path inside its interval (the eye rounding a tube's end
+    # during a dwell, where the midpoint's eye still lies on the level part): each interval takes the
+    # largest factor of the NEIGHBOURS intervals either side.
+    padded = np.pad(factors, NEIGHBOURS, mode="edge")
+    width = factors.size
+    return np.max(np.stack([padded[k:k + width] for k in range(2 * NEIGHBOURS + 1)]), axis=0)
 
 
 def varying_u(factors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -125,6 +125,8 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
     # The geodesic planner's layers (winding.layers.friction: slip auto is geodesic where that covers)
     geodesic = slip in (0.0, SLIP_AUTO) if not vessel else cfg.turnaround_radius is None and (
         slip == 0.0 or (slip == SLIP_AUTO and why is None))
+    if not vessel and bare and slip == SLIP_AUTO and _held_by_friction(job, surface, cfg, key, (t_a, t_b)):
+        geodesic = False
     if bare and geodesic:
         _check_pass_points(job, surface, cfg, key, vessel, (t_a, t_b))
     if not vessel and slip not in (0.0, SLIP_AUTO):
@@ -151,6 +153,27 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
     # from a solve on TANGENT_REFINE times finer segments, with its Richardson twin.
     solve = 2 * (TANGENT_REFINE * (max(n, REFINE_MAX_POINTS) + 1))
     return LayerBudget(most, 2 * most, pass_points, most * (2 * pass_points + dwell_points), solve)
+
+
+def _held_by_friction(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str,
+                      region: tuple[float, float]) -> bool:
+    """Whether a slip: auto layer on an open surface of revolution is held at its angle by friction
+    (its geodesic turns around inside the region: winder.winding.layers.friction_revolution); refuses
+    one that the friction cannot hold, naming the friction it needs (closed form, docs/math/09)."""
+    if not surface.curve.is_straight:
+        return False
+    from winder.winding.layers.friction_revolution import (geodesic_reaches, held_need,  # noqa: PLC0415
+                                                           is_open_revolution, need_message)
+
+    if not is_open_revolution(surface) or geodesic_reaches(surface, *region, cfg.angle_deg):
+        return False
+    mu = job.winding.friction
+    need, at, presses = held_need(surface, *region, cfg.angle_deg)
+    why = need_message(cfg.angle_deg, mu, need, at, presses)
+    if why is not None:  # a bridge is the angle's; too little friction, the friction's
+        raise _refuse(job.source, "winding.friction" if presses else f"{key}.angle",
+                      f"{key}: {why}, got {mu if presses else cfg.angle_deg:g}")
+    return True
 
 
 def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radius: float, key: str) -> None:
