@@ -9,8 +9,6 @@ forward and return passes advance alike and the pattern closes with the dwells (
 from __future__ import annotations
 
 import math
-from dataclasses import replace
-
 import numpy as np
 
 from winder.config.winding import LayerConfig
@@ -19,10 +17,11 @@ from winder.geometry.profiles import AxialProfile
 from winder.geometry.sections import Circle
 from winder.geometry.surface import SweepSurface
 from winder.winding.coverage import layer_coverage
-from winder.winding.passes import COVERAGE_STATIONS, PlanContext, dwell_pass, finish_layer, make_pass, winding_region
+from winder.winding.layers.friction_open import with_dwells
+from winder.winding.passes import COVERAGE_STATIONS, PlanContext, finish_layer, make_pass, winding_region
 from winder.winding.pattern import close_open_pattern
 from winder.winding.results import FiberPass, LayerPlan, PassKind
-from winder.winding.turnaround import SWING_MIN_DEG, heading_deg
+from winder.winding.turnaround import SWING_MIN_DEG
 
 MIN_POINTS = 200  # points per pass at the least: the slip is measured from them
 FINE = 16  # quadrature stations per pass point (composite trapezoid on the profile's exact values)
@@ -156,14 +155,6 @@ def _passes(ctx: PlanContext, index: int, curves: dict, pat, theta0: float, regi
                                   _directions(surf, t, th, d1, fwd), _length(surf, t, th, d1)))
             start = float(th[-1]) + 2.0 * math.pi * (pat.dwell_end if fwd else 0.0)
         ends.append(theta0 + 2.0 * math.pi * pat.advance * (j + 1))
-    passes: list[FiberPass] = []
-    for k, p in enumerate(laid):
-        passes.append(replace(p, number=len(passes) + 1))
-        nxt = laid[k + 1] if k + 1 < len(laid) else None
-        h_in = float(heading_deg(surf, p.s[-1:], p.theta[-1:], p.direction[-1:])[0])
-        h_out = float(heading_deg(surf, nxt.s[:1], nxt.theta[:1], nxt.direction[:1])[0]) if nxt else 180.0 - h_in
-        fwd = p.kind is PassKind.FORWARD
-        end = float(laid[k + 1].theta[0]) if fwd else ends[k // 2]
-        passes.append(dwell_pass(ctx, layer, p.circuit, len(passes) + 1, surf.profile.s_of_t(np.array(t_b if fwd else t_a)).item(),
-                                 float(p.theta[-1]), end, h_in, h_out))
-    return passes
+    s_a, s_b = (float(v) for v in surf.profile.s_of_t(np.array([t_a, t_b])))
+    return with_dwells(ctx, layer, laid, lambda k: float(laid[k + 1].theta[0]) if laid[k].kind is PassKind.FORWARD
+                       else ends[k // 2], (s_a, s_b))
