@@ -41,7 +41,7 @@ def turnaround_error(surface: SweepSurface, s_turn: float, heading_deg: float) -
                        f"it cannot reach a smaller radius); lower the angle or shorten the region")
 
 
-def _is_cylinder(surface: SweepSurface) -> bool:
+def is_cylinder(surface: SweepSurface) -> bool:
     """A straight axis and the same section at every station (no profile, or a flat one)."""
     if not surface.curve.is_straight:
         return False
@@ -127,7 +127,7 @@ def reach_theta(surface: SweepSurface, s0: float, theta0: np.ndarray, heading_de
     if surface.is_revolution:
         # theta grows with s on both legs of the same helix: the integral from s0 to s1 carries the sign
         return theta0 + _clairaut(surface, s0, s1, lean, heading_deg)
-    if _is_cylinder(surface):
+    if is_cylinder(surface):
         ev = surface.evaluate(np.array([s0]), theta0[:1], order=1)
         axial = float(np.linalg.norm(ev.ps[0])) * abs(s1 - s0)
         run = math.tan(lean) * axial * (1.0 if forward else -1.0)

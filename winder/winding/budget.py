@@ -40,9 +40,13 @@ MAX_PASSES = 10_000  # per hoop layer
 MAX_PASS_TURNS = 500
 MAX_PASS_POINTS = 1_000_000  # points of one pass as planned (a hoop of 13,900 turns)
 MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 GB to plan and write
-# Planning and writing keep every point in several forms (pass arrays, eye path, CSV and PLY text):
-# measured about 600 bytes per point; the Newton solve of a pass needs about 2.5 kB per point.
-BYTES_PER_POINT = 600
+# Peak memory = the interpreter with numpy and scipy + bytes per planned point + the largest solve.
+# Measured (ru_maxrss, bench/vessel_series.py and the issue 29 jobs): a vessel's points cost about
+# 3 kB each at the peak (the machine stage's dense eye paths around the domes' turnarounds, the
+# outputs' text), an open mandrel's about 450 B; the Newton solve of a pass about 2.5 kB per point.
+BASE_BYTES = 70_000_000
+BYTES_PER_POINT = 450
+VESSEL_BYTES_PER_POINT = 3_000
 SOLVER_BYTES_PER_POINT = 2_500
 MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
@@ -125,6 +129,8 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
     # The geodesic planner's layers (winding.layers.friction: slip auto is geodesic where that covers)
     geodesic = slip in (0.0, SLIP_AUTO) if not vessel else cfg.turnaround_radius is None and (
         slip == 0.0 or (slip == SLIP_AUTO and why is None))
+    if not vessel and bare and slip == SLIP_AUTO and _held_by_friction(job, surface, cfg, key, (t_a, t_b)):
+        geodesic = False
     if bare and geodesic:
         _check_pass_points(job, surface, cfg, key, vessel, (t_a, t_b))
     if not vessel and slip not in (0.0, SLIP_AUTO):
@@ -147,10 +153,33 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
                           f"points per circuit, more than the limit of {MAX_PASS_POINTS}")  # both ends: no one value
         # and the turnarounds past the region (winder.winding.turnaround)
         dwell_points += turnaround_points(surface, tuple(float(v) for v in surface.s_of_t(np.array([t_a, t_b]))))
-    # A pass may be refined up to REFINE_MAX_POINTS (a tolerance, or no convergence); its tangents come
-    # from a solve on TANGENT_REFINE times finer segments, with its Richardson twin.
-    solve = 2 * (TANGENT_REFINE * (max(n, REFINE_MAX_POINTS) + 1))
+    # A pass is refined up to REFINE_MAX_POINTS with a tolerance, else at most twice (2n + 1, where
+    # it does not converge: winder.winding.passes.fine_geodesic); its tangents come from a solve on
+    # TANGENT_REFINE times finer segments, with its Richardson twin.
+    refined = max(REFINE_MAX_POINTS, n) if w.tolerance is not None else min(4 * n + 3, max(REFINE_MAX_POINTS, n))
+    solve = 2 * (TANGENT_REFINE * (refined + 1))
     return LayerBudget(most, 2 * most, pass_points, most * (2 * pass_points + dwell_points), solve)
+
+
+def _held_by_friction(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str,
+                      region: tuple[float, float]) -> bool:
+    """Whether a slip: auto layer on an open surface of revolution is held at its angle by friction
+    (its geodesic turns around inside the region: winder.winding.layers.friction_revolution); refuses
+    one that the friction cannot hold, naming the friction it needs (closed form, docs/math/09)."""
+    if not surface.curve.is_straight:
+        return False
+    from winder.winding.layers.friction_revolution import (geodesic_reaches, held_need,  # noqa: PLC0415
+                                                           is_open_revolution, need_message)
+
+    if not is_open_revolution(surface) or geodesic_reaches(surface, *region, cfg.angle_deg):
+        return False
+    mu = job.winding.friction
+    need, at, presses = held_need(surface, *region, cfg.angle_deg)
+    why = need_message(cfg.angle_deg, mu, need, at, presses)
+    if why is not None:  # a bridge is the angle's; too little friction, the friction's
+        raise _refuse(job.source, "winding.friction" if presses else f"{key}.angle",
+                      f"{key}: {why}, got {mu if presses else cfg.angle_deg:g}")
+    return True
 
 
 def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radius: float, key: str) -> None:
@@ -269,7 +298,8 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                           f"pass ({floor:.2g} mm for the {t_b - t_a:.6g} mm wound), got {w.tolerance:g}")
     points = sum(layer.points for layer in layers)
     solve = max((layer.solve_points for layer in layers), default=0)
-    return Budget(tuple(layers), points, points * BYTES_PER_POINT + solve * SOLVER_BYTES_PER_POINT)
+    per_point = VESSEL_BYTES_PER_POINT if vessel else BYTES_PER_POINT
+    return Budget(tuple(layers), points, BASE_BYTES + points * per_point + solve * SOLVER_BYTES_PER_POINT)
 
 
 def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:

@@ -17,6 +17,7 @@ from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, win
 from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
 from winder.geometry.interp import interp_spline
+from winder.winding.advance import is_cylinder
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.geometry.measure import row_norms
@@ -156,6 +157,8 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
 
     w = ctx.winding
     n = n or w.points or 200
+    if warm is None and not ctx.arcs.identity and is_cylinder(ctx.surface):
+        warm = unrolled_line(ctx, a, b, n)
     res = _solve(ctx, a, b, n, warm, max(REFINE_MAX_POINTS, n))
     for _ in range(2):
         if res.converged or 2 * n + 1 > max(REFINE_MAX_POINTS, n):
@@ -168,6 +171,17 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
     fine = geodesic(ctx.surface, a, b, n=TANGENT_REFINE * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))
     _check_converged(ctx, a, b, fine)
     return fine
+
+
+def unrolled_line(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The geodesic from a to b ((t, theta) each) on a general cylinder, n interior points: unrolled,
+    a straight line, so the section's arc-length fraction runs linearly with the station (MATH.md 4;
+    winder.winding.advance). A start path the solver only polishes: from the straight (s, theta)
+    segment a long pass over a rounded rectangle's corners (five turns over 1900 mm) did not converge."""
+    s0, s1 = (float(v) for v in ctx.surface.s_of_t(np.array([a[0], b[0]])))
+    f = np.linspace(0.0, 1.0, n + 2)
+    frac = ctx.arcs.fraction(np.array([a[1], b[1]]))
+    return s0 + (s1 - s0) * f, ctx.arcs.theta(frac[0] + (frac[1] - frac[0]) * f)
 
 
 def _solve(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: int,

@@ -17,8 +17,9 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
 
     Vessels: a turnaround_radius, or a slip number, or auto where the geodesic's turnaround
     R sin(alpha) falls inside a polar opening plus half a band (auto then turns just outside it).
-    Bent tubes: auto or a number (the largest |lambda| the bends may use). Elsewhere geodesics
-    cover evenly; a slip number there is refused.
+    Bent tubes: auto or a number (the largest |lambda| the bends may use). Cones, tables, tapered
+    poles: auto holds the angle by friction where the geodesic turns around inside the region
+    (docs/math/09). Elsewhere geodesics cover evenly; a slip number there is refused.
     """
     mu, slip = ctx.winding.friction, cfg.slip
     surf = ctx.surface
@@ -40,6 +41,13 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
         from winder.winding.layers.friction_open import bend_helical_layer, is_bent_tube  # noqa: PLC0415
         if is_bent_tube(ctx):
             return bend_helical_layer(ctx, cfg, index, theta0, mu if slip == SLIP_AUTO else float(slip))
+    if slip == SLIP_AUTO and surf.curve.is_straight:
+        from winder.winding.layers.friction_revolution import (geodesic_reaches, held_angle_layer,  # noqa: PLC0415
+                                                               is_open_revolution)
+        from winder.winding.passes import winding_region  # noqa: PLC0415
+
+        if is_open_revolution(surf) and not geodesic_reaches(surf, *winding_region(ctx), cfg.angle_deg):
+            return held_angle_layer(ctx, cfg, index, theta0, mu)
     if slip != SLIP_AUTO:
         raise ConfigError(f"{ctx.key(index, 'slip')}: a number applies to vessels and to bent tubes of lines and "
                           f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")

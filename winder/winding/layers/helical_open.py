@@ -38,33 +38,17 @@ from winder.winding.advance import reach_theta, turnaround_error
 TRACE_RTOL = 1e-10
 
 
-def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float, s_target: float,
-           span: float) -> float:
-    """theta where the geodesic from start at heading_deg reaches station s_target."""
+def _reach(surface: SweepSurface, s_ref: float, starts: np.ndarray, heading_deg: float, s_target: float,
+           span: float) -> np.ndarray:
+    """theta where the geodesics from (s_ref, starts) (k,) at heading_deg reach station s_target."""
     # 1e-10 is plenty for a pattern advance, and tight tolerances crawl on guides whose third
     # derivative is only piecewise smooth (splines).
-    from winder.paths.ode import trace  # noqa: PLC0415 - only where winding.advance has no closed form
+    from winder.paths.ode import reach_station  # noqa: PLC0415 - only where winding.advance has no closed form
 
-    tr = trace(surface, start, heading_deg, span, rtol=TRACE_RTOL, atol=TRACE_RTOL)
-    ls = np.linspace(0.0, tr.length, 4001)
-    ss = tr.sol(ls)[0]
-    sign = 1.0 if s_target >= start[0] else -1.0
-    # The trace stops on the mandrel's end by an event located to ~1e-12: an end at the target counts.
-    reach = ss.max() if sign > 0 else ss.min()
-    if abs(reach - s_target) <= 1e-9 * (1.0 + abs(s_target)):
-        s_target = reach
-    hit = np.nonzero(sign * (ss - s_target) >= 0.0)[0]
-    if hit.size == 0:
-        raise turnaround_error(surface, float(ss.max() if sign > 0 else ss.min()), heading_deg)
-    k = int(hit[0])
-    if k == 0:
-        return float(start[1])
-    if ss[k] == s_target:
-        return float(tr.sol(ls[k:k + 1])[1][0])
-    from scipy.optimize import brentq  # noqa: PLC0415
-
-    l_hit = brentq(lambda l: tr.sol(np.array([l]))[0][0] - s_target, ls[k - 1], ls[k], xtol=1e-12)
-    return float(tr.sol(np.array([l_hit]))[1][0])
+    th, farthest = reach_station(surface, s_ref, starts, heading_deg, s_target, span, rtol=TRACE_RTOL, atol=TRACE_RTOL)
+    for i in np.flatnonzero(np.isnan(th)).tolist():  # a ray that turned around before the target
+        raise turnaround_error(surface, float(farthest[i]), heading_deg)
+    return th
 
 
 def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alpha_deg: float) -> float:
@@ -82,7 +66,7 @@ def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alp
     for heading, s_end in ((alpha_deg, s_b), (alpha_deg + 180.0, s_a)):
         th = reach_theta(surf, s_ref, starts, heading, s_end) if s_end != s_ref else starts
         if th is None:
-            th = np.array([_reach(surf, (s_ref, th0), heading, s_end, span) for th0 in starts])
+            th = _reach(surf, s_ref, starts, heading, s_end, span)
         ends.append(th)
     return float(np.mean(ctx.arcs.fraction(ends[0]) - ctx.arcs.fraction(ends[1])))
 
