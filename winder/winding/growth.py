@@ -16,6 +16,8 @@ reported thickness:
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from winder.geometry.offset import FOLD_MARGIN, grow_surface
@@ -24,12 +26,50 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.buildup import StationCells, area_rate
 from winder.winding.laminate import smooth_density
 
+BOSS_CONE_SHARE = 0.5  # share of the bare dome's angle to the radial at its opening the boss cone keeps
 POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling laminate edge may use
 
 
+@dataclasses.dataclass(frozen=True)
+class BossCone:
+    """The cone through a bare dome's polar opening circle (r0 in its opening plane, H = depth) that
+    every grown dome stays below (docs/math/08-laminate-edges.md 8.3): H <= depth - slope (r - r0).
+
+    Fixed from the bare mandrel, so the limit does not shrink layer by layer."""
+
+    r0: float
+    depth: float
+    slope: float
+
+    @classmethod
+    def of(cls, dome) -> BossCone:
+        ev = dome.evaluate(np.array([dome.length]))
+        angle = float(np.arctan2(abs(ev.h1[0]), abs(ev.r1[0])))  # the meridian's angle to the radial
+        return cls(float(dome.end_radius), float(dome.depth), float(np.tan(BOSS_CONE_SHARE * angle)))
+
+    def cap(self, dome, sigma: np.ndarray) -> np.ndarray:
+        """The largest growth along the normal at sigma ((m,) float) that keeps the grown point below
+        the cone (0 where the dome is on or above it already)."""
+        ev = dome.evaluate(sigma)
+        room = self.depth - ev.h - self.slope * (ev.r - self.r0)
+        rate = -ev.r1 + self.slope * ev.h1  # d(H + slope r) / dg along the outward normal (-r1, h1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = np.where(rate > 0.0, room / rate, np.inf)
+        return np.clip(out, 0.0, None)
+
+
+def boss_cones(surface: SweepSurface) -> tuple[BossCone, BossCone] | None:
+    """The boss cones of a bare vessel's two domes (None for other mandrels)."""
+    prof = surface.profile
+    if not isinstance(prof, VesselMeridian):
+        return None
+    return BossCone.of(prof.dome), BossCone.of(prof.end_dome)
+
+
 def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.ndarray,
-                     band_width: float) -> np.ndarray:
-    """The smooth mean thickness (mm) the next layer winds on, per cell centre, (k,) float."""
+                     band_width: float, cones: tuple[BossCone, BossCone] | None = None) -> np.ndarray:
+    """The smooth mean thickness (mm) the next layer winds on, per cell centre, (k,) float. cones: the
+    bare vessel's boss cones (boss_cones), which the grown domes stay below."""
     rate = area_rate(surface, cells.centres)
     if not isinstance(surface.profile, VesselMeridian) or len(cells.pieces) < 2:
         return _open(cells.centres, density, rate, band_width)
@@ -44,8 +84,14 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
         s = cells.centres[i0:i1]
         sm = smooth_density(s, density[i0:i1], 0.5 * band_width, mirror) / rate[i0:i1]
         sm = _limit_pole_slope(surface, s, sm, -1.0 if j == 0 else 1.0, 0.5 * band_width)
-        sm = _below_concave_radius(surface, s, sm)
+        cap = np.full(s.size, np.inf)
+        if cones is not None:
+            dome = (surface.profile.dome, surface.profile.end_dome)[j]
+            sigma = cells.edges[i1] - s if j == 0 else s - cells.edges[i0]
+            cap = cones[j].cap(dome, sigma)
+        sm = _below_concave_radius(surface, s, np.minimum(sm, cap))
         sm = _below_concave_radius(surface, s, smooth_density(s, sm, 0.5 * band_width, mirror))
+        sm = np.minimum(sm, cap)
         if cyl is None:
             out[i0:i1] = sm
             continue
@@ -106,7 +152,7 @@ def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, towar
     x, y, m = s[order], t[order], slope[order]
     run = np.concatenate([[0.0], np.cumsum(0.5 * (m[1:] + m[:-1]) * np.abs(np.diff(x)))])
     out = np.empty_like(t)
-    out[order] = np.minimum(np.maximum.accumulate(y + run) - run, run[-1] - run)
+    out[order] = np.maximum.accumulate(y + run) - run
     return out
 
 

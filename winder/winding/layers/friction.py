@@ -6,10 +6,15 @@ from __future__ import annotations
 import math
 
 from winder.config.winding import SLIP_AUTO, LayerConfig
-from winder.errors import ConfigError
+from winder.errors import ConfigError, SolverError
 from winder.geometry.vessel import VesselMeridian
 from winder.winding.passes import PlanContext
 from winder.winding.results import LayerPlan
+
+AUTO_MARGIN_MM = 1e-3  # slip auto turns this far outside the polar opening plus half a band
+# Where the pattern cannot be closed that close to an opening (a lambda change would run the fiber
+# into it), auto moves the turnaround out by these shares of a band, in turn.
+AUTO_STEPS = (0.0, 0.25, 0.5, 1.0)
 
 
 def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan | None:
@@ -32,7 +37,7 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
         if slip == SLIP_AUTO:
             if prof.radius * math.sin(math.radians(cfg.angle_deg)) > c_min:
                 return None
-            return friction_vessel_layer(ctx, cfg, index, theta0, mu, c_min, None)
+            return _auto_vessel(ctx, cfg, index, theta0, mu, c_min)
         return friction_vessel_layer(ctx, cfg, index, theta0, mu, None, slip) if slip > 0.0 else None
     if slip == 0.0:
         return None
@@ -44,3 +49,20 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
         raise ConfigError(f"{ctx.key(index, 'slip')}: a number applies to vessels and to bent tubes of lines and "
                           f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
     return None
+
+
+def _auto_vessel(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, mu: float,
+                 c_min: float) -> LayerPlan:
+    """slip auto on a vessel: friction-held, turning just outside c_min (the solved turnaround lands
+    within its tolerance of the target, either side: a small margin), or further out by AUTO_STEPS
+    where the pattern does not close there."""
+    from winder.winding.layers.friction_vessel import friction_vessel_layer  # noqa: PLC0415
+
+    band = ctx.winding.band_width
+    for i, share in enumerate(AUTO_STEPS):
+        try:
+            return friction_vessel_layer(ctx, cfg, index, theta0, mu, c_min + AUTO_MARGIN_MM + share * band, None)
+        except SolverError:
+            if i == len(AUTO_STEPS) - 1:
+                raise
+    raise AssertionError("unreachable")
