@@ -11,7 +11,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.passes import PlanContext
 from winder.winding.results import LayerPlan
 
-AUTO_MARGIN_MM = 1e-3  # slip auto turns this far outside the polar opening plus half a band
+AUTO_MARGIN_MM = 5e-6  # slip auto turns this far outside the polar opening plus half a band (5 solve tolerances)
 # Where the pattern cannot be closed that close to an opening (a lambda change would run the fiber
 # into it), auto moves the turnaround out by these shares of a band, in turn.
 AUTO_STEPS = (0.0, 0.25, 0.5, 1.0)
