@@ -57,6 +57,7 @@ class PlanContext:
     arcs: ArcMap
     feed: float  # mm/min
     progress: Progress | None = None  # (fraction of the whole job, label); see winder.progress
+    previous_turnaround: float | None = None  # the last helical layer's turnaround radius c (mm), for step_back
 
     def key(self, index: int, field: str | None = None) -> str:
         base = f"{self.job.source}: winding.layers[{index}]"
