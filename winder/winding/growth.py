@@ -26,6 +26,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.buildup import StationCells, area_rate
 from winder.winding.laminate import smooth_density
 
+SOFT_MIN_SHARE = 0.05  # band widths over which the cap and the thickness are blended (no crease)
 BOSS_CONE_SHARE = 0.5  # share of the bare dome's angle to the radial at its opening the boss cone keeps
 POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling laminate edge may use
 
@@ -89,9 +90,9 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
             dome = (surface.profile.dome, surface.profile.end_dome)[j]
             sigma = cells.edges[i1] - s if j == 0 else s - cells.edges[i0]
             cap = cones[j].cap(dome, sigma)
-        sm = _below_concave_radius(surface, s, np.minimum(sm, cap))
+        sm = _below_concave_radius(surface, s, _soft_min(sm, cap, SOFT_MIN_SHARE * band_width))
         sm = _below_concave_radius(surface, s, smooth_density(s, sm, 0.5 * band_width, mirror))
-        sm = np.minimum(sm, cap)
+        sm = _soft_min(sm, cap, SOFT_MIN_SHARE * band_width)
         if cyl is None:
             out[i0:i1] = sm
             continue
@@ -100,6 +101,15 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
         dist = np.abs(cells.centres[i0:i1] - eq)
         out[i0:i1] = sm + (t_cyl - at_eq) * np.exp(-(dist / band_width) ** 2)
     return out
+
+
+def _soft_min(a: np.ndarray, b: np.ndarray, eps: float) -> np.ndarray:
+    """-eps log(exp(-a / eps) + exp(-b / eps)): below both, within eps log 2 of the lesser, smooth where
+    they cross (a min would leave a crease the next offset folds over); b may be inf."""
+    lo = np.minimum(a, b)
+    with np.errstate(invalid="ignore"):
+        gap = np.where(np.isfinite(b), np.abs(a - b), np.inf)
+    return np.clip(lo - eps * np.log1p(np.exp(-gap / eps)), 0.0, None)
 
 
 def _open(s: np.ndarray, density: np.ndarray, rate: np.ndarray, band_width: float) -> np.ndarray:
