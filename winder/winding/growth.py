@@ -9,7 +9,9 @@ reported thickness:
 - vessels: each dome is smoothed on its own (mirrored at its equator, matched to the cylinder's
   constant thickness there by a Gaussian taper one band wide) so the grown meridian stays C1 at the
   equators; a laminate edge falling toward the pole faster than the dome can carry is filled
-  (_limit_pole_slope); over a concave stretch tighter than the laminate (an isotensoid's end hook)
+  (_limit_pole_slope), and the whole stays below the bare dome's boss cone (BossCone, docs/math/08
+  8.7: the frame keeps the opening plane, so a pile-up taller than the dome rises there is lowered,
+  blended in by a soft minimum); over a concave stretch tighter than the laminate (an isotensoid's end hook)
   the growth is held below the radius of curvature, so the offset does not fold (the next layer
   bridges such a stretch anyway).
 """
@@ -144,9 +146,8 @@ def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, towar
     grown shape fills it: the thickness may fall toward the pole at most at the slope that uses
     POLE_SLOPE_SHARE of the angle the dome's meridian has left to the radial direction (the least
     dilation of t by a cone of that slope). Filled all the way, a pile-up next to a small opening
-    would reach past the opening's plane and hide it (the next layer could not turn around there), so
-    the growth is also held under the same cone rising from zero at the opening: a pile-up closer to
-    the opening than its height allows is lowered. The slope limit at each station is the least
+    would reach past the opening's plane and hide it (the next layer could not turn around there):
+    the bare dome's boss cone (BossCone) holds it down. The slope limit at each station is the least
     over +-window around it, so that the smoothing after it (that half-width), which averages slopes
     there, keeps within it. Only the shape the next layer winds on changes, never a reported
     thickness.
