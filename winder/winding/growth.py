@@ -28,7 +28,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.buildup import StationCells, area_rate
 from winder.winding.laminate import smooth_density
 
-SOFT_MIN_SHARE = 0.05  # band widths over which the cap and the thickness are blended (no crease)
+SOFT_MIN_SHARE = 0.25  # band widths over which the cap and the thickness are blended (no crease)
 BOSS_CONE_SHARE = 0.5  # share of the bare dome's angle to the radial at its opening the boss cone keeps
 POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling laminate edge may use
 
@@ -94,7 +94,7 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
             cap = cones[j].cap(dome, sigma)
         sm = _below_concave_radius(surface, s, _soft_min(sm, cap, SOFT_MIN_SHARE * band_width))
         sm = _below_concave_radius(surface, s, smooth_density(s, sm, 0.5 * band_width, mirror))
-        sm = _soft_min(sm, cap, SOFT_MIN_SHARE * band_width)
+        sm = _below_concave_radius(surface, s, _soft_min(sm, cap, SOFT_MIN_SHARE * band_width))
         if cyl is None:
             out[i0:i1] = sm
             continue
