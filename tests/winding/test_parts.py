@@ -102,11 +102,15 @@ def test_tank_20_thickness_near_the_boss_against_the_model(tank_20):
         for layer in pl.layers:
             if layer.type is LayerType.HOOP:
                 continue
-            assert not any("friction-held" in note for note in layer.notes)  # geodesics: the law holds
             prof = pl.surface_of(layer.index).profile
             s_at = _first_dome_station(prof, radius)
             lam = layer.laminate
-            code += float(np.interp(s_at, lam.s, lam.thickness))
+            here = float(np.interp(s_at, lam.s, lam.thickness))
+            if any("friction-held" in note for note in layer.notes):
+                # the law is the geodesics'; a friction-held layer (a step_back) turns further out
+                assert layer.turnaround_radius - 0.5 * band > radius and here == 0.0
+                continue
+            code += here
             model += _model_thickness(prof, layer.turnaround_radius, 2 * layer.circuits, area, band, s_at)
         assert code == pytest.approx(model, rel=BOSS_MODEL_REL), radius
         assert model > 1.0  # several pile-ups stand there
