@@ -10,7 +10,9 @@ layer with index, type, angle_deg, requested_angle_deg, angle_change_deg, circui
 passes (the layer's passes in the job CSV: turnarounds and dwells included), fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
 when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
 {covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text),
-max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0).
+max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0),
+max_lift_off_mm (how far the fiber stands off a concave stretch it bridges, 0 where it presses
+everywhere) with lift_off_t_mm and lift_off_pass (where; null without a lift-off).
 With a material (a laminate), each layer also has thickness_mm (mean, at the reference section),
 max_thickness_mm, ply_thickness_mm, volume_mm3, fiber_mass_kg, resin_mass_kg, material_length_mm
 and outer_radius_mm (after the layer), and the job fiber_mass_kg, resin_mass_kg, mass_kg and
@@ -109,7 +111,17 @@ def _layer(layer: LayerPlan) -> dict[str, Any]:
         },
         "notes": [str(n) for n in layer.notes],
         **_laminate(layer),
+        **_lift_off(layer),
     }
+
+
+def _lift_off(layer: LayerPlan) -> dict[str, Any]:
+    """max_lift_off_mm (0 where the fiber presses everywhere) and where: lift_off_t_mm, lift_off_pass
+    (null without a lift-off); docs/math/08-laminate-edges.md 8.10."""
+    bridged = layer.max_lift_off_mm > 0.0
+    return {"max_lift_off_mm": _num(layer.max_lift_off_mm, LENGTH_DECIMALS),
+            "lift_off_t_mm": _num(layer.lift_off_t, LENGTH_DECIMALS) if bridged else None,
+            "lift_off_pass": int(layer.lift_off_pass) if bridged else None}
 
 
 def _laminate(layer: LayerPlan) -> dict[str, Any]:

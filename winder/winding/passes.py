@@ -58,10 +58,25 @@ class PlanContext:
     arcs: ArcMap
     feed: float  # mm/min
     progress: Progress | None = None  # (fraction of the whole job, label); see winder.progress
+    previous_turnaround: float | None = None  # the last helical layer's turnaround radius c (mm), for step_back
 
     def key(self, index: int, field: str | None = None) -> str:
         base = f"{self.job.source}: winding.layers[{index}]"
         return f"{base}.{field}" if field else base
+
+    def bridging_tolerance(self, index: int) -> float:
+        """The lift-off (mm) layer `index` may bridge: winding.bridging_tolerance, else one ply of its
+        material, else 0 (docs/math/08-laminate-edges.md 8.10)."""
+        w = self.winding
+        if w.bridging_tolerance is not None:
+            return w.bridging_tolerance
+        material = w.material_of(index)
+        if material is None:
+            return 0.0
+        from dataclasses import asdict  # noqa: PLC0415
+
+        from winder.winding.laminate import Material  # noqa: PLC0415 - jobs with a material only
+        return Material(**asdict(material)).ply(w.band_width)
 
     def report(self, index: int, done: float, what: str = "") -> None:
         """Progress of layer index (0-based): done in [0, 1] of it, what it is doing now."""
@@ -323,12 +338,14 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
     if coverage is None:
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)
     if held is None:
-        held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha))
+        held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha),
+                          ctx.bridging_tolerance(index))
     return LayerPlan(index=index + 1, type=cfg.type, angle_deg=float(alpha),
                      requested_angle_deg=float(cfg.angle_deg if cfg.angle_deg is not None else alpha),
                      circuits=int(circuits), pattern=int(pattern), dwell_start_deg=float(dwell_a),
                      dwell_end_deg=float(dwell_b), turnaround_radius=c, fiber_length_mm=length,
                      alpha_min_deg=float(folded.min()), alpha_max_deg=float(folded.max()),
                      time_s=length / ctx.feed * 60.0, passes=tuple(passes), coverage=coverage,
-                     notes=tuple(notes), max_slip=held.max_slip, min_normal_curvature=held.min_normal_curvature)
+                     notes=tuple(notes), max_slip=held.max_slip, min_normal_curvature=held.min_normal_curvature,
+                     max_lift_off_mm=held.max_lift_off, lift_off_t=held.lift_t, lift_off_pass=held.lift_pass)
 

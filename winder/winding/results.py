@@ -106,6 +106,9 @@ class LayerPlan:
     min_normal_curvature: float = float("nan")
     surface: SweepSurface | None = None  # the (grown) mandrel it was wound on; None: the plan's
     laminate: LayerLaminate | None = None  # what it adds to the wall (a job with a material)
+    max_lift_off_mm: float = 0.0  # largest lift-off of its fiber over a concave stretch (docs/math 8.10)
+    lift_off_t: float = 0.0  # where: station t (mm) and pass number
+    lift_off_pass: int = 0
 
     @property
     def angle_change_deg(self) -> float:

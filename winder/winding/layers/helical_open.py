@@ -241,7 +241,7 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
         passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
         held = check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index),
-                          alpha)
+                          alpha, ctx.bridging_tolerance(index))
         if surf.is_revolution or cfg.pattern is not None or cfg.circuits is not None:
             break
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
