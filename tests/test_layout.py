@@ -2,7 +2,7 @@
 
 Stages in order: config < geometry < paths < winding < machine < export < report < app < cli <
 __main__ (the executable); errors.py and progress.py are shared. A module imports nothing from a later stage (nor from its own stage's later siblings through
-a circle), geometry reads config types only in build.py, only cli.py imports click, the library
+a circle), geometry reads config types only in build.py, only the cli package imports click, the library
 never prints, and no module is over MAX_LINES.
 """
 
@@ -74,7 +74,7 @@ def test_geometry_reads_config_only_in_build():
 def test_only_the_cli_imports_click_and_the_library_never_prints():
     for module, path in MODULES.items():
         imports = _imports(path)
-        if module != "winder.cli":
+        if module != "winder.cli" and not module.startswith("winder.cli."):
             assert "click" not in imports and not any(i.startswith("click.") for i in imports), module
             calls = [n for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
                      if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "print"]

@@ -8,9 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 import re
-import stat
 from dataclasses import field
 from pathlib import Path
 
@@ -18,6 +16,7 @@ import yaml
 
 from winder.config.analysis import AnalysisConfig, parse_analysis
 from winder.config.extent import is_bent, mandrel_reach
+from winder.config.files import MAX_FILE_BYTES, MAX_NAME_LENGTH, read_text
 from winder.config.machine import MachineConfig, parse_machine
 from winder.config.mandrel import MandrelConfig, axis_length, is_vessel, parse_mandrel
 from winder.config.reader import Reader, load_yaml
@@ -25,7 +24,7 @@ from winder.config.bends import check_bend_angles
 from winder.config.winding import WindingConfig, parse_winding
 from winder.errors import ConfigError
 
-__all__ = ["JobConfig", "load_config", "parse_config"]
+__all__ = ["MAX_FILE_BYTES", "MAX_NAME_LENGTH", "JobConfig", "load_config", "parse_config", "read_text"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -41,43 +40,13 @@ class JobConfig:
     analysis: AnalysisConfig | None = None  # the load case (SPEC.md "Structural analysis")
 
 
-# A job file is a page of YAML; a table or spline of 10,000 points is about 300 kB. Beyond this it is
-# not a job file (or a device such as /dev/zero), and reading it would not end in reasonable time.
-MAX_FILE_BYTES = 2_000_000
-# Output files are <name>.<suffix>, written through hidden temporary files with ~30 more characters;
-# file systems allow 255 bytes per name.
-MAX_NAME_LENGTH = 200
-
-
-def read_text(path: str | Path, source: str, kind: str = "job file", limit: int = MAX_FILE_BYTES,
-              errors: str = "strict") -> str:
-    """The text of a job file (or another kind of text file): a regular file of at most limit bytes,
-    UTF-8 (errors: as bytes.decode's; "replace" reads other bytes as U+FFFD instead of refusing)."""
-    try:
-        info = os.stat(path)  # before opening: opening a FIFO would block
-        if not stat.S_ISREG(info.st_mode):
-            raise ConfigError(f"{source}: not a regular file (a {kind} is a text file)")
-        if info.st_size > limit:
-            raise ConfigError(f"{source}: the file has {info.st_size} bytes, more than a {kind}'s limit of {limit}")
-        with open(path, "rb") as fh:
-            raw = fh.read(limit + 1)
-    except OSError as exc:
-        raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
-    if len(raw) > limit:  # it grew while being read
-        raise ConfigError(f"{source}: the file has more than a {kind}'s limit of {limit} bytes")
-    try:
-        return raw.decode("utf-8", errors=errors)
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
-
-
 def load_config(path: str | Path) -> JobConfig:
     """Read and validate a job file; every problem is a ConfigError starting with the path."""
     source = str(path)
     if source.lower().endswith(".wind"):  # fiberpath's job format (JSON), read as the same job
-        from winder.config.wind_file import load_wind  # noqa: PLC0415
+        from winder.config.wind_file import read_wind  # noqa: PLC0415
 
-        return load_wind(path)
+        return parse_config(read_wind(path).data, source)
     text = read_text(path, source)
     try:
         data = load_yaml(text)

@@ -19,7 +19,7 @@ import re
 from pathlib import Path
 from typing import Any
 
-from winder.config.job import MAX_NAME_LENGTH, JobConfig, parse_config, read_text
+from winder.config.files import MAX_NAME_LENGTH, read_text
 from winder.config.reader import Reader
 from winder.errors import ConfigError
 
@@ -141,8 +141,3 @@ def read_wind(path: str | Path) -> WindJob:
                                       "section": {"type": "circle"}},
             "winding": winding, "machine": machine}
     return WindJob(data, tuple(layers), thickness, version.strip())
-
-
-def load_wind(path: str | Path) -> JobConfig:
-    """A .wind file as a validated winder job (what load_config returns for a YAML config)."""
-    return parse_config(read_wind(path).data, str(path))

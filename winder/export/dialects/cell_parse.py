@@ -14,6 +14,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
+from winder.export.dialects.parsed import ParsedProgram
 from winder.machine.cell import eye_of, mandrel_in_base
 
 _PASS = re.compile(r"^\s*(?:;|!|#)\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
@@ -239,7 +240,6 @@ def _midpoints(frames: np.ndarray, external: np.ndarray) -> np.ndarray:
 
 def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str):
     """The ParsedProgram (winder.export.dialects.parse) of a robot cell's program."""
-    from winder.export.dialects.parse import ParsedProgram  # noqa: PLC0415 - parse imports this module
 
     if machine.cell is None:
         raise ConfigError(f"{source}: a {dialect} program needs the robot cell it was written for: the config's "

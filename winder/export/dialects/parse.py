@@ -13,12 +13,12 @@ given twice, a value not finite or past MAX_WORD_VALUE, a feed F <= 0), naming t
 
 from __future__ import annotations
 
-import dataclasses
 import re
 
 import numpy as np
 
 from winder.config.machine import MachineConfig
+from winder.export.dialects.parsed import ParsedProgram
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
@@ -34,31 +34,6 @@ _ROLE_COLUMN = {"carriage": 0, "rotation": 1, "cross_feed": 2, "yaw": 3}
 # The largest value of a word: a job's cumulative rotation stays below 1e9 deg (1.5 million points,
 # less than a turn each); beyond, squared distances and times of the dynamics overflow to inf and nan.
 MAX_WORD_VALUE = 1e12
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class ParsedProgram:
-    """A program read back.
-
-    dialect : the dialect it was read as. values : (m, 4) or (m, 6) rows (module docstring).
-    keys : (m, 3) int, (layer, circuit, pass) of each row. kinds : (m,) the pass kind words.
-    feed : (m,) the F word of each row (nan where none). line : (m,) the line number of each row.
-    job : the name on the program's `; job:` line, if it has one.
-    """
-
-    dialect: str
-    values: np.ndarray
-    keys: np.ndarray
-    kinds: tuple[str, ...]
-    feed: np.ndarray
-    line: np.ndarray | None = None
-    job: str | None = None
-    mids: np.ndarray | None = None  # (m, 3) a robot cell's eye halfway along each move (winder.export.dialects.cell_parse)
-    move_s: np.ndarray | None = None  # (m,) a robot cell's move times, as its program states them
-
-    @property
-    def robot(self) -> bool:
-        return self.dialect in ("robot", "krl", "rapid", "urscript")
 
 
 def detect(text: str) -> str:
