@@ -33,10 +33,15 @@ def program_moves(plan: WindingPlan, machine: MachineConfig) -> tuple[Move, ...]
     return tuple(serialize(program, dialect_for(program))[1])
 
 
-def gcode_text(plan: WindingPlan, machine: MachineConfig, band_width: float = 0.0) -> str:
-    """The whole program as text (newline-terminated lines); band_width (mm) for the marlin header."""
-    program = program_of(plan, machine)
+def program_text(program: MotionProgram, band_width: float = 0.0) -> str:
+    """A motion program as text in its machine's dialect (newline-terminated lines); band_width (mm)
+    for the marlin header."""
     return "\n".join(serialize(program, dialect_for(program, band_width), moves=False)[0]) + "\n"
+
+
+def gcode_text(plan: WindingPlan, machine: MachineConfig, band_width: float = 0.0) -> str:
+    """The whole program of a plan on a machine as text (program_text)."""
+    return program_text(program_of(plan, machine), band_width)
 
 
 def export(plan: WindingPlan, job) -> str:
