@@ -15,8 +15,9 @@ What the controller and fiberpath's `simulate` read: line 1 is the `; Parameters
 band width, tow thickness when known, else 0), then G21 G90 G94, then `G1` moves with X A B and F
 on every line; comments only on their own lines; no dwell word, no M codes, no postamble.
 F (mm/min, G94): Marlin's planner measures a move by its linear axes when one moves, by its
-rotational axes otherwise, so F = that distance / the move's cruise time (|dX| when X moves, else
-the hypotenuse of dA and dB, per minute), which makes the controller take the planned time.
+rotational axes otherwise, so F = that distance / the move's planned time (|dX| when X moves, else
+the hypotenuse of dA and dB, per minute; the time from machine.dynamics, acceleration included),
+which makes the controller take the planned time.
 """
 
 from __future__ import annotations
@@ -94,9 +95,10 @@ class MarlinGcode(BaseDialect):
 
     def move_lines(self, program: MotionProgram, row: int, words: str,
                    prev: tuple[float, ...] | None, cur: tuple[float, ...]) -> list[str]:
+        seconds = self.elapsed(program, row)
         if prev is None:
             return [f"{self.prefix} {words} F{fmt(program.machine.feed)}"]
         dx = abs(cur[0] - prev[0])
         distance = dx if dx > 0.0 else float(np.hypot(cur[1] - prev[1], cur[2] - prev[2]))
-        feed = 60.0 * distance / max(float(program.times.cruise_s[row]), MIN_MOVE_S)
+        feed = 60.0 * distance / max(seconds, MIN_MOVE_S)
         return [f"{self.prefix} {words} F{fmt_significant(feed)}"]

@@ -97,6 +97,19 @@ class BaseDialect:
         return [f"{self.prefix} {words} F{cached[1][row]}"]
 
 
+    def elapsed(self, program: MotionProgram, row: int) -> float:
+        """The planned time (s, machine.dynamics, acceleration included) from the last row this
+        dialect wrote to `row`: the rows a dialect leaves out (the same words) are part of the move
+        that follows, so the written moves' times add up to the program's (winding_time_s)."""
+        clock = getattr(self, "_clock", None)
+        if clock is None or clock[0] is not program:
+            clock = [program, np.cumsum(program.times.time_s), 0]
+            self._clock = clock
+        seconds = float(clock[1][row] - clock[1][clock[2]]) if row > clock[2] else 0.0
+        clock[2] = row
+        return seconds
+
+
 def _refuse_zero_feed(program: MotionProgram, feeds: list[str]) -> None:
     """A feed the axes' top speeds hold below what DECIMALS decimals write reads F0.000, at which no
     controller moves (simulate refuses it): ExportError naming the move's pass."""
