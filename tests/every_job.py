@@ -41,11 +41,12 @@ def program_of(path: Path) -> MotionProgram:
 @functools.cache
 def text_of(path: Path, dialect: str) -> str | None:
     """The job's program in `dialect` (the job's own machine otherwise), None where the dialect
-    refuses the job (marlin without a fixed eye; a G-code dialect for a robot's poses)."""
+    refuses the job (marlin without a fixed eye; a G-code dialect for a robot's poses, robot poses
+for a straight-axis program)."""
     from winder.export.gcode import program_text  # noqa: PLC0415
 
     job, program = job_of(path), program_of(path)
-    if program.robot and dialect != "robot":
+    if program.robot != (dialect == "robot"):  # machine.dialect robot makes the program a robot's (config)
         return None
     band = job.winding.band_width if job.winding is not None else 0.0
     try:

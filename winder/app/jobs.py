@@ -108,12 +108,28 @@ def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
                    progress: Progress | None = None) -> dict[str, bytes]:
     """Every requested output of a planned job, in memory: file name -> bytes (writing order)."""
     chosen = registry.chosen(formats, always=summary)
+    program = motion_program(job, plan) if any(f.program for f in chosen) else None
     rendered = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
             progress(i / len(chosen), f"rendering the {fmt.name}")
-        rendered[job.name + fmt.suffix] = fmt.render(plan, job)
+        rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
     return rendered
+
+
+def motion_program(job, plan):
+    """The job's one motion program, handed to every output that writes or times it (the G-code, the
+    summary, the report), or the ExportError that kept it from being built (the G-code raises it, the
+    summary says why), or None without a machine."""
+    from winder.errors import ExportError  # noqa: PLC0415
+    from winder.machine.program import build_program  # noqa: PLC0415
+
+    if getattr(job, "machine", None) is None:
+        return None
+    try:
+        return build_program(plan, job.machine)
+    except ExportError as exc:
+        return exc
 
 
 def _plan(job, progress: Progress | None = None):

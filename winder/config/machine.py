@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
+from winder.config.dialects import REGISTRY as DIALECT_REGISTRY
 from winder.records import record
 
 if TYPE_CHECKING:
@@ -23,7 +24,7 @@ WRITTEN_RESOLUTION = 0.001
 MAX_EYE_CLEARANCE = 2000.0
 
 MACHINE_ROLES = ("carriage", "rotation", "cross_feed", "yaw")
-DIALECTS = ("generic", "marlin", "linuxcnc", "robot")
+DIALECTS = tuple(DIALECT_REGISTRY)  # the dialect registry's names (winder.config.dialects)
 # A shop winder's axes (speed in mm/min or deg/min, acceleration in mm/s^2 or deg/s^2): SPEC.md's example.
 DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0),
                     "cross_feed": (10000.0, 1000.0), "yaw": (20000.0, 3000.0)}
@@ -196,9 +197,9 @@ def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool) -> t
         return robot, "robot" if robot else "generic"
     where = rd.at(path, "dialect")
     dialect = m["dialect"]
-    if not isinstance(dialect, str) or dialect not in DIALECTS:
-        raise rd.error(where, f"must be one of {', '.join(DIALECTS)}", dialect)
-    if dialect == "robot":
+    if not isinstance(dialect, str) or dialect not in DIALECT_REGISTRY:
+        raise rd.error(where, f"must be one of {', '.join(DIALECT_REGISTRY)}", dialect)
+    if DIALECT_REGISTRY[dialect].robot:
         if "robot" in m and not robot:
             raise rd.error(where, "robot needs robot poses, but machine.robot is false", dialect)
         return True, dialect

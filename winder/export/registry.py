@@ -27,19 +27,21 @@ class Format:
     module: str
     always: bool = False
     default: bool = True
+    program: bool = False  # its export takes the job's motion program (program=, built once per job)
 
-    def render(self, plan, job) -> bytes:
-        data = importlib.import_module(self.module).export(plan, job)
+    def render(self, plan, job, program=None) -> bytes:
+        module = importlib.import_module(self.module)
+        data = module.export(plan, job, program=program) if self.program else module.export(plan, job)
         return data.encode("utf-8") if isinstance(data, str) else bytes(data)
 
 
 FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
-    Format("gcode", ".gcode", "winder.export.gcode"),
+    Format("gcode", ".gcode", "winder.export.gcode", program=True),
     Format("ply", ".ply", "winder.export.ply"),
     Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
-    Format("report", ".html", "winder.report.export", default=False),
-    Format("summary", ".summary.json", "winder.export.summary", always=True),
+    Format("report", ".html", "winder.report.export", default=False, program=True),
+    Format("summary", ".summary.json", "winder.export.summary", always=True, program=True),
 )
 SELECTABLE = tuple(f.name for f in FORMATS if not f.always)  # the formats a job may leave out
 DEFAULT = tuple(f.name for f in FORMATS if not f.always and f.default)  # written when none is named

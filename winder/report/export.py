@@ -8,7 +8,7 @@ from winder.report.html import report_html
 from winder.winding.results import WindingPlan
 
 
-def export(plan: WindingPlan, job, progress: Progress | None = None) -> str:
+def export(plan: WindingPlan, job, progress: Progress | None = None, program=None) -> str:
     """The page of plan, with the summary `<name>.summary.json` holds: job's machine gives the winding
-    times (the program is built once for the G-code and the summary, winder.export.programs)."""
-    return report_html(plan, summary_dict(plan, job.machine), progress=progress)
+    times (program: the job's motion program, built once by winder.app.jobs, or its build's error)."""
+    return report_html(plan, summary_dict(plan, job.machine, program), progress=progress)

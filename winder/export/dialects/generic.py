@@ -41,3 +41,8 @@ class GenericGcode(BaseDialect):
                 "; F: the fiber's feed along its path on the mandrel (machine.feed), not the axes' speed",
                 "; F: for a controller that reads F as the axes' speed (G94) use the linuxcnc dialect (inverse "
                 "time, from the machine dynamics)"]
+
+
+def make(program: MotionProgram, band_width: float = 0.0) -> GenericGcode:
+    """The dialect registry's entry (winder.config.dialects)."""
+    return GenericGcode()

@@ -43,3 +43,8 @@ class LinuxcncGcode(GenericGcode):
             return [f"G0 {words}", "G93"]
         inverse = 60.0 / max(seconds, MIN_MOVE_S)
         return [f"G1 {words} F{fmt_significant(inverse)}"]
+
+
+def make(program: MotionProgram, band_width: float = 0.0) -> LinuxcncGcode:
+    """The dialect registry's entry (winder.config.dialects)."""
+    return LinuxcncGcode()
