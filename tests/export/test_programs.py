@@ -1,42 +1,81 @@
-"""One motion program per plan and machine (winder.export.programs): built once, the same as a fresh build."""
+"""One motion program per job (winder.app.jobs.motion_program), handed to every output that writes or
+times it: built once, the same as a fresh build; its build's error reaches the G-code (raised) and the
+summary (program_error). The dialect registry (winder.config.dialects) names every dialect once."""
 
 from __future__ import annotations
 
-import gc
+import importlib
+
+import json
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
+import winder.machine.program as program_module
 from conftest import surface_of
 from plans import cylinder_plan
-from winder.config.machine import MachineConfig
+from winder.app.jobs import render_outputs
+from winder.config.dialects import REGISTRY, register
+from winder.config.machine import DIALECTS, MachineConfig
 from winder.config.mandrel import ConstantProfile, LineAxis
-from winder.export import programs
+from winder.errors import ExportError
+from winder.export.gcode import dialect_for, gcode_text
+from winder.export.gcode import export as gcode_export
+from winder.export.summary import summary_dict
 from winder.machine.program import build_program
 
 MACHINE = MachineConfig(eye_radius=60.0, eye_clearance=None, chord_tolerance=0.05)
+
+
+class _Job:
+    name, machine, winding, material = "tube", MACHINE, None, None
 
 
 def _plan():
     return cylinder_plan(surface_of(LineAxis(300.0), ConstantProfile(40.0)))
 
 
-def test_the_gcode_and_the_summary_share_one_program_equal_to_a_fresh_build():
+def test_one_program_for_the_gcode_and_the_summary(monkeypatch):
     plan = _plan()
-    first = programs.program_of(plan, MACHINE)
-    assert programs.program_of(plan, MACHINE) is first
+    calls = []
+    real = program_module.build_program
+
+    def counting(*args):
+        calls.append(args)
+        return real(*args)
+
+    monkeypatch.setattr(program_module, "build_program", counting)
+    out = render_outputs(_Job(), plan, ["gcode"])
+    assert len(calls) == 1
     fresh = build_program(plan, MACHINE)
-    assert first.times.total_s == fresh.times.total_s
-    assert np.array_equal(first.values, fresh.values) and np.array_equal(first.feed, fresh.feed)
+    assert out["tube.gcode"].decode() == gcode_text(plan, MACHINE, program=fresh)
+    summary = json.loads(out["tube.summary.json"])
+    assert summary["winding_time_s"] == pytest.approx(fresh.times.total_s, abs=0.006)  # 2 decimals written
 
 
-def test_another_machine_or_plan_is_built_anew_and_a_dead_plan_is_forgotten():
+def test_a_program_that_cannot_be_built_reaches_both():
     plan = _plan()
-    first = programs.program_of(plan, MACHINE)
-    other = replace(MACHINE, chord_tolerance=0.1)
-    assert programs.program_of(plan, other) is not first
-    again = _plan()
-    assert programs.program_of(again, MACHINE) is not first
-    del plan, again
-    gc.collect()
-    assert programs._LAST == []
+    error = ExportError("tests/tube.yaml: the eye cannot clear the mandrel")
+    assert "program_error" in summary_dict(plan, MACHINE, error)
+    with pytest.raises(ExportError, match="cannot clear"):
+        gcode_export(plan, _Job(), error)
+
+
+def test_every_dialect_from_the_registry():
+    assert DIALECTS == tuple(REGISTRY)
+    program = build_program(_plan(), MACHINE)
+    for name, row in REGISTRY.items():
+        dialect = dialect_for(replace(program, machine=replace(MACHINE, dialect=name)))
+        # A robot cell's language is written as its own files; its .gcode is the robot pose listing.
+        assert type(dialect).__module__ == (REGISTRY["robot"].module if row.cell else row.module)
+        if row.cell:
+            assert callable(importlib.import_module(row.module).serialize)
+
+
+def test_a_new_dialect_is_one_register_line(monkeypatch):
+    monkeypatch.setitem(REGISTRY, "plain", REGISTRY["generic"])  # removed again after the test
+    register("plain", "winder.export.dialects.generic")
+    program = build_program(_plan(), MACHINE)
+    text = gcode_text(None, MACHINE, program=replace(program, machine=replace(MACHINE, dialect="plain")))
+    assert text == gcode_text(None, MACHINE, program=program)

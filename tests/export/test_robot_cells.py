@@ -26,7 +26,7 @@ from winder.config.job import load_config
 from winder.config.robot import Pose, RobotCell
 from winder.errors import ExportError
 from winder.export.dialects import krl, rapid, urscript
-from winder.export.programs import program_of
+from winder.machine.program import build_program as program_of
 from winder.export.summary import summary_dict
 from winder.machine.cell import cell_motion
 from winder.machine.envelope import eye_envelope

@@ -105,15 +105,33 @@ def output_names(name: str, formats: Iterable[str], summary: bool = True) -> lis
 
 
 def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
-                   progress: Progress | None = None) -> dict[str, bytes]:
-    """Every requested output of a planned job, in memory: file name -> bytes (writing order)."""
+                   progress: Progress | None = None, program=None) -> dict[str, bytes]:
+    """Every requested output of a planned job, in memory: file name -> bytes (writing order);
+    program: the job's motion program when the caller has built it already."""
     chosen = registry.chosen(formats, always=summary)
+    if program is None and any(f.program for f in chosen):
+        program = motion_program(job, plan)
     rendered = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
             progress(i / len(chosen), f"rendering the {fmt.name}")
-        rendered[job.name + fmt.suffix] = fmt.render(plan, job)
+        rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
     return rendered
+
+
+def motion_program(job, plan):
+    """The job's one motion program, handed to every output that writes or times it (the G-code, the
+    summary, the report), or the ExportError that kept it from being built (the G-code raises it, the
+    summary says why), or None without a machine."""
+    from winder.errors import ExportError  # noqa: PLC0415
+    from winder.machine.program import build_program  # noqa: PLC0415
+
+    if getattr(job, "machine", None) is None:
+        return None
+    try:
+        return build_program(plan, job.machine)
+    except ExportError as exc:
+        return exc
 
 
 def _plan(job, progress: Progress | None = None):
@@ -232,11 +250,12 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
+            program = None
             if cell_dialect is not None:  # the cell's reach check refuses before any file, whatever is written
-                from winder.export.programs import program_of  # noqa: PLC0415
-
-                program_of(plan, job.machine)
-            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0))
+                program = motion_program(job, plan)
+                if isinstance(program, Exception):
+                    raise program
+            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0), program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")

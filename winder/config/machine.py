@@ -10,8 +10,9 @@ import dataclasses
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
-from winder.config.robot import DIALECT_OF_MAKER, ROBOT_DIALECTS, RobotCell, parse_robot_cell
 from winder.config.arms import ARMS
+from winder.config.dialects import REGISTRY as DIALECT_REGISTRY
+from winder.config.robot import DIALECT_OF_MAKER, RobotCell, parse_robot_cell
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -25,7 +26,7 @@ WRITTEN_RESOLUTION = 0.001
 MAX_EYE_CLEARANCE = 2000.0
 
 MACHINE_ROLES = ("carriage", "rotation", "cross_feed", "yaw")
-DIALECTS = ("generic", "marlin", "linuxcnc", "robot") + ROBOT_DIALECTS
+DIALECTS = tuple(DIALECT_REGISTRY)  # the dialect registry's names (winder.config.dialects)
 # A shop winder's axes (speed in mm/min or deg/min, acceleration in mm/s^2 or deg/s^2): SPEC.md's example.
 DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0),
                     "cross_feed": (10000.0, 1000.0), "yaw": (20000.0, 3000.0)}
@@ -209,14 +210,14 @@ def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool,
         return robot, "robot" if robot else "generic"
     where = rd.at(path, "dialect")
     dialect = m["dialect"]
-    if not isinstance(dialect, str) or dialect not in DIALECTS:
-        raise rd.error(where, f"must be one of {', '.join(DIALECTS)}", dialect)
-    if dialect in ROBOT_DIALECTS:
+    if not isinstance(dialect, str) or dialect not in DIALECT_REGISTRY:
+        raise rd.error(where, f"must be one of {', '.join(DIALECT_REGISTRY)}", dialect)
+    if DIALECT_REGISTRY[dialect].cell:
         if cell is None:
             raise rd.error(where, f"{dialect} needs a robot cell: machine.robot as a mapping with at least an arm "
                            f"({', '.join(ARMS)})", dialect)
         return True, dialect
-    if dialect == "robot":
+    if DIALECT_REGISTRY[dialect].robot:
         if "robot" in m and not robot:
             raise rd.error(where, "robot needs robot poses, but machine.robot is false", dialect)
         return True, dialect

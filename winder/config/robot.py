@@ -14,7 +14,6 @@ from winder.config.arms import ARMS
 if TYPE_CHECKING:
     from winder.config.reader import Reader
 
-ROBOT_DIALECTS = ("krl", "rapid", "urscript")
 DIALECT_OF_MAKER = {"KUKA": "krl", "ABB": "rapid", "Universal Robots": "urscript"}
 POSE_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 DEFAULT_TOOL = {"z": 250.0}  # the mandrel's origin 250 mm out from the flange, axes as the flange's

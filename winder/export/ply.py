@@ -111,7 +111,18 @@ def _ribbons(plan: WindingPlan, passes: list[FiberPass], band_width: float) -> t
     for col, (a, b) in enumerate(((lo, lo), (rn, ln), (ro, rn))):  # a column at a time: no (k, 3) temporaries
         faces[first, col] = a
         faces[second, col] = b
+    _face_outward(verts, faces, nrm)
     return verts, faces
+
+
+def _face_outward(verts: np.ndarray, faces: np.ndarray, nrm: np.ndarray) -> None:
+    """Swap the winding of the faces (f, 3) whose normal points into the mandrel, in place: a pass
+    whose points run against its fiber direction d (a dwell's ribbon, where the carriage stands and
+    d is the fiber's) would otherwise face inward. nrm (v / 2, 3): the outward normal at each point."""
+    a, b, c = verts[faces[:, 0]], verts[faces[:, 1]], verts[faces[:, 2]]
+    out = nrm[faces[:, 0] // 2] + nrm[faces[:, 1] // 2] + nrm[faces[:, 2] // 2]
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), out) < 0.0
+    faces[inward, 1], faces[inward, 2] = faces[inward, 2], faces[inward, 1].copy()
 
 
 def _band_pieces(plan: WindingPlan, band_width: float) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:

@@ -30,27 +30,30 @@ class Format:
     default: bool = True
     function: str = "export"
     part_of: str | None = None  # written with that format, never asked for alone (KRL's .dat)
+    program: bool = False  # its export takes the job's motion program (program=, built once per job)
 
-    def render(self, plan, job) -> bytes:
-        data = getattr(importlib.import_module(self.module), self.function)(plan, job)
+    def render(self, plan, job, program=None) -> bytes:
+        export = getattr(importlib.import_module(self.module), self.function)
+        data = export(plan, job, program=program) if self.program else export(plan, job)
         return data.encode("utf-8") if isinstance(data, str) else bytes(data)
 
 
 FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
-    Format("gcode", ".gcode", "winder.export.gcode"),
+    Format("gcode", ".gcode", "winder.export.gcode", program=True),
     Format("ply", ".ply", "winder.export.ply"),
     Format("stl", ".stl", "winder.export.ply", default=False, function="export_stl"),
     Format("obj", ".obj", "winder.export.ply", default=False, function="export_obj"),
     Format("glb", ".glb", "winder.export.ply", default=False, function="export_glb"),
     Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
     Format("abaqus", ".inp", "winder.export.abaqus", default=False),  # needs ply data and analysis:
-    Format("report", ".html", "winder.report.export", default=False),
-    Format("krl", ".src", "winder.export.robot_programs", default=False, function="krl_src"),  # robot cells
-    Format("krl_dat", ".dat", "winder.export.robot_programs", default=False, function="krl_dat", part_of="krl"),
-    Format("rapid", ".mod", "winder.export.robot_programs", default=False, function="rapid"),
-    Format("urscript", ".script", "winder.export.robot_programs", default=False, function="urscript"),
-    Format("summary", ".summary.json", "winder.export.summary", always=True),
+    Format("report", ".html", "winder.report.export", default=False, program=True),
+    Format("krl", ".src", "winder.export.robot_programs", default=False, function="krl_src", program=True),
+    Format("krl_dat", ".dat", "winder.export.robot_programs", default=False, function="krl_dat", part_of="krl",
+           program=True),
+    Format("rapid", ".mod", "winder.export.robot_programs", default=False, function="rapid", program=True),
+    Format("urscript", ".script", "winder.export.robot_programs", default=False, function="urscript", program=True),
+    Format("summary", ".summary.json", "winder.export.summary", always=True, program=True),
 )
 SELECTABLE = tuple(f.name for f in FORMATS if not f.always and f.part_of is None)  # the formats a job may leave out
 DEFAULT = tuple(f.name for f in FORMATS if not f.always and f.default)  # written when none is named

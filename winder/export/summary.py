@@ -38,7 +38,8 @@ import numpy as np
 
 from winder.analysis.structure import DECIMALS as STRUCTURE_DECIMALS
 from winder.errors import ExportError, WinderError
-from winder.export.programs import program_of
+from winder.export.dialects.marlin import AXIS_SIGNS
+from winder.machine.program import MotionProgram, build_program
 from winder.machine.limits import AXIS_DECIMALS
 from winder.winding.results import LayerPlan, WindingPlan
 
@@ -153,32 +154,44 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
             "outer_radius_mm": _num(walls[-1].outer_radius_mm, THICKNESS_DECIMALS)}
 
 
-def _winding_times(plan: WindingPlan, machine) -> tuple[float | None, list[float | None], dict | None, str | None]:
+def _winding_times(plan: WindingPlan, machine, program: MotionProgram | Exception | None = None
+                   ) -> tuple[float | None, list[float | None], dict | None, str | None]:
     """(total, per layer) machine time from the dynamics, the axis travel and None; None, None and
-    why where no program can be built."""
-    try:
-        program = program_of(plan, machine)
-    except ExportError as exc:
-        return None, [None] * len(plan.layers), None, str(exc)
+    why where no program can be built. program: the job's program (or its build's error), built
+    here when not given."""
+    if program is None:
+        try:
+            program = build_program(plan, machine)
+        except ExportError as exc:
+            program = exc
+    if isinstance(program, ExportError):
+        return None, [None] * len(plan.layers), None, str(program)
+    if isinstance(program, Exception):
+        raise program
     layers = list(program.layer_times_s)
     return program.times.total_s, layers, _axis_travel(program), None
 
 
 def _axis_travel(program) -> dict[str, list[float]]:
     """Each logical axis's [least, largest] value over the program, as it is written (a shop checks
-    them against its machine's travel; robot poses: position mm and direction components)."""
+    them against its machine's travel; robot poses: position mm and direction components; marlin:
+    A and B in fiberpath's sense, marlin.AXIS_SIGNS)."""
     values = program.values
     if values.shape[0] == 0:
         return {}
+    if not program.robot and program.machine.dialect == "marlin":
+        values = values * np.array(AXIS_SIGNS)
     lows, highs = values.min(axis=0).tolist(), values.max(axis=0).tolist()
     decimals = [DIRECTION_DECIMALS if axis in _DIRECTIONS else AXIS_DECIMALS for axis in program.axes]
     return {axis: [round(lo, k) + 0.0, round(hi, k) + 0.0]  # + 0.0: no -0.0 at a rounded zero
             for axis, lo, hi, k in zip(program.axes, lows, highs, decimals)}
 
 
-def summary_dict(plan: WindingPlan, machine=None, job=None) -> dict[str, Any]:
+def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,
+                 job=None) -> dict[str, Any]:
     """The summary as plain Python data (what summary_text serializes); machine: a MachineConfig
-    for the winding times (left out: no winding_time_s keys); job: its `analysis:` section gives the
+    for the winding times (left out: no winding_time_s keys); program: its motion program (or the
+    error of its build), built here when not given; job: its `analysis:` section gives the
     `analysis` block (winder.analysis.structure)."""
     out = {
         "name": plan.name,
@@ -190,7 +203,7 @@ def summary_dict(plan: WindingPlan, machine=None, job=None) -> dict[str, Any]:
         **_totals(plan),
     }
     if machine is not None:
-        total, layers, travel, why = _winding_times(plan, machine)
+        total, layers, travel, why = _winding_times(plan, machine, program)
         out["winding_time_s"] = _num(total, TIME_DECIMALS)
         out["axis_travel"] = travel
         if why is not None:
@@ -204,15 +217,16 @@ def summary_dict(plan: WindingPlan, machine=None, job=None) -> dict[str, Any]:
     return out
 
 
-def summary_text(plan: WindingPlan, machine=None, job=None) -> str:
+def summary_text(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,
+                 job=None) -> str:
     """The summary JSON text (sorted keys, indent 2, newline-terminated)."""
-    return json.dumps(summary_dict(plan, machine, job), sort_keys=True, indent=2, allow_nan=False) + "\n"
+    return json.dumps(summary_dict(plan, machine, program, job), sort_keys=True, indent=2, allow_nan=False) + "\n"
 
 
-def export(plan: WindingPlan, job) -> str:
+def export(plan: WindingPlan, job, program: MotionProgram | Exception | None = None) -> str:
     """The registry's entry (winder.export.registry). The summary must be JSON (regress and other
     tools read it): anything else is refused here rather than written to a file nobody can read."""
-    text = summary_text(plan, job.machine, job)
+    text = summary_text(plan, job.machine, program, job)
     try:
         json.loads(text)
     except ValueError as exc:

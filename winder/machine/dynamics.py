@@ -38,8 +38,8 @@ _EPS = 1e-12
 class MoveTimes:
     """Timing of the m rows of a program; row i is the move from row i - 1 (row 0: none, 0 s).
 
-    cruise_s : (m,) the move's time at its cruise speed, no acceleration (what a controller is
-        asked for: F of the marlin and linuxcnc dialects). time_s : (m,) with the trapezoidal profile.
+    cruise_s : (m,) the move's time at its cruise speed, no acceleration. time_s : (m,) with the
+        trapezoidal profile (what a controller is asked for: F of the marlin and linuxcnc dialects).
     feed : (m,) fiber feed of the move (mm/min): machine.feed, lower where an axis' top speed
         limits it (robot poses: machine.feed; the robot's controller keeps its own limits).
     """

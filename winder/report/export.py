@@ -10,20 +10,19 @@ from winder.report.html import report_html
 from winder.winding.results import WindingPlan
 
 
-def export(plan: WindingPlan, job, progress: Progress | None = None) -> str:
+def export(plan: WindingPlan, job, progress: Progress | None = None, program=None) -> str:
     """The page of plan, with the summary `<name>.summary.json` holds: job's machine gives the winding
-    times (the program is built once for the G-code and the summary, winder.export.programs)."""
+    times (program: the job's motion program, built once by winder.app.jobs, or its build's error)."""
     structure = None
     if getattr(job, "analysis", None) is not None:  # the structure section (issue 32)
         from winder.analysis.structure import analyze  # noqa: PLC0415
 
         structure = analyze(plan, job)
     cell = None
-    if job.machine is not None and job.machine.cell is not None:  # a robot cell: its view too
-        from winder.export.programs import program_of  # noqa: PLC0415
+    if program is not None and not isinstance(program, Exception) and program.cell is not None:  # its view too
         from winder.report.cell_view import cell_figure  # noqa: PLC0415
 
-        program = program_of(plan, job.machine)
         guide = plan.surface.curve.evaluate(np.linspace(0.0, plan.surface.axial_length, 200)).x
-        cell = cell_figure(program.cell, guide) if program.cell is not None else None
-    return report_html(plan, summary_dict(plan, job.machine, job), progress=progress, structure=structure, cell=cell)
+        cell = cell_figure(program.cell, guide)
+    return report_html(plan, summary_dict(plan, job.machine, program, job), progress=progress, structure=structure,
+                       cell=cell)

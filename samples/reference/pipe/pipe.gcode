@@ -3,8 +3,10 @@
 ; source: pipe.yaml
 ; machine: straight-axis winder; X carriage (mm), A mandrel rotation (deg, cumulative), Z cross-feed: eye distance from the axis (mm), B eye yaw (deg)
 ; kinematics: eye at mandrel-frame (Z cos(-A), Z sin(-A), X), on the tangent line of the fiber path at its contact point
-; yaw: B = eye rotation about the cross-feed axis from the hoop orientation: the free fiber's direction d at the eye, B = atan2(d.z, d.u) with u the eye's tangential direction (0 hoop, + forward, - return); on a cylinder of radius R with the eye at Z: tan(B) = Z / (R tan(alpha)), alpha the winding angle on the mandrel
-; F: the fiber's feed along its path on the mandrel (machine.feed), not the axes' speed; for a controller that reads F as the axes' speed (G94) use the linuxcnc dialect (inverse time, from the machine dynamics)
+; yaw: B = eye rotation about the cross-feed axis from the hoop orientation: the free fiber's direction d at the eye, B = atan2(d.z, d.u), u the eye's tangential direction
+; yaw: 0 hoop, + forward, - return; on a cylinder of radius R with the eye at Z: tan(B) = Z / (R tan(alpha)), alpha the winding angle on the mandrel
+; F: the fiber's feed along its path on the mandrel (machine.feed), not the axes' speed
+; F: for a controller that reads F as the axes' speed (G94) use the linuxcnc dialect (inverse time, from the machine dynamics)
 ; eye envelope: clearance 20.000 mm from the mandrel
 ; feed 3000.000 mm/min, chord tolerance 0.050 mm
 ; layers: 2, fiber 62833.145 mm

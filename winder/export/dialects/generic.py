@@ -34,11 +34,15 @@ class GenericGcode(BaseDialect):
                 f"; kinematics: eye at mandrel-frame ({ax.cross_feed} cos(-{ax.rotation}), "
                 f"{ax.cross_feed} sin(-{ax.rotation}), {ax.carriage}), on the tangent line of the "
                 "fiber path at its contact point",
-                f"; yaw: {ax.yaw} = eye rotation about the cross-feed axis from the hoop orientation: "
-                f"the free fiber's direction d at the eye, {ax.yaw} = atan2(d.z, d.u) with u the eye's "
-                f"tangential direction (0 hoop, + forward, - return); on a cylinder of radius R with the "
-                f"eye at {ax.cross_feed}: tan({ax.yaw}) = {ax.cross_feed} / (R tan(alpha)), alpha the "
-                f"winding angle on the mandrel",
-                "; F: the fiber's feed along its path on the mandrel (machine.feed), not the axes' speed; "
-                "for a controller that reads F as the axes' speed (G94) use the linuxcnc dialect (inverse "
+                f"; yaw: {ax.yaw} = eye rotation about the cross-feed axis from the hoop orientation: the "
+                f"free fiber's direction d at the eye, {ax.yaw} = atan2(d.z, d.u), u the eye's tangential direction",
+                f"; yaw: 0 hoop, + forward, - return; on a cylinder of radius R with the eye at {ax.cross_feed}: "
+                f"tan({ax.yaw}) = {ax.cross_feed} / (R tan(alpha)), alpha the winding angle on the mandrel",
+                "; F: the fiber's feed along its path on the mandrel (machine.feed), not the axes' speed",
+                "; F: for a controller that reads F as the axes' speed (G94) use the linuxcnc dialect (inverse "
                 "time, from the machine dynamics)"]
+
+
+def make(program: MotionProgram, band_width: float = 0.0) -> GenericGcode:
+    """The dialect registry's entry (winder.config.dialects)."""
+    return GenericGcode()

@@ -4,9 +4,10 @@ inverse-time feed mode.
 Preamble `%`, `G21 G90 G94 G17 G40 G49 G80 G54` (mm, absolute, per-minute feed, XY plane, no
 compensation, no canned cycle, work offset 1), `G64 P<chord_tolerance>` (blend the short moves
 within the tolerance instead of stopping at each). The first move, to the program's start, is a
-rapid `G0`; then `G93`: every `G1` carries F = 60 / t, t the move's cruise time (s) from
-machine.dynamics, so the controller runs each move in its planned time whatever mix of linear and
-rotary axes it has (at G94 a rotary-heavy move would run at the wrong surface speed). The end:
+rapid `G0`; then `G93`: every `G1` carries F = 60 / t, t the move's planned time (s) from
+machine.dynamics (axis speeds and accelerations: the trapezoidal profile), so the controller runs
+each move in its planned time whatever mix of linear and rotary axes it has (at G94 a rotary-heavy
+move would run at the wrong surface speed), and the moves' times add up to winding_time_s. The end:
 `G94`, `M2`, `%`. The rotary axis must not be configured as wrapped (A is cumulative).
 """
 
@@ -24,7 +25,7 @@ class LinuxcncGcode(GenericGcode):
 
     def describe(self, program: MotionProgram) -> list[str]:
         return super().describe(program) + [
-            "; feed: G93 inverse time, F = 60 / (the move's time in s), from the machine dynamics"]
+            "; feed: G93 inverse time, F = 60 / (the move's time in s), from the machine dynamics (acceleration included)"]
 
     def first_lines(self, program: MotionProgram) -> list[str]:
         return ["%"]
@@ -37,7 +38,13 @@ class LinuxcncGcode(GenericGcode):
 
     def move_lines(self, program: MotionProgram, row: int, words: str,
                    prev: tuple[float, ...] | None, cur: tuple[float, ...]) -> list[str]:
+        seconds = self.elapsed(program, row)
         if prev is None:
             return [f"G0 {words}", "G93"]
-        inverse = 60.0 / max(float(program.times.cruise_s[row]), MIN_MOVE_S)
+        inverse = 60.0 / max(seconds, MIN_MOVE_S)
         return [f"G1 {words} F{fmt_significant(inverse)}"]
+
+
+def make(program: MotionProgram, band_width: float = 0.0) -> LinuxcncGcode:
+    """The dialect registry's entry (winder.config.dialects)."""
+    return LinuxcncGcode()

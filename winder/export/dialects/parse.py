@@ -133,11 +133,39 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
             raise ConfigError(f"{source}: a marlin program without its '{marlin.FIXED_EYE}' comment")
         table = np.column_stack([table[:, 0], -table[:, 1], np.full(len(table), fixed_z), -table[:, 2]])
     lines = np.array(numbers, dtype=int)
+    keys_arr, kinds_t, feeds_arr = np.array(keys, dtype=int).reshape(-1, 3), tuple(kinds), np.array(feeds, dtype=float)
+    if dialect == "marlin":  # a move cut at full turns of A is one programmed move: its pieces joined
+        keep = ~marlin_cuts(np.array(rows, dtype=float).reshape(-1, 3), keys_arr)
+        table, lines, keys_arr, feeds_arr = table[keep], lines[keep], keys_arr[keep], feeds_arr[keep]
+        kinds_t = tuple(k for k, ok in zip(kinds_t, keep.tolist()) if ok)
     if dialect != "robot":
         _check_limits(table, lines, machine, letters if dialect != "marlin" else (ax.carriage, ax.rotation,
                                                                                   ax.cross_feed, ax.yaw), source)
-    return ParsedProgram(dialect, table, np.array(keys, dtype=int).reshape(-1, 3), tuple(kinds),
-                         np.array(feeds, dtype=float), lines, job)
+    return ParsedProgram(dialect, table, keys_arr, kinds_t, feeds_arr, lines, job)
+
+
+def marlin_cuts(written: np.ndarray, keys: np.ndarray) -> np.ndarray:
+    """(m,) bool: the rows of a marlin program (X A B as written) where marlin.turn_cuts cut a move:
+    A one written unit short of a full turn, on the straight move between the rows either side (X
+    and B within the written rounding), in the same pass."""
+    m = written.shape[0]
+    out = np.zeros(m, dtype=bool)
+    if m < 3:
+        return out
+    unit = 10.0**-marlin.DECIMALS
+    a = written[:, 1]
+    near = np.minimum(np.abs(np.mod(a + unit + 180.0, 360.0) - 180.0), np.abs(np.mod(a - unit + 180.0, 360.0) - 180.0))
+    mid = np.flatnonzero(near[1:-1] < 0.1 * unit) + 1
+    if mid.size == 0:
+        return out
+    prev, cur, nxt = written[mid - 1], written[mid], written[mid + 1]
+    span = nxt[:, 1] - prev[:, 1]
+    f = np.where(span != 0.0, (cur[:, 1] - prev[:, 1]) / np.where(span != 0.0, span, 1.0), -1.0)
+    on = ((f > 0.0) & (f < 1.0) & np.all(np.abs(prev[:, [0, 2]] + f[:, None] * (nxt[:, [0, 2]] - prev[:, [0, 2]])
+                                              - cur[:, [0, 2]]) <= unit, axis=1)
+          & np.all(keys[mid] == keys[mid + 1], axis=1))
+    out[mid[on]] = True
+    return out
 
 
 def _fixed_eye(line: str, number: int, source: str) -> float:

@@ -34,3 +34,8 @@ class RobotPoses(BaseDialect):
         return ["; machine: robot; eye poses in the mandrel frame",
                 "; POSE X Y Z: eye position (mm); I J K: unit fiber direction from the eye to its "
                 "contact point; F feed (mm/min)"]
+
+
+def make(program: MotionProgram, band_width: float = 0.0) -> RobotPoses:
+    """The dialect registry's entry (winder.config.dialects)."""
+    return RobotPoses()

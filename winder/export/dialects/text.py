@@ -23,6 +23,8 @@ JOB_LINE = "; job:"  # the header line naming the job (simulate reads it back)
 DECIMALS = AXIS_DECIMALS  # mm and deg: the limits hold for the values as written
 PREAMBLE = ("G21", "G90", "G94")
 END = "M2"
+MAX_LINE = 255  # characters (bytes as UTF-8) of a program line: LinuxCNC's limit, comments included
+ELLIPSIS = "..."
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
 
 
@@ -95,6 +97,19 @@ class BaseDialect:
         return [f"{self.prefix} {words} F{cached[1][row]}"]
 
 
+    def elapsed(self, program: MotionProgram, row: int) -> float:
+        """The planned time (s, machine.dynamics, acceleration included) from the last row this
+        dialect wrote to `row`: the rows a dialect leaves out (the same words) are part of the move
+        that follows, so the written moves' times add up to the program's (winding_time_s)."""
+        clock = getattr(self, "_clock", None)
+        if clock is None or clock[0] is not program:
+            clock = [program, np.cumsum(program.times.time_s), 0]
+            self._clock = clock
+        seconds = float(clock[1][row] - clock[1][clock[2]]) if row > clock[2] else 0.0
+        clock[2] = row
+        return seconds
+
+
 def _refuse_zero_feed(program: MotionProgram, feeds: list[str]) -> None:
     """A feed the axes' top speeds hold below what DECIMALS decimals write reads F0.000, at which no
     controller moves (simulate refuses it): ExportError naming the move's pass."""
@@ -136,8 +151,40 @@ def fmt_column(values: np.ndarray, decimals: int = DECIMALS) -> list[str]:
 
 
 def clean(text: str) -> str:
-    """A comment's text on one line."""
-    return " ".join(str(text).split())
+    """A comment's text on one line, printable characters only."""
+    return " ".join("".join(c if c.isprintable() else " " for c in str(text)).split())
+
+
+def shortened(text: str, room: int, keep_end: bool = False) -> str:
+    """text within `room` bytes as UTF-8: whole if it fits, else its start (or, keep_end, its end:
+    a path's file name) with ELLIPSIS where it was cut."""
+    if len(text.encode("utf-8")) <= room:
+        return text
+    budget = room - len(ELLIPSIS)
+    part = text[::-1] if keep_end else text
+    out, used = [], 0
+    for c in part:
+        used += len(c.encode("utf-8"))
+        if used > budget:
+            break
+        out.append(c)
+    kept = "".join(out)
+    return ELLIPSIS + kept[::-1] if keep_end else kept + ELLIPSIS
+
+
+def wrapped(line: str) -> list[str]:
+    """A comment line as lines of at most MAX_LINE bytes (split between words, `; ` continuing)."""
+    if len(line.encode("utf-8")) <= MAX_LINE:
+        return [line]
+    import textwrap  # noqa: PLC0415 - only for a comment past the limit
+
+    text = line.lstrip(";").strip()
+    width = MAX_LINE - 2
+    while True:  # characters: narrower until every piece fits in bytes (multi-byte characters)
+        pieces = textwrap.wrap(text, width)
+        if all(len(p.encode("utf-8")) <= MAX_LINE - 2 for p in pieces):
+            return ["; " + p for p in pieces]
+        width -= 8
 
 
 def layer_line(layer: LayerPlan) -> str:
@@ -147,9 +194,10 @@ def layer_line(layer: LayerPlan) -> str:
 
 
 def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
-    lines = ["; winder filament-winding program", f"{JOB_LINE} {clean(program.name)}",
-             f"; source: {clean(program.source)}"]
-    lines += dialect.describe(program)
+    room = MAX_LINE - len(JOB_LINE) - 1
+    lines = ["; winder filament-winding program", f"{JOB_LINE} {shortened(clean(program.name), room)}",
+             f"; source: {shortened(clean(program.source), MAX_LINE - len('; source: '), keep_end=True)}"]
+    lines += [part for line in dialect.describe(program) for part in wrapped(line)]
     if program.envelope_radius is not None:
         lines.append(f"; eye envelope: radius {fmt(program.envelope_radius)} mm around the axis")
     else:
@@ -157,7 +205,7 @@ def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
     machine = program.machine
     lines.append(f"; feed {fmt(machine.feed)} mm/min, chord tolerance {fmt(machine.chord_tolerance)} mm")
     lines.append(f"; layers: {len(program.layers)}, fiber {fmt(program.total_fiber_length_mm)} mm")
-    lines += [f"; {layer_line(layer)}" for layer in program.layers]
+    lines += [part for layer in program.layers for part in wrapped(f"; {layer_line(layer)}")]
     return lines
 
 
@@ -179,7 +227,7 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
     last_words: str | None = None
     last: tuple[float, ...] | None = None
     for layer, segments in zip(program.layers, program.segments):
-        lines.append(f"; {layer_line(layer)}")
+        lines += wrapped(f"; {layer_line(layer)}")
         circuit = None
         for seg in segments:
             if seg.circuit != circuit:
@@ -204,4 +252,13 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
                     u = float(program.index[row])
                     found.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(round(u)), cur, u))
     lines += dialect.end(program)
+    _refuse_long(lines)
     return lines, found
+
+
+def _refuse_long(lines: list[str]) -> None:
+    """ExportError for a line past MAX_LINE (a move's words: a value past any machine's travel)."""
+    for number, line in enumerate(lines, 1):
+        if len(line) > MAX_LINE // 4 and len(line.encode("utf-8")) > MAX_LINE:  # 4 bytes a character at most
+            raise ExportError(f"line {number} of the program would have {len(line.encode('utf-8'))} characters, "
+                              f"past a controller's {MAX_LINE}: {line[:60]!r}")

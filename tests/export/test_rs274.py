@@ -1,0 +1,107 @@
+"""LinuxCNC's own interpreter reads every program winder writes: `rs274 -g` (Debian package
+linuxcnc-uspace) on the generic, linuxcnc and marlin programs of every sample and config, its
+canonical moves compared with winder's motion program: one STRAIGHT_FEED per programmed move, each
+ending where the program's row is, and (G93) each taking the row's planned time, so that the
+program's time is the summary's winding_time_s."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from every_job import EVERY, IDS, program_of, text_of
+from winder.machine.limits import AXIS_DECIMALS
+
+RS274 = shutil.which("rs274")
+pytestmark = pytest.mark.skipif(RS274 is None, reason="rs274 not installed (Debian package linuxcnc-uspace)")
+
+POSITION_TOL = 0.6 * 10.0**-AXIS_DECIMALS  # mm, deg: a value as written (3 decimals) against the program's
+TIME_TOL = 2e-3  # relative: a move's time from rs274's feed (4 decimals) against the planned one
+TOTAL_TOL = 1e-4  # relative: the program's time against winding_time_s
+CANON = "XYZABC"  # the order of STRAIGHT_FEED's first six numbers
+_FEED = re.compile(r"STRAIGHT_FEED\(([^)]*)\)")
+_RATE = re.compile(r"SET_FEED_RATE\(([^)]*)\)")
+
+
+def canonical(path, text: str) -> tuple[np.ndarray, np.ndarray]:
+    """rs274 -g of `text`: each STRAIGHT_FEED's end (n, 6) and the feed rate it runs at (n,)."""
+    path.write_text(text)
+    result = subprocess.run([RS274, "-g", str(path)], input="", capture_output=True, text=True, timeout=120,
+                            check=False)
+    assert result.returncode == 0, (result.stdout[-400:], result.stderr[-400:])
+    ends, rates, rate = [], [], np.nan
+    for line in result.stdout.splitlines():
+        found = _RATE.search(line)
+        if found:
+            rate = float(found.group(1))
+            continue
+        found = _FEED.search(line)
+        if found:
+            ends.append([float(v) for v in found.group(1).split(",")[:6]])
+            rates.append(rate)
+    return np.array(ends).reshape(-1, 6), np.array(rates)
+
+
+def written_rows(values: np.ndarray) -> np.ndarray:
+    """The program's rows a dialect writes: a row whose rounded values repeat the last is left out."""
+    shown = np.round(values, AXIS_DECIMALS)
+    return np.flatnonzero(np.concatenate([[True], np.any(shown[1:] != shown[:-1], axis=1)]))
+
+
+def straight_length(delta: np.ndarray) -> np.ndarray:
+    """LinuxCNC's length of a move (what an inverse-time or per-minute feed is over): the linear
+    axes' distance when one moves, else the rotary axes'."""
+    linear = np.linalg.norm(delta[:, :3], axis=1)
+    return np.where(linear > 0.0, linear, np.linalg.norm(delta[:, 3:], axis=1))
+
+
+@pytest.mark.parametrize("dialect", ["generic", "linuxcnc", "marlin"])
+@pytest.mark.parametrize("path", EVERY, ids=IDS)
+def test_rs274_reads_the_program(path, dialect, tmp_path):
+    text = text_of(path, dialect)
+    if text is None:
+        pytest.skip(f"{path.name}: no {dialect} program (robot poses, or marlin without a fixed eye)")
+    program = program_of(path)
+    if dialect == "marlin":  # Marlin needs no program end (fiberpath writes none); rs274 refuses a file without
+        text += "M2\n"
+    ends, rates = canonical(tmp_path / f"{path.stem}.ngc", text)
+    ax = program.machine.axes
+    if dialect == "marlin":  # X A B: A and B negated (fiberpath's conventions), no cross-feed
+        columns, signs = [CANON.index(c) for c in "XAB"], np.array([1.0, -1.0, -1.0])
+        values = program.values[:, [0, 1, 3]] * signs
+    else:
+        columns = [CANON.index(c) for c in (ax.carriage, ax.rotation, ax.cross_feed, ax.yaw)]
+        values = program.values
+    rows = written_rows(values)
+    kept = np.ones(ends.shape[0], dtype=bool)
+    if dialect == "marlin":  # a move cut at each full turn of A (one written unit short): its pieces are one move
+        a = ends[:, CANON.index("A")]
+        unit = 10.0**-AXIS_DECIMALS
+        cut = np.minimum(np.abs(np.mod(a + unit + 180.0, 360.0) - 180.0), np.abs(np.mod(a - unit + 180.0, 360.0) - 180.0))
+        kept = cut > 0.1 * unit
+    first = 1 if dialect == "linuxcnc" else 0  # linuxcnc: a rapid G0 to the start, then the feeds
+    assert np.count_nonzero(kept) == rows.size - first
+    assert np.abs(ends[kept][:, columns] - values[rows[first:]]).max() < POSITION_TOL
+    assert np.abs(ends[-1, columns] - values[-1]).max() < POSITION_TOL
+    if dialect == "generic":  # F the fiber feed, as the program has it
+        assert np.abs(rates - program.feed[rows]).max() < 1e-3
+        return
+    # The time rs274 gives each move (its length over its feed) against the planned time.
+    starts = np.vstack([np.zeros((1, 6)), ends[:-1]]) if dialect == "marlin" else None
+    if dialect == "linuxcnc":
+        start = np.zeros(6)
+        start[columns] = np.round(values[rows[0]], AXIS_DECIMALS)
+        starts = np.vstack([start, ends[:-1]])
+    seconds = 60.0 * straight_length(ends - starts) / rates
+    seconds = np.diff(np.concatenate([[0.0], np.cumsum(seconds)[kept]]))  # a cut move's pieces together
+    clock = np.cumsum(program.times.time_s)
+    planned = np.diff(clock[rows])
+    planned = planned if dialect == "linuxcnc" else np.concatenate([[np.nan], planned])
+    check = slice(1, None) if dialect == "marlin" else slice(None)  # marlin's first move: at machine.feed
+    close = np.abs(seconds[check] - planned[check]) <= TIME_TOL * planned[check] + 1e-4
+    assert close.all(), (np.flatnonzero(~close)[:5], seconds[check][~close][:5], planned[check][~close][:5])
+    assert np.sum(seconds[check]) == pytest.approx(program.times.total_s, rel=TOTAL_TOL, abs=1e-3)
