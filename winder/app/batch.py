@@ -11,13 +11,24 @@ from winder.errors import ConfigError
 
 
 def name_clash(path: str, name: str, owner: dict[str, str], where: str) -> ConfigError | None:
-    """The error of a batch's second job of this name (owner: the names so far, casefolded, each to
-    its config; a new name is added): both would write the same files into where."""
-    key = name.casefold()  # Pipe and pipe clash on some disks
-    if key in owner:
-        return ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
-                           f"both would write {name}.* into {where}")
-    owner[key] = path
+    """The error of a batch's job whose files would clash with an earlier job's (owner: every file
+    name the jobs so far may write, casefolded, each to its config and job name; this job's are added).
+
+    Every format's file counts, whichever are asked for: `check` does not know the formats, and what
+    it accepts `run` must not refuse. So `q` and `q.layup` clash (both may write q.layup.csv), and
+    so do Pipe and pipe (one file on some disks)."""
+    from winder.export import registry  # noqa: PLC0415
+
+    files = {(name + suffix).casefold(): name + suffix for suffix in registry.suffixes()}
+    for key, file_name in files.items():
+        if key in owner:
+            other, other_name = owner[key].rsplit("\0", 1)
+            if other_name.casefold() == name.casefold():
+                return ConfigError(f"{path}: name: {name!r} is also the name of {other} in this batch; "
+                                   f"both would write {name}.* into {where}")
+            return ConfigError(f"{path}: name: {name!r} and the name {other_name!r} of {other} in this batch "
+                               f"would both write {file_name} into {where}; rename one, got {name!r}")
+    owner.update((key, f"{path}\0{name}") for key in files)
     return None
 
 
