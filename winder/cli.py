@@ -173,7 +173,9 @@ def check_cmd(configs: tuple[str, ...]) -> None:
         except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
             codes.append(_error(exc, path))
         else:
-            _echo(f"ok: {path} ({job.name})")
+            from winder.export.paths import shown  # noqa: PLC0415
+
+            _echo(f"ok: {shown(path)} ({job.name})")
     status = exit_status(codes)  # as `run` would exit: 2 if any is invalid, 1 if one cannot be wound
     if status:
         sys.exit(status)
@@ -244,7 +246,9 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
     from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
                                  run_job, run_jobs, workers_for)
     from winder.config.job import load_config  # noqa: PLC0415
+    from winder.export.paths import check_path  # noqa: PLC0415
 
+    check_path(out_dir, "-o", output=True)  # a name past 255 bytes, a loop of links: refused before any job
     reports: list[JobReport | None] = [None] * len(configs)
     tasks: list[JobTask] = []
     index: list[int] = []

@@ -109,3 +109,62 @@ def test_links_in_the_folder_are_not_followed_out_of_it(tmp_path: Path, kind: st
     assert ("a loop of links" if kind == "loop" else "a link to a file that does not exist") in report.message
     assert sorted(p.name for p in out.iterdir()) == before  # nothing written, the links left alone
     assert not outside.exists() or list(outside.iterdir()) == []
+
+
+# -- paths: one clear line, exit 2, before any work -------------------------------------------------
+LONG = "a" * 300
+
+
+def _invoke(args: list[str]):
+    from click.testing import CliRunner  # noqa: PLC0415
+
+    from winder.cli import main  # noqa: PLC0415
+
+    result = CliRunner().invoke(main, args)
+    assert result.exception is None or isinstance(result.exception, SystemExit), result.exception
+    assert "Traceback" not in result.stderr and "internal error" not in result.stderr, result.stderr
+    errors = [line for line in result.stderr.splitlines() if line.startswith("Error:")]
+    return result.exit_code, errors
+
+
+@pytest.mark.parametrize("command", ["run", "geodesic", "simulate", "regress"])
+def test_a_path_component_past_255_bytes_is_refused_up_front(tmp_path: Path, command: str) -> None:
+    pipe = str(ROOT / "samples" / "pipe.yaml")
+    target = str(tmp_path / LONG)
+    args = {"run": ["run", pipe, "-o", target],
+            "geodesic": ["geodesic", pipe, "--start", "10,0", "--end", "400,90", "-o", target + ".csv"],
+            "simulate": ["simulate", pipe, str(tmp_path / "p.gcode"), "-o", target + ".csv"],
+            "regress": ["regress", target]}[command]
+    code, errors = _invoke(args)
+    assert code == 2 and len(errors) == 1, errors
+    assert "a name in the path is 30" in errors[0] and "more than the 255 a file name may have" in errors[0]
+
+
+@pytest.mark.parametrize("command", ["run", "geodesic", "geodesic_below"])
+def test_a_loop_of_links_where_an_output_goes_is_refused(tmp_path: Path, command: str) -> None:
+    (tmp_path / "l1").symlink_to(tmp_path / "l2")
+    (tmp_path / "l2").symlink_to(tmp_path / "l1")
+    pipe = str(ROOT / "samples" / "pipe.yaml")
+    geodesic = ["geodesic", pipe, "--start", "10,0", "--end", "400,90", "-o"]
+    args = {"run": ["run", pipe, "-o", str(tmp_path / "l1")], "geodesic": [*geodesic, str(tmp_path / "l1")],
+            "geodesic_below": [*geodesic, str(tmp_path / "l1" / "x.csv")]}[command]
+    code, errors = _invoke(args)
+    assert code == 2 and len(errors) == 1 and "-o: a loop of links in the path" in errors[0], errors
+
+
+def test_a_dangling_link_as_the_output_file_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "g.csv").symlink_to(tmp_path / "elsewhere" / "g.csv")
+    code, errors = _invoke(["geodesic", str(ROOT / "samples" / "pipe.yaml"), "--start", "10,0", "--end", "400,90",
+                            "-o", str(tmp_path / "g.csv")])
+    assert code == 2 and len(errors) == 1 and "a link to a file that does not exist" in errors[0], errors
+    assert not (tmp_path / "elsewhere").exists()
+
+
+@pytest.mark.parametrize("command", ["check", "run"])
+def test_a_config_path_holding_a_newline_stays_on_one_error_line(tmp_path: Path, command: str) -> None:
+    config = tmp_path / "a\nb.yaml"
+    config.write_text(TINY.format(name="nl", angle=45).replace("band_width: 10", "band_width: -1"))
+    args = [command, str(config)] + (["-o", str(tmp_path / "out")] if command == "run" else [])
+    code, errors = _invoke(args)
+    assert code == 2 and len(errors) == 1, errors
+    assert errors[0].startswith(f"Error: {tmp_path}/a\\nb.yaml: winding.band_width: must be > 0"), errors

@@ -44,7 +44,9 @@ def refuse_format_among_configs(configs: Sequence[str]) -> None:
 def summary_lines(reports: Sequence[JobReport], out_dir: str) -> list[str]:
     """The batch's table (a row per job: config, name, status, layers, fiber, seconds) and its tally."""
     rows = [("config", "name", "status", "layers", "fiber (mm)", "seconds")]
-    rows += [(r.config, r.name or "-", r.status, str(r.layers) if r.layers else "-",
+    from winder.export.paths import shown  # noqa: PLC0415
+
+    rows += [(shown(r.config), shown(r.name or "-"), r.status, str(r.layers) if r.layers else "-",
               "-" if r.fiber_length_mm is None else f"{r.fiber_length_mm:.3f}", f"{r.seconds:.2f}")
              for r in reports]
     widths = [max(len(row[j]) for row in rows) for j in range(len(rows[0]))]

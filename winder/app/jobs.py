@@ -77,6 +77,11 @@ def error_message(exc: BaseException, source: str | None = None) -> str:
         text = str(exc).strip() or type(exc).__name__
     else:
         text = f"internal error ({type(exc).__name__}: {exc}); please report it"
+    if source:  # a path holding a newline stays on the line, escaped (the same file everywhere)
+        from winder.export.paths import shown  # noqa: PLC0415
+
+        text = text.replace(source, shown(source)) if source in text else text
+        source = shown(source)
     text = " ".join(text.splitlines())  # one line per problem
     if source and not text.startswith(f"{source}:"):
         text = f"{source}: {text}"

@@ -84,6 +84,9 @@ class SampleResult:
 # -- samples ---------------------------------------------------------------------------------------
 def find_samples(directory: str | Path) -> list[Sample]:
     """The samples of DIR (its *.yaml / *.yml files), sorted by name."""
+    from winder.export.paths import check_path  # noqa: PLC0415
+
+    check_path(directory, "DIRECTORY")
     root = Path(directory)
     if not root.exists():
         raise ConfigError(f"{directory}: no such folder")

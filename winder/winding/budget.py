@@ -216,6 +216,10 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
     w = job.winding
     prof = surface.profile
     t_a, t_b = prof.equator_t if isinstance(prof, VesselMeridian) else _region(surface, w)
+    if isinstance(prof, VesselMeridian) and not t_b > t_a:  # hoops are laid on the cylinder alone
+        raise _refuse(job.source, "mandrel.profile.cylinder_length",
+                      f"hoop layer {key} is laid on the vessel's cylinder: it must be longer than 0 mm, "
+                      f"got {prof.cylinder_length:g}")
     perimeter = _largest_perimeter(surface, t_a, t_b)
     if cfg.passes > MAX_PASSES:
         raise _refuse(job.source, f"{key}.passes", f"must be <= {MAX_PASSES}, got {cfg.passes}")
