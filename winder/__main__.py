@@ -7,10 +7,32 @@ runs, it handles both itself (winder.app.interrupts).
 
 from __future__ import annotations
 
-import gc
 import os
 import signal
-import sys
+
+
+def _starting(signum: int, frame) -> None:
+    # Idempotent: the other stop signal (TERM then INT, 0-80 ms apart) is blocked before anything is
+    # written, so one Error line and the first signal's status, whatever comes next.
+    signal.pthread_sigmask(signal.SIG_BLOCK, (signal.SIGINT, signal.SIGTERM))
+    os.write(2, f"Error: interrupted by {signal.Signals(signum).name} while starting\n".encode())
+    os._exit(128 + signum)
+
+
+# Installed as this module is imported, before anything else is (the `winder` entry script imports
+# it, then calls main): the earliest moment winder's own code runs. Before it, the interpreter is
+# still starting (its site import, ~20-100 ms on a busy machine): a TERM there ends the process by
+# the signal, an INT is the interpreter's own "Fatal Python error: init_import_site", which no code
+# of winder can catch.
+# (Only when this module is the program: `python -m winder`, or a script named winder; a library or a
+# test importing it keeps its own handlers.)
+import sys  # noqa: E402 - already loaded by the interpreter: no time
+
+if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").startswith("winder"):
+    for _sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(_sig, _starting)
+
+import gc  # noqa: E402
 
 GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes (Python's default: 700)
 # winder's linear algebra is banded solves and small products, which BLAS does not split over threads;
@@ -19,13 +41,8 @@ GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes 
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
 
 
-def _starting(signum: int, frame) -> None:
-    os.write(2, f"Error: interrupted by {signal.Signals(signum).name} while starting\n".encode())
-    os._exit(128 + signum)
-
-
 def main() -> None:
-    for sig in (signal.SIGINT, signal.SIGTERM):
+    for sig in (signal.SIGINT, signal.SIGTERM):  # again: main() may be called without the import above
         signal.signal(sig, _starting)
     for name in BLAS_THREAD_VARIABLES:  # before numpy loads (the commands import it), and for the workers
         os.environ.setdefault(name, "1")

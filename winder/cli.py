@@ -77,6 +77,10 @@ class WinderGroup(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:  # a caller handling click's exceptions itself
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        if sys.stdout is None:  # started with standard output closed (`>&-`): click would print nothing, exit 0
+            _echo("Error: standard output is closed (>&-): winder reports there; redirect it to a file or "
+                  "/dev/null instead", err=True)
+            sys.exit(2)
         try:  # the outer one: standard output on a full disk past _guard (click's --help, the bare help)
             try:
                 with warnings.catch_warnings(), interrupts_raise():
@@ -89,6 +93,9 @@ class WinderGroup(click.Group):
                 _echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
                 sys.exit(exc.exit_code)
             except Interrupted as exc:
+                from winder.app.interrupts import block_stop_signals  # noqa: PLC0415
+
+                block_stop_signals()  # the process ends here: a second signal must not end it first
                 _echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
                 sys.exit(exc.exit_code)
             except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread

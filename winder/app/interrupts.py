@@ -55,7 +55,7 @@ def time_limit(seconds: float | None) -> Iterator[None]:
             left = old_delay - (time.monotonic() - started)
             signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
 
-__all__ = ["STOP_SIGNALS", "TimeUp", "in_worker", "interrupts_raise", "stop_workers", "time_limit", "worker_init"]
+__all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "in_worker", "interrupts_raise", "stop_workers", "time_limit", "worker_init"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 WORKER_GRACE_S = 1.0  # a worker stopped by TERM rolls back its job's files within this, or is killed
@@ -73,6 +73,16 @@ def _raise_interrupted(signum: int, frame) -> None:
     raise Interrupted(signum)
 
 
+def block_stop_signals() -> None:
+    """Block TERM and INT for the rest of this process (it is ending on an interrupt): a second signal
+    stays pending and dies with the process, even in the interpreter's last moments, when Python puts
+    the default handlers back and a handler could no longer run."""
+    try:
+        signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+    except (AttributeError, OSError, ValueError):  # not POSIX
+        pass
+
+
 @contextmanager
 def interrupts_raise() -> Iterator[None]:
     """TERM and INT raise Interrupted in this (main) thread while inside, so that a job's writes are
@@ -85,8 +95,9 @@ def interrupts_raise() -> Iterator[None]:
     try:
         yield
     finally:
-        for sig, handler in old.items():
-            signal.signal(sig, handler)
+        if signal.getsignal(signal.SIGINT) is not _ignore:  # after an interrupt a second one is still nothing
+            for sig, handler in old.items():
+                signal.signal(sig, handler)
 
 
 _IN_JOB = False  # in a worker process: inside a job (an interrupt must roll its files back)

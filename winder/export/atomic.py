@@ -76,6 +76,8 @@ def _write_stream(path: Path, payload: bytes) -> None:
         os.set_blocking(fd, True)
         with os.fdopen(fd, "wb") as fh:
             fh.write(payload)
+    except BrokenPipeError:  # `-o /dev/stdout | head`: the reader has what it wanted; the caller ends quietly
+        raise
     except OSError as exc:
         raise ExportError(f"{path}: cannot write: {exc.strerror or exc}") from exc
 
