@@ -15,6 +15,8 @@ def _starting(signum: int, frame) -> None:
     # Idempotent: the other stop signal (TERM then INT, 0-80 ms apart) is blocked before anything is
     # written, so one Error line and the first signal's status, whatever comes next.
     signal.pthread_sigmask(signal.SIG_BLOCK, (signal.SIGINT, signal.SIGTERM))
+    irq = sys.modules.get("winder.app.interrupts")
+    signum = irq.first_arrived(signum) if irq is not None else signum  # TERM then INT: TERM's status
     os.write(2, f"Error: interrupted by {signal.Signals(signum).name} while starting\n".encode())
     os._exit(128 + signum)
 
@@ -33,6 +35,11 @@ if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").s
         signal.signal(_sig, _starting)
 
 import gc  # noqa: E402
+
+if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").startswith("winder"):
+    from winder.app.interrupts import watch_arrival_order  # noqa: E402 - after the handlers
+
+    watch_arrival_order()
 
 GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes (Python's default: 700)
 # winder's linear algebra is banded solves and small products, which BLAS does not split over threads;
@@ -53,6 +60,10 @@ def main() -> None:
     # before the process frees it. Measured on a small job: 5 % of its instructions, and 30-40 ms of
     # wall time at its exit.
     gc.set_threshold(GC_YOUNG_THRESHOLD)
+    if sys.stdout is None:  # started with standard output closed (`>&-`): click would print nothing, exit 0
+        os.write(2, b"Error: standard output is closed (>&-): winder reports there; redirect it to a file or "
+                    b"/dev/null instead\n")
+        sys.exit(2)
     from winder.cli import main as cli  # noqa: PLC0415 - after the handlers: the import takes a while
 
     try:

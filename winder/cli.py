@@ -77,10 +77,6 @@ class WinderGroup(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:  # a caller handling click's exceptions itself
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
-        if sys.stdout is None:  # started with standard output closed (`>&-`): click would print nothing, exit 0
-            _echo("Error: standard output is closed (>&-): winder reports there; redirect it to a file or "
-                  "/dev/null instead", err=True)
-            sys.exit(2)
         try:  # the outer one: standard output on a full disk past _guard (click's --help, the bare help)
             try:
                 with warnings.catch_warnings(), interrupts_raise():
@@ -93,9 +89,6 @@ class WinderGroup(click.Group):
                 _echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
                 sys.exit(exc.exit_code)
             except Interrupted as exc:
-                from winder.app.interrupts import block_stop_signals  # noqa: PLC0415
-
-                block_stop_signals()  # the process ends here: a second signal must not end it first
                 _echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
                 sys.exit(exc.exit_code)
             except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread
@@ -165,7 +158,7 @@ def geodesic_cmd(config: str, start: str, end: str, rounds: int, points: int | N
 def check_cmd(configs: tuple[str, ...]) -> None:
     """Validate configs as `run` would, before computing: values, geometry, the winding plan, the
     work budget (no path computation). Exit status: 0 every config valid, 2 if any is invalid."""
-    from winder.app.batch import name_clash  # noqa: PLC0415
+    from winder.app.batch import name_clash, shown  # noqa: PLC0415
     from winder.app.jobs import exit_status  # noqa: PLC0415
     from winder.app.validate import validate  # noqa: PLC0415
 
@@ -180,8 +173,6 @@ def check_cmd(configs: tuple[str, ...]) -> None:
         except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
             codes.append(_error(exc, path))
         else:
-            from winder.export.paths import shown  # noqa: PLC0415
-
             _echo(f"ok: {shown(path)} ({job.name})")
     status = exit_status(codes)  # as `run` would exit: 2 if any is invalid, 1 if one cannot be wound
     if status:
@@ -253,9 +244,6 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
     from winder.app.jobs import (JobReport, JobTask, error_message, exit_code_of, exit_status,  # noqa: PLC0415
                                  run_job, run_jobs, workers_for)
     from winder.config.job import load_config  # noqa: PLC0415
-    from winder.export.paths import check_path  # noqa: PLC0415
-
-    check_path(out_dir, "-o", output=True)  # a name past 255 bytes, a loop of links: refused before any job
     reports: list[JobReport | None] = [None] * len(configs)
     tasks: list[JobTask] = []
     index: list[int] = []
@@ -372,7 +360,7 @@ def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -
     program (cut short, past machine.limits, the eye inside the mandrel, another job's), 1 a job not planned."""
     from winder.app.simulate import simulate_files  # noqa: PLC0415
 
-    _echo(simulate_files(config, program, output, as_json))
+    _echo(simulate_files(config, program, output, as_json, DEFAULT_TIME_LIMIT))  # run's limit
 
 
 @main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")

@@ -8,6 +8,9 @@ from collections.abc import Sequence
 
 from winder.app.jobs import FORMATS, JobReport
 from winder.errors import ConfigError
+from winder.export.paths import shown
+
+__all__ = ["name_clash", "refuse_format_among_configs", "shown", "summary_lines"]
 
 
 def name_clash(path: str, name: str, owner: dict[str, str], where: str) -> ConfigError | None:
@@ -44,8 +47,6 @@ def refuse_format_among_configs(configs: Sequence[str]) -> None:
 def summary_lines(reports: Sequence[JobReport], out_dir: str) -> list[str]:
     """The batch's table (a row per job: config, name, status, layers, fiber, seconds) and its tally."""
     rows = [("config", "name", "status", "layers", "fiber (mm)", "seconds")]
-    from winder.export.paths import shown  # noqa: PLC0415
-
     rows += [(shown(r.config), shown(r.name or "-"), r.status, str(r.layers) if r.layers else "-",
               "-" if r.fiber_length_mm is None else f"{r.fiber_length_mm:.3f}", f"{r.seconds:.2f}")
              for r in reports]

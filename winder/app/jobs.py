@@ -253,6 +253,10 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
     only the job that kills its worker fails (exit status 1) and the others still run. job is run_job (replaceable
     for tests; it must be picklable for workers > 1).
     """
+    from winder.export.paths import check_path  # noqa: PLC0415
+
+    for out_dir in dict.fromkeys(task.out_dir for task in tasks):  # a name past 255 bytes, a loop: before any job
+        check_path(out_dir, "-o", output=True)
     workers = max(1, min(int(workers), len(tasks)))
     if workers == 1:
         for i, task in enumerate(tasks):
