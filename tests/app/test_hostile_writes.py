@@ -168,3 +168,24 @@ def test_a_config_path_holding_a_newline_stays_on_one_error_line(tmp_path: Path,
     code, errors = _invoke(args)
     assert code == 2 and len(errors) == 1, errors
     assert errors[0].startswith(f"Error: {tmp_path}/a\\nb.yaml: winding.band_width: must be > 0"), errors
+
+
+# -- standard output ------------------------------------------------------------------------------
+@pytest.mark.parametrize("command", ["check", "run"])
+def test_closed_standard_output_is_an_error_not_a_silent_success(tmp_path: Path, command: str) -> None:
+    config = _config(tmp_path, "tiny")
+    args = f"{command} {config}" + (f" -o {tmp_path / 'out'}" if command == "run" else "")
+    res = subprocess.run(["sh", "-c", f'"{sys.executable}" -m winder {args} >&-'], capture_output=True, text=True,
+                         env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=120)
+    assert res.returncode == 2, res
+    assert res.stderr.startswith("Error: standard output is closed (>&-)") and res.stderr.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_geodesic_into_a_closed_pipe_ends_quietly(tmp_path: Path) -> None:
+    pipe = ROOT / "samples" / "pipe.yaml"
+    cmd = (f'"{sys.executable}" -m winder geodesic {pipe} --start 10,0 --end 400,900 --points 20000 '
+           f"-o /dev/stdout | head -c 10")
+    res = subprocess.run(["sh", "-c", cmd], capture_output=True, text=True, timeout=120,
+                         env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    assert res.stdout == "i,t,theta_" and res.stderr == "", res.stderr
