@@ -29,7 +29,7 @@ from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REF
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
 
-__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
+__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_LAYERS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
            "MAX_TOTAL_POINTS", "check_budget", "job_budget"]
 
 MAX_CIRCUITS = 20_000  # per helical layer: a 1 m vessel at 10 deg with 1 mm bands needs 3,100
@@ -40,6 +40,7 @@ MAX_PASSES = 10_000  # per hoop layer
 MAX_PASS_TURNS = 500
 MAX_PASS_POINTS = 1_000_000  # points of one pass as planned (a hoop of 13,900 turns)
 MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 GB to plan and write
+MAX_LAYERS = 1_000  # layers of one job: real tanks have 10 to 40
 # Planning and writing keep every point in several forms (pass arrays, eye path, CSV and PLY text):
 # measured about 600 bytes per point; the Newton solve of a pass needs about 2.5 kB per point.
 BYTES_PER_POINT = 600
@@ -252,11 +253,19 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     a limit (check_budget also holds the totals)."""
     if job.winding is None:
         return Budget((), 0, 0)
+    if len(job.winding.layers) > MAX_LAYERS:
+        raise _refuse(job.source, "winding.layers", f"{len(job.winding.layers)} layers, more than the limit of "
+                      f"{MAX_LAYERS} (real tanks have 10 to 40)")
     layers = []
+    laminate = job.winding.has_laminate  # once: it looks at every layer
+    total = 0
     for index, cfg in enumerate(job.winding.layers):
         key = f"winding.layers[{index}]"
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
-                      else _helical(job, surface, cfg, key, index == 0 or not job.winding.has_laminate))
+                      else _helical(job, surface, cfg, key, index == 0 or not laminate))
+        total += layers[-1].points
+        if total > MAX_TOTAL_POINTS:  # past the limit already: check_budget refuses it, the rest unread
+            break
     w = job.winding
     vessel = isinstance(surface.profile, VesselMeridian)
     if w.region is None and not vessel and surface.axial_length < w.band_width:
