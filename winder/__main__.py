@@ -11,12 +11,24 @@ import os
 import signal
 
 
+_ARRIVALS: int | None = None  # the read end of the signal wake-up pipe: the order signals arrived in
+
+
+def _first_arrived(signum: int) -> int:
+    # Python runs the handlers of signals pending together in number order (INT before TERM), and a
+    # handler may run nested at the start of another's: the wake-up pipe says which came first.
+    try:
+        arrived = os.read(_ARRIVALS, 4096) if _ARRIVALS is not None else b""
+    except OSError:
+        arrived = b""
+    return next((b for b in arrived if b in (signal.SIGINT, signal.SIGTERM)), signum)
+
+
 def _starting(signum: int, frame) -> None:
     # Idempotent: the other stop signal (TERM then INT, 0-80 ms apart) is blocked before anything is
     # written, so one Error line and the first signal's status, whatever comes next.
     signal.pthread_sigmask(signal.SIG_BLOCK, (signal.SIGINT, signal.SIGTERM))
-    irq = sys.modules.get("winder.app.interrupts")
-    signum = irq.first_arrived(signum) if irq is not None else signum  # TERM then INT: TERM's status
+    signum = _first_arrived(signum)  # TERM then INT: TERM's status
     os.write(2, f"Error: interrupted by {signal.Signals(signum).name} while starting\n".encode())
     os._exit(128 + signum)
 
@@ -31,6 +43,13 @@ def _starting(signum: int, frame) -> None:
 import sys  # noqa: E402 - already loaded by the interpreter: no time
 
 if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").startswith("winder"):
+    try:
+        _ARRIVALS, _write = os.pipe()
+        os.set_blocking(_ARRIVALS, False)
+        os.set_blocking(_write, False)
+        signal.set_wakeup_fd(_write, warn_on_full_buffer=False)
+    except (OSError, ValueError):
+        _ARRIVALS = None
     for _sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(_sig, _starting)
 
@@ -39,7 +58,7 @@ import gc  # noqa: E402
 if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").startswith("winder"):
     from winder.app.interrupts import watch_arrival_order  # noqa: E402 - after the handlers
 
-    watch_arrival_order()
+    watch_arrival_order(_ARRIVALS)  # the same pipe, read by winder's own handlers from now on
 
 GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes (Python's default: 700)
 # winder's linear algebra is banded solves and small products, which BLAS does not split over threads;

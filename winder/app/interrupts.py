@@ -70,12 +70,15 @@ def _ignore(signum: int, frame) -> None:
 _ARRIVALS: int | None = None  # the read end of the signal wake-up pipe (watch_arrival_order)
 
 
-def watch_arrival_order() -> None:
+def watch_arrival_order(read_end: int | None = None) -> None:
     """Keep the order in which signals arrive. Python runs the handlers of signals pending together in
     signal-number order (INT before TERM, whichever came first), so a TERM then an INT 1 ms later,
     both caught during a long C call, would end winder as if by INT. Python's C-level handler writes
     each signal's number to the wake-up file descriptor as it arrives: first_arrived reads it back."""
     global _ARRIVALS  # noqa: PLW0603 - the one pipe of the process
+    if read_end is not None:  # set up already (winder.__main__, before any import)
+        _ARRIVALS = read_end
+        return
     try:
         read, write = os.pipe()
         os.set_blocking(read, False)
