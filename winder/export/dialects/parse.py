@@ -95,7 +95,12 @@ def _code(line: str) -> str:
 def parse_program(text: str, machine: MachineConfig, source: str = "program",
                   max_moves: int = MAX_MOVES) -> ParsedProgram:
     """Read a program's text written for `machine` (its dialect detected from the text); refused
-    past max_moves moves, as soon as the line past them is read."""
+    past max_moves moves, as soon as the line past them is read (or at once when the text has more
+    than twice as many lines: a winder program has a comment line per pass, not per move)."""
+    lines_in_text = text.count("\n") + 1
+    if lines_in_text > 2 * max_moves + 10_000:
+        raise ConfigError(f"{source}: {lines_in_text:,} lines for at most {max_moves:,} moves, past what simulate "
+                          f"reads for this job (its plan's points, with room for the program's own rows and comments)")
     dialect = detect(text)
     ax = machine.axes
     if dialect == "robot":
