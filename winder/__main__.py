@@ -88,6 +88,10 @@ def main() -> None:
     try:
         cli()
     finally:
+        # The command is done (its status decided, its files in place): a stop signal in the
+        # interpreter's last moments, when Python has put the default handlers back, must not end the
+        # process by the signal instead.
+        signal.pthread_sigmask(signal.SIG_BLOCK, (signal.SIGINT, signal.SIGTERM))
         gc.freeze()
 
 
