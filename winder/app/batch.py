@@ -8,16 +8,30 @@ from collections.abc import Sequence
 
 from winder.app.jobs import ALL_FORMATS, FORMATS, JobReport, JobTask, error_message, exit_code_of
 from winder.errors import ConfigError
+from winder.export.paths import shown
+
+__all__ = ["name_clash", "refuse_format_among_configs", "shown", "summary_lines"]
 
 
 def name_clash(path: str, name: str, owner: dict[str, str], where: str) -> ConfigError | None:
-    """The error of a batch's second job of this name (owner: the names so far, casefolded, each to
-    its config; a new name is added): both would write the same files into where."""
-    key = name.casefold()  # Pipe and pipe clash on some disks
-    if key in owner:
-        return ConfigError(f"{path}: name: {name!r} is also the name of {owner[key]} in this batch; "
-                           f"both would write {name}.* into {where}")
-    owner[key] = path
+    """The error of a batch's job whose files would clash with an earlier job's (owner: every file
+    name the jobs so far may write, casefolded, each to its config and job name; this job's are added).
+
+    Every format's file counts, whichever are asked for: `check` does not know the formats, and what
+    it accepts `run` must not refuse. So `q` and `q.layup` clash (both may write q.layup.csv), and
+    so do Pipe and pipe (one file on some disks)."""
+    from winder.export import registry  # noqa: PLC0415
+
+    files = {(name + suffix).casefold(): name + suffix for suffix in registry.suffixes()}
+    for key, file_name in files.items():
+        if key in owner:
+            other, other_name = owner[key].rsplit("\0", 1)
+            if other_name.casefold() == name.casefold():
+                return ConfigError(f"{path}: name: {name!r} is also the name of {other} in this batch; "
+                                   f"both would write {name}.* into {where}")
+            return ConfigError(f"{path}: name: {name!r} and the name {other_name!r} of {other} in this batch "
+                               f"would both write {file_name} into {where}; rename one, got {name!r}")
+    owner.update((key, f"{path}\0{name}") for key in files)
     return None
 
 
@@ -33,7 +47,7 @@ def refuse_format_among_configs(configs: Sequence[str]) -> None:
 def summary_lines(reports: Sequence[JobReport], out_dir: str) -> list[str]:
     """The batch's table (a row per job: config, name, status, layers, fiber, seconds) and its tally."""
     rows = [("config", "name", "status", "layers", "fiber (mm)", "seconds")]
-    rows += [(r.config, r.name or "-", r.status, str(r.layers) if r.layers else "-",
+    rows += [(shown(r.config), shown(r.name or "-"), r.status, str(r.layers) if r.layers else "-",
               "-" if r.fiber_length_mm is None else f"{r.fiber_length_mm:.3f}", f"{r.seconds:.2f}")
              for r in reports]
     widths = [max(len(row[j]) for row in rows) for j in range(len(rows[0]))]

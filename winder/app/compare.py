@@ -81,13 +81,22 @@ def _tol_note(a: float, b: float, rtol: float, atol: float) -> str:
     return f"off by {abs(a - b):.3g}, tolerance {tol:.3g}" if math.isfinite(a - b) else ""
 
 
+UNIT_POWER_RANGE = 308  # decimal exponents of a float's range: a printed place outside is inf or 0
+
+
 def printed_unit(text: str) -> float:
     """One unit in the last place of a number as printed: "391.680" -> 1e-3; 0.0 for an integer."""
     mantissa, _, exponent = text.lower().partition("e")
     decimals = len(mantissa.partition(".")[2]) if "." in mantissa else 0
     if decimals == 0 and not exponent:
         return 0.0
-    return 10.0 ** (int(exponent or 0) - decimals)
+    try:
+        power = int(exponent or 0) - decimals
+    except ValueError:  # an exponent of thousands of digits (past int's string limit): far out either way
+        power = -UNIT_POWER_RANGE if exponent.startswith("-") else UNIT_POWER_RANGE
+    if power >= UNIT_POWER_RANGE:  # "0.0e999": a place past every float, no tolerance from it
+        return math.inf
+    return 10.0 ** max(power, -UNIT_POWER_RANGE)
 
 
 def number_tolerance(unit: float, a: float, b: float) -> float:

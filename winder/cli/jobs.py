@@ -16,7 +16,7 @@ from winder.cli.base import _TIME_LIMIT, _echo, _error, _guard, main
 def check_cmd(configs: tuple[str, ...]) -> None:
     """Validate configs as `run` would, before computing: values, geometry, the winding plan, the
     work budget (no path computation). Exit status: 0 every config valid, 2 if any is invalid."""
-    from winder.app.batch import name_clash  # noqa: PLC0415
+    from winder.app.batch import name_clash, shown  # noqa: PLC0415
     from winder.app.jobs import exit_status  # noqa: PLC0415
     from winder.app.validate import validate  # noqa: PLC0415
 
@@ -31,7 +31,7 @@ def check_cmd(configs: tuple[str, ...]) -> None:
         except Exception as exc:  # noqa: BLE001 - one line per bad config, then the next one
             codes.append(_error(exc, path))
         else:
-            _echo(f"ok: {path} ({job.name})")
+            _echo(f"ok: {shown(path)} ({job.name})")
     status = exit_status(codes)  # as `run` would exit: 2 if any is invalid, 1 if one cannot be wound
     if status:
         sys.exit(status)

@@ -6,7 +6,7 @@ import sys
 
 import click
 
-from winder.cli.base import FiniteRange, _echo, _guard, main
+from winder.cli.base import DEFAULT_TIME_LIMIT, FiniteRange, _echo, _guard, main
 from winder.cli.jobs import _progress
 
 
@@ -59,7 +59,7 @@ def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -
     program (cut short, past machine.limits, the eye inside the mandrel, another job's), 1 a job not planned."""
     from winder.app.simulate import simulate_files  # noqa: PLC0415
 
-    _echo(simulate_files(config, program, output, as_json))
+    _echo(simulate_files(config, program, output, as_json, DEFAULT_TIME_LIMIT))  # run's limit
 
 
 @main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")

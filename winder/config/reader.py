@@ -31,7 +31,8 @@ class _Rules:
         seen: set[Any] = set()
         for key_node, _ in node.value:
             key = self.construct_object(key_node, deep=True)  # type: ignore[attr-defined]
-            try:
+            try:  # hash() first: `set() in seen` hashes a set key as a frozenset, and add() would not
+                hash(key)
                 duplicate = key in seen
             except TypeError:  # an unhashable key: the base class reports it
                 continue

@@ -29,7 +29,7 @@ from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REF
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
 
-__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
+__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_LAYERS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
            "MAX_TOTAL_POINTS", "check_budget", "job_budget"]
 
 MAX_CIRCUITS = 20_000  # per helical layer: a 1 m vessel at 10 deg with 1 mm bands needs 3,100
@@ -47,6 +47,7 @@ MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 
 BASE_BYTES = 70_000_000
 BYTES_PER_POINT = 450
 VESSEL_BYTES_PER_POINT = 3_000
+MAX_LAYERS = 1_000  # layers of one job: real tanks have 10 to 40
 SOLVER_BYTES_PER_POINT = 2_500
 MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
@@ -245,6 +246,10 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
     w = job.winding
     prof = surface.profile
     t_a, t_b = prof.equator_t if isinstance(prof, VesselMeridian) else _region(surface, w)
+    if isinstance(prof, VesselMeridian) and not t_b > t_a:  # hoops are laid on the cylinder alone
+        raise _refuse(job.source, "mandrel.profile.cylinder_length",
+                      f"hoop layer {key} is laid on the vessel's cylinder: it must be longer than 0 mm, "
+                      f"got {prof.cylinder_length:g}")
     perimeter = _largest_perimeter(surface, t_a, t_b)
     if cfg.passes > MAX_PASSES:
         raise _refuse(job.source, f"{key}.passes", f"must be <= {MAX_PASSES}, got {cfg.passes}")
@@ -277,11 +282,19 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     a limit (check_budget also holds the totals)."""
     if job.winding is None:
         return Budget((), 0, 0)
+    if len(job.winding.layers) > MAX_LAYERS:
+        raise _refuse(job.source, "winding.layers", f"{len(job.winding.layers)} layers, more than the limit of "
+                      f"{MAX_LAYERS} (real tanks have 10 to 40)")
     layers = []
+    laminate = job.winding.has_laminate  # once: it looks at every layer
+    total = 0
     for index, cfg in enumerate(job.winding.layers):
         key = f"winding.layers[{index}]"
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
-                      else _helical(job, surface, cfg, key, index == 0 or not job.winding.has_laminate))
+                      else _helical(job, surface, cfg, key, index == 0 or not laminate))
+        total += layers[-1].points
+        if total > MAX_TOTAL_POINTS:  # past the limit already: check_budget refuses it, the rest unread
+            break
     w = job.winding
     vessel = isinstance(surface.profile, VesselMeridian)
     if w.region is None and not vessel and surface.axial_length < w.band_width:

@@ -24,6 +24,7 @@ class ParsedProgram:
     feed: np.ndarray
     line: np.ndarray | None = None
     job: str | None = None
+    job_line: int | None = None  # the line number of the `; job:` line
     mids: np.ndarray | None = None  # (m, 3) a robot cell's eye halfway along each move (winder.export.dialects.cell_parse)
     move_s: np.ndarray | None = None  # (m,) a robot cell's move times, as its program states them
 
