@@ -30,7 +30,7 @@ def planned():
 
 def test_summary_reports_burst_and_first_ply_failure(planned):
     job, pl = planned
-    block = summary_dict(pl, None, job)["analysis"]
+    block = summary_dict(pl, None, job=job)["analysis"]
     assert block["success"] and block["pressure_mpa"] == job.analysis.pressure
     for key in ("burst_pressure_netting_mpa", "first_ply_failure_pressure_mpa", "first_ply_failure_max_stress_mpa"):
         assert block[key] is not None and block[key] > 0.0, key
@@ -67,7 +67,7 @@ def test_report_shows_the_structure(planned):
     pytest.importorskip("plotly")
     job, pl = planned
     page = next(f for f in registry.FORMATS if f.name == "report").render(pl, job).decode("utf-8")
-    block = summary_dict(pl, None, job)["analysis"]
+    block = summary_dict(pl, None, job=job)["analysis"]
     assert "Will it hold?" in page and 'id="winder-structure"' in page
     assert f"{block['burst_pressure_netting_mpa']} MPa" in page
     assert f"{block['first_ply_failure_pressure_mpa']} MPa" in page

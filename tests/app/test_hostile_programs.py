@@ -18,9 +18,15 @@ HANG_GUARD_S = 120  # a hang becomes a failure; the issue's 20 s is asserted on 
 BUSY_MACHINE_S = 20.0
 
 
-def _edit(name: str, lines: list[str]) -> list[str]:
+def _edited_lines(lines: list[str]) -> tuple[int, int]:
+    """(k, p): the 0-based lines the edits replace: the first move and the first pass comment."""
     k = next(i for i, line in enumerate(lines) if line.startswith("G1 X"))
     p = next(i for i, line in enumerate(lines) if line.startswith("; layer 1 circuit 1 pass 1"))
+    return k, p
+
+
+def _edit(name: str, lines: list[str]) -> list[str]:
+    k, p = _edited_lines(lines)
     at_k = {"underscore": lines[k].replace("X", "X1_", 1),
             "arabic_digits": re.sub("X[0-9]", "X\u0661", lines[k], count=1),
             "zero_e999": re.sub(r"Z[0-9.]+", "Z0e999", lines[k], count=1)}
@@ -43,18 +49,19 @@ def _edit(name: str, lines: list[str]) -> list[str]:
     raise KeyError(name)
 
 
-# program -> (exit status, words of the Error line)
+# program -> (exit status, words of the Error line); {move} and {pass_} are the 1-based numbers of the
+# lines the edit replaced (the first move, the first pass comment) in the reference program
 CASES = {
     "blank_30k": (0, None),
     "paren_only": (0, None),
     "compact": (0, None),
-    "paren_200k": (2, "line 19: not a move"),
-    "underscore": (2, "line 19: unreadable number"),
-    "arabic_digits": (2, "line 19: unreadable number"),
-    "zero_e999": (2, "line 19: E is no axis"),
-    "pass_2e20": (2, "line 18: a layer, circuit or pass number past 1e+09"),
+    "paren_200k": (2, "line {move}: not a move"),
+    "underscore": (2, "line {move}: unreadable number"),
+    "arabic_digits": (2, "line {move}: unreadable number"),
+    "zero_e999": (2, "line {move}: E is no axis"),
+    "pass_2e20": (2, "line {pass_}: a layer, circuit or pass number past 1e+09"),
     "other_job_line": (2, "line 2: the program was written for another job: its job line names 'vessel'"),
-    "not_in_plan": (2, "line 19: layer 7 circuit 1 pass 1 is not in the plan"),
+    "not_in_plan": (2, "line {move}: layer 7 circuit 1 pass 1 is not in the plan"),
 }
 
 
@@ -80,6 +87,8 @@ def test_hostile_program(results, name: str) -> None:
     assert result["seconds"] < BUSY_MACHINE_S, result["seconds"]
     errors = [line for line in result["stderr"].splitlines() if line.startswith("Error:")]
     if code:
+        k, p = _edited_lines(PROGRAM.read_text(encoding="utf-8").splitlines())
+        words = words.format(move=k + 1, pass_=p + 1)
         assert len(errors) == 1 and words in errors[0], result["stderr"]
     else:
         assert errors == [] and '"moves": 614' in result["stdout"], result

@@ -3,6 +3,8 @@ plan: eyes on the planned tangent lines, the fiber length, the machine time."""
 
 from __future__ import annotations
 
+import re
+
 import os
 from dataclasses import replace
 from pathlib import Path
@@ -281,6 +283,9 @@ def test_an_eye_entering_the_mandrel_is_refused():
     assert err.value.exit_code == 2
 
 
+WRITTEN_POSE_TOL = 0.002  # mm: three coordinates rounded to 0.001 move a point at most 0.0009
+
+
 def test_a_robot_pose_inside_the_mandrel_is_refused():
     """The elbow sample (robot poses): one pose moved halfway toward its closest guide point, 32.5 mm
     from the axis of the 40 mm tube: 7.5 mm inside it, at the pose itself."""
@@ -297,10 +302,12 @@ def test_a_robot_pose_inside_the_mandrel_is_refused():
     rel = guide.project(eye, full=True)[2]
     moved = (eye - 0.5 * rel)[0]
     lines[k] = "POSE X%.3f Y%.3f Z%.3f " % tuple(moved) + " ".join(words[4:])
-    with pytest.raises(ConfigError, match=rf"line {k + 1}: the eye enters the mandrel this point, 7\.5\d\d mm "
+    with pytest.raises(ConfigError, match=rf"line {k + 1}: the eye enters the mandrel this point, ([\d.]+) mm "
                                           r"inside its surface at t = [\d.]+ mm, got pose X") as err:
         simulate(job.machine, plan, "\n".join(lines))
     assert err.value.exit_code == 2
+    depth = float(re.search(r"this point, ([\d.]+) mm inside", str(err.value)).group(1))
+    assert abs(depth - 7.5) < WRITTEN_POSE_TOL  # the moved pose is written to 3 decimals per coordinate
 
 
 @pytest.mark.parametrize("edit, message", [

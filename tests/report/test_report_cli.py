@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-import winder.cli as cli
+import winder.cli.jobs as cli  # the single job's progress bar lives with the job commands
 from winder.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]

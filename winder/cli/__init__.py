@@ -10,6 +10,5 @@ from __future__ import annotations
 
 from winder.cli import geodesic, jobs, tools  # noqa: F401 - each registers its commands on main
 from winder.cli.base import DEFAULT_POINTS, MAX_POINTS, METHODS, main
-from winder.cli.jobs import _JobBar
 
-__all__ = ["DEFAULT_POINTS", "MAX_POINTS", "METHODS", "_JobBar", "main"]
+__all__ = ["DEFAULT_POINTS", "MAX_POINTS", "METHODS", "main"]
