@@ -16,6 +16,12 @@ from winder.geometry.measure import row_norms, tangent_coordinates
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
 SIDE_STEP = 1e-7  # how far into an interval (of its length) the surface is read for its end slopes
+# An interval's end tangent may run at most this many times its chord along the chord (Fritsch and
+# Carlson's bound for a monotone cubic Hermite): past it the piece overshoots its far node and comes
+# back, a cusp where the planned points' spacing jumps (20 mm steps on a cylinder meeting 1.3 mm on a
+# dome: the spline's slope at the junction is the average of both), and the eye, on the tangent, would
+# swing from one side of the part to the other in one move.
+SLOPE_LIMIT = 3.0
 
 
 def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.ndarray, ds: np.ndarray,
@@ -28,8 +34,10 @@ def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.n
     speed_plan = np.sqrt(_square3(ps * a + pt * b))
     speed_spline = np.sqrt(_square3(ps * ds + pt * dth))
     scale = speed_spline / np.where(speed_plan > 0, speed_plan, 1.0)
-    # A direction against the spline (never in a plan) would fold the curve: keep the spline there.
-    ok = (speed_plan > 0) & (a * ds + b * dth > 0)
+    # Where the index spline runs against the planned direction (it oscillates where the points'
+    # spacing jumps: 20 mm steps meeting 1.3 mm ones), the plan's direction still holds: with the
+    # spline's speed the curve would fold back on itself; the speed is bounded per interval after.
+    ok = speed_plan > 0
     return np.where(ok, a * scale, ds), np.where(ok, b * scale, dth)
 
 
@@ -97,6 +105,38 @@ class SmoothPaths:
                     ds[k], dth[k] = _along(surface, s[other], th, self.d[k], spline[0][other], spline[1][other])
         self._is_last = np.zeros(count + 1, dtype=bool)  # a table, not np.isin: _interval runs per lookup
         self._is_last[self.last] = True
+        if on.size:
+            self._limit_slopes(on)
+
+    def _limit_slopes(self, on: np.ndarray) -> None:
+        """Shorten (never turn) the end tangents of each interval of the nodes `on` whose component
+        along the interval's chord exceeds SLOPE_LIMIT chords (SLOPE_LIMIT's comment): the curve keeps
+        its planned points and tangent directions; only the speed may jump at a node, and there each
+        interval reads its own end slopes (ds, dth at its start, ds_in, dth_in at its end)."""
+        k = on[~self._is_last[on]]
+        if k.size == 0:
+            return
+        ev = self.surface.evaluate(self.s[on], self.th[on], order=1)
+        at = np.full(self.s.size, -1, dtype=int)
+        at[on] = np.arange(on.size)
+        a, b = at[k], at[k + 1]
+        chord = ev.p[b] - ev.p[a]
+        square = np.einsum("ij,ij->i", chord, chord)
+        safe = np.where(square > 0.0, square, 1.0)
+        out = ev.ps[a] * self.ds[k][:, None] + ev.pt[a] * self.dth[k][:, None]
+        into = ev.ps[b] * self.ds_in[k + 1][:, None] + ev.pt[b] * self.dth_in[k + 1][:, None]
+        ratio0 = np.where(square > 0.0, np.einsum("ij,ij->i", out, chord) / safe, 0.0)
+        ratio1 = np.where(square > 0.0, np.einsum("ij,ij->i", into, chord) / safe, 0.0)
+        f0 = np.where(ratio0 > SLOPE_LIMIT, SLOPE_LIMIT / np.where(ratio0 > 0.0, ratio0, 1.0), 1.0)
+        f1 = np.where(ratio1 > SLOPE_LIMIT, SLOPE_LIMIT / np.where(ratio1 > 0.0, ratio1, 1.0), 1.0)
+        if np.all(f0 == 1.0) and np.all(f1 == 1.0):
+            return
+        if self.ds_in is self.ds:  # a node's slope now differs by side
+            self.ds_in, self.dth_in = self.ds.copy(), self.dth.copy()
+        self.ds[k] *= f0
+        self.dth[k] *= f0
+        self.ds_in[k + 1] *= f1
+        self.dth_in[k + 1] *= f1
 
     @cached_property
     def arc(self) -> np.ndarray:

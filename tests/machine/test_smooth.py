@@ -1,0 +1,41 @@
+"""The smooth path between planned points never folds back where the points' spacing jumps (issue 29:
+a 28 deg helix's 20 mm steps on the cylinder meeting 1.3 mm steps on the dome made the index spline
+run backwards at the junction; the eye on the tangent then swung across the part in one move, 5 mm
+from a CNG tank where 25 mm were due)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from conftest import surface_of
+from plans import make_pass
+from winder.config.mandrel import ConstantProfile, LineAxis
+from winder.machine.smooth import SmoothPaths
+from winder.winding.results import PassKind
+
+R = 140.0
+STEPS = (20.7,) * 8 + (1.3,) * 8  # mm along the tube: the cng tank's layer 7 at its dome junction
+SAMPLES = 64  # per interval
+
+
+def _helix_pass(surface):
+    """A helix (a geodesic on the tube: t and R theta in a fixed ratio) through unevenly spaced points,
+    with its exact tangent."""
+    tan_alpha = np.tan(np.radians(28.0))
+    s = 10.0 + np.concatenate([[0.0], np.cumsum(STEPS)])
+    theta = (s - s[0]) * tan_alpha / R
+    ev = surface.evaluate(s, theta, order=1)
+    d = ev.ps + ev.pt * (tan_alpha / R)
+    return make_pass(surface, s, theta, d, layer=1, circuit=1, number=1, kind=PassKind.FORWARD)
+
+
+def test_smooth_path_runs_on_along_unevenly_spaced_points():
+    surface = surface_of(LineAxis(400.0), ConstantProfile(R))
+    fp = _helix_pass(surface)
+    paths = SmoothPaths(surface, [fp])
+    u = np.linspace(0.0, len(fp.s) - 1.0, (len(fp.s) - 1) * SAMPLES + 1)
+    s, _, p, d = paths.point(u)
+    # The exact curve's station rises with u: so must the smooth path's, and its tangent runs forward.
+    assert np.all(np.diff(p[:, 2]) > 0.0)
+    assert np.all(np.diff(s) > 0.0)
+    assert np.all(np.einsum("ij,j->i", d, fp.direction[0]) > 0.0)
