@@ -277,9 +277,9 @@ def test_run_formats(tmp_path):
 
 
 def test_run_bad_format_is_usage_error(tmp_path):
-    result = invoke("run", tiny(tmp_path), "-o", tmp_path / "out", "--format", "stl")
+    result = invoke("run", tiny(tmp_path), "-o", tmp_path / "out", "--format", "step")
     assert result.exit_code == 2
-    assert "stl" in result.output
+    assert "step" in result.output
     assert not (tmp_path / "out").exists()
 
 

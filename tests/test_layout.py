@@ -2,7 +2,7 @@
 
 Stages in order: config < geometry < paths < winding < machine < export < report < app < cli <
 __main__ (the executable); errors.py and progress.py are shared. A module imports nothing from a later stage (nor from its own stage's later siblings through
-a circle), geometry reads config types only in build.py, only cli.py imports click, the library
+a circle), geometry reads config types only in build.py, only the cli package imports click, the library
 never prints, and no module is over MAX_LINES.
 """
 
@@ -14,9 +14,13 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parent.parent / "winder"
-STAGES = ("errors", "progress", "records", "config", "geometry", "paths", "winding", "machine", "export", "report", "app",
+STAGES = ("errors", "progress", "config", "geometry", "paths", "winding", "analysis", "machine", "export", "report", "app",
           "cli", "__main__")
 MAX_LINES = 400
+# The one circle left (issue 28): two imports made for type annotations only, under TYPE_CHECKING,
+# close a circle through winding's results, wall, buildup, growth, passes and slip. Untangling it moves
+# a type (LayerLaminate, PlanContext) into a module of its own; no other edge may close a circle.
+TYPE_ONLY_CIRCLE = {("winder.winding.results", "winder.winding.wall"), ("winder.winding.slip", "winder.winding.passes")}
 
 
 def _module_name(path: Path) -> str:
@@ -70,7 +74,7 @@ def test_geometry_reads_config_only_in_build():
 def test_only_the_cli_imports_click_and_the_library_never_prints():
     for module, path in MODULES.items():
         imports = _imports(path)
-        if module != "winder.cli":
+        if module != "winder.cli" and not module.startswith("winder.cli."):
             assert "click" not in imports and not any(i.startswith("click.") for i in imports), module
             calls = [n for n in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
                      if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "print"]
@@ -84,7 +88,9 @@ def test_modules_are_short(module):
 
 
 def test_no_import_circle():
-    graph = {m: {i for i in _imports(p, top_level_only=True) if i in MODULES and i != m}
+    # every import: module level, inside functions and under TYPE_CHECKING (a deferred import is
+    # still a dependency, and a circle through one breaks as soon as it moves to the top)
+    graph = {m: {i for i in _imports(p) if i in MODULES and i != m and (m, i) not in TYPE_ONLY_CIRCLE}
              for m, p in MODULES.items()}
     done: set[str] = set()
 

@@ -46,3 +46,34 @@ def test_collector_runs_less_often_and_what_is_alive_at_the_end_is_frozen():
     out = _probe(_clean_env())
     assert out["threshold"] == GC_YOUNG_THRESHOLD
     assert out["frozen"] > 1000  # the interpreter's, click's and winder's objects, left to the exit
+
+
+# Run main() on the given arguments, then list the heavy packages the process imported.
+IMPORTS_PROBE = """
+import json, sys
+import winder.__main__ as m
+sys.argv = ["winder", *json.loads(sys.argv[1])]
+try:
+    m.main()
+except SystemExit:
+    pass
+heavy = ("scipy", "trimesh", "plotly")
+print(json.dumps(sorted({n.split(".")[0] for n in sys.modules if n.split(".")[0] in heavy})))
+"""
+
+
+def _heavy_imports(*args: str) -> list[str]:
+    import json  # noqa: PLC0415
+    from pathlib import Path  # noqa: PLC0415
+
+    root = Path(__file__).resolve().parent.parent
+    env = {**_clean_env(), "PYTHONPATH": str(root)}
+    proc = subprocess.run([sys.executable, "-c", IMPORTS_PROBE, json.dumps(list(args))], capture_output=True,
+                          text=True, env=env, check=True, cwd=root)
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_help_and_a_tube_check_import_nothing_heavy():
+    """scipy, trimesh and plotly load where a job first needs them, never for --help or a tube's check."""
+    assert _heavy_imports("--help") == []
+    assert _heavy_imports("check", "samples/pipe.yaml") == []

@@ -7,10 +7,58 @@ runs, it handles both itself (winder.app.interrupts).
 
 from __future__ import annotations
 
-import gc
 import os
 import signal
-import sys
+
+
+_ARRIVALS: int | None = None  # the read end of the signal wake-up pipe: the order signals arrived in
+
+
+def _first_arrived(signum: int) -> int:
+    # Python runs the handlers of signals pending together in number order (INT before TERM), and a
+    # handler may run nested at the start of another's: the wake-up pipe says which came first.
+    try:
+        arrived = os.read(_ARRIVALS, 4096) if _ARRIVALS is not None else b""
+    except OSError:
+        arrived = b""
+    return next((b for b in arrived if b in (signal.SIGINT, signal.SIGTERM)), signum)
+
+
+def _starting(signum: int, frame) -> None:
+    # Idempotent: the other stop signal (TERM then INT, 0-80 ms apart) is blocked before anything is
+    # written, so one Error line and the first signal's status, whatever comes next.
+    signal.pthread_sigmask(signal.SIG_BLOCK, (signal.SIGINT, signal.SIGTERM))
+    signum = _first_arrived(signum)  # TERM then INT: TERM's status
+    os.write(2, f"Error: interrupted by {signal.Signals(signum).name} while starting\n".encode())
+    os._exit(128 + signum)
+
+
+# Installed as this module is imported, before anything else is (the `winder` entry script imports
+# it, then calls main): the earliest moment winder's own code runs. Before it, the interpreter is
+# still starting (its site import, ~20-100 ms on a busy machine): a TERM there ends the process by
+# the signal, an INT is the interpreter's own "Fatal Python error: init_import_site", which no code
+# of winder can catch.
+# (Only when this module is the program: `python -m winder`, or a script named winder; a library or a
+# test importing it keeps its own handlers.)
+import sys  # noqa: E402 - already loaded by the interpreter: no time
+
+if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").startswith("winder"):
+    try:
+        _ARRIVALS, _write = os.pipe()
+        os.set_blocking(_ARRIVALS, False)
+        os.set_blocking(_write, False)
+        signal.set_wakeup_fd(_write, warn_on_full_buffer=False)
+    except (OSError, ValueError):
+        _ARRIVALS = None
+    for _sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(_sig, _starting)
+
+import gc  # noqa: E402
+
+if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").startswith("winder"):
+    from winder.app.interrupts import watch_arrival_order  # noqa: E402 - after the handlers
+
+    watch_arrival_order(_ARRIVALS)  # the same pipe, read by winder's own handlers from now on
 
 GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes (Python's default: 700)
 # winder's linear algebra is banded solves and small products, which BLAS does not split over threads;
@@ -19,13 +67,8 @@ GC_YOUNG_THRESHOLD = 50_000  # allocations between the collector's young passes 
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
 
 
-def _starting(signum: int, frame) -> None:
-    os.write(2, f"Error: interrupted by {signal.Signals(signum).name} while starting\n".encode())
-    os._exit(128 + signum)
-
-
 def main() -> None:
-    for sig in (signal.SIGINT, signal.SIGTERM):
+    for sig in (signal.SIGINT, signal.SIGTERM):  # again: main() may be called without the import above
         signal.signal(sig, _starting)
     for name in BLAS_THREAD_VARIABLES:  # before numpy loads (the commands import it), and for the workers
         os.environ.setdefault(name, "1")
@@ -36,11 +79,19 @@ def main() -> None:
     # before the process frees it. Measured on a small job: 5 % of its instructions, and 30-40 ms of
     # wall time at its exit.
     gc.set_threshold(GC_YOUNG_THRESHOLD)
+    if sys.stdout is None:  # started with standard output closed (`>&-`): click would print nothing, exit 0
+        os.write(2, b"Error: standard output is closed (>&-): winder reports there; redirect it to a file or "
+                    b"/dev/null instead\n")
+        sys.exit(2)
     from winder.cli import main as cli  # noqa: PLC0415 - after the handlers: the import takes a while
 
     try:
         cli()
     finally:
+        # The command is done (its status decided, its files in place): a stop signal in the
+        # interpreter's last moments, when Python has put the default handlers back, must not end the
+        # process by the signal instead.
+        signal.pthread_sigmask(signal.SIG_BLOCK, (signal.SIGINT, signal.SIGTERM))
         gc.freeze()
 
 

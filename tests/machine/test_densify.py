@@ -9,6 +9,7 @@ import numpy as np
 from winder.config.job import load_config
 from winder.machine import batch, program
 from winder.winding.plan import plan as plan_job
+from roundoff import assert_roundoff
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -28,5 +29,5 @@ def test_batched_densify_is_pass_by_pass(monkeypatch):
     plain = program.build_program(plan, job.machine)
     assert calls == [9]
     assert np.any(batched.index != np.round(batched.index))  # some passes were densified
-    assert np.array_equal(batched.values, plain.values) and np.array_equal(batched.index, plain.index)
-    assert np.array_equal(batched.fiber, plain.fiber)
+    for name in ("values", "index", "fiber"):
+        assert_roundoff(getattr(batched, name), getattr(plain, name), err_msg=name)

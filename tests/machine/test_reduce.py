@@ -49,17 +49,6 @@ def test_batch_matches_one_pass_reference():
     assert reduce_many([], []) == []
 
 
-def test_column_dot_is_einsums_bit_for_bit():
-    from winder.machine.reduce import _dot
-
-    rng = np.random.default_rng(5)
-    for width in (2, 4, 6):
-        rel = rng.normal(size=(3001, width)) * rng.uniform(1e-3, 1e3, size=(3001, 1))
-        seg = rng.normal(size=(3001, width)) * 10.0
-        got = _dot([np.ascontiguousarray(c) for c in rel.T], [np.ascontiguousarray(c) for c in seg.T])
-        assert np.array_equal(got.view(np.int64), np.einsum("ij,ij->i", rel, seg).view(np.int64)), width
-
-
 def test_table_is_the_polylines_one_after_the_other():
     from winder.machine.reduce import reduce_table
 
@@ -70,11 +59,3 @@ def test_table_is_the_polylines_one_after_the_other():
     got = reduce_table(np.concatenate(lines), np.array(sizes), tols)
     for q, tol, keep in zip(lines, tols, got):
         assert keep.tolist() == _recursive(q, tol)
-
-
-def test_interleave_is_column_stack_ravel():
-    from winder.machine.reduce import _interleave
-
-    x, y = np.array([3, 8, 11]), np.array([5, 9, 14])
-    assert np.array_equal(_interleave(x, y), np.column_stack([x, y]).ravel())
-    assert _interleave(x[:0], y[:0]).size == 0

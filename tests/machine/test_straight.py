@@ -13,6 +13,7 @@ import pytest
 from winder.config.job import load_config
 from winder.machine import program, straight
 from winder.winding.plan import plan as plan_job
+from roundoff import assert_roundoff
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -33,7 +34,7 @@ def test_gathered_program_is_the_steps(sample, monkeypatch):
     steps = program.build_program(plan, job.machine)
     assert calls == [1]
     for name in ("values", "index", "fiber", "feed"):
-        assert np.array_equal(_bits(getattr(gathered, name)), _bits(getattr(steps, name))), name
+        assert_roundoff(getattr(gathered, name), getattr(steps, name), err_msg=name)
     assert gathered.segments == steps.segments
 
 
@@ -54,7 +55,7 @@ def test_a_program_no_pass_of_which_densifies_is_the_steps(monkeypatch):
     monkeypatch.setattr(program, "straight_passes", lambda *args: None)
     steps = program.build_program(plan, job.machine)
     for name in ("values", "index", "fiber", "feed"):
-        assert np.array_equal(_bits(getattr(gathered, name)), _bits(getattr(steps, name))), name
+        assert_roundoff(getattr(gathered, name), getattr(steps, name), err_msg=name)
     assert gathered.segments == steps.segments
 
 

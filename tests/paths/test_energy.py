@@ -7,6 +7,7 @@ import pytest
 
 from winder.paths.energy import chain_terms, chord_direction, newton_direction
 from winder.paths.geodesic import straight_path
+from roundoff import assert_roundoff
 
 SOLVE_REL = 1e-10  # banded Cholesky against numpy's dense LU, relative to the step
 
@@ -58,13 +59,13 @@ def test_indefinite_hessian_is_reported():
 @pytest.mark.parametrize("surface_name", ["quarter_bend", "elliptic_tube"])
 def test_hessian_entries_match_the_plain_dot_products(request, surface_name):
     """chain_terms' dot products along the evaluation's contiguous rows: the same sums as the row-wise
-    einsum over the (m, 3) fields themselves, bit for bit."""
+    einsum over the (m, 3) fields themselves, to round-off."""
     surface = request.getfixturevalue(surface_name)
     s, th = straight_path(0.0, 0.0, surface.length, 2.0 * np.pi + 1.0, 500)
     ev = surface.evaluate(s[1:-1], th[1:-1], order=2)
     _, _, gram, _, off = chain_terms(ev, surface.points(s[[0, -1]], th[[0, -1]]))
     ps, pt = ev.ps, ev.pt
     dot = lambda a, b: np.einsum("ij,ij->i", a, b)  # noqa: E731
-    np.testing.assert_array_equal(gram, 4.0 * np.array([dot(ps, ps), dot(ps, pt), dot(pt, pt)]))
-    np.testing.assert_array_equal(off, -2.0 * np.array([dot(ps[:-1], ps[1:]), dot(ps[:-1], pt[1:]),
-                                                        dot(pt[:-1], ps[1:]), dot(pt[:-1], pt[1:])]))
+    assert_roundoff(gram, 4.0 * np.array([dot(ps, ps), dot(ps, pt), dot(pt, pt)]))
+    assert_roundoff(off, -2.0 * np.array([dot(ps[:-1], ps[1:]), dot(ps[:-1], pt[1:]),
+                                          dot(pt[:-1], ps[1:]), dot(pt[:-1], pt[1:])]))

@@ -1,5 +1,5 @@
 """The Newton step's fused terms (energy.newton_terms, newton_banded) and the lengths of several solves
-in one evaluation (measure.smooth_lengths), bit for bit against the plain per-field computations."""
+in one evaluation (measure.smooth_lengths), to round-off against the plain per-field computations."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import pytest
 from winder.geometry.measure import smooth_length, smooth_lengths
 from winder.paths.energy import banded, chain_segments, newton_banded, newton_terms
 from winder.paths.geodesic import geodesic, straight_path
+from roundoff import assert_roundoff
 
 
 def _wavy(surface, n: int):
@@ -29,18 +30,18 @@ def test_newton_terms_are_the_row_wise_dot_products(request, surface_name, n):
     d = np.diff(chain, axis=0)
     a = d[:-1] - d[1:]
     dot = lambda u, v: np.einsum("ij,ij->i", u, v)  # noqa: E731
-    assert e == float(np.einsum("ij,ij->", d, d))
+    assert_roundoff(e, float(np.einsum("ij,ij->", d, d)))
     np.testing.assert_array_equal(y, chain)
-    np.testing.assert_array_equal(grad, 2.0 * np.stack([dot(ev.ps, a), dot(ev.pt, a)], axis=1))
-    np.testing.assert_array_equal(gram, [[dot(ev.ps, ev.ps), dot(ev.ps, ev.pt)],
-                                         [dot(ev.pt, ev.ps), dot(ev.pt, ev.pt)]])
-    np.testing.assert_array_equal(curv, [dot(a, ev.pss), dot(a, ev.pst), dot(a, ev.ptt)])
-    np.testing.assert_array_equal(off, [[dot(ev.ps[:-1], ev.ps[1:]), dot(ev.ps[:-1], ev.pt[1:])],
-                                        [dot(ev.pt[:-1], ev.ps[1:]), dot(ev.pt[:-1], ev.pt[1:])]])
+    assert_roundoff(grad, 2.0 * np.stack([dot(ev.ps, a), dot(ev.pt, a)], axis=1))
+    assert_roundoff(gram, [[dot(ev.ps, ev.ps), dot(ev.ps, ev.pt)],
+                          [dot(ev.pt, ev.ps), dot(ev.pt, ev.pt)]])
+    assert_roundoff(curv, [dot(a, ev.pss), dot(a, ev.pst), dot(a, ev.ptt)])
+    assert_roundoff(off, [[dot(ev.ps[:-1], ev.ps[1:]), dot(ev.ps[:-1], ev.pt[1:])],
+                         [dot(ev.pt[:-1], ev.ps[1:]), dot(ev.pt[:-1], ev.pt[1:])]])
     # the trial point's chain, handed on, gives the same terms
     again = newton_terms(ev, ends, chain_segments(ev.p, ends))
     for x, z in zip(again, (e, grad, y, gram, curv, off)):
-        np.testing.assert_array_equal(x, z)
+        assert_roundoff(x, z)
     # the banded matrix written in place is banded() of the scaled entries
     for c in (curv, None):
         diag = 4.0 * np.array([gram[0, 0], gram[0, 1], gram[1, 1]]) + (0.0 if c is None else 2.0 * c)
@@ -48,7 +49,7 @@ def test_newton_terms_are_the_row_wise_dot_products(request, surface_name, n):
                       -2.0 * off.reshape(4, -1))
         got = newton_banded(gram, c, off)
         assert got.flags.f_contiguous
-        np.testing.assert_array_equal(got, want)
+        assert_roundoff(got, want)
 
 
 @pytest.mark.parametrize("lobatto", [False, True])

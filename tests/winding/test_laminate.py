@@ -114,3 +114,38 @@ def test_smoothing_keeps_volume_and_constants():
     assert sm.sum() == pytest.approx(v.sum(), rel=1e-12)
     const = smooth_density(s, np.full_like(s, 2.0), 4.0, (True, True))
     np.testing.assert_allclose(const, 2.0, rtol=1e-14)
+
+
+# -- the band-spread cubic (docs/math/08-laminate-edges.md 8.6) --------------------------------------
+def test_spread_coefficients_meet_their_four_conditions():
+    from winder.winding.laminate import spread_coefficients
+
+    d1, e, m = 1.297, -0.401, 1.697  # the worked example of docs/math 8.6
+    a = np.array(spread_coefficients(d1, e, m))
+    # solved independently: value and slope at 1, the mean over [0, 1]
+    want = np.linalg.solve(np.array([[1.0, 1.0, 1.0], [1.0, 2.0, 3.0], [0.5, 1.0 / 3.0, 0.25]]), [d1, e, m])
+    np.testing.assert_allclose(a, want, rtol=1e-12)
+    np.testing.assert_allclose(a, [12.18, -20.07, 9.19], atol=0.01)
+    x = np.linspace(0.0, 1.0, 10001)
+    p = ((a[2] * x + a[1]) * x + a[0]) * x
+    assert p.min() >= 0.0 and p.max() == pytest.approx(2.25, abs=0.01)
+
+
+def test_band_spread_keeps_the_volume_and_the_law_beyond_two_bands():
+    from winder.winding.laminate import band_spread
+
+    # a flat pole (r = c + u): the law n a r / sqrt(r^2 - c^2) from a turnaround at s_c = 20
+    c, band, n, a = 35.0, 10.0, 100, 2.5
+    edges = np.linspace(0.0, 120.0, 961)
+    s, w = 0.5 * (edges[1:] + edges[:-1]), np.diff(edges)
+    r_of = lambda x: c + (np.asarray(x) - 20.0)  # noqa: E731
+    law = clairaut_density(r_of(s), c, n, a)
+    # the cells' volumes of the law, exact: n a sqrt(r^2 - c^2) between the edges
+    prim = n * a * np.sqrt(np.clip(r_of(edges) ** 2 - c * c, 0.0, None))
+    dens = np.diff(prim) / w
+    out = band_spread(s, w, dens, 20.0, band, 1.0, r_of)
+    assert np.sum(out * w) == pytest.approx(np.sum(dens * w), rel=1e-12)
+    beyond = s > 20.0 + 2.0 * band + w[0]
+    np.testing.assert_allclose(out[beyond], dens[beyond], rtol=1e-12)
+    assert np.all(out[s < 20.0 - 0.5 * band - w[0]] == 0.0)  # nothing inside the band's inner edge
+    assert np.all(np.isfinite(out)) and out.max() < 2.0 * law[beyond][0]

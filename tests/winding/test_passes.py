@@ -12,6 +12,7 @@ from winder.errors import ConfigError, SolverError
 from winder.geometry.build import build_surface
 from winder.geometry.sections import arc_map
 from winder.winding import passes as P
+from roundoff import assert_roundoff
 
 HELIX_DIR_ABS = 1e-9  # unit tangent of a helix from the spline through its refined vertices
 
@@ -35,7 +36,7 @@ def test_solved_passes_are_directions_pass_by_pass(monkeypatch, batch):
     k = P.TANGENT_REFINE
     for f, g in zip(fines, got):
         want = P.directions(ctx.surface, f.refined_s, f.refined_theta)[::k]
-        assert np.array_equal(g.direction, want)
+        assert_roundoff(g.direction, want)
         assert np.array_equal(g.s, f.refined_s[::k]) and np.array_equal(g.theta, f.refined_theta[::k])
         assert g.length == f.length and g.result is f
 
@@ -57,9 +58,10 @@ def test_a_dwell_from_one_evaluation_is_the_pass_evaluated_anew():
         fp = P.dwell_pass(ctx, 1, 1, 1, 120.0, 0.3, 2.9, heading_in, heading_out)
         again = P.make_pass(ctx.surface, 1, 1, 1, fp.kind, fp.s, fp.theta, fp.direction, fp.length)
         pts = ctx.surface.points(fp.s, fp.theta)
-        assert np.array_equal(fp.points, again.points) and np.array_equal(fp.points, pts)
-        assert np.array_equal(fp.alpha_deg, again.alpha_deg)
-        assert fp.length == float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+        assert_roundoff(fp.points, again.points)
+        assert_roundoff(fp.points, pts)
+        assert_roundoff(fp.alpha_deg, again.alpha_deg)
+        assert_roundoff(fp.length, float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1))))
 
 
 def test_a_tolerance_past_double_precision_names_winding_tolerance():

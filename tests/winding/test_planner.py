@@ -11,6 +11,7 @@ from winder.config.job import parse_config
 from winder.errors import ConfigError, SolverError
 from winder.winding.results import PassKind
 from winder.winding.plan import plan
+from roundoff import assert_roundoff
 
 CLAIRAUT_REL = 1e-6
 COVERED = 0.999
@@ -214,7 +215,7 @@ def test_turned_copies_are_copies_made_one_at_a_time(pipe_plan):
     assert len(got) == len(want)
     for g, w in zip(got, want):
         for name in ("t", "s", "theta", "points", "direction", "alpha_deg"):
-            assert np.array_equal(getattr(g, name), getattr(w, name)), name
+            assert_roundoff(getattr(g, name), getattr(w, name), err_msg=name)
         assert (g.circuit, g.kind, g.length) == (w.circuit, w.kind, w.length)
     # and a turn about +z: the points of a copy are the first's turned by the shift
     c, s = math.cos(0.1), math.sin(0.1)

@@ -15,18 +15,18 @@ modulo their period. See samples/README.md.
   printed last place.
 - PLY: header and faces exact, vertex floats within their last bit (winder.app.compare_ply).
 - anything else: byte for byte.
+winder.app.compare_files picks the comparison by the file's kind.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
 from dataclasses import dataclass, field
 
-from winder.export import registry
 from winder.export.job_csv import PERIODIC_COLUMNS
-from winder.records import record
 
 JSON_RTOL = 1e-6  # summary numbers under a key without fixed decimals
 JSON_ATOL = 1e-9
@@ -35,7 +35,7 @@ PRINT_SLACK = 1.0 + 1e-6  # one printed unit, and the binary round-off of the di
 MAX_SHOWN = 5  # differences listed per file
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Difference:
     """One difference: where (line/field or key path), what was expected, what came out."""
 
@@ -81,13 +81,22 @@ def _tol_note(a: float, b: float, rtol: float, atol: float) -> str:
     return f"off by {abs(a - b):.3g}, tolerance {tol:.3g}" if math.isfinite(a - b) else ""
 
 
+UNIT_POWER_RANGE = 308  # decimal exponents of a float's range: a printed place outside is inf or 0
+
+
 def printed_unit(text: str) -> float:
     """One unit in the last place of a number as printed: "391.680" -> 1e-3; 0.0 for an integer."""
     mantissa, _, exponent = text.lower().partition("e")
     decimals = len(mantissa.partition(".")[2]) if "." in mantissa else 0
     if decimals == 0 and not exponent:
         return 0.0
-    return 10.0 ** (int(exponent or 0) - decimals)
+    try:
+        power = int(exponent or 0) - decimals
+    except ValueError:  # an exponent of thousands of digits (past int's string limit): far out either way
+        power = -UNIT_POWER_RANGE if exponent.startswith("-") else UNIT_POWER_RANGE
+    if power >= UNIT_POWER_RANGE:  # "0.0e999": a place past every float, no tolerance from it
+        return math.inf
+    return 10.0 ** max(power, -UNIT_POWER_RANGE)
 
 
 def number_tolerance(unit: float, a: float, b: float) -> float:
@@ -208,30 +217,3 @@ def compare_bytes(expected: bytes, got: bytes) -> tuple[list[Difference], int]:
     at = next((i for i, (x, y) in enumerate(zip(expected, got)) if x != y), min(len(expected), len(got)))
     return [Difference(f"byte {at}", f"{len(expected)} bytes", f"{len(got)} bytes",
                        "binary files differ")], 1
-
-
-def compare_file(file_name: str, expected: bytes, got: bytes,
-                 limit: int = MAX_SHOWN) -> tuple[list[Difference], int]:
-    """Compare one output with its reference by the file's kind (see the module docstring)."""
-    if expected == got:
-        return [], 0
-    fmt = registry.format_of(file_name)
-    kind = "gcode" if fmt is None else fmt.name  # an unknown file: as lines of words and numbers
-    if kind == "ply":  # float32 vertices: within their last bit
-        from winder.app.compare_ply import compare_ply  # noqa: PLC0415
-
-        return compare_ply(expected, got, limit=limit)
-    if kind == "summary":
-        from winder.app.compare_summary import compare_json as compare  # noqa: PLC0415
-    elif kind in _TEXT_COMPARE:
-        compare = _TEXT_COMPARE[kind]
-    else:  # another binary output
-        return compare_bytes(expected, got)
-    try:
-        a, b = expected.decode("utf-8"), got.decode("utf-8")
-    except UnicodeDecodeError:
-        return compare_bytes(expected, got)
-    return compare(a, b, limit=limit)
-
-
-_TEXT_COMPARE = {"csv": compare_csv, "layup": compare_csv, "gcode": compare_lines}

@@ -41,8 +41,8 @@ def _vertices(data: bytes) -> tuple[bytes, np.ndarray, bytes] | None:
         elif words[:1] == ["element"]:
             in_vertex = False
         elif in_vertex and words[:1] == ["property"]:
-            if len(words) != 3 or words[1] not in _TYPES:
-                return None  # a list property in the vertices: compare the bytes
+            if len(words) != 3 or words[1] not in _TYPES or any(words[2] == name for name, _ in fields):
+                return None  # a list property in the vertices, or one named twice: compare the bytes
             fields.append((words[2], _TYPES[words[1]]))
     if count is None or not fields:
         return None

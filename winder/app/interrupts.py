@@ -55,7 +55,7 @@ def time_limit(seconds: float | None) -> Iterator[None]:
             left = old_delay - (time.monotonic() - started)
             signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
 
-__all__ = ["STOP_SIGNALS", "TimeUp", "in_worker", "interrupts_raise", "stop_workers", "time_limit", "worker_init"]
+__all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "first_arrived", "in_worker", "interrupts_raise", "stop_workers", "time_limit", "watch_arrival_order", "worker_init"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 WORKER_GRACE_S = 1.0  # a worker stopped by TERM rolls back its job's files within this, or is killed
@@ -67,10 +67,53 @@ def _ignore(signum: int, frame) -> None:
     raise OSError ("ignored due to race condition") in the middle of the rollback."""
 
 
+_ARRIVALS: int | None = None  # the read end of the signal wake-up pipe (watch_arrival_order)
+
+
+def watch_arrival_order(read_end: int | None = None) -> None:
+    """Keep the order in which signals arrive. Python runs the handlers of signals pending together in
+    signal-number order (INT before TERM, whichever came first), so a TERM then an INT 1 ms later,
+    both caught during a long C call, would end winder as if by INT. Python's C-level handler writes
+    each signal's number to the wake-up file descriptor as it arrives: first_arrived reads it back."""
+    global _ARRIVALS  # noqa: PLW0603 - the one pipe of the process
+    if read_end is not None:  # set up already (winder.__main__, before any import)
+        _ARRIVALS = read_end
+        return
+    try:
+        read, write = os.pipe()
+        os.set_blocking(read, False)
+        os.set_blocking(write, False)
+        signal.set_wakeup_fd(write, warn_on_full_buffer=False)
+    except (OSError, ValueError, AttributeError):  # not the main thread, or no pipes here
+        return
+    _ARRIVALS = read
+
+
+def first_arrived(signum: int) -> int:
+    """The stop signal that arrived first among those not handled yet (signum if none is recorded)."""
+    if _ARRIVALS is None:
+        return signum
+    try:
+        arrived = os.read(_ARRIVALS, 4096)
+    except OSError:  # nothing recorded
+        return signum
+    return next((b for b in arrived if b in STOP_SIGNALS), signum)
+
+
 def _raise_interrupted(signum: int, frame) -> None:
     for sig in STOP_SIGNALS:  # one interrupt: the rollback on the way out must not be interrupted
         signal.signal(sig, _ignore)
-    raise Interrupted(signum)
+    raise Interrupted(first_arrived(signum))
+
+
+def block_stop_signals() -> None:
+    """Block TERM and INT for the rest of this process (it is ending on an interrupt): a second signal
+    stays pending and dies with the process, even in the interpreter's last moments, when Python puts
+    the default handlers back and a handler could no longer run."""
+    try:
+        signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+    except (AttributeError, OSError, ValueError):  # not POSIX
+        pass
 
 
 @contextmanager
@@ -85,8 +128,11 @@ def interrupts_raise() -> Iterator[None]:
     try:
         yield
     finally:
-        for sig, handler in old.items():
-            signal.signal(sig, handler)
+        if signal.getsignal(signal.SIGINT) is _ignore:  # interrupted: the process ends on the way out
+            block_stop_signals()  # and a second signal must not end it first
+        else:
+            for sig, handler in old.items():
+                signal.signal(sig, handler)
 
 
 _IN_JOB = False  # in a worker process: inside a job (an interrupt must roll its files back)
@@ -101,6 +147,13 @@ def _worker_signal(signum: int, frame) -> None:
 def worker_init() -> None:
     """A batch worker: TERM and INT roll back the job in hand and end the process; and it gets TERM
     when its parent dies (Linux), so no worker outlives a killed batch."""
+    global _ARRIVALS  # noqa: PLW0603 - the parent's pipe, copied by fork: not this process's
+    if _ARRIVALS is not None:
+        try:
+            signal.set_wakeup_fd(-1)
+        except ValueError:
+            pass
+        _ARRIVALS = None
     for sig in STOP_SIGNALS:
         signal.signal(sig, _worker_signal)
     try:

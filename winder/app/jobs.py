@@ -14,14 +14,15 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
+import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from winder.app.interrupts import TimeUp, in_worker, stop_workers, time_limit, worker_init
+from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
 from winder.progress import Progress, part
-from winder.records import record
 
 if TYPE_CHECKING:
     from concurrent.futures import Future
@@ -30,7 +31,7 @@ PLANNING_SHARE = 0.85  # of a job's progress bar: the planning; the rest renders
 
 __all__ = [
     "ALL_FORMATS", "FORMATS", "JobReport", "JobTask", "error_message", "exit_status", "output_names",
-    "render_outputs", "run_job", "run_jobs",
+    "render_outputs", "run_job", "run_jobs", "write_outputs",
 ]
 
 # Optional outputs of `run`, in the order they are written; `<name>.summary.json` is always written.
@@ -38,7 +39,7 @@ FORMATS = registry.SELECTABLE
 ALL_FORMATS = registry.DEFAULT  # what a job writes when no format is named (the report only on request)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class JobReport:
     """What happened to one config.
 
@@ -76,6 +77,11 @@ def error_message(exc: BaseException, source: str | None = None) -> str:
         text = str(exc).strip() or type(exc).__name__
     else:
         text = f"internal error ({type(exc).__name__}: {exc}); please report it"
+    if source:  # a path holding a newline stays on the line, escaped (the same file everywhere)
+        from winder.export.paths import shown  # noqa: PLC0415
+
+        text = text.replace(source, shown(source)) if source in text else text
+        source = shown(source)
     text = " ".join(text.splitlines())  # one line per problem
     if source and not text.startswith(f"{source}:"):
         text = f"{source}: {text}"
@@ -105,10 +111,12 @@ def output_names(name: str, formats: Iterable[str], summary: bool = True) -> lis
 
 
 def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
-                   progress: Progress | None = None) -> dict[str, bytes]:
-    """Every requested output of a planned job, in memory: file name -> bytes (writing order)."""
+                   progress: Progress | None = None, program=None) -> dict[str, bytes]:
+    """Every requested output of a planned job, in memory: file name -> bytes (writing order);
+    program: the job's motion program when the caller has built it already."""
     chosen = registry.chosen(formats, always=summary)
-    program = motion_program(job, plan) if any(f.program for f in chosen) else None
+    if program is None and any(f.program for f in chosen):
+        program = motion_program(job, plan)
     rendered = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
@@ -145,63 +153,6 @@ def _plan(job, progress: Progress | None = None):
         raise SolverError(exc.message, file=exc.file, key_path=exc.key_path) from exc
 
 
-def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
-    """Write the rendered files, each atomically, and return their paths.
-
-    All or nothing: on any failure (or an interrupt) the files this call already put in place are
-    taken back again; where one replaced the output of an earlier run, that earlier file is put
-    back (it is kept as a hard link until the end), so the folder holds the old set or the new set,
-    never a mix.
-    """
-    from winder.export.atomic import is_stream, output_target, write_atomic  # noqa: PLC0415
-
-    folder = Path(out_dir)
-    written: list[Path] = []  # the files to take back: a link's target, not a device it names
-    backups: dict[Path, Path] = {}
-    try:
-        for file_name, data in rendered.items():
-            path = folder / file_name
-            if is_stream(path):  # a device or FIFO in the folder (a link to /dev/null): nothing to take back
-                write_atomic(path, data)
-                continue
-            target = output_target(path)
-            backup = _keep_old(target)
-            if backup is not None:
-                backups[target] = backup
-            write_atomic(target, data)
-            written.append(target)
-    except BaseException:
-        for path in reversed(written):
-            try:
-                if path in backups:
-                    os.replace(backups.pop(path), path)
-                else:
-                    path.unlink(missing_ok=True)
-            except OSError:
-                pass
-        raise
-    finally:
-        for backup in backups.values():
-            try:
-                backup.unlink(missing_ok=True)
-            except OSError:
-                pass
-    return [str(folder / file_name) for file_name in rendered]
-
-
-def _keep_old(path: Path) -> Path | None:
-    """A hard link to an existing file at path (to put it back if the job fails), or None."""
-    if not path.is_file():
-        return None
-    backup = path.with_name(f".{path.name}.{os.getpid()}.old")
-    try:
-        backup.unlink(missing_ok=True)
-        os.link(path, backup)
-    except OSError:  # no hard links here (some network or FAT folders): no way back, as without
-        return None
-    return backup
-
-
 def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             formats: Sequence[str] = ALL_FORMATS, source: str | None = None, summary: bool = True,
             progress: Progress | None = None, seconds: float | None = None) -> JobReport:
@@ -234,14 +185,26 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                 job = dataclasses.replace(job, source=source)
                 shown = source
             name = job.name
+            cell_dialect = job.machine.dialect if job.machine is not None and job.machine.cell is not None else None
+            if formats == tuple(ALL_FORMATS) and cell_dialect in FORMATS:  # a robot cell's language by default
+                formats += (cell_dialect,)
             if "layup" in formats:  # a request refused from the config alone, before any planning
                 from winder.export.layup import require_material  # noqa: PLC0415
 
                 require_material(job)
+            if "abaqus" in formats:  # likewise: the ply data and the load case (SPEC "Structural analysis")
+                from winder.export.abaqus import require_analysis  # noqa: PLC0415
+
+                require_analysis(job)
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
-            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0))
+            program = None
+            if cell_dialect is not None:  # the cell's reach check refuses before any file, whatever is written
+                program = motion_program(job, plan)
+                if isinstance(program, Exception):
+                    raise program
+            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0), program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")
@@ -277,7 +240,7 @@ def _layer_count(plan) -> int:
 
 
 # -- batches ---------------------------------------------------------------------------------------
-@record
+@dataclasses.dataclass(frozen=True)
 class JobTask:
     """One job of a batch: run_job(config, out_dir, formats[, source][, summary][, seconds])."""
 
@@ -320,6 +283,10 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
     only the job that kills its worker fails (exit status 1) and the others still run. job is run_job (replaceable
     for tests; it must be picklable for workers > 1).
     """
+    from winder.export.paths import check_path  # noqa: PLC0415
+
+    for out_dir in dict.fromkeys(task.out_dir for task in tasks):  # a name past 255 bytes, a loop: before any job
+        check_path(out_dir, "-o", output=True)
     workers = max(1, min(int(workers), len(tasks)))
     if workers == 1:
         for i, task in enumerate(tasks):

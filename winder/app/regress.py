@@ -16,15 +16,16 @@ from __future__ import annotations
 import shutil
 import tempfile
 from collections.abc import Callable, Sequence
+import dataclasses
 from pathlib import Path
 
 from winder.errors import ConfigError
 from winder.export import registry
 from winder.app.compare import (JSON_ATOL, JSON_RTOL, PRINT_SLACK, REL_NOISE, Difference, compare_bytes,
-                                compare_csv, compare_file, compare_lines)
+                                compare_csv, compare_lines)
+from winder.app.compare_files import compare_file
 from winder.app.compare_summary import compare_json
 from winder.app.jobs import JobReport, JobTask, exit_status, run_job, run_jobs
-from winder.records import record
 
 __all__ = [
     "Difference", "FileCheck", "JSON_ATOL", "JSON_RTOL", "PRINT_SLACK", "REL_NOISE", "SampleResult", "Sample",
@@ -35,10 +36,13 @@ __all__ = [
 REFERENCE = "reference"
 # The outputs stored as references; a PLY only where the reference folder already holds one.
 REFERENCE_FORMATS = ("csv", "gcode")
+# A reference file past this is not read (the largest job the work budget allows writes about 150 MB
+# per file): a difference, not unbounded memory.
+MAX_REFERENCE_BYTES = 400_000_000
 
 
 # -- what is compared ------------------------------------------------------------------------------
-@record
+@dataclasses.dataclass(frozen=True)
 class Sample:
     """A sample job and the folder of its reference outputs."""
 
@@ -47,7 +51,7 @@ class Sample:
     reference: Path
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class FileCheck:
     """The comparison of one output file. status: same | differs | missing (not produced) |
     unexpected (produced, no reference) | orphaned (a reference, no sample) | new / changed / refreshed /
@@ -63,7 +67,7 @@ class FileCheck:
         return self.status in ("same", "new", "changed", "refreshed", "removed")
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class SampleResult:
     sample: Sample
     report: JobReport
@@ -84,6 +88,9 @@ class SampleResult:
 # -- samples ---------------------------------------------------------------------------------------
 def find_samples(directory: str | Path) -> list[Sample]:
     """The samples of DIR (its *.yaml / *.yml files), sorted by name."""
+    from winder.export.paths import check_path  # noqa: PLC0415
+
+    check_path(directory, "DIRECTORY")
     root = Path(directory)
     if not root.exists():
         raise ConfigError(f"{directory}: no such folder")
@@ -127,11 +134,22 @@ def _orphan(sample: Sample, update: bool) -> SampleResult:
     return SampleResult(sample, report, tuple(checks), updated=True)
 
 
-def _reference_files(sample: Sample) -> dict[str, bytes]:
+def _reference_files(sample: Sample) -> dict[str, bytes | int]:
+    """The reference's files: name -> bytes; a file past MAX_REFERENCE_BYTES is not read: its size."""
     if not sample.reference.is_dir():
         return {}
-    return {p.name: p.read_bytes() for p in sorted(sample.reference.iterdir())
-            if p.is_file() and not p.name.startswith(".")}
+    files: dict[str, bytes | int] = {}
+    for p in sorted(sample.reference.iterdir()):
+        if p.is_file() and not p.name.startswith("."):
+            size = p.stat().st_size
+            files[p.name] = size if size > MAX_REFERENCE_BYTES else p.read_bytes()
+    return files
+
+
+def _too_large(file_name: str, size: int) -> FileCheck:
+    return FileCheck(file_name, "differs", (Difference(
+        "file size", f"at most {MAX_REFERENCE_BYTES:,} bytes (regress's limit)", f"{size:,} bytes",
+        "a reference this large is no output of a job within the work budget; not read"),), 1)
 
 
 def _formats_for(sample: Sample) -> tuple[str, ...]:
@@ -157,6 +175,8 @@ def _check(sample: Sample, report: JobReport) -> tuple[FileCheck, ...]:
         elif file_name not in reference:
             checks.append(FileCheck(file_name, "unexpected", (Difference(
                 "file", "absent (not in the reference)", "produced"),), 1))
+        elif isinstance(reference[file_name], int):
+            checks.append(_too_large(file_name, reference[file_name]))
         else:
             shown, count = compare_file(file_name, reference[file_name], got[file_name])
             checks.append(FileCheck(file_name, "differs" if count else "same", tuple(shown), count))
@@ -171,7 +191,7 @@ def _update(sample: Sample, report: JobReport) -> tuple[FileCheck, ...]:
     got = {Path(p).name: Path(p).read_bytes() for p in report.outputs}
     checks = []
     for file_name, data in got.items():
-        if file_name not in reference:
+        if file_name not in reference or isinstance(reference[file_name], int):  # absent, or too large to read
             write_atomic(sample.reference / file_name, data)
             checks.append(FileCheck(file_name, "new"))
             continue

@@ -22,6 +22,7 @@ the time comes from machine.dynamics (winder.machine.dynamics) over the program'
 
 from __future__ import annotations
 
+import dataclasses
 import io
 
 import numpy as np
@@ -37,17 +38,24 @@ from winder.machine.kinematics import make_guide
 from winder.machine.dynamics import move_times
 from winder.machine.program import APPROACH
 from winder.machine.smooth import SmoothPaths
-from winder.records import record
 from winder.winding.results import WindingPlan, winding_angle_deg
 
 # The largest program the work budget allows, 1.5 million points of about 60 bytes (a move of
 # samples/pipe.yaml's program takes 62), is 90 MB; a larger file is no program winder wrote.
 MAX_PROGRAM_BYTES = 256_000_000
 INSIDE_TOL = 1e-6  # of the mandrel's radius: an eye centre this far inside the part is inside it
+# simulate's own budget (issue 34), held before the work: a program of the job has about one move per
+# planned point (the machine program adds turnaround and approach rows, and densifies long chords), so
+# a program of many more moves is another job's, or no program of winder's.
+MOVES_PER_POINT = 16
+MOVES_SLACK = 10_000
+# The contact search's table (winder.app.contacts.monotone_points): a pass's samples times its
+# candidates, 4 bytes each (plus its cost rows); past this the program is refused, not allocated.
+MAX_TABLE_ENTRIES = 100_000_000
 
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Simulation:
     """What a program lays.
 
@@ -106,20 +114,41 @@ def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, surface: SweepSurf
                       f"{-dist[row]:.3f} mm inside its surface at t = {station:.3f} mm, got {got}")
 
 
+def _refuse_large_table(chain: np.ndarray, size: np.ndarray, parsed: ParsedProgram, source: str) -> None:
+    """Refuse a layer whose contact search would need a table past MAX_TABLE_ENTRIES: a pass read from
+    many more moves than it has candidates (chain (k,) the samples' chain ids, size (k,) the candidates
+    of each sample's pass)."""
+    if not chain.size:
+        return
+    ids, first, length = np.unique(chain, return_index=True, return_counts=True)
+    entries = length.astype(np.int64) * size[first]
+    worst = int(np.argmax(entries))
+    if entries[worst] > MAX_TABLE_ENTRIES:
+        raise ConfigError(f"{source}: a pass read from {int(length[worst]):,} samples against "
+                          f"{int(size[first][worst]):,} points of its plan would need a table of {int(entries[worst]):,} "
+                          f"entries, more than simulate's limit of {MAX_TABLE_ENTRIES:,}: the program is not this "
+                          f"job's ({parsed.values.shape[0]:,} moves)")
+
+
 def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str = "program") -> Simulation:
     """Read the program `text` written for a job planned as `plan` on `machine` and reconstruct
     what it lays (module docstring)."""
-    parsed = parse_program(text, machine, source)
     by_key = {(fp.layer, fp.circuit, fp.number): fp for layer in plan.layers for fp in layer.passes}
+    planned_points = sum(len(fp.points) for fp in by_key.values())
+    parsed = parse_program(text, machine, source, max_moves=MOVES_PER_POINT * planned_points + MOVES_SLACK)
     order = {key: j for j, key in enumerate(by_key)}
     passes = list(by_key.values())
     m = parsed.values.shape[0]
-    unknown = [tuple(k) for k in parsed.keys if tuple(k) not in order]
-    if unknown:
-        named = (f" ({parsed.job!r}, by its job line; this config plans {plan.name!r})"
-                 if parsed.job and parsed.job != plan.name else "")
-        raise ConfigError(f"{source}: layer {unknown[0][0]} circuit {unknown[0][1]} pass {unknown[0][2]} "
+    other = parsed.job is not None and parsed.job != plan.name
+    unknown = next((r for r, k in enumerate(parsed.keys) if tuple(k) not in order), None)
+    if unknown is not None:
+        layer, circuit, number = (int(v) for v in parsed.keys[unknown])
+        named = f" ({parsed.job!r}, by its job line; this config plans {plan.name!r})" if other else ""
+        raise ConfigError(f"{source}: line {parsed.line[unknown]}: layer {layer} circuit {circuit} pass {number} "
                           f"is not in the plan of {plan.source}: the program was written for another job{named}")
+    if other:  # its passes fit this plan's, but its job line names another job
+        raise ConfigError(f"{source}: line {parsed.job_line}: the program was written for another job: its job "
+                          f"line names {parsed.job!r}, this config ({plan.source}) plans {plan.name!r}")
     eye = eye_positions(parsed)
     final_key = tuple(by_key)[-1] if by_key else None
     pass_of = np.array([order[tuple(k)] for k in parsed.keys])
@@ -140,7 +169,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
     mid_rows = np.flatnonzero(same | joined)
     # Samples: the rows, then the midpoints of the moves within a pass.
     mid_values = 0.5 * (parsed.values[mid_rows - 1] + parsed.values[mid_rows])
-    mid_eye = eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0)))
+    mid_eye = (parsed.mids[mid_rows] if parsed.mids is not None else  # a robot cell's eye moves on the ring
+               eye_positions(ParsedProgram(parsed.dialect, mid_values, parsed.keys[mid_rows], (), np.zeros(0))))
     all_eye = np.vstack([eye, mid_eye])
     _refuse_entering(parsed, eye_envelope(plan.surface, machine), plan.surface, source)
     all_pass = np.concatenate([pass_of, pass_of[mid_rows]])
@@ -165,6 +195,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         first, last = paths.offset[where], paths.last[where]
         cand = candidates(paths)
         cu, cp, cd, cstart = cand
+        _refuse_large_table(chain[mine], cstart[where + 1] - cstart[where], parsed, source)
         pick = monotone_points(all_eye[mine], chain[mine], position[mine], where, cp, cd, cstart)
         # Between the candidates either side of the one picked, within the pass.
         lo = cu[np.maximum(pick - 1, cstart[where])]
@@ -207,7 +238,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
                "t": t, "theta_deg": np.degrees(th), "xyz": p, "alpha_deg": alpha,
                "eye": all_eye, "deviation_mm": dev, "mid": np.arange(n) >= m}
     return Simulation(dialect=parsed.dialect, moves=m, transitions=int(m - 1 - mid_rows.size),
-                      time_s=times.total_s, fiber_length_mm=float(np.sum(fiber)),
+                      time_s=float(np.sum(parsed.move_s)) if parsed.move_s is not None else times.total_s,
+                      fiber_length_mm=float(np.sum(fiber)),
                       planned_fiber_length_mm=plan.total_fiber_length_mm,
                       max_deviation_mm=float(np.nanmax(dev)), max_point_deviation_mm=float(np.nanmax(dev[:m])),
                       samples=samples)
@@ -228,12 +260,16 @@ def simulation_csv(sim: Simulation) -> str:
     return buf.getvalue()
 
 
-def simulate_files(config: str, program: str, output: str | None = None, as_json: bool = False) -> str:
+def simulate_files(config: str, program: str, output: str | None = None, as_json: bool = False,
+                   seconds: float | None = None) -> str:
     """`winder simulate`: plan CONFIG, read PROGRAM, write the laid path CSV to `output` (if given);
     the text to show (one JSON object with as_json, else one line)."""
     import json  # noqa: PLC0415
 
+    from winder.app.interrupts import TimeUp, time_limit  # noqa: PLC0415
+    from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.config.job import load_config, read_text  # noqa: PLC0415
+    from winder.errors import SolverError  # noqa: PLC0415
     from winder.export.atomic import check_output_file, write_atomic  # noqa: PLC0415
     from winder.winding.plan import plan as plan_job  # noqa: PLC0415
 
@@ -244,7 +280,16 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     # edited on another system may carry other bytes in its comments (a Latin-1 accent, a byte-order
     # mark): the codes are ASCII, so such bytes are read as replacements, not refused.
     text = read_text(program, program, "winding program", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
-    sim = simulate(job.machine, plan_job(job), text, program)
+    if program.lower().endswith(".src"):  # a KRL program's points are in the .dat beside it
+        dat = program[:-4] + (".DAT" if program.endswith(".SRC") else ".dat")
+        text += read_text(dat, dat, "KRL data list", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
+    validate_job(job)  # run's work budget: a job `check` refuses is not planned here either
+    try:
+        with time_limit(seconds):  # and run's time limit, over the plan and the reading
+            sim = simulate(job.machine, plan_job(job), text, program)
+    except TimeUp as exc:
+        raise SolverError(f"{config}: the simulation did not finish within its time limit of {seconds:g} s "
+                          "(--time-limit)") from exc
     if output is not None:
         write_atomic(output, simulation_csv(sim))
     if as_json:

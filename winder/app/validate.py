@@ -9,12 +9,15 @@ tell: folds, dome fits), the winding section that `run` needs, and the work budg
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING
 
 from winder.config.job import JobConfig, load_config
 from winder.errors import ConfigError
 from winder.geometry.build import build_surface
-from winder.geometry.surface import SweepSurface
-from winder.winding.budget import Budget, check_budget
+
+if TYPE_CHECKING:
+    from winder.geometry.surface import SweepSurface
+    from winder.winding.budget import Budget
 
 __all__ = ["validate", "validate_job"]
 
@@ -25,6 +28,16 @@ def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
     if job.winding is None:
         raise ConfigError("required key missing; `run` needs a winding plan (band_width and layers)",
                           file=job.source, key_path="winding")
+    from winder.analysis.job import check_analysis  # noqa: PLC0415 - ply names and data, SPEC "Structural analysis"
+
+    check_analysis(job)
+    if job.machine is not None and job.machine.cell is not None:  # a ring out of the arm's reach
+        from winder.machine.cell_check import check_cell_reach  # noqa: PLC0415
+
+        check_cell_reach(job.machine.cell, surface, job.source)
+    # The planner's modules load after the geometry's refusals (a folded mandrel is refused at once).
+    from winder.winding.budget import check_budget  # noqa: PLC0415
+
     return surface, check_budget(job, surface)
 
 

@@ -1,21 +1,21 @@
 """Bent guide curves of the `mandrel.axis` key: arc, path (lines and arcs) and spline.
 
-The straight line is winder.config.mandrel's own; these load only for a file that names them.
+The straight line is winder.config.line's; these load only for a file that names them.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
-from winder.config.mandrel import LineAxis
+from winder.config.line import LineAxis
 from winder.config.reader import MAX_SIZE, Reader
-from winder.records import record
 
 __all__ = ["ArcAxis", "PathAxis", "SplineAxis", "bent_axis_length", "parse_axis"]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class ArcAxis:
     """A circular bend: bend radius (mm), bend angle (deg, in (0, 360]), and the side it bends
     toward, measured like theta from e2 toward e3 (deg; theta = toward is the inside of the bend)."""
@@ -25,14 +25,14 @@ class ArcAxis:
     toward_deg: float = 0.0
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class PathAxis:
     """A tangent-continuous chain of lines and arcs; each arc's toward is in the frame at its start."""
 
     segments: tuple[LineAxis | ArcAxis, ...]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class SplineAxis:
     """A C2 interpolating curve through the points (mm); the first point is the origin."""
 

@@ -20,14 +20,16 @@ class DialectEntry:
     name: str
     module: str
     robot: bool = False
+    cell: bool = False  # a robot cell's own language: written as its own files (winder.export.robot_programs)
 
 
 REGISTRY: dict[str, DialectEntry] = {}
 
 
-def register(name: str, module: str, robot: bool = False) -> None:
-    """Add a dialect to the registry (module: a dotted module path, imported when it is used)."""
-    REGISTRY[name] = DialectEntry(name, module, robot)
+def register(name: str, module: str, robot: bool = False, cell: bool = False) -> None:
+    """Add a dialect to the registry (module: a dotted module path, imported when it is used; cell: a
+    robot cell's language, whose module defines serialize(program) -> {suffix: text})."""
+    REGISTRY[name] = DialectEntry(name, module, robot or cell, cell)
 
 
 def entry(name: str) -> DialectEntry:
@@ -36,6 +38,7 @@ def entry(name: str) -> DialectEntry:
 
 
 def robot_dialects() -> tuple[str, ...]:
+    """The dialects that write robot poses (the pose listing first, then the cells' languages)."""
     return tuple(name for name, e in REGISTRY.items() if e.robot)
 
 
@@ -43,3 +46,6 @@ register("generic", "winder.export.dialects.generic")
 register("marlin", "winder.export.dialects.marlin")
 register("linuxcnc", "winder.export.dialects.linuxcnc")
 register("robot", "winder.export.dialects.robot", robot=True)
+register("krl", "winder.export.dialects.krl", cell=True)
+register("rapid", "winder.export.dialects.rapid", cell=True)
+register("urscript", "winder.export.dialects.urscript", cell=True)

@@ -6,28 +6,28 @@ Reads the file, refuses bad YAML, and hands each section to its parser (winder.c
 
 from __future__ import annotations
 
+import dataclasses
 import math
-import os
 import re
-import stat
 from dataclasses import field
 from pathlib import Path
 
 import yaml
 
+from winder.config.analysis import AnalysisConfig, parse_analysis
 from winder.config.extent import is_bent, mandrel_reach
+from winder.config.files import MAX_FILE_BYTES, MAX_NAME_LENGTH, read_text
 from winder.config.machine import MachineConfig, parse_machine
 from winder.config.mandrel import MandrelConfig, axis_length, is_vessel, parse_mandrel
 from winder.config.reader import Reader, load_yaml
 from winder.config.bends import check_bend_angles
 from winder.config.winding import WindingConfig, parse_winding
 from winder.errors import ConfigError
-from winder.records import record
 
-__all__ = ["JobConfig", "load_config", "parse_config"]
+__all__ = ["MAX_FILE_BYTES", "MAX_NAME_LENGTH", "JobConfig", "load_config", "parse_config", "read_text"]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class JobConfig:
     """A whole job file. source is the file name used in messages. winding is None when the file has
     none (enough for `geodesic` and `check`); machine is the default MachineConfig when left out."""
@@ -37,41 +37,16 @@ class JobConfig:
     mandrel: MandrelConfig
     winding: WindingConfig | None = None
     machine: MachineConfig | None = field(default_factory=MachineConfig)
-
-
-# A job file is a page of YAML; a table or spline of 10,000 points is about 300 kB. Beyond this it is
-# not a job file (or a device such as /dev/zero), and reading it would not end in reasonable time.
-MAX_FILE_BYTES = 2_000_000
-# Output files are <name>.<suffix>, written through hidden temporary files with ~30 more characters;
-# file systems allow 255 bytes per name.
-MAX_NAME_LENGTH = 200
-
-
-def read_text(path: str | Path, source: str, kind: str = "job file", limit: int = MAX_FILE_BYTES,
-              errors: str = "strict") -> str:
-    """The text of a job file (or another kind of text file): a regular file of at most limit bytes,
-    UTF-8 (errors: as bytes.decode's; "replace" reads other bytes as U+FFFD instead of refusing)."""
-    try:
-        info = os.stat(path)  # before opening: opening a FIFO would block
-        if not stat.S_ISREG(info.st_mode):
-            raise ConfigError(f"{source}: not a regular file (a {kind} is a text file)")
-        if info.st_size > limit:
-            raise ConfigError(f"{source}: the file has {info.st_size} bytes, more than a {kind}'s limit of {limit}")
-        with open(path, "rb") as fh:
-            raw = fh.read(limit + 1)
-    except OSError as exc:
-        raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
-    if len(raw) > limit:  # it grew while being read
-        raise ConfigError(f"{source}: the file has more than a {kind}'s limit of {limit} bytes")
-    try:
-        return raw.decode("utf-8", errors=errors)
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{source}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") from exc
+    analysis: AnalysisConfig | None = None  # the load case (SPEC.md "Structural analysis")
 
 
 def load_config(path: str | Path) -> JobConfig:
     """Read and validate a job file; every problem is a ConfigError starting with the path."""
     source = str(path)
+    if source.lower().endswith(".wind"):  # fiberpath's job format (JSON), read as the same job
+        from winder.config.wind_file import read_wind  # noqa: PLC0415
+
+        return parse_config(read_wind(path).data, source)
     text = read_text(path, source)
     try:
         data = load_yaml(text)
@@ -97,7 +72,7 @@ _NAME = re.compile(r"[A-Za-z0-9_.-]+")
 def parse_config(data: dict, source: str) -> JobConfig:
     """Validate the loaded YAML of a job file; source is the file name used in messages."""
     rd = Reader(source)
-    top = rd.mapping(data, "", ("name", "mandrel", "winding", "machine"), required=("name", "mandrel"))
+    top = rd.mapping(data, "", ("name", "mandrel", "winding", "machine", "analysis"), required=("name", "mandrel"))
     name = rd.text(top["name"], "name")
     if not _NAME.fullmatch(name):
         raise rd.error("name", "must use only letters, digits, '_', '.' and '-' (it names the output "
@@ -117,4 +92,7 @@ def parse_config(data: dict, source: str) -> JobConfig:
     check_bend_angles(mandrel, winding, source)
     machine = parse_machine(rd, top.get("machine"), "machine", bent=is_bent(mandrel.axis),
                             max_radius=mandrel_reach(mandrel, 0.0, math.inf, None))
-    return JobConfig(name, source, mandrel, winding, machine)
+    analysis = None
+    if top.get("analysis") is not None:
+        analysis = parse_analysis(rd, top["analysis"], "analysis", vessel)
+    return JobConfig(name, source, mandrel, winding, machine, analysis)

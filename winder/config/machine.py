@@ -6,11 +6,13 @@ mandrel it checks against (bent axis, largest radius); winder.config.job calls i
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
+from winder.config.arms import ARMS
 from winder.config.dialects import REGISTRY as DIALECT_REGISTRY
-from winder.records import record
+from winder.config.robot import DIALECT_OF_MAKER, RobotCell, parse_robot_cell
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -33,7 +35,7 @@ DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0)
 AXIS_LETTERS = "XYZABCUVW"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineAxes:
     """G-code letters of the machine axes (YAML `machine.axes`); distinct, from X Y Z A B C U V W.
 
@@ -47,7 +49,7 @@ class MachineAxes:
     yaw: str = "B"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineLimits:
     """Travel limits (YAML `machine.limits`), each (min, max) in the axis' unit, or None: unlimited."""
 
@@ -67,7 +69,7 @@ class MachineLimits:
         return tuple((role, lim) for role in MACHINE_ROLES if (lim := getattr(self, role)) is not None)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class AxisDynamics:
     """One axis' top speed (mm/min or deg/min) and acceleration (mm/s^2 or deg/s^2), both > 0."""
 
@@ -79,7 +81,7 @@ def _default_dynamics(role: str) -> AxisDynamics:
     return AxisDynamics(*DEFAULT_DYNAMICS[role])
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineDynamics:
     """Per logical axis top speed and acceleration (YAML `machine.dynamics`); defaults DEFAULT_DYNAMICS."""
 
@@ -94,7 +96,7 @@ class MachineDynamics:
         return getattr(self, role)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MachineConfig:
     """The winder (YAML `machine:`). Every key has a default, so the section may be left out.
 
@@ -110,7 +112,8 @@ class MachineConfig:
     chord_tolerance: largest deviation (mm) between the programmed straight moves and the exact
         eye path, >= 0.001 and below the eye clearance (default 0.05); the exporter drops points within it.
     limits: axis travel limits (see MachineLimits); the exporter refuses a program exceeding them.
-    robot: true: write eye poses (position and fiber direction in the mandrel frame) for a robot
+    robot: true: write eye poses (position and fiber direction in the mandrel frame) for a robot (a
+        mapping: a robot cell, `cell`, winder.config.robot)
         instead of G-code axes. Default: true exactly when the mandrel axis is bent, which a
         straight-axis winder cannot follow (an explicit false is then refused).
     dialect: how the program is written (DIALECTS): generic G-code, marlin (fiberpath's X A B
@@ -129,6 +132,7 @@ class MachineConfig:
     dialect: str = "generic"
     eye_size: float = 0.0
     dynamics: MachineDynamics = field(default_factory=MachineDynamics)
+    cell: RobotCell | None = None  # machine.robot as a mapping: the robot cell (winder.config.robot)
 
 
 # -- machine ---------------------------------------------------------------------------------------
@@ -179,26 +183,40 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
         raise rd.error(rd.at(rd.at(path, "eye"), "clearance"), f"must be larger than the chord tolerance "
                        f"({chord_tolerance:g} mm, machine.chord_tolerance): the programmed moves may cut that far "
                        f"inside the eye's path, into the mandrel", m["eye"]["clearance"])
-    robot = bent
-    if "robot" in m:
-        robot = rd.boolean(m["robot"], rd.at(path, "robot"))
+    robot, cell = bent, None
+    if isinstance(m.get("robot"), dict):
+        cell, robot = parse_robot_cell(rd, m["robot"], rd.at(path, "robot")), True
+    elif "robot" in m:
+        if not isinstance(m["robot"], bool):
+            raise rd.error(rd.at(path, "robot"), "must be true, false or a robot cell (a mapping with an arm: "
+                           f"{', '.join(ARMS)})", m["robot"])
+        robot = m["robot"]
         if bent and not robot:
             raise rd.error(rd.at(path, "robot"), "must be true for a bent mandrel axis: a straight-axis "
                            "winder cannot follow it, so winder writes eye poses for a robot", m["robot"])
-    robot, dialect = _parse_dialect(rd, m, path, robot, bent)
+    robot, dialect = _parse_dialect(rd, m, path, robot, bent, cell)
     dynamics = _parse_dynamics(rd, m["dynamics"], rd.at(path, "dynamics")) if "dynamics" in m else MachineDynamics()
     return MachineConfig(axes, eye_radius, eye_clearance, feed, chord_tolerance, limits, robot, dialect,
-                         eye_size, dynamics)
+                         eye_size, dynamics, cell)
 
 
-def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool) -> tuple[bool, str]:
-    """(robot, dialect): `dialect: robot` turns robot mode on; a G-code dialect needs a straight axis."""
+def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool,
+                   cell: RobotCell | None = None) -> tuple[bool, str]:
+    """(robot, dialect): `dialect: robot` turns robot mode on; a G-code dialect needs a straight axis;
+    krl, rapid and urscript need a robot cell (the maker's language is the default there)."""
     if "dialect" not in m:
+        if cell is not None:
+            return True, DIALECT_OF_MAKER[ARMS[cell.arm].maker]
         return robot, "robot" if robot else "generic"
     where = rd.at(path, "dialect")
     dialect = m["dialect"]
     if not isinstance(dialect, str) or dialect not in DIALECT_REGISTRY:
         raise rd.error(where, f"must be one of {', '.join(DIALECT_REGISTRY)}", dialect)
+    if DIALECT_REGISTRY[dialect].cell:
+        if cell is None:
+            raise rd.error(where, f"{dialect} needs a robot cell: machine.robot as a mapping with at least an arm "
+                           f"({', '.join(ARMS)})", dialect)
+        return True, dialect
     if DIALECT_REGISTRY[dialect].robot:
         if "robot" in m and not robot:
             raise rd.error(where, "robot needs robot poses, but machine.robot is false", dialect)

@@ -12,10 +12,11 @@ names them (each costs its dataclasses' creation, which a small job notices).
 
 from __future__ import annotations
 
+import dataclasses
 from typing import TYPE_CHECKING, Any
 
+from winder.config.line import LineAxis
 from winder.config.reader import LENGTH_SLACK, Reader
-from winder.records import record
 
 if TYPE_CHECKING:
     from winder.config.axes import ArcAxis, PathAxis, SplineAxis
@@ -32,24 +33,17 @@ __all__ = ["CircleSection", "ConstantProfile", "LineAxis", "MandrelConfig", "axi
 
 
 # -- the dataclasses -------------------------------------------------------------------------------
-@record
-class LineAxis:
-    """A straight guide along +z; length in mm."""
-
-    length: float
-
-
-@record
+@dataclasses.dataclass(frozen=True)
 class ConstantProfile:
     radius: float
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class CircleSection:
     """A circle; its radius is the profile's."""
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MandrelConfig:
     """The mandrel. axis is None only for a vessel left without one: its length T needs the dome
     shapes, so the surface builds the line. A table profile without an axis gets LineAxis(last t).

@@ -7,10 +7,11 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
-from winder.records import record
+from winder.config.analysis import LAMINA_KEYS, LaminaConfig, parse_lamina
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -21,7 +22,7 @@ MAX_TOWS = 1000
 MAX_DENSITY = 25.0
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class MaterialConfig:
     """A band's material (YAML `winding.material`, or a layer's `material`).
 
@@ -40,9 +41,11 @@ class MaterialConfig:
     resin_density: float | None = None
     fiber_volume_fraction: float | None = None
     ply_thickness: float | None = None
+    lamina: LaminaConfig | None = None  # ply stiffness and strength (SPEC.md "Structural analysis")
 
 
-_KEYS = ("fiber_tex", "tows", "fiber_density", "resin_density", "fiber_volume_fraction", "ply_thickness")
+_KEYS = ("fiber_tex", "tows", "fiber_density", "resin_density", "fiber_volume_fraction", "ply_thickness",
+         *LAMINA_KEYS)
 
 
 def parse_material(rd: Reader, value: Any, path: str, band_width: float) -> MaterialConfig:
@@ -90,6 +93,9 @@ def parse_material(rd: Reader, value: Any, path: str, band_width: float) -> Mate
         if not area / band_width < band_width:
             raise rd.error(rd.at(path, "fiber_tex"), f"gives a band {area / band_width:.4g} mm thick, "
                            f"not thinner than its width ({band_width:g} mm)", m["fiber_tex"])
+    lamina = parse_lamina(rd, m, path)
+    if lamina is not None:
+        out["lamina"] = lamina
     return MaterialConfig(**out)
 
 

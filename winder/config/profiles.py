@@ -6,15 +6,15 @@ only for a file that names them.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 from winder.config.reader import MAX_SIZE, Reader, show_value
-from winder.records import record
 
 __all__ = ["ConeProfile", "TableProfile", "parse_profile"]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class ConeProfile:
     """Radius linear in t from start_radius at t = 0 to end_radius at t = T."""
 
@@ -22,7 +22,7 @@ class ConeProfile:
     end_radius: float
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class TableProfile:
     """(t, r) pairs: t from 0, strictly increasing; r > 0. Interpolated smoothly by the surface."""
 

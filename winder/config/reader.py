@@ -31,7 +31,8 @@ class _Rules:
         seen: set[Any] = set()
         for key_node, _ in node.value:
             key = self.construct_object(key_node, deep=True)  # type: ignore[attr-defined]
-            try:
+            try:  # hash() first: `set() in seen` hashes a set key as a frozenset, and add() would not
+                hash(key)
                 duplicate = key in seen
             except TypeError:  # an unhashable key: the base class reports it
                 continue
@@ -275,23 +276,24 @@ class Reader:
                 raise self.error(self.at(path, key), "required key missing")
         return value
 
-    def typed(self, value: Any, path: str, noun: str,
-              kinds: Mapping[str, tuple[Sequence[str], Sequence[str]]]) -> tuple[str, dict[str, Any]]:
-        """A mapping with a `type` key naming one of kinds: type -> (required keys, optional keys)."""
+    def typed(self, value: Any, path: str, noun: str, kinds: Mapping[str, tuple[Sequence[str], Sequence[str]]],
+              tag: str = "type") -> tuple[str, dict[str, Any]]:
+        """A mapping with a `type` key (or tag: fiberpath's `windType`) naming one of kinds: type ->
+        (required keys, optional keys)."""
         names = ", ".join(kinds)
         if not isinstance(value, dict):
-            raise self.error(path, f"must be a mapping with a type ({names})", value)
-        where = self.at(path, "type")
-        if "type" not in value:
+            raise self.error(path, f"must be a mapping with a {tag} ({names})", value)
+        where = self.at(path, tag)
+        if tag not in value:
             raise self.error(where, f"required key missing; one of {names}")
-        kind = value["type"]
+        kind = value[tag]
         if not isinstance(kind, str) or kind not in kinds:
             close = difflib.get_close_matches(kind, list(kinds), n=1) if isinstance(kind, str) else []
             hint = f" (did you mean '{close[0]}'?)" if close else ""
             raise self.error(where, f"must be one of {names}{hint}", kind)
         required, optional = kinds[kind]
         article = "an" if kind[0] in "aeiou" else "a"
-        return kind, self.mapping(value, path, ("type", *required, *optional), required,
+        return kind, self.mapping(value, path, (tag, *required, *optional), required,
                                   kind=f"{article} {kind} {noun}")
 
     def listing(self, value: Any, path: str, minimum: int, noun: str) -> list[Any]:

@@ -5,17 +5,17 @@ The circle is winder.config.mandrel's own; these load only for a file that names
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
 from winder.config.reader import Reader, show_value
-from winder.records import record
 
 __all__ = ["EllipseSection", "MAX_EXPONENT", "MIN_BEND_FRACTION", "RoundedRectangleSection",
            "SuperellipseSection", "parse_section"]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class EllipseSection:
     """Semi-axis a along e2 and b along e3 (mm)."""
 
@@ -23,7 +23,7 @@ class EllipseSection:
     b: float
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class RoundedRectangleSection:
     """width along e2, height along e3, corner radius <= min(width, height) / 2 (mm)."""
 
@@ -32,7 +32,7 @@ class RoundedRectangleSection:
     corner_radius: float
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class SuperellipseSection:
     """|x/a|^p + |y/b|^p = 1 with p = exponent >= 2 (x along e2)."""
 

@@ -5,11 +5,11 @@ Loads only for a file that names it.
 
 from __future__ import annotations
 
+import dataclasses
 from enum import Enum
 from typing import Any
 
 from winder.config.reader import MAX_SIZE, Reader, show_value
-from winder.records import record
 
 __all__ = ["Dome", "DomeType", "VesselProfile", "parse_vessel"]
 
@@ -20,7 +20,7 @@ class DomeType(Enum):
     ISOTENSOID = "isotensoid"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Dome:
     """One end dome of a vessel.
 
@@ -36,7 +36,7 @@ class Dome:
     depth: float | None = None
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class VesselProfile:
     """A cylinder of radius R and length cylinder_length (>= 0) between two domes. t = 0 is the plane
     of the first dome's polar opening; end_dome is the dome at t = T (a copy of dome if not given)."""

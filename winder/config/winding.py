@@ -6,6 +6,8 @@ message), plus the few facts about the mandrel it checks against; winder.config.
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from enum import Enum
 from typing import TYPE_CHECKING, Any
 
@@ -14,7 +16,6 @@ if TYPE_CHECKING:
 
 from winder.config.material import MaterialConfig, parse_materials
 from winder.config.reader import LENGTH_SLACK
-from winder.records import record
 
 DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
@@ -22,6 +23,7 @@ MAX_POINTS = 100_000
 DEFAULT_FRICTION = 0.2
 # Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
 MIN_HOOP_ANGLE = 70.0
+MAX_LAYER_CIRCUITS = 20_000  # YAML `circuits:`; = winder.winding.budget.MAX_CIRCUITS (the work budget)
 SLIP_AUTO = "auto"
 
 
@@ -32,7 +34,7 @@ class LayerType(Enum):
     HOOP = "hoop"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class LayerConfig:
     """One layer of the plan (YAML: an entry of `winding.layers`).
 
@@ -53,6 +55,9 @@ class LayerConfig:
         cannot cover or turn: bent tubes, vessels whose Clairaut turnaround is inside an opening).
     turnaround_radius: helical on vessels only: turn around on the domes at this radius (mm), lambda
         solved for (|lambda| <= friction); None: where the slip leads (Clairaut for slip 0).
+    circuits: helical only. YAML `circuits: N` (whole, >= 1): wind exactly N circuits instead of the
+        planner's count (the fewest that cover, raised where passes bunch); `winder patterns` lists
+        the choices. None: the planner's count.
     """
 
     type: LayerType
@@ -62,9 +67,12 @@ class LayerConfig:
     slip: float | str = 0.0
     turnaround_radius: float | None = None
     material: MaterialConfig | None = None  # this layer's own (config.material), else the job's
+    circuits: int | None = None
+    taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
+    step_back: float = 0.0  # helical on vessels: mm its turnarounds move toward the equator (math 8.8)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class WindingConfig:
     """The winding plan (YAML `winding:`). band_width and layers are required.
 
@@ -92,6 +100,7 @@ class WindingConfig:
     friction: float = DEFAULT_FRICTION
     layers: tuple[LayerConfig, ...] = ()
     material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
+    bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
 
     @property
     def has_laminate(self) -> bool:
@@ -104,10 +113,11 @@ class WindingConfig:
 
 
 # -- winding ---------------------------------------------------------------------------------------
-_WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material")
+_WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material",
+                 "bridging_tolerance")
 _LAYER_KINDS = {
-    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material")),
-    "hoop": ((), ("angle", "passes", "material")),
+    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back")),
+    "hoop": ((), ("angle", "passes", "material", "taper")),
 }
 
 
@@ -152,7 +162,29 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
     layers = tuple(_parse_layer(rd, item, rd.at(rd.at(path, "layers"), i), friction, vessel)
                    for i, item in enumerate(items))
     material, layers = parse_materials(rd, m.get("material"), items, layers, path, band_width)
-    return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material)
+    bridging = None
+    if "bridging_tolerance" in m:
+        bridging = rd.number(m["bridging_tolerance"], rd.at(path, "bridging_tolerance"))
+        if bridging < 0.0:
+            raise rd.error(rd.at(path, "bridging_tolerance"), "must be >= 0 (mm of lift-off a fiber may stand "
+                           "off the mandrel over a concave stretch)", m["bridging_tolerance"])
+    _check_tapers(rd, items, layers, rd.at(path, "layers"), region)
+    return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
+                         bridging)
+
+
+def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path: str,
+                  region: tuple[float, float] | None) -> None:
+    """A hoop taper must leave its traverses a length: 2 taper (P - 1) / P below the region's length
+    (checked here where the region is given; on vessels and whole mandrels by the planner)."""
+    if region is None:
+        return
+    for i, layer in enumerate(layers):
+        inward = 2.0 * layer.taper * (layer.passes - 1) / layer.passes
+        if layer.type is LayerType.HOOP and inward >= region[1] - region[0]:
+            key = rd.at(rd.at(path, i), "taper")
+            raise rd.error(key, f"steps the hoop's reversals in by {inward:g} mm in all, more than the region "
+                           f"({region[1] - region[0]:g} mm)", items[i]["taper"])
 
 
 def _parse_region(rd: Reader, value: Any, path: str, axis_length: float | None,
@@ -210,6 +242,17 @@ def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -
     return slip, radius
 
 
+def _parse_circuits(rd: Reader, m: dict, path: str, pattern: int | None) -> int | None:
+    """A helical layer's `circuits: N`, the pattern (when given) coprime with it."""
+    if "circuits" not in m:
+        return None
+    circuits = rd.integer(m["circuits"], rd.at(path, "circuits"), minimum=1, maximum=MAX_LAYER_CIRCUITS)
+    if pattern is not None and circuits > 1 and math.gcd(pattern, circuits) != 1:
+        raise rd.error(rd.at(path, "pattern"), f"shares a factor with circuits: {circuits}, so some slots would be "
+                       f"wound twice and others never (winder patterns lists the skips that close)", pattern)
+    return circuits
+
+
 def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
     kind, m = rd.typed(value, path, "layer", _LAYER_KINDS)
     angle_path = rd.at(path, "angle")
@@ -223,7 +266,21 @@ def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: boo
             pattern = rd.integer(m["pattern"], rd.at(path, "pattern"), minimum=1,
                                  what="must be auto or a whole number >= 1")
         slip, radius = _parse_slip(rd, m, path, friction, vessel)
-        return LayerConfig(LayerType.HELICAL, angle, pattern, 1, slip, radius)
+        step_back = 0.0
+        if "step_back" in m:
+            key = rd.at(path, "step_back")
+            step_back = rd.number(m["step_back"], key)
+            if step_back < 0.0:
+                raise rd.error(key, "must be >= 0 (mm toward the equator from the previous helical layer's "
+                               "turnaround)", m["step_back"])
+            if not vessel:
+                raise rd.error(key, "applies to vessels only (the fiber turns around on the domes)", m["step_back"])
+            if slip != SLIP_AUTO or radius is not None:
+                raise rd.error(key, "needs slip: auto (friction moves the turnaround; a geodesic turns where "
+                               "its angle leads) and no turnaround_radius", m["step_back"])
+        circuits = _parse_circuits(rd, m, path, pattern)
+        return LayerConfig(LayerType.HELICAL, angle, pattern, 1, slip, radius, circuits=circuits,
+                           step_back=step_back)
 
     angle_deg = None
     if "angle" in m:
@@ -233,4 +290,10 @@ def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: boo
                            "(leave it out to derive it from the band width; lower angles are a helical "
                            "layer)", m["angle"])
     passes = rd.integer(m.get("passes", 1), rd.at(path, "passes"), minimum=1)
-    return LayerConfig(LayerType.HOOP, angle_deg, None, passes)
+    taper = 0.0
+    if "taper" in m:
+        taper = rd.number(m["taper"], rd.at(path, "taper"))
+        if taper < 0.0:
+            raise rd.error(rd.at(path, "taper"), "must be >= 0 (mm over which the hoop layer's thickness runs "
+                           "out at each end)", m["taper"])
+    return LayerConfig(LayerType.HOOP, angle_deg, None, passes, taper=taper)

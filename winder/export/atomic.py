@@ -51,8 +51,11 @@ def output_target(path: str | Path) -> Path:
 def check_output_file(output: str, inputs: dict[str, str]) -> None:
     """Refuse (ConfigError, exit 2, naming -o) an output file path that is empty, ends in a slash (a
     folder), or is one of the inputs (name -> path) by any path or link, which the write would destroy."""
+    from winder.export.paths import check_path  # noqa: PLC0415
+
     if not output or output.endswith(("/", os.sep)):
         raise ConfigError(f"must name a file, got {output!r}", key_path="-o")
+    check_path(output, "-o", output=True)
     for name, given in inputs.items():
         try:
             same = os.path.samefile(output, given)
@@ -73,6 +76,8 @@ def _write_stream(path: Path, payload: bytes) -> None:
         os.set_blocking(fd, True)
         with os.fdopen(fd, "wb") as fh:
             fh.write(payload)
+    except BrokenPipeError:  # `-o /dev/stdout | head`: the reader has what it wanted; the caller ends quietly
+        raise
     except OSError as exc:
         raise ExportError(f"{path}: cannot write: {exc.strerror or exc}") from exc
 

@@ -19,7 +19,7 @@ def dialect_for(program: MotionProgram, band_width: float = 0.0) -> Dialect:
     """The serializer of machine.dialect from the registry (robot poses whenever the program is a
     robot's and the dialect is not a robot's)."""
     found = entry(program.machine.dialect)
-    if program.robot and not found.robot:
+    if found.cell or (program.robot and not found.robot):  # a cell's language is written beside, as its own files
         found = entry(robot_dialects()[0])
     return importlib.import_module(found.module).make(program, band_width)
 

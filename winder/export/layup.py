@@ -23,6 +23,7 @@ import re
 
 import numpy as np
 
+from winder.analysis.layup import station_rows
 from winder.errors import ConfigError
 from winder.export.job_csv import DECIMALS
 from winder.winding.buildup import share_around
@@ -30,7 +31,6 @@ from winder.winding.results import WindingPlan
 
 HEADER = "layer,t,theta_deg,x,y,z,angle_deg,thickness_mm"
 LAYUP_ANGLES = 24  # 15 deg apart
-LAYUP_STEP_BANDS = 0.5  # station spacing, in band widths
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")  # "-0.000000" is written "0.000000"
 
 
@@ -57,9 +57,7 @@ def layup_csv_text(plan: WindingPlan, band_width: float) -> str:
         lam = layer.laminate
         if lam is None:
             continue
-        step = max(1, int(round(LAYUP_STEP_BANDS * band_width / max(np.median(np.diff(lam.s)), 1e-12))))
-        pick = np.arange(0, lam.s.size, step)
-        pick = pick[lam.thickness[pick] > 0.0]
+        pick = station_rows(lam.s, lam.thickness, band_width)
         if pick.size == 0:
             continue
         surface = plan.surface_of(layer.index)

@@ -1,4 +1,5 @@
-"""The 3D view `<name>.ply` (SPEC.md "Output files"): binary little-endian PLY (trimesh's layout).
+"""The 3D view `<name>.ply` (SPEC.md "Output files"): binary little-endian PLY written by trimesh's
+exporter; `--format stl|obj|glb` write the same mesh through trimesh in those formats.
 
 One triangle mesh with per-vertex RGBA colors (readable by trimesh and MeshLab):
 - the mandrel surface: a grid over the internal station s in [0, length] and theta in [0, 2 pi),
@@ -8,9 +9,8 @@ One triangle mesh with per-vertex RGBA colors (readable by trimesh and MeshLab):
   LAYER_OFFSET * layer index along N so each layer shows above the mandrel and the layers below.
   Color: the hue names the layer, the shade names the pass kind (KIND_SHADE: forward bright, return
   dark, hoop pale, dwell grayish); every band color is saturated, so no band has the mandrel's gray.
-The mesh is not processed (no vertex merging), so the bytes are deterministic. The file is written
-with numpy record arrays, in the layout trimesh writes (float32 xyz, uchar RGBA, faces as uchar 3 +
-int32 indices): importing trimesh costs a whole job's worth of time on a small mandrel.
+The mesh is not processed (no vertex merging), so the bytes are deterministic. STL carries no colors;
+OBJ and GLB carry the vertex colors as trimesh writes them.
 """
 
 from __future__ import annotations
@@ -18,12 +18,16 @@ from __future__ import annotations
 import colorsys
 import functools
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from winder.errors import ExportError
 from winder.winding.results import FiberPass, PassKind, WindingPlan
 from winder.geometry.measure import row_norms
+
+if TYPE_CHECKING:
+    import trimesh
 
 MANDREL_COLOR = (190, 190, 190, 255)
 LAYER_OFFSET = 0.05  # mm per layer index, along the outward normal
@@ -137,32 +141,43 @@ def _band_pieces(plan: WindingPlan, band_width: float) -> list[tuple[np.ndarray,
     return pieces
 
 
-_HEADER = ("ply\nformat binary_little_endian 1.0\ncomment winder\nelement vertex {v}\nproperty float x\n"
-           "property float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
-           "property uchar alpha\nelement face {f}\nproperty list uchar int vertex_indices\nend_header\n")
+def mesh(plan: WindingPlan, band_width: float) -> trimesh.Trimesh:
+    """The colored mesh, unprocessed: the mandrel first, then the bands in winding order."""
+    import trimesh  # noqa: PLC0415 - only when a mesh is written
+
+    pieces = _band_pieces(plan, band_width)
+    verts, ns, nth = _mandrel(plan)
+    mandrel_faces = np.empty((2 * (ns - 1) * nth, 3), dtype=np.int64)
+    _mandrel_faces(ns, nth, mandrel_faces)
+    offsets = np.cumsum([len(verts)] + [len(v) for v, _, _ in pieces])
+    return trimesh.Trimesh(
+        vertices=np.concatenate([verts] + [v for v, _, _ in pieces]),
+        faces=np.concatenate([mandrel_faces] + [f + off for (_, f, _), off in zip(pieces, offsets)]),
+        vertex_colors=np.concatenate([np.tile(np.array(MANDREL_COLOR, dtype=np.uint8), (len(verts), 1))]
+                                     + [c for _, _, c in pieces]),
+        process=False, validate=False)
 
 
 def ply_bytes(plan: WindingPlan, band_width: float) -> bytes:
-    """The binary PLY file's bytes: the colored mesh, mandrel first, then the bands in winding order.
-    Each piece is written into the file's record arrays at its place (no whole-mesh copies)."""
-    pieces = _band_pieces(plan, band_width)
-    verts, ns, nth = _mandrel(plan)
-    n_v = len(verts) + sum(len(v) for v, _, _ in pieces)
-    n_f = 2 * (ns - 1) * nth + sum(len(f) for _, f, _ in pieces)
-    vertex = np.empty(n_v, dtype=[("xyz", "<f4", (3,)), ("rgba", "u1", (4,))])
-    face = np.empty(n_f, dtype=[("count", "u1"), ("index", "<i4", (3,))])
-    xyz, rgba, index = vertex["xyz"], vertex["rgba"], face["index"]
-    xyz[:len(verts)], rgba[:len(verts)] = verts, MANDREL_COLOR
-    _mandrel_faces(ns, nth, index[:2 * (ns - 1) * nth])
-    v0, f0 = len(verts), 2 * (ns - 1) * nth
-    for v, f, colors in pieces:
-        xyz[v0:v0 + len(v)], rgba[v0:v0 + len(v)] = v, colors
-        np.add(f, v0, out=index[f0:f0 + len(f)], casting="unsafe")
-        v0, f0 = v0 + len(v), f0 + len(f)
-    face["count"] = 3
-    return b"".join([_HEADER.format(v=n_v, f=n_f).encode("ascii"), vertex.data, face.data])
+    """The binary PLY file's bytes (float32 xyz, uchar RGBA, triangle faces)."""
+    return mesh(plan, band_width).export(file_type="ply", encoding="binary")
 
 
 def export(plan: WindingPlan, job) -> bytes:
-    """The registry's entry (winder.export.registry)."""
+    """The registry's entry for `ply` (winder.export.registry)."""
     return ply_bytes(plan, job.winding.band_width)
+
+
+def export_stl(plan: WindingPlan, job) -> bytes:
+    """The registry's entry for `stl`: binary STL, no colors."""
+    return mesh(plan, job.winding.band_width).export(file_type="stl")
+
+
+def export_obj(plan: WindingPlan, job) -> str:
+    """The registry's entry for `obj`: Wavefront OBJ text with the vertex colors."""
+    return mesh(plan, job.winding.band_width).export(file_type="obj")
+
+
+def export_glb(plan: WindingPlan, job) -> bytes:
+    """The registry's entry for `glb`: binary glTF with the vertex colors."""
+    return mesh(plan, job.winding.band_width).export(file_type="glb")

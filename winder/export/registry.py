@@ -1,8 +1,9 @@
 """Output formats: name -> file suffix and the module whose export(plan, job) renders it.
 
 The table is static, so that the formats are known (for `--format`, output names, regress) without
-importing an exporter; each exporter module defines export(plan, job) -> str | bytes and is imported
-only when its format is rendered. A new format is one row here and one module. The report
+importing an exporter; each exporter module defines export(plan, job) -> str | bytes (or the function a
+row names: the mesh formats share one module) and is imported only when its format is rendered. A new
+format is one row here and one module. The report
 (`winder.report.export`) is a row too: its module lives in the later report stage and is found by
 name only when a report is asked for, so `run` without `--report` never needs plotly.
 """
@@ -11,12 +12,12 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Iterable
+import dataclasses
 
 from winder.errors import ConfigError
-from winder.records import record
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Format:
     """One output: its name (as in `--format`), its file suffix, the module rendering it, whether
     every job writes it (the summary), and whether `run` writes it when no format is named (not the
@@ -27,11 +28,13 @@ class Format:
     module: str
     always: bool = False
     default: bool = True
+    function: str = "export"
+    part_of: str | None = None  # written with that format, never asked for alone (KRL's .dat)
     program: bool = False  # its export takes the job's motion program (program=, built once per job)
 
     def render(self, plan, job, program=None) -> bytes:
-        module = importlib.import_module(self.module)
-        data = module.export(plan, job, program=program) if self.program else module.export(plan, job)
+        export = getattr(importlib.import_module(self.module), self.function)
+        data = export(plan, job, program=program) if self.program else export(plan, job)
         return data.encode("utf-8") if isinstance(data, str) else bytes(data)
 
 
@@ -39,11 +42,20 @@ FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
     Format("gcode", ".gcode", "winder.export.gcode", program=True),
     Format("ply", ".ply", "winder.export.ply"),
+    Format("stl", ".stl", "winder.export.ply", default=False, function="export_stl"),
+    Format("obj", ".obj", "winder.export.ply", default=False, function="export_obj"),
+    Format("glb", ".glb", "winder.export.ply", default=False, function="export_glb"),
     Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
+    Format("abaqus", ".inp", "winder.export.abaqus", default=False),  # needs ply data and analysis:
     Format("report", ".html", "winder.report.export", default=False, program=True),
+    Format("krl", ".src", "winder.export.robot_programs", default=False, function="krl_src", program=True),
+    Format("krl_dat", ".dat", "winder.export.robot_programs", default=False, function="krl_dat", part_of="krl",
+           program=True),
+    Format("rapid", ".mod", "winder.export.robot_programs", default=False, function="rapid", program=True),
+    Format("urscript", ".script", "winder.export.robot_programs", default=False, function="urscript", program=True),
     Format("summary", ".summary.json", "winder.export.summary", always=True, program=True),
 )
-SELECTABLE = tuple(f.name for f in FORMATS if not f.always)  # the formats a job may leave out
+SELECTABLE = tuple(f.name for f in FORMATS if not f.always and f.part_of is None)  # the formats a job may leave out
 DEFAULT = tuple(f.name for f in FORMATS if not f.always and f.default)  # written when none is named
 
 
@@ -70,4 +82,4 @@ def chosen(names: Iterable[str], always: bool = True) -> tuple[Format, ...]:
     unknown = wanted - set(SELECTABLE)
     if unknown:
         raise ConfigError(f"unknown output format {sorted(unknown)[0]!r}; allowed: {', '.join(SELECTABLE)}")
-    return tuple(f for f in FORMATS if (f.always and always) or f.name in wanted)
+    return tuple(f for f in FORMATS if (f.always and always) or f.name in wanted or f.part_of in wanted)

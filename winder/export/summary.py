@@ -10,7 +10,9 @@ layer with index, type, angle_deg, requested_angle_deg, angle_change_deg, circui
 passes (the layer's passes in the job CSV: turnarounds and dwells included), fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
 when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
 {covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text),
-max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0).
+max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0),
+max_lift_off_mm (how far the fiber stands off a concave stretch it bridges, 0 where it presses
+everywhere) with lift_off_t_mm and lift_off_pass (where; null without a lift-off).
 With a material (a laminate), each layer also has thickness_mm (mean, at the reference section),
 max_thickness_mm, ply_thickness_mm, volume_mm3, fiber_mass_kg, resin_mass_kg, material_length_mm
 and outer_radius_mm (after the layer), and the job fiber_mass_kg, resin_mass_kg, mass_kg and
@@ -21,6 +23,9 @@ no program can be built (an axis limit). estimated_time_s / time_s stay the fibe
 And axis_travel: each logical axis's [least, largest] value over the program as written (carriage,
 rotation, cross_feed, yaw; for robot poses x, y, z, i, j, k), to set against the machine's travel;
 null when no program can be built, and then program_error: why (the axis, the value and the limit).
+With an `analysis:` section, the `analysis` block (winder.analysis.structure.summary_block): the load
+case, burst_pressure_netting_mpa (and where), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and
+t, first_ply_failure_max_stress_mpa, netting_optimum_angle_deg, and per layer.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from winder.analysis.structure import DECIMALS as STRUCTURE_DECIMALS
 from winder.errors import ExportError, WinderError
 from winder.export.dialects.marlin import AXIS_SIGNS
 from winder.machine.program import MotionProgram, build_program
@@ -55,6 +61,7 @@ DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm"
                     "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
                     "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS}
 _DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
+DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.structure)
 
 
 def decimals_of(key: str) -> int | None:
@@ -105,7 +112,17 @@ def _layer(layer: LayerPlan) -> dict[str, Any]:
         },
         "notes": [str(n) for n in layer.notes],
         **_laminate(layer),
+        **_lift_off(layer),
     }
+
+
+def _lift_off(layer: LayerPlan) -> dict[str, Any]:
+    """max_lift_off_mm (0 where the fiber presses everywhere) and where: lift_off_t_mm, lift_off_pass
+    (null without a lift-off); docs/math/08-laminate-edges.md 8.10."""
+    bridged = layer.max_lift_off_mm > 0.0
+    return {"max_lift_off_mm": _num(layer.max_lift_off_mm, LENGTH_DECIMALS),
+            "lift_off_t_mm": _num(layer.lift_off_t, LENGTH_DECIMALS) if bridged else None,
+            "lift_off_pass": int(layer.lift_off_pass) if bridged else None}
 
 
 def _laminate(layer: LayerPlan) -> dict[str, Any]:
@@ -170,10 +187,12 @@ def _axis_travel(program) -> dict[str, list[float]]:
             for axis, lo, hi, k in zip(program.axes, lows, highs, decimals)}
 
 
-def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None) -> dict[str, Any]:
+def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,
+                 job=None) -> dict[str, Any]:
     """The summary as plain Python data (what summary_text serializes); machine: a MachineConfig
     for the winding times (left out: no winding_time_s keys); program: its motion program (or the
-    error of its build), built here when not given."""
+    error of its build), built here when not given; job: its `analysis:` section gives the
+    `analysis` block (winder.analysis.structure)."""
     out = {
         "name": plan.name,
         "source": plan.source,
@@ -191,18 +210,23 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
             out["program_error"] = why
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
+    if job is not None and getattr(job, "analysis", None) is not None:
+        from winder.analysis.structure import analyze, summary_block  # noqa: PLC0415
+
+        out["analysis"] = summary_block(analyze(plan, job), job)
     return out
 
 
-def summary_text(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None) -> str:
+def summary_text(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,
+                 job=None) -> str:
     """The summary JSON text (sorted keys, indent 2, newline-terminated)."""
-    return json.dumps(summary_dict(plan, machine, program), sort_keys=True, indent=2, allow_nan=False) + "\n"
+    return json.dumps(summary_dict(plan, machine, program, job), sort_keys=True, indent=2, allow_nan=False) + "\n"
 
 
 def export(plan: WindingPlan, job, program: MotionProgram | Exception | None = None) -> str:
     """The registry's entry (winder.export.registry). The summary must be JSON (regress and other
     tools read it): anything else is refused here rather than written to a file nobody can read."""
-    text = summary_text(plan, job.machine, program)
+    text = summary_text(plan, job.machine, program, job)
     try:
         json.loads(text)
     except ValueError as exc:

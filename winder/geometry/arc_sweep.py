@@ -5,8 +5,8 @@ T0 and the normal u, the binormal b is constant, and e2, e3 are fixed combinatio
 every field is a combination of a few constant columns with per-point factors, and fields that share
 a factor are formed together on stacked rows: T and N in one pass ((2, 3, m)), n and m in another,
 Phi_s and Phi_ss (both stretch times a column) in one, Phi_th and Phi_thth (both the radius times
-one) in one. Each stacked pass computes the very products and sums the separate ones did, in the same
-order, so the fields are the same bit for bit (a - b is a + (-b), and (-w) T is -(w T)).
+one) in one. Each stacked pass computes the products and sums the separate ones did, so the fields
+are theirs to round-off.
 """
 
 from __future__ import annotations

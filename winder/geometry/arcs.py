@@ -3,17 +3,17 @@ winder.geometry.curves for the conventions and the line)."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import NamedTuple
 
 import numpy as np
 
 from winder.geometry.curves import X_AXIS, Z_AXIS, CurveEval, Line
-from winder.records import record
 
 __all__ = ["Arc", "ArcSpec", "Path", "chain"]
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Arc:
     """A circular arc of bend radius `radius` turning from `tangent` toward `toward_dir`.
 
@@ -72,7 +72,7 @@ def _arc_from(origin: np.ndarray, tangent: np.ndarray, e2: np.ndarray, cfg: ArcS
     return Arc(cfg.radius * np.radians(cfg.angle_deg), cfg.radius, origin, tangent, e2, u)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Path:
     """A tangent-continuous chain of lines and arcs; frames carried across the joints.
 

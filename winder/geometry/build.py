@@ -21,7 +21,7 @@ from winder.geometry.domes import (ELLIPSOID_MAX_DEPTH, ELLIPSOID_MIN_DEPTH, ISO
                                    ISOTENSOID_MIN_OPENING, DomeMeridian, Ellipsoid, Hemisphere)
 from winder.geometry.profiles import AxialProfile, Profile, linear, table_profile
 from winder.geometry.sections import Circle, Section
-from winder.geometry.surface import Fold, SweepSurface, find_fold
+from winder.geometry.surface import SELF_INTERSECTION_MARGIN, Fold, SweepSurface, find_fold
 from winder.geometry.vessel import VesselMeridian
 
 if TYPE_CHECKING:
@@ -179,10 +179,42 @@ def _refuse_cusp(curve: GuideCurve, source: str) -> None:
                           f"others are to theirs (a near-duplicate) makes the spline swing to and fro; remove it")
 
 
+def _refuse_spline_fold(mandrel: MandrelConfig, section: Section, source: str) -> None:
+    """SPEC: a spline axis bent tighter than the section's largest radius there folds the mandrel onto
+    itself; refused from the points alone (numpy), before the spline curve loads scipy."""
+    from winder.config.axes import SplineAxis  # noqa: PLC0415
+
+    if not isinstance(mandrel.axis, SplineAxis) or len(mandrel.axis.points) < 3:
+        return
+    from winder.geometry.spline_fold import spline_bends  # noqa: PLC0415
+
+    bend = spline_bends(np.asarray(mandrel.axis.points, dtype=float))
+    rho = float(section.polar(np.linspace(0.0, 2.0 * np.pi, 721))[0].max())
+    if mandrel.profile is None:
+        widest = np.full_like(bend.z, rho)
+    else:
+        profile = make_profile(mandrel.profile, bend.length, source)
+        t = np.clip(bend.z, 0.0, profile.axial_length)
+        scale = 1.0 if isinstance(section, Circle) else profile.reference_radius
+        widest = profile.evaluate(profile.s_of_t(t)).r * rho / scale
+    reach = widest * bend.kappa
+    worst = int(np.argmax(reach))
+    if reach[worst] < 1.0 - SELF_INTERSECTION_MARGIN:
+        return
+    i = int(bend.piece[worst])
+    near = i + 1 if bend.z[worst] - bend.z[bend.piece == i][0] > 0.5 * np.ptp(bend.z[bend.piece == i]) else i
+    raise ConfigError(
+        f"{source}: mandrel.axis.points[{near}]: the axis bends with radius {1.0 / bend.kappa[worst]:.4g} mm at "
+        f"t = {bend.z[worst]:.6g} mm (between points[{i}] and points[{i + 1}]), below the mandrel's largest "
+        f"section radius there ({widest[worst]:.4g} mm): the mandrel would fold onto itself; spread the points "
+        f"or make the section smaller, got {show_value(list(mandrel.axis.points[near]))}")
+
+
 def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
     """The sweep surface of a validated mandrel config; geometric refusals raise ConfigError."""
     section = make_section(mandrel.section)
     axis_cfg = mandrel.axis
+    _refuse_spline_fold(mandrel, section, source)
     if mandrel.profile is None:
         curve = make_curve(axis_cfg, source)
         surface = SweepSurface(curve, None, section, 1.0, curve.length, name)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.geometry.interp import InterpSpline
+from winder.geometry.interp import interp_spline
 from winder.geometry.measure import cross, row_norms
 from winder.geometry.surface import SweepSurface
 
@@ -29,7 +29,7 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def inward_normals(surface: SweepSurface, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """Unit normals Phi_s x Phi_theta / |...| (into the mandrel): (m, 3) float."""
     ev = surface.evaluate(s, theta, order=1)
-    nrm = cross(ev.ps, ev.pt)  # np.cross and np.linalg.norm bit for bit, without their axis handling
+    nrm = cross(ev.ps, ev.pt)
     return nrm / row_norms(nrm)[:, None]
 
 
@@ -59,7 +59,7 @@ def path_curvatures(surface: SweepSurface, arc: np.ndarray, s: np.ndarray,
     A quintic interpolating spline through the samples (against arc) gives the derivatives; the
     arc need not be exact (any smooth parametrization serves). All (m,) float, m >= 6.
     """
-    spline = InterpSpline(arc, np.column_stack([s, theta]), SPLINE_DEGREE).derivative()
+    spline = interp_spline(arc, np.column_stack([s, theta]), SPLINE_DEGREE).derivative()
     (ds, dth), (dds, ddth) = spline(arc).T, spline(arc, 1).T
     return curve_curvatures(surface, s, theta, ds, dth, dds, ddth)
 

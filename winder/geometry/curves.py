@@ -8,13 +8,12 @@ winder.geometry.spline_curves (loaded only for the mandrels that have them).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import field
 from typing import NamedTuple, Protocol
 
 import numpy as np
-
-from winder.records import record
 
 
 Z_AXIS = np.array([0.0, 0.0, 1.0])
@@ -51,7 +50,7 @@ def tile(v: np.ndarray, m: int) -> np.ndarray:
     return np.repeat(v[:, None], m, axis=1).T
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Line:
     """A straight segment from `origin` along `tangent`, frame constant."""
 

@@ -40,11 +40,12 @@ a cylinder in winder.geometry.vessel.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from winder.geometry.ppoly import PiecewisePoly
+if TYPE_CHECKING:
+    from scipy.interpolate import PPoly
 
 # Limits of what the dome geometry can represent (see the module docstring).
 ISOTENSOID_MAX_OPENING = 0.75  # polar_opening / radius; netting theory ends at sqrt(2/3) = 0.8165
@@ -66,12 +67,14 @@ class DomeEval(NamedTuple):
     r2: np.ndarray
 
 
-def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarray) -> PiecewisePoly:
+def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarray) -> PPoly:
     """The C2 piecewise quintic through values, first and second derivatives at the knots x.
 
     Exact at the knots (value, slope and curvature), O(dx^6) between them; its derivatives are exactly
     those of the returned piecewise polynomial.
     """
+    from scipy.interpolate import PPoly  # noqa: PLC0415 - only vessels have dome tables
+
     dx = np.diff(x)
     a0, a1, a2 = y[:-1], y1[:-1], 0.5 * y2[:-1]
     d0 = y[1:] - (a0 + a1 * dx + a2 * dx * dx)
@@ -81,7 +84,7 @@ def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarra
     b4 = -15.0 * d0 + 7.0 * d1 - d2
     b5 = 6.0 * d0 - 3.0 * d1 + 0.5 * d2
     c = np.array([b5 / dx**5, b4 / dx**4, b3 / dx**3, a2, a1, a0])
-    return PiecewisePoly(c, x)
+    return PPoly(c, x)
 
 
 class DomeMeridian:

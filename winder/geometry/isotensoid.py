@@ -33,7 +33,6 @@ from __future__ import annotations
 import numpy as np
 
 from winder.geometry.domes import DomeMeridian, _quintic_hermite
-from winder.geometry.rk import solve_rk
 
 
 class Isotensoid(DomeMeridian):
@@ -95,12 +94,14 @@ class Isotensoid(DomeMeridian):
         reach_a.terminal = reach_b.terminal = True
         reach_a.direction, reach_b.direction = -1, 1
         tiny = 1e-3 * min(dstar, 1.0)
+        from scipy.integrate import solve_ivp  # noqa: PLC0415 - only where a meridian is integrated
+
         with np.errstate(invalid="ignore"):  # a rejected trial step may leave the domain
-            sol_a = solve_rk(rhs_a, (0.0, 10.0), [1.0, 0.0, 0.0], rtol=3e-14, atol=1e-15, events=[reach_a],
-                             dense_output=True, first_step=1e-3)
-            sol_b = solve_rk(rhs_b, (0.0, 10.0), [0.0, 0.0, 0.0], rtol=3e-14,
-                             atol=np.array([1e-13 * tiny, 1e-13 * tiny, 1e-15]), events=[reach_b],
-                             dense_output=True, first_step=0.1 * dstar)
+            sol_a = solve_ivp(rhs_a, (0.0, 10.0), [1.0, 0.0, 0.0], method="DOP853", rtol=3e-14, atol=1e-15,
+                              events=[reach_a], dense_output=True, first_step=1e-3)
+            sol_b = solve_ivp(rhs_b, (0.0, 10.0), [0.0, 0.0, 0.0], method="DOP853", rtol=3e-14,
+                              atol=np.array([1e-13 * tiny, 1e-13 * tiny, 1e-15]), events=[reach_b],
+                              dense_output=True, first_step=0.1 * dstar)
         for sol in (sol_a, sol_b):
             if sol.status != 1 or len(sol.t_events[0]) != 1:  # pragma: no cover - guarded by limits
                 raise RuntimeError(f"isotensoid meridian integration failed: {sol.message}")

@@ -16,13 +16,14 @@ neighbour's velocity at the crossing, carried over the joint.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from winder.geometry.curves import Line
 from winder.geometry.index_spline import hermite_nodes
 from winder.geometry.interp import knot_slopes_runs
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 
 JUMP_TOL = 1e-9  # a curvature jump below this share of the curve's largest curvature is no joint
 PHI_MIN = 1e-3  # a crossing this close to a vertex (in segments) takes its place as a knot
@@ -57,7 +58,7 @@ def joint_stations(surface: SweepSurface) -> np.ndarray:
     return s
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class SplitNodes:
     """The quadrature of a path split at its joint crossings: its length is
     sum w |Phi_s s' + Phi_theta theta'| over the evaluated nodes (s, theta, du, w) and over the vertex

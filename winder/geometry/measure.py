@@ -9,37 +9,24 @@ from winder.geometry.joints import SplitNodes, joint_stations, split_nodes
 from winder.geometry.surface import SweepSurface
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per segment on short paths
-# numpy.polynomial.legendre.leggauss(5), bit for bit, as literals: numpy.polynomial costs ~4 ms to import.
-GAUSS_X = np.array([-0.906179845938664, -0.5384693101056831, 0.0, 0.5384693101056831, 0.906179845938664])
-GAUSS_W = np.array([0.23692688505618928, 0.4786286704993663, 0.5688888888888887, 0.4786286704993663,
-                    0.23692688505618928])
+GAUSS_X, GAUSS_W = np.polynomial.legendre.leggauss(GAUSS_NODES)
 GAUSS_SEGMENTS = 256  # paths of up to this many segments use them (see smooth_length)
 GAUSS_T = 0.5 + 0.5 * GAUSS_X  # the nodes as fractions of a segment
 
 
 def pair_columns(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """np.stack([a, b], axis=1) of two (m,) arrays, without its wrapper: (m, 2)."""
-    return np.concatenate([a[:, None], b[:, None]], axis=1)
+    """The (m, 2) columns a, b of two (m,) arrays."""
+    return np.stack([a, b], axis=1)
 
 
 def row_norms(v: np.ndarray) -> np.ndarray:
-    """The Euclidean norm of each row of v (m, k): np.linalg.norm(v, axis=1) bit for bit.
-
-    numpy reduces a short last axis in order (v0^2 + v1^2 + ...), and so does this sum, written out a
-    column at a time: about 5x faster on (m, 3), where the reduction's per-row overhead dominates.
-    Rows of 8 or more components (numpy sums those pairwise) go to np.linalg.norm itself.
-    """
-    if v.ndim != 2 or v.shape[1] >= 8 or v.shape[1] == 0:
-        return np.linalg.norm(v, axis=1)
-    total = v[:, 0] * v[:, 0]
-    for j in range(1, v.shape[1]):
-        total = total + v[:, j] * v[:, j]
-    return np.sqrt(total)
+    """The Euclidean norm of each row of v (m, k): (m,)."""
+    return np.linalg.norm(v, axis=1)
 
 
 def polyline_length(points: np.ndarray) -> float:
     """Length of the polyline through points (m, 3)."""
-    return float(np.add.reduce(row_norms(points[1:] - points[:-1])))
+    return float(np.sum(row_norms(points[1:] - points[:-1])))
 
 
 def smooth_length(surface: SweepSurface, s: np.ndarray, theta: np.ndarray,
@@ -98,15 +85,14 @@ def smooth_lengths(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarr
             continue
         if gauss:
             speed = _speed(ps, pt, du.T).reshape(-1, GAUSS_NODES)
-            lengths.append(float(0.5 * np.add.reduce(speed @ GAUSS_W)))
+            lengths.append(float(0.5 * np.sum(speed @ GAUSS_W)))
             continue
         if knots is not None:
             ps, pt = np.concatenate([knots[0].T, ps], axis=1), np.concatenate([knots[1].T, pt], axis=1)
         m = dy.shape[0]
         speed = _speed(ps, pt, np.concatenate([dy.T, du.T], axis=1))
-        # ufunc reductions: np.sum's wrapper costs more than a short sum
-        lengths.append(float(LOBATTO_W_END * (2.0 * np.add.reduce(speed[:m]) - speed[0] - speed[m - 1])
-                             + LOBATTO_W_MID * np.add.reduce(speed[m:])))
+        lengths.append(float(LOBATTO_W_END * (2.0 * np.sum(speed[:m]) - speed[0] - speed[m - 1])
+                             + LOBATTO_W_MID * np.sum(speed[m:])))
     return lengths
 
 
@@ -121,68 +107,32 @@ def _split(surface: SweepSurface, joints: np.ndarray, s: np.ndarray, theta: np.n
 
 def _split_length(split: SplitNodes, ps: np.ndarray, pt: np.ndarray, knots: tuple | None) -> float:
     """The length of a split path from its nodes' fields ps, pt (3, q) (and the vertex knots')."""
-    total = float(np.add.reduce(split.w * _speed(ps, pt, split.du)))
+    total = float(np.sum(split.w * _speed(ps, pt, split.du)))
     if split.knot_index.size:
         idx = split.knot_index
-        total += float(np.add.reduce(split.knot_w * _speed(knots[0][idx].T, knots[1][idx].T, split.knot_du)))
+        total += float(np.sum(split.knot_w * _speed(knots[0][idx].T, knots[1][idx].T, split.knot_du)))
     return total
 
 
 def _speed(ps: np.ndarray, pt: np.ndarray, du: np.ndarray) -> np.ndarray:
-    """|Phi_s s' + Phi_theta theta'| from (3, q) rows ps, pt and (2, q) rows du (s', theta'): (q,).
-    Along rows the products run over the q nodes (over (q, 3) the inner loops are 3 long); the
-    same products and the same three-term sums as on (q, 3) rows."""
+    """|Phi_s s' + Phi_theta theta'| from (3, q) rows ps, pt and (2, q) rows du (s', theta'): (q,)."""
     vel = ps * du[0] + pt * du[1]
     return np.sqrt(np.einsum("ji,ji->i", vel, vel))
 
 
-def _dot3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """u0 v0 + u1 v1 + u2 v2 of (3, q) rows, as einsum reduces a 3-long axis: in order from a zero
-    accumulator, so a total of -0.0 comes out +0.0 (the + 0.0)."""
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2] + 0.0
-
-
 def tangent_coordinates(ps: np.ndarray, pt: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(a, b), each (q,): the least-squares a Phi_s + b Phi_theta ~ v of (3, q) rows ps, pt, v, from
-    the 2 x 2 Gram system G (a, b) = (Phi_s . v, Phi_theta . v).
-
-    The arithmetic of np.linalg.solve on the stacked einsum systems (LAPACK dgesv: the larger entry of
-    G's first column as pivot, ties to the first row, the multiplier through the pivot's reciprocal),
-    checked bit for bit against this build's LAPACK; written out per row it costs a tenth of the
-    batched solve's per-system overhead. Systems LAPACK would treat otherwise (a zero or subnormal
-    pivot, values not finite) go to np.linalg.solve itself, which refuses a singular one as before.
-    """
-    g11, g12, g22 = _dot3(ps, ps), _dot3(ps, pt), _dot3(pt, pt)
-    r1, r2 = _dot3(ps, v), _dot3(pt, v)
-    swap = np.abs(g12) > np.abs(g11)  # G is symmetric: g21 = g12 bit for bit
-    p11, p21 = np.where(swap, g12, g11), np.where(swap, g11, g12)
-    p12, p22 = np.where(swap, g22, g12), np.where(swap, g12, g22)
-    q1, q2 = np.where(swap, r2, r1), np.where(swap, r1, r2)
-    with np.errstate(all="ignore"):
-        mult = p21 * (1.0 / p11)
-        u22 = p22 - mult * p12
-        b = (q2 - mult * q1) / u22
-        a = (q1 - p12 * b) / p11
-    if not (np.all(np.abs(p11) >= _NORMAL_MIN) and np.all(u22 != 0.0)
-            and np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-        g = np.stack([np.stack([g11, g12], axis=-1), np.stack([g12, g22], axis=-1)], axis=-2)
-        ab = np.linalg.solve(g, np.stack([r1, r2], axis=-1)[..., None])[..., 0]
-        return ab[:, 0], ab[:, 1]
-    return a, b
-
-
-_NORMAL_MIN = float(np.finfo(float).tiny)  # LAPACK divides instead of scaling by a smaller pivot
+    the 2 x 2 Gram systems G (a, b) = (Phi_s . v, Phi_theta . v), solved by np.linalg.solve (which
+    refuses a singular one)."""
+    basis = np.stack([ps.T, pt.T], axis=2)  # (q, 3, 2)
+    gram = np.einsum("nki,nkj->nij", basis, basis)
+    ab = np.linalg.solve(gram, np.einsum("nki,nk->ni", basis, v.T)[..., None])[..., 0]
+    return ab[:, 0], ab[:, 1]
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise a x b of two (m, 3) arrays: np.cross's arithmetic (a1 b2 - a2 b1, ...) without its
-    axis handling, which costs more than the products on a solver's few thousand rows."""
-    out = np.empty((a.shape[0], 3))
-    a0, a1, a2, b0, b1, b2 = a[:, 0], a[:, 1], a[:, 2], b[:, 0], b[:, 1], b[:, 2]
-    out[:, 0] = a1 * b2 - a2 * b1
-    out[:, 1] = a2 * b0 - a0 * b2
-    out[:, 2] = a0 * b1 - a1 * b0
-    return out
+    """Row-wise a x b of two (m, 3) arrays."""
+    return np.cross(a, b)
 
 
 def geodesic_curvature(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, points: np.ndarray,
@@ -220,12 +170,10 @@ def _spacing(lens: np.ndarray) -> float:
 
 
 def segment_measures(points: np.ndarray) -> tuple[float, float]:
-    """(polyline_length, spacing_deviation) of the polyline through points (m, 3), bit for bit, from
-    one set of segment lengths instead of two."""
+    """(polyline_length, spacing_deviation) of the polyline through points (m, 3), from one set of
+    segment lengths."""
     lens = row_norms(points[1:] - points[:-1])
-    total = np.add.reduce(lens)
-    # lens.mean() is this sum over the count, and np.max the maximum's reduction: without their wrappers
-    return float(total), float(np.maximum.reduce(np.abs(lens / (total / lens.shape[0]) - 1.0)))
+    return float(np.sum(lens)), _spacing(lens)
 
 
 def richardson(l_n: float, l_2n: float) -> tuple[float, float]:

@@ -6,16 +6,16 @@ that a job on round tubes never builds their classes.
 
 from __future__ import annotations
 
+import dataclasses
 
 import numpy as np
 
 from winder.geometry.sections import perimeter_of
-from winder.records import record
 
 __all__ = ["Ellipse", "RoundedRectangle", "Superellipse"]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Ellipse:
     """Semi-axis a along e2, b along e3: rho = a b / sqrt((b cos)^2 + (a sin)^2)."""
 
@@ -47,7 +47,7 @@ class Ellipse:
         return perimeter_of(self)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Superellipse:
     """|x/a|^p + |y/b|^p = 1, p >= 2 (C2): rho = (|cos/a|^p + |sin/b|^p)^(-1/p)."""
 
@@ -88,7 +88,7 @@ class Superellipse:
         return perimeter_of(self)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class RoundedRectangle:
     """Width along e2, height along e3, corners of radius rc; C1 where sides meet corners."""
 

@@ -7,6 +7,7 @@ singular on the domes down to the polar opening; the user-facing station t = z(s
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from typing import TYPE_CHECKING, NamedTuple, Protocol
 
@@ -16,7 +17,6 @@ if TYPE_CHECKING:
     from scipy.interpolate import CubicSpline
 
 from winder.errors import ConfigError
-from winder.records import record
 
 
 class ProfileEval(NamedTuple):
@@ -50,7 +50,7 @@ def _axial(s: np.ndarray, r: np.ndarray, r1: np.ndarray, r2: np.ndarray) -> Prof
     return ProfileEval(s, np.ones_like(s), np.zeros_like(s), r, r1, r2)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class AxialProfile:
     """A profile over the axial station itself (z(s) = s): constant, cone and table profiles.
 
@@ -92,7 +92,7 @@ class AxialProfile:
         return np.asarray(s, dtype=float)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Cubic:
     """One cubic piece over [x[0], x[1]] in CubicSpline's layout (c (4, 1), highest power first; x (2,)),
     callable like it (extrapolating): a straight profile needs no scipy, which is slow to import."""

@@ -7,11 +7,10 @@ other sections are in winder.geometry.outlines.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Protocol
 
 import numpy as np
-
-from winder.records import record
 
 
 
@@ -38,7 +37,7 @@ def perimeter_of(section: Section, samples: int = 20000) -> float:
     return float(np.sum(np.hypot(rho, d1)) * 2.0 * np.pi / samples)
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Circle:
     radius: float = 1.0
     is_circle: bool = True
@@ -55,7 +54,7 @@ class Circle:
         return 2.0 * np.pi * self.radius
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class ArcMap:
     """Arc-length position along a section: fraction f in [0, 1) of the perimeter from theta = 0.
 

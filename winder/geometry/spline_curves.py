@@ -2,18 +2,18 @@
 
 from __future__ import annotations
 
+import dataclasses
 
 import numpy as np
 
 from winder.errors import ConfigError
 from winder.geometry.curves import X_AXIS, Y_AXIS, CurveEval
 from winder.geometry.frames import double_reflection, orthonormalize
-from winder.records import record
 
 __all__ = ["SPLINE_GRID", "SplineCurve", "spline_curve"]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class SplineCurve:
     """A C2 interpolating curve through points, re-parametrized by arc length.
 

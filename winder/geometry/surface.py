@@ -16,6 +16,7 @@ Derivatives (MATH.md 1), with T = x', K = x'', K' = x''' at z and m = dn/dtheta:
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from typing import NamedTuple
 
@@ -25,7 +26,6 @@ from winder.geometry.arc_sweep import ArcFrame, arc_frame, evaluate_arc, is_zero
 from winder.geometry.curves import GuideCurve, Line
 from winder.geometry.profiles import AxialProfile, Profile
 from winder.geometry.sections import Circle, Section
-from winder.records import record
 
 
 # The vanishing-term test and the unit factor of every evaluation, the arc's included (a test replaces
@@ -63,7 +63,7 @@ def jet_of(ev: SurfaceEval, fields: int) -> np.ndarray | None:
 _JET_FIELDS = (1, 3, 6)  # fields stored per order: p; p, ps, pt; p, ps, pt, pss, pst, ptt
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class SweepSurface:
     """A mandrel surface. s in [0, length] is the internal station, theta in radians (unwrapped)."""
 
@@ -247,7 +247,7 @@ class SweepSurface:
 
     def grid_points(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """Phi on the grid of stations s (a,) by angles theta (b,): (a b, 3) float, row i b + j at (s_i,
-        theta_j), the values of points() on the meshgrid (indexing "ij") bit for bit. On a straight
+        theta_j), the values of points() on the meshgrid (indexing "ij"), to round-off. On a straight
         axis with a constant radius the point splits into x(s_i) + R(theta_j) n(theta_j), so the
         angles' cosines, sines and section radii are taken once per angle, not once per grid point."""
         s, theta = np.asarray(s, float), np.asarray(theta, float)

@@ -8,13 +8,13 @@ the end dome. The axial station t = z(s) is 0 in the plane of the first dome's p
 
 from __future__ import annotations
 
+import dataclasses
 from typing import NamedTuple
 
 import numpy as np
 
 from winder.geometry.domes import DomeMeridian
 from winder.geometry.profiles import ProfileEval
-from winder.records import record
 
 
 class VesselRanges(NamedTuple):
@@ -25,7 +25,7 @@ class VesselRanges(NamedTuple):
     end_dome: tuple[float, float]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class VesselMeridian:
     """A vessel's meridian (z(s), r(s)), s the arc length from the first polar opening.
 

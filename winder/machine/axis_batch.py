@@ -6,8 +6,8 @@ cross-feed, carriage and yaw are pointwise in the contact points (yaw made conti
 every pass's points go in one call (kinematics.eye_frames). What is sequential is only the turn
 count: A continues from pass to pass (_Turns), B keeps its turn count, and both rest on a pass's
 first and last values alone, found from one-point evaluations of the same pointwise formulas. Then
-A of all passes is one call (kinematics.rotation_deg). The values are the same, bit for bit, as pass
-by pass.
+A of all passes is one call (kinematics.rotation_deg). The values are those of pass by pass, to
+round-off.
 """
 
 from __future__ import annotations

@@ -113,7 +113,7 @@ def all_dense(plan: WindingPlan, smooth: dict, number: dict, leads: dict, mids: 
         out.update((id(fp), dense) for fp, dense in zip(passes, found) if dense is not None)
     if not out:
         return {}
-    # Every factor-th dense point is a planned one, whose lead is known (the lead is pointwise).
+    # The dense points at integer u are the planned ones, whose lead is known (the lead is pointwise).
     planned = [_planned_rows(d[3]) if leads.get(key) is not None else np.zeros(len(d[3]), dtype=bool)
                for key, d in out.items()]
     try:
@@ -133,9 +133,6 @@ def all_dense(plan: WindingPlan, smooth: dict, number: dict, leads: dict, mids: 
 
 
 def _planned_rows(u: np.ndarray) -> np.ndarray:
-    """Which rows of a densified pass (fractional point indices u (k,), the planned points every
-    factor-th) are its planned points."""
-    factor = (u.size - 1) // max(int(round(u[-1])), 1)
-    rows = np.zeros(u.size, dtype=bool)
-    rows[::factor] = True
-    return rows
+    """Which rows of a densified pass (fractional point indices u (k,), the planned points exactly at
+    the integers, winder.machine.densify.varying_u) are its planned points."""
+    return u == np.floor(u)

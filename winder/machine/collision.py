@@ -30,6 +30,7 @@ from winder.geometry.measure import row_norms
 SAMPLES_PER_MOVE = 8
 SLAB_SEGMENTS = 16  # segments measured per point; more in its slab: the nearest vertex's two
 SEGMENT_BLOCK = 1 << 20  # point-segment pairs measured at once (memory stays bounded)
+GAP_TOL = 1e-9  # mm: a move this little inside its clearance counts as keeping it
 STRAIGHT_TOL = 1e-11  # mm: a meridian vertex this close to its neighbours' chord is inside a straight run
 
 
@@ -127,21 +128,31 @@ def tube_distance(points: np.ndarray, env: EyeEnvelope, guide: Guide, near: np.n
     return np.where(beyond > 0.0, past, (rho - r) / np.sqrt(1.0 + slope * slope))
 
 
-def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, where,
-                    guide: Guide | None = None, joins: np.ndarray | None = None) -> None:
-    """Refuse a program (rows (m, 4): carriage, rotation, cross_feed, yaw; with a guide robot poses,
-    position first) whose eye comes too close to the part anywhere along a move; where(row) names
-    the move's pass. joins : rows whose moves go from one pass to the next without an approach lift
-    (a robot's): the eye body must not touch the part there, it need not keep the clearance."""
-    if values.shape[0] == 0:
-        return
+def clearance_gaps(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, guide: Guide | None = None,
+                   joins: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(worst, need) per row (m,): the eye body's least distance from the part along the move to the
+    row, and the least it must keep there (check_collision's rule); a row is too close where
+    worst < need - GAP_TOL."""
     # env.clearance holds the centre's distance, c + size / 2: the body must keep c, less the chords' cut.
     need = np.full(values.shape[0], 0.0 if env.clearance is None else
                    env.clearance - 0.5 * machine.eye_size - machine.chord_tolerance)
     if joins is not None:
         need[joins] = 0.0
-    worst = move_distances(values, env, guide)[0] - 0.5 * machine.eye_size
-    bad = np.flatnonzero(worst < need - 1e-9)
+    return move_distances(values, env, guide)[0] - 0.5 * machine.eye_size, need
+
+
+def check_collision(values: np.ndarray, env: EyeEnvelope, machine: MachineConfig, where,
+                    guide: Guide | None = None, joins: np.ndarray | None = None,
+                    gaps: tuple[np.ndarray, np.ndarray] | None = None) -> None:
+    """Refuse a program (rows (m, 4): carriage, rotation, cross_feed, yaw; with a guide robot poses,
+    position first) whose eye comes too close to the part anywhere along a move; where(row) names
+    the move's pass. joins : rows whose moves go from one pass to the next without an approach lift
+    (a robot's): the eye body must not touch the part there, it need not keep the clearance.
+    gaps : clearance_gaps of these values, where the caller has them."""
+    if values.shape[0] == 0:
+        return
+    worst, need = clearance_gaps(values, env, machine, guide, joins) if gaps is None else gaps
+    bad = np.flatnonzero(worst < need - GAP_TOL)
     if bad.size:
         row = int(bad[np.argmin(worst[bad] - need[bad])])
         target = (f"X{values[row, 0]:.3f} Y{values[row, 1]:.3f} Z{values[row, 2]:.3f}" if guide is not None

@@ -6,10 +6,12 @@ Per pass: the axis values at the midpoints of the planned point intervals (on th
 winder.machine.smooth; inside a geodesic interval the exact
 geodesic, winder.machine.exact) against the chords' midpoints give each interval's bow e (in the scaled axis
 space of the point reduction). A smooth curve's bow falls as 1 / K^2 when its interval is cut in K,
-so the pass is resampled at K = ceil(sqrt(e_max / (tol / 4))) points per interval (at most
-MAX_FACTOR), which puts the exact eye path within a quarter of the chord tolerance of the dense
-polyline; the point reduction then keeps what the rest of the chord tolerance allows. Where the axes are linear
-in the point index (a helix on a cylinder) e = 0 and the pass is left as planned.
+so each interval is resampled at its own K = ceil(sqrt(e / (tol / 4))) points (at most MAX_FACTOR),
+which puts the exact eye path within a quarter of the chord tolerance of the dense polyline; the point
+reduction then keeps what the rest of the chord tolerance allows. Where the axes are linear in the
+point index (a helix on a cylinder) e = 0 and the interval is left as planned: on a vessel only the
+dome turnarounds are densified, not the whole pass for its worst stretch (the dense points, and with
+them the machine stage's memory, follow the output).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from winder.geometry.measure import row_norms
 
 MAX_FACTOR = 64  # dense points per planned interval, at most
 DENSE_SHARE = 0.25  # of the chord tolerance, left to the dense polyline's own bow
+NEIGHBOURS = 2  # intervals either side whose factor an interval takes too (interval_factors)
 
 
 def dense_factor(bow: float, tol: float) -> int | None:
@@ -36,6 +39,37 @@ def dense_factor(bow: float, tol: float) -> int | None:
     return None if factor <= 1 else factor
 
 
+def interval_factors(bows: np.ndarray, tol: float) -> np.ndarray | None:
+    """(n - 1,) int: the dense points of each planned interval of a pass whose intervals bow `bows`
+    (n - 1,) off their chords, or None where the planned points suffice (module docstring)."""
+    bows = np.asarray(bows, dtype=float)
+    share = DENSE_SHARE * tol
+    factors = np.ones(bows.size, dtype=np.int64)
+    big = np.isfinite(bows) & (bows > share)
+    factors[big] = np.minimum(MAX_FACTOR, np.ceil(np.sqrt(bows[big] / share))).astype(np.int64)
+    if not np.any(factors > 1):
+        return None
+    # A midpoint can miss a corner of the eye's path inside its interval (the eye rounding a tube's end
+    # during a dwell, where the midpoint's eye still lies on the level part): each interval takes the
+    # largest factor of the NEIGHBOURS intervals either side.
+    padded = np.pad(factors, NEIGHBOURS, mode="edge")
+    width = factors.size
+    return np.max(np.stack([padded[k:k + width] for k in range(2 * NEIGHBOURS + 1)]), axis=0)
+
+
+def varying_u(factors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(u, interval): the dense fractional point indices ((sum factors) + 1,) of a pass whose planned
+    interval i is cut in factors[i], the planned points exactly at the integers (u = i + j / K_i, the
+    midpoint exactly i + 0.5 where K_i is even), and each dense point's interval (the last point's n - 1)."""
+    factors = np.asarray(factors, dtype=np.int64)
+    interval = np.repeat(np.arange(factors.size + 1), np.append(factors, 1))
+    first = np.cumsum(factors) - factors
+    j = np.arange(interval.size - 1) - np.repeat(first, factors)
+    u = interval.astype(float)
+    u[:-1] += j / np.repeat(factors, factors)
+    return u, interval
+
+
 def dense_u(n: int, factor: int) -> np.ndarray:
     """((n - 1) factor + 1,) the dense fractional point indices of a pass of n points, the planned
     points exactly every factor-th."""
@@ -44,10 +78,14 @@ def dense_u(n: int, factor: int) -> np.ndarray:
     return u
 
 
-def dense_index(n: int, bow: float, tol: float) -> tuple[int, np.ndarray] | None:
-    """(factor, dense_u) of a pass of n points whose intervals bow up to `bow`, or None."""
-    factor = dense_factor(bow, tol)
-    return None if factor is None else (factor, dense_u(n, factor))
+def dense_index(bows: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """(planned, u): which dense points are planned ones and the dense point indices of a pass whose
+    intervals bow `bows` (n - 1,), or None where the planned points suffice."""
+    factors = interval_factors(bows, tol)
+    if factors is None:
+        return None
+    u, _ = varying_u(factors)
+    return u == np.floor(u), u
 
 
 def midpoints(paths: SmoothPaths, j: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -76,12 +114,12 @@ def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: 
     else:
         p_mid, d_mid, th_mid, mid_lead = mid
     q_mid = axes(p_mid, d_mid, th_mid + shift, mid_lead)
-    found = dense_index(n, float(np.max(row_norms(q_mid - 0.5 * (base[1:] + base[:-1])))), tol)
+    found = dense_index(row_norms(q_mid - 0.5 * (base[1:] + base[:-1])), tol)
     if found is None:
         return None
-    factor, u = found
+    planned, u = found
     _, th, p, d = exact_points(paths, paths.offset[j] + u)
-    p[::factor], d[::factor], th[::factor] = fp.points, fp.direction, fp.theta
+    p[planned], d[planned], th[planned] = fp.points, fp.direction, fp.theta
     return p, d, th + shift, u
 
 
@@ -102,22 +140,22 @@ def densify_many(paths: SmoothPaths, numbers: list[int], passes: list[FiberPass]
     last[np.cumsum(sizes) - 1] = True
     k = np.flatnonzero(~last)  # each interval's first point
     err = row_norms(q_mid - 0.5 * (base[k + 1] + base[k]))
-    bows = np.maximum.reduceat(err, np.cumsum(sizes - 1) - (sizes - 1))
+    cuts = np.cumsum(sizes - 1)[:-1]
     todo, us = [], []
-    for i, (fp, n, bow) in enumerate(zip(passes, sizes, bows.tolist())):
-        found = dense_index(n, bow, tol)
+    for i, bows in enumerate(np.split(err, cuts)):
+        found = dense_index(bows, tol)
         if found is None:
             continue
-        factor, u = found
-        todo.append((i, factor, u))
+        planned, u = found
+        todo.append((i, planned, u))
         us.append(paths.offset[numbers[i]] + u)
     out: list = [None] * len(passes)
     if not todo:
         return out
     _, th, p, d = exact_points(paths, np.concatenate(us))
     cuts = np.cumsum([u.size for _, _, u in todo])[:-1]
-    for (i, factor, u), th_i, p_i, d_i in zip(todo, np.split(th, cuts), np.split(p, cuts), np.split(d, cuts)):
+    for (i, planned, u), th_i, p_i, d_i in zip(todo, np.split(th, cuts), np.split(p, cuts), np.split(d, cuts)):
         fp = passes[i]
-        p_i[::factor], d_i[::factor], th_i[::factor] = fp.points, fp.direction, fp.theta
+        p_i[planned], d_i[planned], th_i[planned] = fp.points, fp.direction, fp.theta
         out[i] = (p_i, d_i, th_i + 0.0, u)
     return out

@@ -23,18 +23,18 @@ dynamics (the direction columns are not axes).
 
 from __future__ import annotations
 
+import dataclasses
 
 import numpy as np
 
 from winder.config.machine import MACHINE_ROLES, MachineConfig
 from winder.geometry.measure import row_norms
-from winder.records import record
 
 JUNCTION_JUMP = 0.02  # fraction of an axis' top speed its velocity may jump at a junction
 _EPS = 1e-12
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class MoveTimes:
     """Timing of the m rows of a program; row i is the move from row i - 1 (row 0: none, 0 s).
 
@@ -72,13 +72,15 @@ def _trapezoid(length, v0, v1, vc, acc):
     return np.maximum(ramps, 0.0) + cruise_len / np.maximum(peak, _EPS)
 
 
-def move_times(values: np.ndarray, fiber: np.ndarray, machine: MachineConfig, robot: bool) -> MoveTimes:
-    """Timing of the program rows `values` (m, k) whose moves lay `fiber` (m,) mm (module docstring)."""
+def move_times(values: np.ndarray, fiber: np.ndarray, machine: MachineConfig, robot: bool,
+               limits: tuple[np.ndarray, np.ndarray] | None = None) -> MoveTimes:
+    """Timing of the program rows `values` (m, k) whose moves lay `fiber` (m,) mm (module docstring);
+    limits: (speed per second, acceleration) of the columns, instead of axis_limits' (a robot cell)."""
     values = np.asarray(values, dtype=float)
     m = values.shape[0]
     if m < 2:
         return MoveTimes(np.zeros(m), np.zeros(m), np.full(m, float(machine.feed)))
-    speed, acc = axis_limits(machine, robot)
+    speed, acc = axis_limits(machine, robot) if limits is None else limits
     cols = speed.size
     delta = np.diff(values[:, :cols], axis=0) / speed  # (m - 1, k) scaled displacement
     length = row_norms(delta)

@@ -3,13 +3,14 @@ mandrel (the rule is in winder.machine.kinematics' module docstring, which uses 
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.geometry.surface import SweepSurface
-from winder.records import record
+from winder.machine.dilation import lift_table
 
 SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
 ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
@@ -18,7 +19,7 @@ SKIP_MARGIN = 1e-9  # relative: the dilation's skipped steps are no-ops with thi
 HULL_SWEEPS = 64  # vectorized pruning sweeps of the upper hull before the monotone chain finishes it
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class EyeEnvelope:
     """The radius the eye keeps from the mandrel axis, as a function of the axial station.
 
@@ -129,15 +130,24 @@ def eye_envelope(surface: SweepSurface, machine: MachineConfig) -> EyeEnvelope:
     plain = _concave_majorant(stations, dil)
     caps = (plain[1] > plain[0] + 1e-12, plain[-2] > plain[-1] + 1e-12)
     if not any(caps):
-        return EyeEnvelope(stations, plain, r_max, None, c)
+        return EyeEnvelope(stations, _lifted(stations, plain, r_max, c), r_max, None, c)
     dil, x = _dilate(stations, r_max, c, h, k_max, caps)
     # The cap's last samples run nearly vertical, where a chord between samples falls inside the circle:
     # stop the table two samples short; the straight continuation (a secant's) stays outside it.
     cut = slice(2 if caps[0] else 0, x.size - (2 if caps[1] else 0))
     x, dil = x[cut], dil[cut]
-    z = _concave_majorant(x, dil)
+    z = _lifted(x, _concave_majorant(x, dil), r_max, c, stations)
     slopes = tuple(((z[1] - z[0]) / h if caps[0] else 0.0, (z[-1] - z[-2]) / h if caps[1] else 0.0))
     return EyeEnvelope(stations, z, r_max, None, c, x, slopes)
+
+
+def _lifted(x: np.ndarray, z: np.ndarray, r_max: np.ndarray, c: float, stations: np.ndarray | None = None) -> np.ndarray:
+    """The table z at x kept c from the profile's polyline between its samples too
+    (winder.machine.dilation), concave again; z itself where nothing was raised."""
+    lifted = lift_table(x, z, x if stations is None else stations, r_max, c)
+    if lifted is z or np.array_equal(lifted, z):
+        return z
+    return _concave_majorant(x, lifted)
 
 
 def _dilate(stations: np.ndarray, r_max: np.ndarray, c: float, h: float, k_max: int,

@@ -53,6 +53,7 @@ fiber direction from the eye to its contact point, both in the mandrel frame.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import replace
 
 import numpy as np
@@ -63,7 +64,6 @@ from winder.geometry.surface import SweepSurface
 from winder.machine.envelope import EyeEnvelope, eye_envelope
 from winder.machine.leads import MAX_LEAD_FACTOR, first_crossing, lead_straight, unit_rows
 from winder.geometry.measure import row_norms
-from winder.records import record
 
 CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
 PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
@@ -73,7 +73,7 @@ WARM_NEWTON = 2
 
 
 # -- results ---------------------------------------------------------------------------------------
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class EyePath:
     """Axis values of a straight-axis winder at m contact points (see the module docstring).
 
@@ -96,7 +96,7 @@ class EyePath:
         return {"carriage": self.x, "rotation": self.a_deg, "cross_feed": self.z, "yaw": self.b_deg}
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class RobotPoses:
     """Eye poses in the mandrel frame for a robot (bent mandrels).
 
@@ -113,7 +113,7 @@ class RobotPoses:
 
 
 def _unwrap_each(b: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """np.unwrap of each consecutive run of b (k,) of the given sizes, bit for bit: a run with no
+    """np.unwrap of each consecutive run of b (k,) of the given sizes (to round-off): a run with no
     step of pi or more gets np.unwrap's zero corrections added to its tail, any other run is
     unwrapped on its own."""
     run = np.repeat(np.arange(sizes.size), sizes)

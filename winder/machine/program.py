@@ -24,33 +24,43 @@ preamble, comments.
 
 from __future__ import annotations
 
+import dataclasses
 
 import numpy as np
 
 from winder.config.machine import MachineConfig
-from winder.machine.collision import check_collision
+from winder.machine.cell import CellMotion, cell_motion
+from winder.machine.collision import GAP_TOL, check_collision, clearance_gaps
 from winder.machine.batch import all_dense, all_leads, all_midpoints, pass_where
 from winder.machine.densify import DENSE_SHARE
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.envelope import eye_envelope
 from winder.machine.axis_batch import TURN_BACK_DEG, straight_axes  # noqa: F401 - TURN_BACK_DEG: docstring
 from winder.machine.kinematics import eye_path, make_guide
+from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.robot import robot_rows
 from winder.machine.reduce import reduce_many, reduce_points, reduce_table  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.machine.straight import straight_passes
-from winder.records import record
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 from winder.geometry.measure import row_norms
 
 YAW_TOLERANCE_DEG = 0.5  # a yaw (or fiber direction) deviation this large counts as chord_tolerance
+# The clearance holds for the program as written (AXIS_DECIMALS decimals): each written carriage and
+# cross-feed value lies within half a unit of the last decimal of the computed one, which moves the eye
+# up to ROUNDING_MARGIN (the part is a solid of revolution: A does not move the eye off it), kept out of
+# the point reduction's tolerance. A pass whose written moves still come too close (a dense polyline's
+# bow above its estimate) is reduced again at TIGHTEN times its tolerance, at most TIGHTEN_ROUNDS times.
+ROUNDING_MARGIN = float(np.hypot(0.5, 0.5)) * 10.0 ** -AXIS_DECIMALS
+TIGHTEN = 0.5
+TIGHTEN_ROUNDS = 6
 
 AXES = ("carriage", "rotation", "cross_feed", "yaw")
 APPROACH = "approach"  # the comment word of a pass's approach rows (Segment.approach)
 POSE_AXES = ("x", "y", "z", "i", "j", "k")
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Segment:
     """One pass of the program: its moves are rows [start, stop) of the program's arrays.
 
@@ -69,7 +79,7 @@ class Segment:
     approach: int = 0  # leading rows that bring the eye from another pass clear of the part (no fiber)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class MotionProgram:
     """The machine's moves for a whole plan, before any controller's text.
 
@@ -100,6 +110,7 @@ class MotionProgram:
     times: MoveTimes
     mandrel_radius: float = 0.0  # the mandrel's largest section radius (mm)
     axial_length: float = 0.0  # the mandrel's length along its axis (mm)
+    cell: CellMotion | None = None  # a robot cell's motion (machine.robot as a mapping), its times the program's
 
     @property
     def layer_times_s(self) -> tuple[float, ...]:
@@ -204,6 +215,45 @@ def _moves(laid: tuple, kept: list[np.ndarray], width: int) -> tuple[np.ndarray,
     return values, index, fiber, lifted, capped, max_lead
 
 
+def as_written(values: np.ndarray, robot: bool) -> np.ndarray:
+    """The program's rows (m, 4) or robot poses (m, 6) as the dialects print them (positions and axes
+    AXIS_DECIMALS decimals, a pose's unit direction ROBOT_DIRECTION_DECIMALS)."""
+    if not robot:
+        return np.round(values, AXIS_DECIMALS)
+    return np.column_stack([np.round(values[:, :3], AXIS_DECIMALS), np.round(values[:, 3:], ROBOT_DIRECTION_DECIMALS)])
+
+
+ROBOT_DIRECTION_DECIMALS = 6  # winder.export.dialects.robot writes a pose's direction so
+
+
+def _kept_clear(q: np.ndarray, sizes: np.ndarray, tols: np.ndarray, laid: tuple, width: int, env,
+                machine: MachineConfig, guide) -> tuple:
+    """The point reduction (winder.machine.reduce, every pass in one batch) whose moves, as written,
+    keep the clearance: (kept per pass, _moves' arrays, joins, clearance_gaps of the written rows).
+    joins : a robot's rows that go straight from one pass's last pose to the next's first (no approach
+    lift), else None. A pass with a written move too close is reduced again at a tighter tolerance
+    (ROUNDING_MARGIN's comment); what no tolerance cures is left to check_collision to refuse."""
+    tols = np.array(tols, dtype=float)
+    kept = reduce_table(q, sizes, tols)
+    q_start = np.cumsum(sizes) - sizes
+    for _ in range(TIGHTEN_ROUNDS + 1):
+        moves = _moves(laid, kept, width)
+        counts = moves[3] + np.array([k.size for k in kept], dtype=int)
+        row_start = np.cumsum(counts) - counts
+        joins = row_start[(row_start > 0) & (counts > 0)] if guide is not None else None
+        gaps = clearance_gaps(as_written(moves[0], guide is not None), env, machine, guide, joins)
+        bad_rows = np.flatnonzero(gaps[0] < gaps[1] - GAP_TOL)
+        bad = np.unique(np.searchsorted(row_start, bad_rows, side="right") - 1)
+        bad = bad[np.array([kept[k].size < sizes[k] for k in bad.tolist()], dtype=bool)] if bad.size else bad
+        if bad.size == 0:
+            break
+        tols[bad] *= TIGHTEN
+        sub = np.concatenate([q[q_start[k]:q_start[k] + sizes[k]] for k in bad.tolist()])
+        for k, again in zip(bad.tolist(), reduce_table(sub, sizes[bad], tols[bad])):
+            kept[k] = again
+    return kept, moves, joins, gaps
+
+
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
@@ -253,13 +303,11 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
         table = q = np.zeros((0, 4))
         u, contacts, on_envelope, lead = np.zeros(0), np.zeros((0, 3)), np.zeros(0, dtype=bool), np.zeros(0)
     # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
-    tols = np.where(dense, tol * (1.0 - DENSE_SHARE), tol)
-    # Every pass's point reduction in one batch (winder.machine.reduce); the rows in pass order.
-    kept = reduce_table(q, sizes, tols)
+    tols = np.maximum(np.where(dense, tol * (1.0 - DENSE_SHARE), tol) - ROUNDING_MARGIN, 0.0)
     width = len(POSE_AXES if robot else AXES)
-    values, index, fiber, lifted, capped, max_lead = _moves((table, u, contacts, on_envelope, lead, sizes, lifts,
-                                                             [fp.length for fp in nonempty]),
-                                                            kept, width)
+    laid = (table, u, contacts, on_envelope, lead, sizes, lifts, [fp.length for fp in nonempty])
+    kept, moves, joins, gaps = _kept_clear(q, sizes, tols, laid, width, env, machine, guide)
+    values, index, fiber, lifted, capped, max_lead = moves
     sizes_of = iter((lifted + np.array([k.size for k in kept], dtype=int)).tolist())
     per_pass = iter(zip(lifted.tolist(), capped.tolist(), max_lead.tolist()))
     for layer in plan.layers:
@@ -279,14 +327,13 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     def where(row: int) -> str:  # the pass of a row, named as the batches name a pass
         return pass_where(plan, max((s for s in starts if s[0] <= row), key=lambda s: s[0])[1])
 
-    # A robot goes straight from one pass's last pose to the next's first (no approach lift).
-    joins = np.array([row for row, _ in starts if row > 0], dtype=int) if robot else None
-    check_collision(values, env, machine, where, guide, joins)
-    times = move_times(values[:, :3] if robot else values, fiber, machine, robot)
+    check_collision(values, env, machine, where, guide, joins, gaps)
+    cell = cell_motion(machine, guide, values, fiber, where, plan.source) if robot and machine.cell else None
+    times = cell.times if cell is not None else move_times(values[:, :3] if robot else values, fiber, machine, robot)
     return MotionProgram(
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
         total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,
         envelope_clearance=env.clearance, values=values, feed=times.feed,
         index=index,
         segments=tuple(layer_segments), fiber=fiber, times=times,
-        mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(surface.axial_length))
+        mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(surface.axial_length), cell=cell)

@@ -6,9 +6,6 @@ half in turn, until every point left out lies within the tolerance of its chord.
 polyline do not depend on one another's order, so all the open chords of all the passes are taken
 at once, one level of the recursion per round: a round costs a few array operations over the points
 still under an open chord, instead of one Python step per kept point.
-
-The arithmetic per chord is that of the one-pass form (the same products in the same order), so the
-kept points are the same.
 """
 
 from __future__ import annotations
@@ -33,43 +30,15 @@ def reduce_many(polylines: list[np.ndarray], tols) -> list[np.ndarray]:
     return reduce_table(np.concatenate([np.asarray(p, dtype=float).reshape(-1, width) for p in polylines]), sizes, tols)
 
 
-def _dot(rel: list[np.ndarray], seg: list[np.ndarray]) -> np.ndarray:
-    """The row dot products of the columns rel and seg, as np.einsum("ij,ij->i") sums them: its
-    two lanes (the even columns' products and the odd ones', each in order), then their sum."""
-    prods = [r * t for r, t in zip(rel, seg)]
-    even, odd = prods[0::2], prods[1::2]
-    total = even[0]
-    for p in even[1:]:
-        total = total + p
-    if odd:
-        rest = odd[0]
-        for p in odd[1:]:
-            rest = rest + p
-        total = total + rest
-    return total
-
-
-def _interleave(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """x[0], y[0], x[1], y[1], ...: np.column_stack([x, y]).ravel() without its per-call cost."""
-    out = np.empty(2 * x.size, dtype=np.result_type(x, y))
-    out[0::2], out[1::2] = x, y
-    return out
-
-
 def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
     """reduce_many of the polylines stored one after the other in q (sum(sizes), k), polyline i
-    sizes[i] rows long: the kept indices (into each polyline) of each.
-
-    The rows are worked on a column at a time (each a contiguous array): per point, the arithmetic
-    of the row-wise form (the products and sums of rel @ seg in einsum's order, row_norms' sum)."""
+    sizes[i] rows long: the kept indices (into each polyline) of each."""
     q = np.asarray(q, dtype=float)
     sizes = np.asarray(sizes, dtype=int)
     if sizes.size == 0:
         return []
     width = q.shape[1] if q.ndim == 2 else 1
     q = q.reshape(-1, width)
-    lanes = width % 2 == 0 and width > 0  # einsum's two lanes cover the row: _dot is its sum
-    cols = [np.ascontiguousarray(q[:, c]) for c in range(width)]
     start = np.cumsum(sizes) - sizes
     keep = np.zeros(q.shape[0], dtype=bool)
     some = sizes > 0
@@ -85,24 +54,15 @@ def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
             break
         first = np.cumsum(n) - n
         idx = np.arange(int(first[-1] + n[-1])) + np.repeat(lo + 1 - first, n)
-        a = q.take(lo, axis=0)  # take: the rows of q[lo], without fancy indexing's cost
-        seg = q.take(hi, axis=0) - a
-        len2 = np.matmul(seg[:, None, :], seg[:, :, None])[:, 0, 0]  # as seg @ seg, bit for bit
-        rel = [c.take(idx) - np.repeat(a[:, k], n) for k, c in enumerate(cols)]
-        seg_p = [np.repeat(seg[:, k], n) for k in range(width)]
-        len2_p = np.repeat(len2, n)
-        if lanes:
-            dot = _dot(rel, seg_p)
-        else:
-            dot = np.einsum("ij,ij->i", np.column_stack(rel), np.column_stack(seg_p))
+        a = q[lo]
+        seg = q[hi] - a
+        seg_p = np.repeat(seg, n, axis=0)
+        rel = q[idx] - np.repeat(a, n, axis=0)
+        len2_p = np.repeat(np.einsum("ij,ij->i", seg, seg), n)
         with np.errstate(divide="ignore", invalid="ignore"):
-            u = np.clip(dot / len2_p, 0.0, 1.0)  # as rel @ seg
+            u = np.clip(np.einsum("ij,ij->i", rel, seg_p) / len2_p, 0.0, 1.0)  # the nearest point of the chord
         u[~(len2_p > 0.0)] = 0.0
-        total = None
-        for r, t in zip(rel, seg_p):  # row_norms of rel - u seg, a column at a time
-            r -= u * t
-            total = r * r if total is None else total + r * r
-        dist = np.sqrt(total)
+        dist = row_norms(rel - u[:, None] * seg_p)
         top = np.maximum.reduceat(dist, first)
         # The first point at the largest distance (np.argmax's choice).
         at_top = np.where(dist == np.repeat(top, n), np.arange(dist.size), dist.size)
@@ -111,7 +71,7 @@ def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
         j, lo, hi = j[split], lo[split], hi[split]
         keep[j] = True
         # Each split chord's halves side by side: the chords stay in point order.
-        lo, hi = _interleave(lo, j), _interleave(j, hi)
+        lo, hi = np.column_stack([lo, j]).ravel(), np.column_stack([j, hi]).ravel()
     kept = np.flatnonzero(keep)
     cuts = np.searchsorted(kept, start + sizes)
     return [kept[a:b] - s for a, b, s in zip(np.concatenate([[0], cuts[:-1]]).tolist(), cuts.tolist(), start.tolist())]

@@ -12,6 +12,8 @@ which leaves the rest of the tolerance to the point reduction.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from winder.config.machine import MachineConfig
@@ -21,11 +23,10 @@ from winder.machine.densify import dense_factor, dense_u
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.kinematics import Guide, RobotPoses
 from winder.machine.smooth import SmoothPaths
-from winder.records import record
 from winder.winding.results import FiberPass, WindingPlan
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class RobotRows:
     """The dense pose rows of every non-empty pass, in plan order.
 

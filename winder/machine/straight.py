@@ -23,7 +23,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.axis_batch import checked, turn_counts
-from winder.machine.densify import dense_factor, dense_u
+from winder.machine.densify import dense_factor, interval_factors, varying_u
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.kinematics import EyePath, eye_points, rotation_deg, unwrap_each
 from winder.machine.leads import lead_straight, unit_rows
@@ -102,15 +102,15 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
     a_base, q_base = base.scaled(base.theta, sizes, arc_radius, angle_scale)
     a_mid, q_mid = mid.scaled(mid.theta, n_mid, arc_radius, angle_scale)
     first = np.repeat(starts[k_two] - mid_start, n_mid) + np.arange(q_mid.shape[0])  # each interval's first point
-    bows = np.maximum.reduceat(row_norms(q_mid - 0.5 * (q_base.take(first + 1, axis=0) + q_base.take(first, axis=0))), mid_start)
+    errs = row_norms(q_mid - 0.5 * (q_base.take(first + 1, axis=0) + q_base.take(first, axis=0)))
+    bows = np.maximum.reduceat(errs, mid_start)
     # Which passes densify, and how (densify.densify_many's rule); the dense points neither planned nor midpoints.
     dense: list = [None] * len(passes)
     extra_u: dict[int, list] = {}
     for (k, j, layer), n, bow, m0 in zip(two, (n_mid + 1).tolist(), bows.tolist(), mid_start.tolist()):
-        found = dense_factor(bow, tol)
-        if found is None:
+        if dense_factor(bow, tol) is None:
             continue
-        u, planned, at_mid, others, interval, local, pool = _dense_rows(n, found)
+        u, planned, at_mid, others, interval, local, pool = _varying_rows(interval_factors(errs[m0:m0 + n - 1], tol))
         dense[k] = [u, planned, at_mid, others, interval, m0, 0, local, pool]
         if others.any():
             extra_u.setdefault(layer, []).append((k, smooth[layer].offset[j] + u[others]))
@@ -126,15 +126,18 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
     return _assemble(passes, wheres, machine, (base, mid, extra), sizes, starts, dense, (a_base, a_mid))
 
 
-@functools.lru_cache(maxsize=64)
 def _dense_rows(n: int, factor: int) -> tuple[np.ndarray, ...]:
-    """(u, planned, at_mid, others, interval, local, pool) of a pass of n points densified by factor:
-    the dense point indices, which are planned points, which fall exactly on an interval's midpoint,
-    which are neither, each one's interval, and each one's pool (0 planned, 1 midpoints, 2 others) and
-    place in the pass's share of it; read-only, shared by the passes of one size and factor."""
-    u = dense_u(n, factor)
-    interval = np.arange(u.size) // factor
-    planned = np.arange(u.size) % factor == 0
+    """_varying_rows of a pass of n points whose every interval is cut in factor."""
+    return _varying_rows(np.full(n - 1, factor, dtype=np.int64))
+
+
+def _varying_rows(factors: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(u, planned, at_mid, others, interval, local, pool) of a pass whose planned interval i is cut in
+    factors[i] (densify.varying_u): the dense point indices, which are planned points, which fall
+    exactly on an interval's midpoint, which are neither, each one's interval, and each one's pool
+    (0 planned, 1 midpoints, 2 others) and place in the pass's share of it; read-only."""
+    u, interval = varying_u(factors)
+    planned = u == interval
     at_mid = ~planned & (u == interval + 0.5)
     others = ~planned & ~at_mid
     local = interval.astype(np.int64)

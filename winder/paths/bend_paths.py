@@ -21,6 +21,7 @@ Stations are the axial t (= s: these mandrels have no vessel profile); theta in 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -29,13 +30,12 @@ from winder.geometry.curvature import torus_constant_angle_slip, torus_least_pre
 from winder.geometry.arcs import Arc, Path
 from winder.errors import SolverError
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 
 MAX_ARC_ANGLE = math.radians(85.0)  # alpha_m above this is a hoop, not a helical layer
 SLIP_GRID = 721  # phi samples for the largest |lambda| of a constant-angle arc
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Piece:
     """One piece of the winding region in the travel order of a pass.
 

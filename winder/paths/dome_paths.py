@@ -19,6 +19,7 @@ pattern closes with the cylinder angle and the turnaround radius both kept.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import field
 from typing import Callable
@@ -26,8 +27,6 @@ from typing import Callable
 import numpy as np
 
 from winder.errors import SolverError
-from winder.geometry.rk import solve_rk
-from winder.records import record
 
 RTOL = 1e-9
 SLIP_BOUND = 1.0  # the search for lambda stays within this (a friction coefficient)
@@ -35,6 +34,10 @@ RADIUS_TOL = 1e-6  # mm: turnaround radius solves
 ADVANCE_TOL = 1e-8  # rad
 MAX_NEWTON = 20
 FD_STEP = 1e-4  # lambda step of the finite-difference Jacobian of close_leg
+# On a grown dome the traced turnaround moves by ~1e-4 mm between lambdas 1e-7 apart (the adaptive
+# steps of the trace): past MAX_NEWTON, close_leg keeps its best step if it is within these.
+RADIUS_ACCEPT = 1e-3  # mm
+ADVANCE_ACCEPT = 1e-6  # rad (1e-4 mm a circuit on a 100 mm dome)
 
 
 MERIDIAN_SAMPLES = 1201  # per dome: the quintic table's error is far below the integrator's
@@ -66,7 +69,7 @@ def dome_meridian(profile, end: bool) -> DomeMeridian:
     return DomeMeridian(profile, e2, profile.length) if end else DomeMeridian(profile, 0.0, e1)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Leg:
     """A fiber from an equator to its turnaround (or to the opening, if it does not turn).
 
@@ -102,8 +105,10 @@ def trace_leg(meridian: DomeMeridian, s_eq: float, heading: float, slip: Callabl
     turn.direction = -math.copysign(1.0, math.cos(heading))
     opening.direction = -1.0
     span = 4.0 * s_max
-    res = solve_rk(fun, (0.0, span), [s_eq, 0.0, heading], rtol=RTOL, atol=RTOL, dense_output=True,
-                   events=(turn, opening), first_step=1e-3)
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - only where a path is traced
+
+    res = solve_ivp(fun, (0.0, span), [s_eq, 0.0, heading], method="DOP853", rtol=RTOL, atol=RTOL,
+                    dense_output=True, events=(turn, opening), first_step=1e-3)
     # Turned the way it winds: a fiber pushed across the meridian (alpha through 0) turns the other way.
     turned = bool(res.t_events[0].size) and math.sin(res.y[2, -1]) * math.sin(heading) > 0.0
     s_end = float(np.clip(res.y[0, -1], 0.0, s_max))
@@ -164,9 +169,12 @@ def close_leg(meridian: DomeMeridian, s_eq: float, heading: float, c: float, lam
         if fk is None:
             raise SolverError("a dome leg stopped turning around while the pattern was closed")
         jac[:, k] = (fk - f) / FD_STEP
+    best = (abs(f[0]) / RADIUS_ACCEPT + abs(f[1]) / ADVANCE_ACCEPT, x, leg)
     for _ in range(MAX_NEWTON):
         if abs(f[0]) < RADIUS_TOL and abs(f[1]) < ADVANCE_TOL:
             return float(x[0]), float(x[1]), leg
+        if (score := abs(f[0]) / RADIUS_ACCEPT + abs(f[1]) / ADVANCE_ACCEPT) < best[0]:
+            best = (score, x, leg)
         dx = np.linalg.solve(jac, -f)
         f_new, leg = res(x + dx)
         if f_new is None:
@@ -174,4 +182,6 @@ def close_leg(meridian: DomeMeridian, s_eq: float, heading: float, c: float, lam
         # Broyden's update: one trace per step after the first Jacobian.
         jac += np.outer(f_new - f - jac @ dx, dx) / float(dx @ dx)
         x, f = x + dx, f_new
+    if abs(best[2].radius - c) < RADIUS_ACCEPT and abs(best[2].advance - advance) < ADVANCE_ACCEPT:
+        return float(best[1][0]), float(best[1][1]), best[2]
     raise SolverError(f"the dome turnaround at r = {c:.4g} mm could not be fitted to close the pattern")

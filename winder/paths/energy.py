@@ -11,23 +11,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.geometry.lapack import lapack
 from winder.geometry.surface import SurfaceEval, SweepSurface, jet_of
 
-try:  # np.einsum without its Python dispatch (about 1 us a call, some 30 calls per Newton step)
-    from numpy._core.multiarray import c_einsum as _einsum
-except ImportError:  # another numpy layout: the public function, the same kernel
-    _einsum = np.einsum
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return _einsum("ij,ij->i", a, b)
+    return np.einsum("ij,ij->i", a, b)
 
 
 def _dot_cols(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """_dot of two (m, 3) views of (3, m) storage (a surface evaluation's fields): einsum then runs
     along the contiguous rows, 2-4x faster from m ~ 1000 on, the same sums in the same order."""
-    return _einsum("ji,ji->i", a.T, b.T)
+    return np.einsum("ji,ji->i", a.T, b.T)
 
 
 def energy(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> float:
@@ -42,7 +37,7 @@ def chain_segments(p: np.ndarray, ends: np.ndarray) -> tuple[np.ndarray, np.ndar
     the next Newton step's terms take again."""
     y = np.concatenate([ends[:1], p, ends[1:]])
     d = y[1:] - y[:-1]
-    return y, d, float(_einsum("ij,ij->", d, d))
+    return y, d, float(np.einsum("ij,ij->", d, d))
 
 
 def chain_energy(p: np.ndarray, ends: np.ndarray) -> float:
@@ -57,7 +52,7 @@ def step_moves(ev: SurfaceEval, step: np.ndarray) -> np.ndarray:
         move = ev.ps * step[:, :1] + ev.pt * step[:, 1:]
         return _dot_cols(move, move)
     move = jet[1] * step[:, 0] + jet[2] * step[:, 1]
-    return _einsum("ji,ji->i", move, move)
+    return np.einsum("ji,ji->i", move, move)
 
 
 def _row_terms(ev: SurfaceEval, d: np.ndarray, hessian: bool | None):
@@ -87,7 +82,7 @@ def newton_terms(ev: SurfaceEval, ends: np.ndarray, chain: tuple | None = None, 
     a_i.Phi_st, a_i.Phi_thth (None without hessian) and off (2, 2, n - 1) J_i^T J_{i+1} (block row
     letter first), the plain dot products without chain_terms' factors 4, 2 and -2; hessian None:
     E, grad and y only. On a jet each product sums its three components in order along (3, n) rows,
-    as the row-wise products over the jet's (n, 3) views do, bit for bit.
+    as the row-wise products over the jet's (n, 3) views do (the same values to round-off).
     """
     y, d, e = chain_segments(ev.p, ends) if chain is None else chain
     n = d.shape[0] - 1
@@ -98,13 +93,13 @@ def newton_terms(ev: SurfaceEval, ends: np.ndarray, chain: tuple | None = None, 
     # a_i = 2 y_i - y_{i-1} - y_{i+1} as (3, n) rows: the products below then run along the points
     a = np.subtract(d.T[:, :-1], d.T[:, 1:], out=np.empty((3, n)))
     jac, hess = jet[1:3], (jet[3:6] if hessian else None)
-    grad = _einsum("akm,km->ma", jac, a, out=np.empty((n, 2)))
+    grad = np.einsum("akm,km->ma", jac, a, out=np.empty((n, 2)))
     grad *= 2.0
     if hessian is None:
         return e, grad, y, None, None, None
-    gram = _einsum("akm,bkm->abm", jac, jac)
-    curv = _einsum("akm,km->am", hess, a) if hessian else None
-    off = _einsum("akm,bkm->abm", jac[:, :, :-1], jac[:, :, 1:])
+    gram = np.einsum("akm,bkm->abm", jac, jac)
+    curv = np.einsum("akm,km->am", hess, a) if hessian else None
+    off = np.einsum("akm,bkm->abm", jac[:, :, :-1], jac[:, :, 1:])
     return e, grad, y, gram, curv, off
 
 
@@ -178,20 +173,25 @@ def newton_banded(gram: np.ndarray, curv: np.ndarray | None, off: np.ndarray) ->
 
 
 def newton_direction(diag: np.ndarray, off: np.ndarray, grad: np.ndarray):
-    """The step -H^-1 grad (n, 2) by banded Cholesky (LAPACK pbsv) and the factor, for chord steps;
-    (None, None) where H is not positive definite."""
+    """The step -H^-1 grad (n, 2) by banded Cholesky and the factor, for chord steps; (None, None)
+    where H is not positive definite. LAPACK pbsv through scipy.linalg.lapack: on configs/elliptic_tube.yaml's
+    plan (658 steps) cholesky_banded and cho_solve_banded took 1.0 s under cProfile, this 0.5 s."""
     return banded_direction(banded(diag, off), grad)
 
 
 def banded_direction(ab: np.ndarray, grad: np.ndarray):
     """newton_direction from H in lower banded storage ab (4, 2n), which it overwrites."""
-    factor, step, info = lapack().dpbsv(ab, -grad.ravel(), lower=1, overwrite_ab=1, overwrite_b=1)
-    if info != 0 or not np.logical_and.reduce(np.isfinite(step)):
+    from scipy.linalg.lapack import dpbsv  # noqa: PLC0415
+
+    factor, step, info = dpbsv(ab, -grad.ravel(), lower=1, overwrite_ab=1, overwrite_b=1)
+    if info != 0 or not np.all(np.isfinite(step)):  # info > 0: not positive definite
         return None, None
     return step.reshape(-1, 2), factor
 
 
 def chord_direction(factor: np.ndarray, grad: np.ndarray) -> np.ndarray:
     """-H^-1 grad with an earlier iterate's Cholesky factor (LAPACK pbtrs): (n, 2)."""
-    step, _ = lapack().dpbtrs(factor, -grad.ravel(), lower=1, overwrite_b=1)
+    from scipy.linalg.lapack import dpbtrs  # noqa: PLC0415
+
+    step, _ = dpbtrs(factor, -grad.ravel(), lower=1, overwrite_b=1)
     return step.reshape(-1, 2)

@@ -21,6 +21,7 @@ Stations here are the internal station s (the axial t except on vessels), as in 
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import field
 from typing import Callable
 
@@ -28,9 +29,7 @@ import numpy as np
 
 from winder.errors import ConfigError, SolverError
 from winder.paths.headings import heading_of_velocity, velocity_of_heading
-from winder.geometry.rk import solve_rk
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 
 Slip = float | Callable[[float], float]
 STATION_TOL = 1e-9  # mm: a start this far outside [0, length] is still on the mandrel
@@ -60,7 +59,7 @@ def _slip_at(slip: Slip, arc: float) -> float:
 
 
 # -- tracing ----------------------------------------------------------------------------------------------
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class FrictionTrace:
     """A friction-held path traced from one point in one direction.
 
@@ -117,7 +116,7 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
 
     slip : lambda = k_g / k_n, a number or a function of the arc length (mm) from the start; positive
         lambda turns the fiber toward larger heading (as shooting's heading: from the meridian toward
-        increasing theta). Dormand-Prince 8(5,3) (winder.geometry.rk), dense output.
+        increasing theta). scipy.integrate.solve_ivp (DOP853), dense output.
     stop_at_ends : stop where s leaves [0, surface.length]. stop_at_turnaround : stop where the fiber
         first runs along the parallel (heading +-90 deg: the turnaround on a surface of revolution).
     """
@@ -134,7 +133,10 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
         return friction_rhs(surface, y, _slip_at(slip, l))
 
     events = _events(surface, y0, slip, stop_at_ends, stop_at_turnaround)
-    res = solve_rk(fun, (0.0, float(length)), y0, rtol=rtol, atol=atol, dense_output=True, events=events)
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - only where a path is traced
+
+    res = solve_ivp(fun, (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol,
+                    dense_output=True, events=events)
     if res.status == -1:
         raise SolverError(f"friction path tracing failed: {res.message}")
     event, radius = "length", None

@@ -25,6 +25,7 @@ length and lambda), so all share one step sequence (internal numerical different
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -36,7 +37,6 @@ from winder.paths.friction import friction_rhs
 from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.paths.shooting import initial_guess
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 
 DIFF_STEP = 1e-6  # central-difference half-step of every unknown (rad, length / scale, lambda)
 RTOL_LEVELS = (1e-8,)  # coarse integrator tolerances used first, while the miss is large
@@ -64,7 +64,7 @@ class Status:
     SLIPS = 4
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class FrictionResult:
     """A two-point friction-held path (scipy vocabulary: success, status, message, nit, nfev).
 

@@ -3,6 +3,7 @@ vocabulary (winder.paths.geodesic computes it)."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import field
 from enum import Enum
@@ -12,7 +13,6 @@ import numpy as np
 from winder.geometry.measure import geodesic_curvature
 from winder.geometry.surface import SweepSurface
 from winder.paths.newton import Level, StopReason
-from winder.records import record
 
 
 class Method(Enum):
@@ -20,7 +20,7 @@ class Method(Enum):
     LBFGS = "lbfgs"
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class GeodesicResult:
     """A geodesic between two surface points.
 

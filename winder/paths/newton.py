@@ -10,6 +10,7 @@ positive-definite Gauss-Newton matrix; Armijo backtracking otherwise.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from enum import Enum
 
@@ -17,9 +18,8 @@ import numpy as np
 
 from winder.errors import SolverError
 from winder.geometry.surface import SurfaceEval, SweepSurface, jet_of
-from winder.paths.energy import (_einsum, banded_direction, chain_segments, chord_direction, newton_banded,
+from winder.paths.energy import (banded_direction, chain_segments, chord_direction, newton_banded,
                                  newton_terms, step_moves)
-from winder.records import record
 
 STEP_TOL = 1e-9  # converged when no vertex moves more than this fraction of the mean segment
 LEVEL_STEP_TOL = 1e-5  # looser on the coarse levels: the next level corrects them in a step or two
@@ -57,7 +57,7 @@ class StopReason(Enum):
     MAX_ITER = "the iteration limit was reached"
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Level:
     """One solve at n interior points: Newton iterations used of its cap, whether it converged."""
 
@@ -67,7 +67,7 @@ class Level:
     converged: bool
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class PathSolve:
     """A solved polyline in the parameter domain.
 
@@ -138,7 +138,7 @@ def chain_bend(y: np.ndarray) -> float:
     """max |y_{i-1} - 2 y_i + y_{i+1}| over the chain y (m, 3) (mm; 0 under three vertices): the chain's
     largest turn per segment h k, times h."""
     a = y[:-2] - 2.0 * y[1:-1] + y[2:]
-    return math.sqrt(float(np.maximum.reduce(_einsum("ij,ij->i", a, a)))) if a.size else 0.0
+    return math.sqrt(float(np.maximum.reduce(np.einsum("ij,ij->i", a, a)))) if a.size else 0.0
 
 
 def _settled(err: float, y: np.ndarray, h: float, length_tol: float, turn: list[float]) -> bool:
@@ -189,7 +189,7 @@ def _newton(surface: SweepSurface, s: np.ndarray, th: np.ndarray, step_tol: floa
         e, grad, y, gram, curv, off = newton_terms(ev, ends.p, chain, hessian=None if chord else True)
         # Not np.linalg.norm: its BLAS dot runs threaded on long vectors, and on a loaded machine the
         # threads' hand-off took milliseconds per call (measured: 6 ms at n = 10,000, 2 cores busy).
-        history.append((e, math.sqrt(_einsum("ij,ij->", grad, grad))))
+        history.append((e, math.sqrt(np.einsum("ij,ij->", grad, grad))))
         if chord:
             step, newton = chord_direction(factor, grad), True
             slope = float(np.add.reduce(step * grad, axis=None))

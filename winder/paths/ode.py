@@ -25,6 +25,7 @@ parameter velocities.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import field
 from typing import Callable
 
@@ -33,7 +34,6 @@ import numpy as np
 from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
 from winder.paths.headings import heading_of_velocity, row_dot, velocity_of_heading
-from winder.records import record
 
 STATION_TOL = 1e-9  # mm: a start station this far outside [0, length] is still on the mandrel
 
@@ -91,7 +91,7 @@ def _leave_events(surface: SweepSurface):
     return below, above
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Trace:
     """A geodesic traced from one point in one direction.
 
@@ -173,7 +173,7 @@ def trace(surface: SweepSurface, start: tuple[float, float], heading_deg: float,
                  nfev=int(res.nfev))
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Fan:
     """k rays traced together from one start (one step sequence).
 
@@ -230,3 +230,53 @@ def _exit_arc(surface: SweepSurface, s_of: Callable[[float], float], lo: float, 
         else:
             hi = mid
     return 0.5 * (lo + hi)
+
+
+def reach_station(surface: SweepSurface, s0: float, thetas: np.ndarray, heading_deg: float, s_target: float,
+                  length: float, rtol: float = 1e-12, atol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
+    """(theta at s_target, the farthest station reached): the geodesics from (s0, thetas[i]) (k,) at
+    heading_deg, integrated as one system so that each surface evaluation takes all k points (on a
+    spline axis the evaluations one point at a time were most of a plan's time). A ray is held where it
+    crossed s_target (its derivatives 0 past it; the step control resolves the kink), the integration
+    stops when the last one crosses; theta is nan for a ray that turned around first (its farthest
+    station says where), the stations are clamped to the mandrel for the evaluations."""
+    thetas = np.atleast_1d(np.asarray(thetas, dtype=float))
+    k = thetas.size
+    check_start(surface, s0, "trace start")
+    sign = 1.0 if s_target >= s0 else -1.0
+    ds, dth = velocity_of_heading(surface, np.full(k, s0), thetas, np.full(k, np.radians(heading_deg)))
+    y0 = np.concatenate([np.full(k, float(s0)), thetas, ds, dth])
+
+    def fun(_l: float, y: np.ndarray) -> np.ndarray:
+        z = y.reshape(4, -1).copy()  # the k rays (of each of y's columns) side by side
+        past = sign * (z[0] - s_target) >= 0.0
+        z[0] = np.clip(z[0], 0.0, surface.length)
+        out = geodesic_rhs(surface, z)
+        out[:, past] = 0.0
+        return out.reshape(y.shape)
+
+    def last(_l: float, y: np.ndarray) -> float:  # > 0 while a ray has not crossed s_target
+        return float(np.max(sign * (s_target - y[:k])))
+
+    last.terminal, last.direction = True, -1.0
+    from scipy.integrate import solve_ivp  # noqa: PLC0415 - slow to import: only when tracing
+    from scipy.optimize import brentq  # noqa: PLC0415
+
+    res = solve_ivp(fun, (0.0, float(length)), y0, method="DOP853", rtol=rtol, atol=atol, dense_output=True,
+                    events=(last,), vectorized=True)
+    if res.status == -1:
+        raise SolverError(f"geodesic tracing failed: {res.message}")
+    out = np.full(k, np.nan)
+    farthest = res.y[:k].max(axis=1) if sign > 0 else res.y[:k].min(axis=1)
+    near = STATION_TOL * (1.0 + abs(s_target))  # the terminal event stops within round-off short of it
+    for i in range(k):
+        hit = np.flatnonzero(sign * (res.y[i] - s_target) >= -near)
+        if hit.size == 0:
+            continue
+        j = int(hit[0])
+        if j == 0 or abs(res.y[i, j] - s_target) <= near:
+            out[i] = res.y[k + i, j]
+            continue
+        l_hit = brentq(lambda l, i=i: res.sol(l)[i] - s_target, res.t[j - 1], res.t[j], xtol=1e-12)
+        out[i] = res.sol(l_hit)[k + i]
+    return out, farthest

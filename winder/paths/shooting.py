@@ -10,6 +10,7 @@ shoot: the two-point geodesic with N extra rounds by root finding on (heading, l
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import field
 from typing import Callable
@@ -20,7 +21,6 @@ from winder.errors import ConfigError, SolverError
 from winder.geometry.surface import SweepSurface
 from winder.paths.headings import heading_of_velocity, tangent_basis, velocity_of_heading
 from winder.paths.ode import check_start, fan_rhs
-from winder.records import record
 
 HEADING_STEP = 1e-6  # rad: half-width of the central difference in the heading (IND fan)
 CONVERGED_RESIDUAL = 1e-9  # a shot converges when its end misses by <= this times max(length, 1 mm)
@@ -39,7 +39,7 @@ LEAVE_TOL = 1e-6  # mm: a shot path this far past an end of the mandrel has left
 
 
 # -- two-point shooting ---------------------------------------------------------------------------------
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class ShootResult:
     """A two-point geodesic found by shooting.
 

@@ -13,17 +13,17 @@ come from winder.winding.coverage.crossings_many, the same crossings the summary
 
 from __future__ import annotations
 
+import dataclasses
 
 import numpy as np
 
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
-from winder.records import record
 from winder.winding.coverage import crossings_many
 from winder.winding.results import FiberPass, PassKind
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Crossings:
     """Where a group of passes crosses a set of stations (rows).
 

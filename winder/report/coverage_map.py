@@ -13,11 +13,11 @@ and the summary tell the same story.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
-from winder.records import record
 from winder.winding.results import LayerPlan, WindingPlan
 from winder.report.bands import band_counts, coverage_groups, covered_fraction, crossings
 from winder.report.plotting import GAP_COLOR, axis, axis_key, base_layout, ramp, rounded, subplot_domains
@@ -29,7 +29,7 @@ COUNT_CAP = 8  # counts above share the darkest color (the pile-up at vessel tur
 COUNT_RAMP = ("#ffffff", "#dbe9f6", "#9ecae1", "#4292c6", "#2171b5", "#08519c", "#08306b")
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class LayerCoverageMap:
     """One layer's coverage on the unrolled surface.
 

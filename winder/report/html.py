@@ -78,7 +78,7 @@ def _agreement(maps: tuple[LayerCoverageMap, ...], summary: dict[str, Any]) -> s
 
 
 def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | None = None,
-                progress: Progress | None = None) -> str:
+                progress: Progress | None = None, structure=None, cell: dict[str, Any] | None = None) -> str:
     """The whole report page of a planned job.
 
     Parameters
@@ -86,6 +86,8 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     plan : the job's plan. summary : its summary dict (winder.export.summary.summary_dict(plan)).
     band_width : the band width (mm) the coverage map draws; default the plan's own.
     progress : called as progress(fraction done, label) after each step (winder.progress).
+    structure : the job's winder.analysis.structure.Structure (a job with `analysis:`), for its section.
+    cell : a robot cell's figure (winder.report.cell_view), shown after the 3D view.
 
     Raises ConfigError (exit 2) when plotly, the `plot` extra, is not installed.
     """
@@ -128,9 +130,21 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
         _section("profiles", "Along the mandrel", figures[2]),
         _section("view3d", "3D view", figures[3]),
     ]
-    nav = "".join(f'<a href="#{k}">{t}</a>' for k, t in (("summary", "Summary"), ("unrolled", "Unrolled pattern"),
-                                                        ("coverage", "Coverage map"), ("profiles", "Along the mandrel"),
-                                                        ("view3d", "3D view")))
+    links = [("summary", "Summary"), ("unrolled", "Unrolled pattern"), ("coverage", "Coverage map"),
+             ("profiles", "Along the mandrel"), ("view3d", "3D view")]
+    if "analysis" in summary:  # the structure (issue 32)
+        from winder.report.structure import HOW as STRUCTURE_HOW, structure_figure, structure_table  # noqa: PLC0415
+
+        body = structure_table(summary["analysis"])
+        if structure is not None and structure.stations is not None:
+            body += figure_html(structure_figure(structure, length), "winder-structure", include_plotlyjs=False)
+        HOW.setdefault("structure", STRUCTURE_HOW)
+        sections.append(_section("structure", "Will it hold?", body))
+        links.append(("structure", "Structure"))
+    if cell is not None:
+        sections.append(_section("cell", "Robot cell", figure_html(cell, "winder-cell", include_plotlyjs=False)))
+        links.append(("cell", "Robot cell"))
+    nav = "".join(f'<a href="#{k}">{t}</a>' for k, t in links)
     return (f"<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>{name}: winding report</title>"
             f"<meta name=viewport content='width=device-width, initial-scale=1'><style>{STYLE}</style></head>"
             f"<body><header><h1>{name}: winding report</h1><p>winder {html.escape(__version__)} · "

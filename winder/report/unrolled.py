@@ -9,11 +9,11 @@ the ends; hoop traverses take the layer's two colors by their direction along t 
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
-from winder.records import record
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 from winder.report.plotting import axis, axis_key, base_layout, pass_style, rounded, style_groups, subplot_domains
 from winder.geometry.sections import ArcMap
@@ -22,7 +22,7 @@ LINE_WIDTH = 1.6
 FIRST_CIRCUIT_COLOR = "#111111"
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class UnrolledBand:
     """One pass on the unrolled plane.
 

@@ -26,11 +26,7 @@ from winder.errors import SolverError
 from winder.geometry.surface import SweepSurface
 from winder.geometry.measure import row_norms
 
-# numpy.polynomial.legendre.leggauss(8), bit for bit, as literals: numpy.polynomial costs ~4 ms to import.
-GAUSS_X = np.array([-0.9602898564975362, -0.7966664774136267, -0.525532409916329, -0.18343464249564978,
-                    0.18343464249564978, 0.525532409916329, 0.7966664774136267, 0.9602898564975362])
-GAUSS_W = np.array([0.10122853629037706, 0.22238103445337443, 0.3137066458778869, 0.36268378337836166,
-                    0.36268378337836166, 0.3137066458778869, 0.22238103445337443, 0.10122853629037706])
+GAUSS_X, GAUSS_W = np.polynomial.legendre.leggauss(8)
 CLAIRAUT_PANELS = 16  # first level; doubled until two levels agree
 CLAIRAUT_MAX_PANELS = 1 << 15
 CLAIRAUT_TOL = 1e-13  # relative agreement of two levels (radians)
@@ -45,7 +41,7 @@ def turnaround_error(surface: SweepSurface, s_turn: float, heading_deg: float) -
                        f"it cannot reach a smaller radius); lower the angle or shorten the region")
 
 
-def _is_cylinder(surface: SweepSurface) -> bool:
+def is_cylinder(surface: SweepSurface) -> bool:
     """A straight axis and the same section at every station (no profile, or a flat one)."""
     if not surface.curve.is_straight:
         return False
@@ -131,7 +127,7 @@ def reach_theta(surface: SweepSurface, s0: float, theta0: np.ndarray, heading_de
     if surface.is_revolution:
         # theta grows with s on both legs of the same helix: the integral from s0 to s1 carries the sign
         return theta0 + _clairaut(surface, s0, s1, lean, heading_deg)
-    if _is_cylinder(surface):
+    if is_cylinder(surface):
         ev = surface.evaluate(np.array([s0]), theta0[:1], order=1)
         axial = float(np.linalg.norm(ev.ps[0])) * abs(s1 - s0)
         run = math.tan(lean) * axial * (1.0 if forward else -1.0)

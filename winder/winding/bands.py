@@ -1,6 +1,6 @@
 """Bands on a circle (MATH.md 5): the covered length, longest gap and overlap, least and most bands
 over a section of perimeter P, for one set of bands (union_stats) or many sets at once (union_stats_many,
-the same numbers to the bit: every sum is taken over the same values in the same order).
+the same numbers to round-off).
 """
 
 from __future__ import annotations

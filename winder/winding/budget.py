@@ -11,6 +11,7 @@ limit, instead of running for minutes and dying of memory. `check` and `run` bot
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -21,7 +22,6 @@ from winder.errors import ConfigError, SolverError
 from winder.geometry.sections import arc_map
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.records import record
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
@@ -29,7 +29,7 @@ from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REF
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
 
-__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
+__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_LAYERS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
            "MAX_TOTAL_POINTS", "check_budget", "job_budget"]
 
 MAX_CIRCUITS = 20_000  # per helical layer: a 1 m vessel at 10 deg with 1 mm bands needs 3,100
@@ -40,16 +40,21 @@ MAX_PASSES = 10_000  # per hoop layer
 MAX_PASS_TURNS = 500
 MAX_PASS_POINTS = 1_000_000  # points of one pass as planned (a hoop of 13,900 turns)
 MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 GB to plan and write
-# Planning and writing keep every point in several forms (pass arrays, eye path, CSV and PLY text):
-# measured about 600 bytes per point; the Newton solve of a pass needs about 2.5 kB per point.
-BYTES_PER_POINT = 600
+# Peak memory = the interpreter with numpy and scipy + bytes per planned point + the largest solve.
+# Measured (ru_maxrss, bench/vessel_series.py and the issue 29 jobs): a vessel's points cost about
+# 3 kB each at the peak (the machine stage's dense eye paths around the domes' turnarounds, the
+# outputs' text), an open mandrel's about 450 B; the Newton solve of a pass about 2.5 kB per point.
+BASE_BYTES = 70_000_000
+BYTES_PER_POINT = 450
+VESSEL_BYTES_PER_POINT = 3_000
+MAX_LAYERS = 1_000  # layers of one job: real tanks have 10 to 40
 SOLVER_BYTES_PER_POINT = 2_500
 MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
 START_SAMPLES = 257  # start fractions of a turn sampled for a pass's widest angle span
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class LayerBudget:
     """The work of one layer: circuits (1 for a hoop), laid passes, points of its longest pass,
     points in total (dwells included) and points of the largest single solve."""
@@ -61,7 +66,7 @@ class LayerBudget:
     solve_points: int
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Budget:
     """The work of a job: per layer, and in total (points, estimated peak memory in bytes)."""
 
@@ -107,7 +112,7 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
                       f"layer {key} needs {need:.4g} circuits (perimeter {perimeter:.6g} mm x cos "
                       f"{cfg.angle_deg:g} deg / band width), more than the limit of {MAX_CIRCUITS} (a wider "
                       f"band needs fewer), got {w.band_width:g}")
-    circuits = circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
+    circuits = cfg.circuits or circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
     if cfg.pattern is not None and circuits > 1 and math.gcd(cfg.pattern, circuits) != 1:
         skips = coprime_skips(circuits)
         raise _refuse(job.source, f"{key}.pattern",
@@ -125,6 +130,8 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
     # The geodesic planner's layers (winding.layers.friction: slip auto is geodesic where that covers)
     geodesic = slip in (0.0, SLIP_AUTO) if not vessel else cfg.turnaround_radius is None and (
         slip == 0.0 or (slip == SLIP_AUTO and why is None))
+    if not vessel and bare and slip == SLIP_AUTO and _held_by_friction(job, surface, cfg, key, (t_a, t_b)):
+        geodesic = False
     if bare and geodesic:
         _check_pass_points(job, surface, cfg, key, vessel, (t_a, t_b))
     if not vessel and slip not in (0.0, SLIP_AUTO):
@@ -133,7 +140,7 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
         if not is_bent_tube(ctx):  # as winder.winding.layers.friction refuses it, before any path
             raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels and to bent tubes of lines and "
                           f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
-    grows = not vessel and not surface.is_revolution and cfg.pattern is None
+    grows = not vessel and not surface.is_revolution and cfg.pattern is None and cfg.circuits is None
     most = circuits * (MAX_CIRCUIT_FACTOR if grows else 1)
     n = w.points or DEFAULT_POINTS
     pass_points = n + 2
@@ -147,10 +154,33 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
                           f"points per circuit, more than the limit of {MAX_PASS_POINTS}")  # both ends: no one value
         # and the turnarounds past the region (winder.winding.turnaround)
         dwell_points += turnaround_points(surface, tuple(float(v) for v in surface.s_of_t(np.array([t_a, t_b]))))
-    # A pass may be refined up to REFINE_MAX_POINTS (a tolerance, or no convergence); its tangents come
-    # from a solve on TANGENT_REFINE times finer segments, with its Richardson twin.
-    solve = 2 * (TANGENT_REFINE * (max(n, REFINE_MAX_POINTS) + 1))
+    # A pass is refined up to REFINE_MAX_POINTS with a tolerance, else at most twice (2n + 1, where
+    # it does not converge: winder.winding.passes.fine_geodesic); its tangents come from a solve on
+    # TANGENT_REFINE times finer segments, with its Richardson twin.
+    refined = max(REFINE_MAX_POINTS, n) if w.tolerance is not None else min(4 * n + 3, max(REFINE_MAX_POINTS, n))
+    solve = 2 * (TANGENT_REFINE * (refined + 1))
     return LayerBudget(most, 2 * most, pass_points, most * (2 * pass_points + dwell_points), solve)
+
+
+def _held_by_friction(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str,
+                      region: tuple[float, float]) -> bool:
+    """Whether a slip: auto layer on an open surface of revolution is held at its angle by friction
+    (its geodesic turns around inside the region: winder.winding.layers.friction_revolution); refuses
+    one that the friction cannot hold, naming the friction it needs (closed form, docs/math/09)."""
+    if not surface.curve.is_straight:
+        return False
+    from winder.winding.layers.friction_revolution import (geodesic_reaches, held_need,  # noqa: PLC0415
+                                                           is_open_revolution, need_message)
+
+    if not is_open_revolution(surface) or geodesic_reaches(surface, *region, cfg.angle_deg):
+        return False
+    mu = job.winding.friction
+    need, at, presses = held_need(surface, *region, cfg.angle_deg)
+    why = need_message(cfg.angle_deg, mu, need, at, presses)
+    if why is not None:  # a bridge is the angle's; too little friction, the friction's
+        raise _refuse(job.source, "winding.friction" if presses else f"{key}.angle",
+                      f"{key}: {why}, got {mu if presses else cfg.angle_deg:g}")
+    return True
 
 
 def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radius: float, key: str) -> None:
@@ -216,6 +246,10 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
     w = job.winding
     prof = surface.profile
     t_a, t_b = prof.equator_t if isinstance(prof, VesselMeridian) else _region(surface, w)
+    if isinstance(prof, VesselMeridian) and not t_b > t_a:  # hoops are laid on the cylinder alone
+        raise _refuse(job.source, "mandrel.profile.cylinder_length",
+                      f"hoop layer {key} is laid on the vessel's cylinder: it must be longer than 0 mm, "
+                      f"got {prof.cylinder_length:g}")
     perimeter = _largest_perimeter(surface, t_a, t_b)
     if cfg.passes > MAX_PASSES:
         raise _refuse(job.source, f"{key}.passes", f"must be <= {MAX_PASSES}, got {cfg.passes}")
@@ -248,11 +282,19 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     a limit (check_budget also holds the totals)."""
     if job.winding is None:
         return Budget((), 0, 0)
+    if len(job.winding.layers) > MAX_LAYERS:
+        raise _refuse(job.source, "winding.layers", f"{len(job.winding.layers)} layers, more than the limit of "
+                      f"{MAX_LAYERS} (real tanks have 10 to 40)")
     layers = []
+    laminate = job.winding.has_laminate  # once: it looks at every layer
+    total = 0
     for index, cfg in enumerate(job.winding.layers):
         key = f"winding.layers[{index}]"
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
-                      else _helical(job, surface, cfg, key, index == 0 or not job.winding.has_laminate))
+                      else _helical(job, surface, cfg, key, index == 0 or not laminate))
+        total += layers[-1].points
+        if total > MAX_TOTAL_POINTS:  # past the limit already: check_budget refuses it, the rest unread
+            break
     w = job.winding
     vessel = isinstance(surface.profile, VesselMeridian)
     if w.region is None and not vessel and surface.axial_length < w.band_width:
@@ -269,7 +311,8 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                           f"pass ({floor:.2g} mm for the {t_b - t_a:.6g} mm wound), got {w.tolerance:g}")
     points = sum(layer.points for layer in layers)
     solve = max((layer.solve_points for layer in layers), default=0)
-    return Budget(tuple(layers), points, points * BYTES_PER_POINT + solve * SOLVER_BYTES_PER_POINT)
+    per_point = VESSEL_BYTES_PER_POINT if vessel else BYTES_PER_POINT
+    return Budget(tuple(layers), points, BASE_BYTES + points * per_point + solve * SOLVER_BYTES_PER_POINT)
 
 
 def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:

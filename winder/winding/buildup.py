@@ -7,7 +7,7 @@ splines over the vertex index, a cell [e0, e1] holds a (l(i(e1)) - l(i(e0))) exa
 accuracy). That is the fiber-count law wherever the fiber crosses the cell, finite at a turnaround,
 and conserves the volume by construction. A dwell lays its band around the section it stays at:
 its volume is spread over one band width of stations there. At a vessel turnaround the volume is
-spread over the band the turning fiber makes (laminate.turnaround_zone). Mean thickness per station:
+spread over two band widths by the band-spread cubic (laminate.band_spread; docs/math/08 8.6). Mean thickness per station:
 V' / A', A'(s) the surface area per unit station (a periodic quadrature in theta).
 
 The shape the next layer winds on (smoothed, grown) is growth.py's.
@@ -15,16 +15,20 @@ The shape the next layer winds on (smoothed, grown) is growth.py's.
 
 from __future__ import annotations
 
+import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from winder.geometry.interp import NotAKnotCubic, interp_spline
+from winder.geometry.interp import interp_spline
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.records import record
-from winder.winding.laminate import turnaround_zone
+from winder.winding.laminate import band_spread
 from winder.winding.results import FiberPass, PassKind
 from winder.geometry.measure import GAUSS_T, GAUSS_W, row_norms
+
+if TYPE_CHECKING:
+    from scipy.interpolate import BSpline
 
 CELLS_PER_BAND = 16  # station cells per band width (the law's cell averages, the zone edges)
 MAX_CELLS = 4000  # over the whole station range
@@ -32,7 +36,7 @@ AREA_THETA_NODES = 96  # periodic rule for A'(s) on non-circular sections
 NEWTON_STEPS = 4  # index of a station along a pass (from a linear first guess; quadratic)
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class StationCells:
     """Cells along the station range: edges (k + 1,) and centres (k,) of the internal station s,
     and the pieces (index ranges into the cells) of the smooth parts: one for open mandrels, three
@@ -65,7 +69,7 @@ def station_cells(surface: SweepSurface, band_width: float) -> StationCells:
     return StationCells(e, 0.5 * (e[1:] + e[:-1]), tuple(pieces))
 
 
-def index_of(spline: NotAKnotCubic, s_vert: np.ndarray, targets: np.ndarray) -> np.ndarray:
+def index_of(spline: BSpline, s_vert: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """Fractional vertex index where the pass's station spline reaches each target (s monotone)."""
     idx = np.arange(s_vert.size, dtype=float)
     rising = s_vert[-1] >= s_vert[0]
@@ -138,13 +142,14 @@ def layer_density(surface: SweepSurface, cells: StationCells, passes: tuple[Fibe
             seen[key] = pass_volumes(cells, p, area, surface)
         vol += seen[key]
     density = vol / cells.widths
+    r_of_s = None if surface.profile is None else (lambda x: surface.profile.evaluate(x).r)
     for s_c in turnarounds:
         k = int(np.clip(np.searchsorted(cells.edges, s_c) - 1, 0, cells.centres.size - 1))
         i0, i1 = next((a, b) for a, b in cells.pieces if a <= k < b)
         s, d, w = cells.centres[i0:i1], density[i0:i1], cells.widths[i0:i1]
-        near = np.clip(np.minimum(s + 0.5 * w, s_c + 0.5 * band_width)
-                       - np.maximum(s - 0.5 * w, s_c - 0.5 * band_width), 0.0, None)
-        density[i0:i1] = turnaround_zone(s, d, s_c, band_width, float(np.sum(d * near)))
+        # the fiber lies on the equator's side: the larger s on the first dome, the smaller on the end one
+        toward = 1.0 if (i0, i1) == cells.pieces[0] else -1.0
+        density[i0:i1] = band_spread(s, w, d, s_c, band_width, toward, r_of_s)
     return density
 
 

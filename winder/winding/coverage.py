@@ -57,8 +57,7 @@ def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray) -> 
     points, or t not strictly monotone), which _spline_crossings then builds pass by pass.
 
     The passes' systems stand one after the other on the diagonal with zero couplings, so elimination
-    never mixes them, and each row's arithmetic is that of geometry.interp's NotAKnotCubic: the same
-    values to the bit.
+    never mixes them: each pass's spline is its CubicSpline, to round-off.
     """
     xs, ss, ths, sts, idxs, sizes, spans = [], [], [], [], [], [], []
     for p in passes:
@@ -78,7 +77,7 @@ def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray) -> 
         sts.append(st)
         idxs.append(idx)
         sizes.append(t.size)
-        # Each station's interval in its own pass, as NotAKnotCubic.__call__ finds it.
+        # Each station's interval in its own pass (the end pieces extrapolate).
         spans.append(np.minimum(np.maximum(np.searchsorted(t, st, side="right") - 1, 0), t.size - 2))
     if not xs:
         return (np.zeros(0, dtype=int),) + tuple(np.zeros(0) for _ in range(4))

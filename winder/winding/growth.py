@@ -9,12 +9,16 @@ reported thickness:
 - vessels: each dome is smoothed on its own (mirrored at its equator, matched to the cylinder's
   constant thickness there by a Gaussian taper one band wide) so the grown meridian stays C1 at the
   equators; a laminate edge falling toward the pole faster than the dome can carry is filled
-  (_limit_pole_slope); over a concave stretch tighter than the laminate (an isotensoid's end hook)
+  (_limit_pole_slope), and the whole stays below the bare dome's boss cone (BossCone, docs/math/08
+  8.7: the frame keeps the opening plane, so a pile-up taller than the dome rises there is lowered,
+  blended in by a soft minimum); over a concave stretch tighter than the laminate (an isotensoid's end hook)
   the growth is held below the radius of curvature, so the offset does not fold (the next layer
   bridges such a stretch anyway).
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 
@@ -24,12 +28,51 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.buildup import StationCells, area_rate
 from winder.winding.laminate import smooth_density
 
+SOFT_MIN_SHARE = 0.25  # band widths over which the cap and the thickness are blended (no crease)
+BOSS_CONE_SHARE = 0.5  # share of the bare dome's angle to the radial at its opening the boss cone keeps
 POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling laminate edge may use
 
 
+@dataclasses.dataclass(frozen=True)
+class BossCone:
+    """The cone through a bare dome's polar opening circle (r0 in its opening plane, H = depth) that
+    every grown dome stays below (docs/math/08-laminate-edges.md 8.3): H <= depth - slope (r - r0).
+
+    Fixed from the bare mandrel, so the limit does not shrink layer by layer."""
+
+    r0: float
+    depth: float
+    slope: float
+
+    @classmethod
+    def of(cls, dome) -> BossCone:
+        ev = dome.evaluate(np.array([dome.length]))
+        angle = float(np.arctan2(abs(ev.h1[0]), abs(ev.r1[0])))  # the meridian's angle to the radial
+        return cls(float(dome.end_radius), float(dome.depth), float(np.tan(BOSS_CONE_SHARE * angle)))
+
+    def cap(self, dome, sigma: np.ndarray) -> np.ndarray:
+        """The largest growth along the normal at sigma ((m,) float) that keeps the grown point below
+        the cone (0 where the dome is on or above it already)."""
+        ev = dome.evaluate(sigma)
+        room = self.depth - ev.h - self.slope * (ev.r - self.r0)
+        rate = -ev.r1 + self.slope * ev.h1  # d(H + slope r) / dg along the outward normal (-r1, h1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = np.where(rate > 0.0, room / rate, np.inf)
+        return np.clip(out, 0.0, None)
+
+
+def boss_cones(surface: SweepSurface) -> tuple[BossCone, BossCone] | None:
+    """The boss cones of a bare vessel's two domes (None for other mandrels)."""
+    prof = surface.profile
+    if not isinstance(prof, VesselMeridian):
+        return None
+    return BossCone.of(prof.dome), BossCone.of(prof.end_dome)
+
+
 def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.ndarray,
-                     band_width: float) -> np.ndarray:
-    """The smooth mean thickness (mm) the next layer winds on, per cell centre, (k,) float."""
+                     band_width: float, cones: tuple[BossCone, BossCone] | None = None) -> np.ndarray:
+    """The smooth mean thickness (mm) the next layer winds on, per cell centre, (k,) float. cones: the
+    bare vessel's boss cones (boss_cones), which the grown domes stay below."""
     rate = area_rate(surface, cells.centres)
     if not isinstance(surface.profile, VesselMeridian) or len(cells.pieces) < 2:
         return _open(cells.centres, density, rate, band_width)
@@ -44,8 +87,14 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
         s = cells.centres[i0:i1]
         sm = smooth_density(s, density[i0:i1], 0.5 * band_width, mirror) / rate[i0:i1]
         sm = _limit_pole_slope(surface, s, sm, -1.0 if j == 0 else 1.0, 0.5 * band_width)
-        sm = _below_concave_radius(surface, s, sm)
+        cap = np.full(s.size, np.inf)
+        if cones is not None:
+            dome = (surface.profile.dome, surface.profile.end_dome)[j]
+            sigma = cells.edges[i1] - s if j == 0 else s - cells.edges[i0]
+            cap = cones[j].cap(dome, sigma)
+        sm = _below_concave_radius(surface, s, _soft_min(sm, cap, SOFT_MIN_SHARE * band_width))
         sm = _below_concave_radius(surface, s, smooth_density(s, sm, 0.5 * band_width, mirror))
+        sm = _below_concave_radius(surface, s, _soft_min(sm, cap, SOFT_MIN_SHARE * band_width))
         if cyl is None:
             out[i0:i1] = sm
             continue
@@ -54,6 +103,15 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
         dist = np.abs(cells.centres[i0:i1] - eq)
         out[i0:i1] = sm + (t_cyl - at_eq) * np.exp(-(dist / band_width) ** 2)
     return out
+
+
+def _soft_min(a: np.ndarray, b: np.ndarray, eps: float) -> np.ndarray:
+    """-eps log(exp(-a / eps) + exp(-b / eps)): below both, within eps log 2 of the lesser, smooth where
+    they cross (a min would leave a crease the next offset folds over); b may be inf."""
+    lo = np.minimum(a, b)
+    with np.errstate(invalid="ignore"):
+        gap = np.where(np.isfinite(b), np.abs(a - b), np.inf)
+    return np.clip(lo - eps * np.log1p(np.exp(-gap / eps)), 0.0, None)
 
 
 def _open(s: np.ndarray, density: np.ndarray, rate: np.ndarray, band_width: float) -> np.ndarray:
@@ -88,9 +146,8 @@ def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, towar
     grown shape fills it: the thickness may fall toward the pole at most at the slope that uses
     POLE_SLOPE_SHARE of the angle the dome's meridian has left to the radial direction (the least
     dilation of t by a cone of that slope). Filled all the way, a pile-up next to a small opening
-    would reach past the opening's plane and hide it (the next layer could not turn around there), so
-    the growth is also held under the same cone rising from zero at the opening: a pile-up closer to
-    the opening than its height allows is lowered. The slope limit at each station is the least
+    would reach past the opening's plane and hide it (the next layer could not turn around there):
+    the bare dome's boss cone (BossCone) holds it down. The slope limit at each station is the least
     over +-window around it, so that the smoothing after it (that half-width), which averages slopes
     there, keeps within it. Only the shape the next layer winds on changes, never a reported
     thickness.
@@ -106,7 +163,7 @@ def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, towar
     x, y, m = s[order], t[order], slope[order]
     run = np.concatenate([[0.0], np.cumsum(0.5 * (m[1:] + m[:-1]) * np.abs(np.diff(x)))])
     out = np.empty_like(t)
-    out[order] = np.minimum(np.maximum.accumulate(y + run) - run, run[-1] - run)
+    out[order] = np.maximum.accumulate(y + run) - run
     return out
 
 

@@ -21,19 +21,19 @@ compact C2 kernel one band wide, which also keeps the total volume.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
 from winder.config.material import MaterialConfig
-from winder.records import record
 
 TEX_G_PER_MM = 1e-6  # 1 tex = 1 g/km
 DENSITY_G_PER_MM3 = 1e-3  # 1 g/cm^3
 KG_PER_G = 1e-3
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Material(MaterialConfig):
     """A band's material (the fields of MaterialConfig) and what follows from it: areas, ply
     thickness, masses. Either fiber_tex, tows, fiber_density and fiber_volume_fraction
@@ -190,3 +190,62 @@ def smooth_density(s: np.ndarray, density: np.ndarray, half_width: float,
     if pad_hi.size < k:
         pad_hi = np.concatenate([pad_hi, np.zeros(k - pad_hi.size)])
     return np.convolve(np.concatenate([pad_lo, v, pad_hi]), w, mode="valid")
+
+
+# -- the band-spread cubic at a turnaround (docs/math/08-laminate-edges.md 8.6) -----------------------
+SPREAD_INNER = 0.5  # band widths from the turnaround to the band's inner edge (no fiber beyond)
+SPREAD_OUTER = 2.0  # band widths from the turnaround to where the fiber-count law holds again
+SPREAD_NODES = 8  # Gauss-Legendre nodes per cell for the cubic's cell means
+
+
+def spread_coefficients(d1: float, e: float, m: float) -> tuple[float, float, float]:
+    """(a1, a2, a3) of p(x) = a1 x + a2 x^2 + a3 x^3 with p(1) = d1, p'(1) = e and mean m over [0, 1]
+    (p(0) = 0): the closed form of docs/math 8.6."""
+    return 12.0 * m - 6.0 * d1 + e, 15.0 * d1 - 24.0 * m - 3.0 * e, 12.0 * m - 8.0 * d1 + 2.0 * e
+
+
+def band_spread(s: np.ndarray, widths: np.ndarray, density: np.ndarray, s_c: float, band_width: float,
+                toward: float, r_of_s) -> np.ndarray:
+    """V' with the zone [-B/2, 2B] (in u = toward (s - s_c)) of a turnaround replaced by the cubic of
+    docs/math 8.6: zero at the band's inner edge, the law's value and slope at u = 2B, the zone's volume
+    kept.
+
+    s, widths, density : (k,) float, the cells (centres, widths) of one smooth piece and V' there.
+    toward : +1 where the fiber lies at s > s_c (the equator that way), -1 otherwise.
+    r_of_s : vectorized r(s) of the meridian. Returns (k,) float; the volume over the cells is kept.
+    """
+    s, w, d = (np.asarray(a, dtype=float) for a in (s, widths, density))
+    lo_edge, hi_edge = s[0] - 0.5 * w[0], s[-1] + 0.5 * w[-1]
+    u_end = SPREAD_OUTER * band_width
+    # the zone in s, clipped to the piece (a short dome: the law's end at its equator)
+    z0, z1 = sorted((s_c - toward * SPREAD_INNER * band_width, s_c + toward * u_end))
+    z0, z1 = max(z0, lo_edge), min(z1, hi_edge)
+    if z1 - z0 <= 0.0:
+        return d.copy()
+    left, right = s - 0.5 * w, s + 0.5 * w
+    overlap = np.clip(np.minimum(right, z1) - np.maximum(left, z0), 0.0, None)
+    v_zone = float(np.sum(d / w * w * overlap))  # V' is constant within a cell
+    s_end = z1 if toward > 0 else z0  # u = 2B (or the piece's end)
+    s_start = z0 if toward > 0 else z1  # the band's inner edge (or the piece's end)
+    length = abs(s_end - s_start)
+    d1 = float(np.interp(s_end, s, d))
+    r_end, c = (float(v) for v in r_of_s(np.array([s_end, s_c])))
+    h = 1e-3 * band_width
+    r_u = toward * float(np.diff(r_of_s(np.array([s_end - h, s_end + h])))[0]) / (2.0 * h)
+    q = r_end * r_end - c * c
+    if q > 0.0 and d1 > 0.0:
+        k = d1 * np.sqrt(q) / r_end  # the law K r / sqrt(r^2 - c^2) through the cell's value
+        slope = -k * c * c * r_u / q ** 1.5
+    else:
+        slope = 0.0
+    a1, a2, a3 = spread_coefficients(d1, length * slope, v_zone / length)
+    # each cell's mean of p over its overlap with the zone (Gauss-Legendre), p clipped at 0
+    xg, wg = np.polynomial.legendre.leggauss(SPREAD_NODES)
+    a, b = np.maximum(left, z0), np.minimum(right, z1)
+    pts = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * xg[None, :]
+    x = np.clip(toward * (pts - s_start) / length, 0.0, 1.0)
+    p = np.clip(((a3 * x + a2) * x + a1) * x, 0.0, None)
+    vol = 0.5 * overlap * (p @ wg)
+    if vol.sum() > 0.0:
+        vol *= v_zone / vol.sum()
+    return d * (1.0 - overlap / w) + vol / w

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -9,14 +10,14 @@ import numpy as np
 
 from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, WindingConfig
-from winder.records import record
 from winder.winding.coverage import layer_coverage
 from winder.errors import ConfigError, SolverError
 from winder.progress import Progress
 from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, winding_angle_of
 from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
-from winder.geometry.interp import InterpSpline
+from winder.geometry.interp import interp_spline
+from winder.winding.advance import is_cylinder
 from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.geometry.measure import row_norms
@@ -49,7 +50,7 @@ class SolvedPass(NamedTuple):
     length: float
     result: GeodesicResult
 
-@record
+@dataclasses.dataclass(frozen=True)
 class PlanContext:
     job: JobConfig
     winding: WindingConfig
@@ -57,10 +58,25 @@ class PlanContext:
     arcs: ArcMap
     feed: float  # mm/min
     progress: Progress | None = None  # (fraction of the whole job, label); see winder.progress
+    previous_turnaround: float | None = None  # the last helical layer's turnaround radius c (mm), for step_back
 
     def key(self, index: int, field: str | None = None) -> str:
         base = f"{self.job.source}: winding.layers[{index}]"
         return f"{base}.{field}" if field else base
+
+    def bridging_tolerance(self, index: int) -> float:
+        """The lift-off (mm) layer `index` may bridge: winding.bridging_tolerance, else one ply of its
+        material, else 0 (docs/math/08-laminate-edges.md 8.10)."""
+        w = self.winding
+        if w.bridging_tolerance is not None:
+            return w.bridging_tolerance
+        material = w.material_of(index)
+        if material is None:
+            return 0.0
+        from dataclasses import asdict  # noqa: PLC0415
+
+        from winder.winding.laminate import Material  # noqa: PLC0415 - jobs with a material only
+        return Material(**asdict(material)).ply(w.band_width)
 
     def report(self, index: int, done: float, what: str = "") -> None:
         """Progress of layer index (0-based): done in [0, 1] of it, what it is doing now."""
@@ -78,7 +94,7 @@ def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ev: Surf
     i = np.arange(s.shape[0], dtype=float)
     # Quintic: the cubic's end slopes are O(h^3) off, visible next to a turnaround.
     k = min(5, s.shape[0] - 1 - (s.shape[0] % 2 == 1 and s.shape[0] < 7))
-    ds, dth = InterpSpline(i, np.column_stack([s, theta]), k)(i, 1).T
+    ds, dth = interp_spline(i, np.column_stack([s, theta]), k)(i, 1).T
     if ev is None:
         ev = surface.evaluate(s, theta, order=1)
     v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
@@ -156,6 +172,8 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
 
     w = ctx.winding
     n = n or w.points or 200
+    if warm is None and not ctx.arcs.identity and is_cylinder(ctx.surface):
+        warm = unrolled_line(ctx, a, b, n)
     res = _solve(ctx, a, b, n, warm, max(REFINE_MAX_POINTS, n))
     for _ in range(2):
         if res.converged or 2 * n + 1 > max(REFINE_MAX_POINTS, n):
@@ -168,6 +186,17 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
     fine = geodesic(ctx.surface, a, b, n=TANGENT_REFINE * (res.n + 1) - 1, init=(res.refined_s, res.refined_theta))
     _check_converged(ctx, a, b, fine)
     return fine
+
+
+def unrolled_line(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The geodesic from a to b ((t, theta) each) on a general cylinder, n interior points: unrolled,
+    a straight line, so the section's arc-length fraction runs linearly with the station (MATH.md 4;
+    winder.winding.advance). A start path the solver only polishes: from the straight (s, theta)
+    segment a long pass over a rounded rectangle's corners (five turns over 1900 mm) did not converge."""
+    s0, s1 = (float(v) for v in ctx.surface.s_of_t(np.array([a[0], b[0]])))
+    f = np.linspace(0.0, 1.0, n + 2)
+    frac = ctx.arcs.fraction(np.array([a[1], b[1]]))
+    return s0 + (s1 - s0) * f, ctx.arcs.theta(frac[0] + (frac[1] - frac[0]) * f)
 
 
 def _solve(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: int,
@@ -215,7 +244,7 @@ def _tangents(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarray]],
     i = np.arange(m, dtype=float)
     # the degree directions takes
     k = min(5, m - 1 - (m % 2 == 1 and m < 7))
-    rate = InterpSpline(i, np.column_stack([a for path in paths for a in path]), k)(i[::every], 1)
+    rate = interp_spline(i, np.column_stack([a for path in paths for a in path]), k)(i[::every], 1)
     q = rate.shape[0]
     s = np.concatenate([path[0][::every] for path in paths])
     th = np.concatenate([path[1][::every] for path in paths])
@@ -309,12 +338,14 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
     if coverage is None:
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)
     if held is None:
-        held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha))
+        held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha),
+                          ctx.bridging_tolerance(index))
     return LayerPlan(index=index + 1, type=cfg.type, angle_deg=float(alpha),
                      requested_angle_deg=float(cfg.angle_deg if cfg.angle_deg is not None else alpha),
                      circuits=int(circuits), pattern=int(pattern), dwell_start_deg=float(dwell_a),
                      dwell_end_deg=float(dwell_b), turnaround_radius=c, fiber_length_mm=length,
                      alpha_min_deg=float(folded.min()), alpha_max_deg=float(folded.max()),
                      time_s=length / ctx.feed * 60.0, passes=tuple(passes), coverage=coverage,
-                     notes=tuple(notes), max_slip=held.max_slip, min_normal_curvature=held.min_normal_curvature)
+                     notes=tuple(notes), max_slip=held.max_slip, min_normal_curvature=held.min_normal_curvature,
+                     max_lift_off_mm=held.max_lift_off, lift_off_t=held.lift_t, lift_off_pass=held.lift_pass)
 

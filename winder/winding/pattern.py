@@ -8,14 +8,13 @@ of the section's perimeter (arc length), so the same arithmetic serves non-circu
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Callable
 
 import numpy as np
 
 from winder.errors import ConfigError, SolverError
-from winder.geometry.roots import bracketed_root
-from winder.records import record
 
 
 def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:
@@ -42,7 +41,7 @@ def _check_skip(pattern: int | None, circuits: int, key: str) -> list[int]:
     return [pattern % circuits if circuits > 1 else 1]
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class OpenPattern:
     """Pattern of an open mandrel: the passes' natural advance plus the dwells close it.
 
@@ -93,10 +92,12 @@ def close_vessel_pattern(advance: Callable[[float], float], c0: float, c_lo: flo
     for k in _check_skip(pattern, circuits, key):
         up = a0 + (k / circuits - a0) % 1.0
         candidates += [(abs(t - a0), k, t) for t in (up, up - 1.0) if a_lo <= t <= a_hi]
+    from scipy.optimize import brentq  # noqa: PLC0415 - a hoop job never closes a pattern
+
     best = None
     for _, k, target in sorted(candidates)[:4]:
-        c = c0 if abs(target - a0) < 1e-13 else bracketed_root(lambda x: advance(x) - target, c_lo, c_hi,
-                                                                xtol=1e-13, rtol=1e-14)
+        c = c0 if abs(target - a0) < 1e-13 else brentq(lambda x: advance(x) - target, c_lo, c_hi,
+                                                        xtol=1e-13, rtol=1e-14)
         if best is None or abs(c - c0) < abs(best[1] - c0):
             best = (k, c)
     if best is None:

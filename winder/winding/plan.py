@@ -10,7 +10,7 @@ import math
 from dataclasses import replace
 
 from winder.config.job import JobConfig
-from winder.config.winding import LayerType
+from winder.config.winding import LayerConfig, LayerType
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError
 from winder.progress import Progress, monotone
@@ -18,16 +18,18 @@ from winder.winding.layers.friction import friction_layer
 from winder.winding.layers.helical_open import open_helical_layer
 from winder.winding.layers.hoop import hoop_layer
 from winder.winding.passes import PlanContext
-from winder.winding.results import WindingPlan
+from winder.winding.results import LayerPlan, WindingPlan
 from winder.winding.turnaround import SWING_MIN_DEG
 from winder.geometry.sections import arc_map
 from winder.geometry.build import build_surface
 
 
-def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
+def plan(job: JobConfig, progress: Progress | None = None,
+         contexts: list[tuple[PlanContext, float]] | None = None) -> WindingPlan:
     """Plan every layer of a job; raises ConfigError for what the config cannot do, SolverError for
     what cannot be computed (infeasible winding, no convergence). progress, if given, is told the
-    fraction of the job done, per layer and per circuit (winder.progress)."""
+    fraction of the job done, per layer and per circuit (winder.progress); contexts, if given, gets
+    each layer's context and start angle (rad) as the layer is planned in them."""
     if job.winding is None:
         raise ConfigError(f"{job.source}: winding: missing; `winder run` needs the winding plan (band_width, "
                           f"layers)")
@@ -42,22 +44,38 @@ def plan(job: JobConfig, progress: Progress | None = None) -> WindingPlan:
         from winder.winding.wall import material_of, start_buildup  # noqa: PLC0415
         build = start_buildup(ctx)
     for index, cfg in enumerate(job.winding.layers):
-        if cfg.type is LayerType.HOOP:
-            layer = hoop_layer(ctx, cfg, index, theta0)
-        elif (held := friction_layer(ctx, cfg, index, theta0)) is not None:
-            layer = held
-        elif isinstance(surface.profile, VesselMeridian):
-            from winder.winding.layers.helical_vessel import vessel_helical_layer  # noqa: PLC0415
-            layer = vessel_helical_layer(ctx, cfg, index, theta0)
-        else:
-            layer = open_helical_layer(ctx, cfg, index, theta0)
+        if contexts is not None:
+            contexts.append((ctx, theta0))
+        layer = plan_layer(ctx, cfg, index, theta0)
         if build is not None:  # the next layer winds on the mandrel grown by this one
             layer, build = build.add(layer, material_of(job.winding.material_of(index)), ctx.key(index))
             ctx = replace(ctx, surface=build.surface)
         layers.append(layer)
+        if cfg.type is not LayerType.HOOP and layer.turnaround_radius is not None:  # for the next step_back
+            ctx = replace(ctx, previous_turnaround=float(layer.turnaround_radius))
         ctx.report(index, 1.0, "planned")
         # The next layer starts a little further on: the mandrel keeps turning while the eye moves
         # from this layer's last direction to the next one's first.
         theta0 = float(layer.passes[-1].theta[-1]) + math.radians(SWING_MIN_DEG)
     return WindingPlan(job.name, job.source, surface, tuple(layers), float(job.winding.band_width),
                        outer=build.surface if build is not None else None)
+
+
+def plan_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
+    """One layer planned in ctx (the mandrel as the layers before it left it), from theta0 (rad)."""
+    if cfg.type is LayerType.HOOP:
+        return hoop_layer(ctx, cfg, index, theta0)
+    if (held := friction_layer(ctx, cfg, index, theta0)) is not None:
+        return held
+    if isinstance(ctx.surface.profile, VesselMeridian):
+        from winder.winding.layers.helical_vessel import vessel_helical_layer  # noqa: PLC0415
+        return vessel_helical_layer(ctx, cfg, index, theta0)
+    return open_helical_layer(ctx, cfg, index, theta0)
+
+
+def layer_contexts(job: JobConfig, count: int) -> tuple[list[tuple[PlanContext, float]], WindingPlan]:
+    """The contexts and start angles (rad) `plan` plans the first count layers in (the mandrel grown
+    by the layers before each, where the job has a laminate), and the plan of those layers: one plan."""
+    contexts: list[tuple[PlanContext, float]] = []
+    done = plan(replace(job, winding=replace(job.winding, layers=job.winding.layers[:count])), contexts=contexts)
+    return contexts, done

@@ -6,6 +6,7 @@ theta, degrees in fields named *_deg (the user-facing convention).
 
 from __future__ import annotations
 
+import dataclasses
 from enum import Enum
 from typing import TYPE_CHECKING
 
@@ -14,7 +15,6 @@ import numpy as np
 from winder.config.winding import LayerType
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.geometry.measure import row_norms
-from winder.records import record
 
 if TYPE_CHECKING:  # the laminate record builds on this module
     from winder.winding.wall import LayerLaminate
@@ -28,7 +28,7 @@ class PassKind(Enum):
     HOOP = "hoop"  # a hoop traverse
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class FiberPass:
     """One stretch of fiber, laid in winding order.
 
@@ -53,7 +53,7 @@ class FiberPass:
     length: float  # mm
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Coverage:
     """Coverage of a layer at stations along its winding region (MATH.md 5).
 
@@ -71,7 +71,7 @@ class Coverage:
     max_layers: int
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class LayerPlan:
     """A planned layer.
 
@@ -106,13 +106,16 @@ class LayerPlan:
     min_normal_curvature: float = float("nan")
     surface: SweepSurface | None = None  # the (grown) mandrel it was wound on; None: the plan's
     laminate: LayerLaminate | None = None  # what it adds to the wall (a job with a material)
+    max_lift_off_mm: float = 0.0  # largest lift-off of its fiber over a concave stretch (docs/math 8.10)
+    lift_off_t: float = 0.0  # where: station t (mm) and pass number
+    lift_off_pass: int = 0
 
     @property
     def angle_change_deg(self) -> float:
         return self.angle_deg - self.requested_angle_deg
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class WindingPlan:
     """A whole job's plan: the mandrel surface and its layers in winding order, and the band width
     (mm) they were laid with (None for a plan built by hand without one)."""

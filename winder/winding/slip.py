@@ -8,6 +8,7 @@ is refused (SolverError, exit 1) naming the layer, the station and the least mu.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -15,7 +16,7 @@ import numpy as np
 from winder.errors import SolverError
 from winder.geometry.curvature import curve_curvatures, polyline_curvatures
 from winder.geometry.surface import SweepSurface
-from winder.records import record
+from winder.winding.liftoff import pass_lift_off
 from winder.winding.results import FiberPass, PassKind
 
 if TYPE_CHECKING:  # passes.py checks every layer with this module: no import cycle at run time
@@ -55,7 +56,7 @@ def check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None
                           f"regions")
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class LayerSlip:
     """max_slip : largest |k_g / k_n| over the layer's passes; min_normal_curvature : least k_n (1/mm),
     max_normal_curvature : largest |k_n| (its scale). slip_t, bridge_t : stations (mm) of the largest
@@ -68,6 +69,29 @@ class LayerSlip:
     slip_pass: int
     bridge_t: float
     bridge_pass: int
+    max_lift_off: float = 0.0  # mm: the largest lift-off over a concave stretch (docs/math 8.10)
+    lift_t: float = 0.0  # station (mm) and pass of it
+    lift_pass: int = 0
+
+
+LIFT_FLOOR = 1e-6  # mm: a lift-off below this is round-off, no bridge (with a tolerance of 0)
+
+
+def _lift_off(laid: list[FiberPass], curves: list[tuple[np.ndarray, np.ndarray]]) -> tuple[float, float, int]:
+    """(lift-off mm, t, pass number) of the passes that bridge (k_n below -BRIDGE_TOL of their largest
+    |k_n|), the largest; rotated copies (the same stations) are measured once."""
+    best, seen = (0.0, 0.0, 0), {}
+    for p, (k_n, _) in zip(laid, curves):
+        top = float(np.max(np.abs(k_n))) if k_n.size else 0.0
+        if not k_n.size or not float(np.min(k_n)) < -BRIDGE_TOL * top:
+            continue
+        key = (p.s.tobytes(), k_n.size)
+        if key not in seen:
+            seen[key] = pass_lift_off(p.points, k_n)
+        out = seen[key]
+        if out.lift_mm > best[0]:
+            best = (out.lift_mm, float(p.t[out.at + 1]), p.number)
+    return best
 
 
 def _curvatures(surface: SweepSurface, passes: list[FiberPass]) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -105,7 +129,7 @@ def measure(surface: SweepSurface, passes: list[FiberPass] | tuple[FiberPass, ..
     p_i, p_j = laid[owner[i]], laid[owner[j]]
     slip = (float(ratio[j]), float(p_j.t[j - first[owner[j]] + 1]), p_j.number) if ratio[j] > 0.0 else (0.0, 0.0, 0)
     return LayerSlip(slip[0], float(k_n[i]), float(np.max(top)), slip[1], slip[2],
-                     float(p_i.t[i - first[owner[i]] + 1]), p_i.number)
+                     float(p_i.t[i - first[owner[i]] + 1]), p_i.number, *_lift_off(laid, curves))
 
 
 def _measure_each(laid: list[FiberPass], curves: list[tuple[np.ndarray, np.ndarray]]) -> LayerSlip:
@@ -124,16 +148,19 @@ def _measure_each(laid: list[FiberPass], curves: list[tuple[np.ndarray, np.ndarr
             j = int(np.argmax(ratio))
             if ratio[j] > best[0]:
                 best[:3] = [float(ratio[j]), float(p.t[j + 1]), p.number]
-    return LayerSlip(best[0], best[3], scale, best[1], best[2], best[4], best[5])
+    return LayerSlip(best[0], best[3], scale, best[1], best[2], best[4], best[5], *_lift_off(laid, curves))
 
 
-def check(surface: SweepSurface, passes, mu: float, key: str, angle_deg: float) -> LayerSlip:
-    """measure, then refuse a layer whose fiber bridges or slips (SolverError naming key and station)."""
+def check(surface: SweepSurface, passes, mu: float, key: str, angle_deg: float,
+          tolerance: float = 0.0) -> LayerSlip:
+    """measure, then refuse a layer whose fiber slips, or bridges a concave stretch standing off it by
+    more than `tolerance` mm (winding.bridging_tolerance; SolverError naming key and station)."""
     out = measure(surface, passes)
-    if out.min_normal_curvature < -BRIDGE_TOL * out.max_normal_curvature:
-        raise SolverError(f"{key}: the fiber bridges at t = {out.bridge_t:.1f} mm (pass {out.bridge_pass}, k_n = "
-                          f"{out.min_normal_curvature:.3g} /mm) at {angle_deg:g} deg: it does not press on the "
-                          f"mandrel there, whatever the friction")
+    if out.max_lift_off > tolerance + LIFT_FLOOR:
+        raise SolverError(f"{key}: the fiber bridges at t = {out.lift_t:.1f} mm (pass {out.lift_pass}) at "
+                          f"{angle_deg:g} deg: it stands {out.max_lift_off:.3g} mm off the mandrel there, above "
+                          f"winding.bridging_tolerance ({tolerance:g} mm), whatever the friction (least k_n "
+                          f"{out.min_normal_curvature:.3g} /mm)")
     if out.max_slip > mu + SLIP_MARGIN:
         raise SolverError(f"{key}: the fiber would slip at t = {out.slip_t:.1f} mm (pass {out.slip_pass}): it needs "
                           f"|k_g / k_n| = {out.max_slip:.3g}, above the friction {mu:g} (winding.friction); the "

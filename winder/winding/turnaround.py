@@ -20,6 +20,7 @@ other sections the turnaround is held at the region's end as on an end without r
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -27,7 +28,6 @@ import numpy as np
 from winder.geometry.surface import SweepSurface
 from winder.paths.headings import heading_of_velocity, velocity_of_heading
 from winder.geometry.measure import row_norms, tangent_coordinates
-from winder.records import record
 
 TURN_SLIP_SHARE = 0.9  # of the friction coefficient, used by a turnaround (a margin for its scatter)
 # Least dwell while the free fiber swings round an end that holds it, in degrees of a full turn of
@@ -41,7 +41,7 @@ HOOP_HEADING_TOL = 1e-9  # deg: a heading this close to 90 runs along the parall
 TRACE_TOL = 1e-10
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class Leg:
     """The fiber from a pass's end into the end zone, at theta = 0 of its start.
 

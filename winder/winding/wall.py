@@ -9,6 +9,7 @@ surface it was wound on.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import asdict, replace
 
 import numpy as np
@@ -19,15 +20,14 @@ from winder.geometry.interp import interp_spline
 from winder.geometry.offset import OffsetError
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
-from winder.records import record
 from winder.winding.buildup import StationCells, area_rate, index_of, layer_density, station_cells
-from winder.winding.growth import grown, smooth_thickness
+from winder.winding.growth import BossCone, boss_cones, grown, smooth_thickness
 from winder.winding.laminate import Material
 from winder.winding.passes import PlanContext, winding_region
 from winder.winding.results import LayerPlan, PassKind
 
 
-@record(eq=False)
+@dataclasses.dataclass(frozen=True, eq=False)
 class LayerLaminate:
     """What one layer adds to the wall.
 
@@ -110,7 +110,7 @@ def mean_radius(surface: SweepSurface, t: float) -> float:
     return float(surface.perimeter(surface.s_of_t(np.array([t])))[0] / (2.0 * np.pi))
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Buildup:
     """The build-up state between layers: the surface the next layer winds on."""
 
@@ -118,6 +118,7 @@ class Buildup:
     band_width: float
     t_ref: float
     source: str = ""
+    cones: tuple[BossCone, BossCone] | None = None  # the bare vessel's (growth.boss_cones)
 
     def add(self, layer: LayerPlan, material: Material, key: str) -> tuple[LayerPlan, Buildup]:
         """The layer with its laminate record and surface, and the state for the next layer.
@@ -136,7 +137,7 @@ class Buildup:
         # shape it winds on leaves them out (hoops would slip on them), the wall keeps them
         laid = layer_density(surf, cells, layer.passes, area, band, turns, dwells=False, seen=volumes)
         try:
-            nxt = grown(surf, cells, smooth_thickness(surf, cells, laid, band))
+            nxt = grown(surf, cells, smooth_thickness(surf, cells, laid, band, self.cones))
         except OffsetError as exc:
             raise SolverError(f"{key}: the mandrel grown by this layer is not a smooth surface: {exc}") from exc
         s_ref = float(surf.s_of_t(np.array([self.t_ref]))[0])
@@ -164,4 +165,5 @@ def start_buildup(ctx: PlanContext) -> Buildup:
     """The build-up state before the first layer (ctx: the planner's PlanContext)."""
     region = winding_region(ctx)
     band = ctx.winding.band_width
-    return Buildup(ctx.surface, band, reference_station(ctx.surface, region, band), ctx.job.source)
+    return Buildup(ctx.surface, band, reference_station(ctx.surface, region, band), ctx.job.source,
+                   boss_cones(ctx.surface))

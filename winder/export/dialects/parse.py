@@ -18,45 +18,31 @@ import re
 import numpy as np
 
 from winder.config.machine import MachineConfig
+from winder.export.dialects.parsed import ParsedProgram
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
 from winder.export.dialects.text import JOB_LINE
-from winder.records import record
 
-_PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
+_PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$", re.ASCII)
+MAX_PASS_NUMBER = 10**9  # of a layer, circuit or pass in a pass comment: far past any plan (int64 keys)
 _END = ("M2", "M30")  # either ends a program (M30 also rewinds it)
-_COMMENT = re.compile(r"\([^)]*\)|;.*$")  # (...) anywhere, ; to the end of the line
-_BLOCK_NUMBER = re.compile(r"^N\d+\s*")
+# (...) anywhere (never nested: RS274 refuses it; [^()] keeps a line of 200,000 `(` linear), ; to the end
+_COMMENT = re.compile(r"\([^()]*\)|;.*$")
+# A word: a letter and a decimal number of ASCII digits, as controllers read it (no exponent, no `_`,
+# no other script's digits); words may be written without spaces (G1X54.303A-44.415).
+_WORD = re.compile(r"([A-Z])[ \t]*([-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))[ \t]*")
+_WORDS = re.compile(r"(?:[A-Z][ \t]*[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)[ \t]*)*")
+_BLOCK_NUMBER = re.compile(r"^N[0-9]+\s*")
 _PADDED_G = re.compile(r"^G0+(\d)$")  # G01 is G1, G00 is G0
 _SKIP = {"G21", "G90", "G94", "G93", "%", "G21 G90 G94 G17 G40 G49 G80 G54"}
 _ROLE_COLUMN = {"carriage": 0, "rotation": 1, "cross_feed": 2, "yaw": 3}
 # The largest value of a word: a job's cumulative rotation stays below 1e9 deg (1.5 million points,
 # less than a turn each); beyond, squared distances and times of the dynamics overflow to inf and nan.
 MAX_WORD_VALUE = 1e12
-
-
-@record(eq=False)
-class ParsedProgram:
-    """A program read back.
-
-    dialect : the dialect it was read as. values : (m, 4) or (m, 6) rows (module docstring).
-    keys : (m, 3) int, (layer, circuit, pass) of each row. kinds : (m,) the pass kind words.
-    feed : (m,) the F word of each row (nan where none). line : (m,) the line number of each row.
-    job : the name on the program's `; job:` line, if it has one.
-    """
-
-    dialect: str
-    values: np.ndarray
-    keys: np.ndarray
-    kinds: tuple[str, ...]
-    feed: np.ndarray
-    line: np.ndarray | None = None
-    job: str | None = None
-
-    @property
-    def robot(self) -> bool:
-        return self.dialect == "robot"
+# The moves simulate reads at most (its caller passes the plan's own bound): the work budget's points
+# of a whole job, with room for a program's approach and turnaround rows.
+MAX_MOVES = 3_000_000
 
 
 def detect(text: str) -> str:
@@ -64,9 +50,10 @@ def detect(text: str) -> str:
     upper = text.upper()
     if upper.lstrip().startswith(marlin.HEADER.strip().upper()):
         return "marlin"
-    if re.search(r"^\s*(N\d+\s*)?G0*93\s*$", upper, re.M):
+    # [ \t]*, never \s*: \s crosses newlines, and 30,000 blank lines made each search quadratic
+    if re.search(r"^[ \t]*(N[0-9]+[ \t]*)?G0*93[ \t]*$", upper, re.M):
         return "linuxcnc"
-    if re.search(r"^\s*(N\d+\s*)?POSE\s", upper, re.M):
+    if re.search(r"^[ \t]*(N[0-9]+[ \t]*)?POSE[ \t]", upper, re.M):
         return "robot"
     return "generic"
 
@@ -81,8 +68,20 @@ def _code(line: str) -> str:
     return " ".join(_PADDED_G.sub(r"G\1", word) for word in code.split())
 
 
-def parse_program(text: str, machine: MachineConfig, source: str = "program") -> ParsedProgram:
-    """Read a program's text written for `machine` (its dialect detected from the text)."""
+def parse_program(text: str, machine: MachineConfig, source: str = "program",
+                  max_moves: int = MAX_MOVES) -> ParsedProgram:
+    """Read a program's text written for `machine` (its dialect detected from the text); refused
+    past max_moves moves, as soon as the line past them is read (or at once when the text has more
+    than twice as many lines: a winder program has a comment line per pass, not per move)."""
+    lines_in_text = text.count("\n") + 1
+    if lines_in_text > 2 * max_moves + 10_000:
+        raise ConfigError(f"{source}: {lines_in_text:,} lines for at most {max_moves:,} moves, past what simulate "
+                          f"reads for this job (its plan's points, with room for the program's own rows and comments)")
+    from winder.export.dialects.cell_parse import detect_cell, parse_cell  # noqa: PLC0415
+
+    cell = detect_cell(text)
+    if cell is not None:
+        return parse_cell(text, machine, source, cell)
     dialect = detect(text)
     ax = machine.axes
     if dialect == "robot":
@@ -96,7 +95,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
     kinds: list[str] = []
     feeds: list[float] = []
     key, kind = (0, 0, 0), ""
-    job = None
+    job, job_line = None, None
     fixed_z = None
     numbers: list[int] = []
     end = None
@@ -105,9 +104,9 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
         if line.startswith(";"):
             hit = _PASS.match(line)
             if hit:
-                key, kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
+                key, kind = tuple(_pass_number(hit[i], line, number, source) for i in (1, 2, 3)), hit[4]
             elif line.startswith(JOB_LINE) and job is None:
-                job = line[len(JOB_LINE):].strip()
+                job, job_line = line[len(JOB_LINE):].strip(), number
             elif line.upper().startswith(marlin.FIXED_EYE.upper()):
                 fixed_z = _fixed_eye(line, number, source)
             continue
@@ -117,17 +116,19 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
         if code in _END and dialect != "marlin":
             end = number
             continue
-        words = code.split()
         if end is not None:
             raise ConfigError(f"{source}: line {number}: a move after the program's end (line {end}), "
                               f"got {line[:60]!r}")
-        if words[0] not in prefixes:
-            raise ConfigError(f"{source}: line {number}: not a move of a {dialect} program: {line[:60]!r}")
-        try:
-            values = {w[0]: float(w[1:]) for w in words[1:]}
-        except (ValueError, IndexError) as exc:
-            raise ConfigError(f"{source}: line {number}: unreadable number in {line[:60]!r}") from exc
-        _check_words(words[1:], values, number, source)
+        head, words = _words(code, prefixes, dialect, line, number, source)
+        values = {letter: float(digits) for letter, digits in words}
+        _check_words([letter + digits for letter, digits in words], values, number, source)
+        extra = next((letter for letter in values if letter not in letters and letter != "F"), None)
+        if extra is not None:  # Z0e999 reads as Z0 and E999: no axis of this machine
+            raise ConfigError(f"{source}: line {number}: {extra} is no axis of this {dialect} program (its axes: "
+                              f"{', '.join(letters)}, and F), got {line[:60]!r}")
+        if len(rows) >= max_moves:
+            raise ConfigError(f"{source}: line {number}: more than {max_moves:,} moves, past what simulate reads "
+                              f"for this job (its plan's points, with room for the program's own)")
         missing = [c for c in letters if c not in values]
         if missing:
             raise ConfigError(f"{source}: line {number}: axis {missing[0]} missing in {line[:60]!r}")
@@ -159,7 +160,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program") ->
     if dialect != "robot":
         _check_limits(table, lines, machine, letters if dialect != "marlin" else (ax.carriage, ax.rotation,
                                                                                   ax.cross_feed, ax.yaw), source)
-    return ParsedProgram(dialect, table, keys_arr, kinds_t, feeds_arr, lines, job)
+    return ParsedProgram(dialect, table, keys_arr, kinds_t, feeds_arr, lines, job, job_line=job_line)
 
 
 def marlin_cuts(written: np.ndarray, keys: np.ndarray) -> np.ndarray:
@@ -184,6 +185,35 @@ def marlin_cuts(written: np.ndarray, keys: np.ndarray) -> np.ndarray:
           & np.all(keys[mid] == keys[mid + 1], axis=1))
     out[mid[on]] = True
     return out
+
+
+def _pass_number(digits: str, line: str, number: int, source: str) -> int:
+    value = int(digits) if len(digits) <= 12 else MAX_PASS_NUMBER + 1
+    if value > MAX_PASS_NUMBER:
+        raise ConfigError(f"{source}: line {number}: a layer, circuit or pass number past {MAX_PASS_NUMBER:g}, which "
+                          f"no plan has, got {line[:60]!r}")
+    return value
+
+
+def _words(code: str, prefixes: tuple[str, ...], dialect: str, line: str, number: int,
+           source: str) -> tuple[str, list[tuple[str, str]]]:
+    """The move's command (G1, G0, POSE) and its words (letter, number text), with or without spaces
+    between them; ConfigError naming the line for anything else."""
+    head = next((p for p in prefixes if code.startswith(p) and not code[len(p):len(p) + 1].isdigit()), None)
+    if head is None:
+        raise ConfigError(f"{source}: line {number}: not a move of a {dialect} program: {line[:60]!r}")
+    rest = code[len(head):].lstrip(" ")
+    if "E" in rest or "N" in rest:  # a value Python reads (inf, nan, 1e300): said as one no controller moves to
+        try:
+            loose = {w[0]: float(w[1:]) for w in rest.split()}
+        except (ValueError, IndexError):
+            loose = None
+        if loose is not None:
+            _check_words(rest.split(), loose, number, source)
+    if not _WORDS.fullmatch(rest):
+        raise ConfigError(f"{source}: line {number}: unreadable number in {line[:60]!r} (a letter and a "
+                          f"decimal number of ASCII digits per word, as controllers read them)")
+    return head, _WORD.findall(rest)
 
 
 def _fixed_eye(line: str, number: int, source: str) -> float:

@@ -7,6 +7,7 @@ The text is deterministic: no timestamps, no timings.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from typing import Protocol
 
@@ -16,7 +17,6 @@ from winder.errors import ExportError
 from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
-from winder.records import record
 from winder.winding.results import LayerPlan, PassKind
 
 JOB_LINE = "; job:"  # the header line naming the job (simulate reads it back)
@@ -28,7 +28,7 @@ ELLIPSIS = "..."
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
 
 
-@record
+@dataclasses.dataclass(frozen=True)
 class Move:
     """One programmed line: the pass it comes from and the index of its contact point in the pass.
 

@@ -5,11 +5,19 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from winder.config.winding import SLIP_AUTO, LayerConfig
-from winder.errors import ConfigError
+from winder.errors import ConfigError, SolverError
 from winder.geometry.vessel import VesselMeridian
 from winder.winding.passes import PlanContext
 from winder.winding.results import LayerPlan
+
+STEP_BACK_SAMPLES = 4001  # meridian samples to find where a dome reaches a radius
+AUTO_MARGIN_MM = 5e-6  # slip auto turns this far outside the polar opening plus half a band (5 solve tolerances)
+# Where the pattern cannot be closed that close to an opening (a lambda change would run the fiber
+# into it), auto moves the turnaround out by these shares of a band, in turn.
+AUTO_STEPS = (0.0, 0.25, 0.5, 1.0)
 
 
 def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan | None:
@@ -17,8 +25,9 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
 
     Vessels: a turnaround_radius, or a slip number, or auto where the geodesic's turnaround
     R sin(alpha) falls inside a polar opening plus half a band (auto then turns just outside it).
-    Bent tubes: auto or a number (the largest |lambda| the bends may use). Elsewhere geodesics
-    cover evenly; a slip number there is refused.
+    Bent tubes: auto or a number (the largest |lambda| the bends may use). Cones, tables, tapered
+    poles: auto holds the angle by friction where the geodesic turns around inside the region
+    (docs/math/09). Elsewhere geodesics cover evenly; a slip number there is refused.
     """
     mu, slip = ctx.winding.friction, cfg.slip
     surf = ctx.surface
@@ -27,12 +36,14 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
         from winder.winding.layers.friction_vessel import friction_vessel_layer  # noqa: PLC0415
         prof = surf.profile
         c_min = max(prof.dome.end_radius, prof.end_dome.end_radius) + 0.5 * ctx.winding.band_width
+        if cfg.step_back > 0.0 and ctx.previous_turnaround is not None:
+            c_min = max(c_min, stepped_back(prof, ctx.previous_turnaround, cfg.step_back))
         if cfg.turnaround_radius is not None:
             return friction_vessel_layer(ctx, cfg, index, theta0, mu, cfg.turnaround_radius, None)
         if slip == SLIP_AUTO:
             if prof.radius * math.sin(math.radians(cfg.angle_deg)) > c_min:
                 return None
-            return friction_vessel_layer(ctx, cfg, index, theta0, mu, c_min, None)
+            return _auto_vessel(ctx, cfg, index, theta0, mu, c_min)
         return friction_vessel_layer(ctx, cfg, index, theta0, mu, None, slip) if slip > 0.0 else None
     if slip == 0.0:
         return None
@@ -40,7 +51,43 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
         from winder.winding.layers.friction_open import bend_helical_layer, is_bent_tube  # noqa: PLC0415
         if is_bent_tube(ctx):
             return bend_helical_layer(ctx, cfg, index, theta0, mu if slip == SLIP_AUTO else float(slip))
+    if slip == SLIP_AUTO and surf.curve.is_straight:
+        from winder.winding.layers.friction_revolution import (geodesic_reaches, held_angle_layer,  # noqa: PLC0415
+                                                               is_open_revolution)
+        from winder.winding.passes import winding_region  # noqa: PLC0415
+
+        if is_open_revolution(surf) and not geodesic_reaches(surf, *winding_region(ctx), cfg.angle_deg):
+            return held_angle_layer(ctx, cfg, index, theta0, mu)
     if slip != SLIP_AUTO:
         raise ConfigError(f"{ctx.key(index, 'slip')}: a number applies to vessels and to bent tubes of lines and "
                           f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
     return None
+
+
+def _auto_vessel(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, mu: float,
+                 c_min: float) -> LayerPlan:
+    """slip auto on a vessel: friction-held, turning just outside c_min (the solved turnaround lands
+    within its tolerance of the target, either side: a small margin), or further out by AUTO_STEPS
+    where the pattern does not close there."""
+    from winder.winding.layers.friction_vessel import friction_vessel_layer  # noqa: PLC0415
+
+    band = ctx.winding.band_width
+    for i, share in enumerate(AUTO_STEPS):
+        try:
+            return friction_vessel_layer(ctx, cfg, index, theta0, mu, c_min + AUTO_MARGIN_MM + share * band, None)
+        except SolverError:
+            if i == len(AUTO_STEPS) - 1:
+                raise
+    raise AssertionError("unreachable")
+
+
+def stepped_back(prof: VesselMeridian, c_prev: float, step: float) -> float:
+    """The radius `step` mm along each dome's meridian toward the equator from where r = c_prev, the
+    larger of the two domes' (docs/math/08-laminate-edges.md 8.8)."""
+    out = c_prev
+    for dome in (prof.dome, prof.end_dome):
+        sigma = np.linspace(0.0, dome.length, STEP_BACK_SAMPLES)
+        r = dome.evaluate(sigma).r  # falling from the equator to the opening
+        at = float(np.interp(c_prev, r[::-1], sigma[::-1]))
+        out = max(out, float(dome.evaluate(np.array([max(at - step, 0.0)])).r[0]))
+    return out

@@ -62,7 +62,7 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     perimeter = 2.0 * math.pi * a
     # The angle at the end sections: the layer's, unless a bend reaches an end (then the bend's).
     ends = (pieces[0].alpha0, pieces[-1].alpha1)
-    n_c = circuits_needed(pieces, perimeter, min(ends), w.band_width)
+    n_c = cfg.circuits or circuits_needed(pieces, perimeter, min(ends), w.band_width)
     stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     # The advance is the same for every pass: one reference pass gives it.
     adv_f = pass_curves(pieces, a, np.zeros(1), 8, True)[4]
@@ -72,7 +72,7 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
                                  max(w.dwell_end_deg, SWING_MIN_DEG) / 360.0, cfg.pattern, ctx.key(index, "pattern"))
         passes = _passes(ctx, index, pieces, a, pat, theta0, points)
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
-        if (cfg.pattern is not None or cov.covered_fraction >= COVERED_TARGET
+        if (cfg.pattern is not None or cfg.circuits is not None or cov.covered_fraction >= COVERED_TARGET
                 and cov.max_gap_mm <= GAP_TARGET * w.band_width):
             break
         n_c += 1
@@ -112,14 +112,23 @@ def _passes(ctx: PlanContext, index: int, pieces, a: float, pat, theta0: float, 
         for kind, t, th, d1 in ((PassKind.FORWARD, t_f, th_f[j], d1_f[j]), (PassKind.RETURN, t_r, th_r[j], d1_r[j])):
             direction = _directions(ctx, t, th, d1, kind is PassKind.FORWARD)
             laid.append(make_pass(surf, layer, j + 1, 0, kind, t, th, direction, _length(ctx, t, th, d1)))
-    # Between passes the ends hold the fiber while it swings round (winder.winding.turnaround).
+    return with_dwells(ctx, layer, laid, lambda k: float(ret_starts[k // 2]) if laid[k].kind is PassKind.FORWARD
+                       else theta0 + 2.0 * math.pi * pat.advance * (k // 2 + 1), (t_a, t_b))
+
+
+def with_dwells(ctx: PlanContext, layer: int, laid: list[FiberPass], end_of, stations: tuple[float, float]) -> list[FiberPass]:
+    """The laid passes (forward, return per circuit) in winding order, each followed by its dwell: at
+    stations[1] (s) after a forward pass, stations[0] after a return, the mandrel turning to end_of(k)
+    (rad) for laid pass k. Between passes the ends hold the fiber while it swings round
+    (winder.winding.turnaround)."""
+    surf = ctx.surface
     passes: list[FiberPass] = []
     for k, p in enumerate(laid):
         passes.append(replace(p, number=len(passes) + 1))
         nxt = laid[k + 1] if k + 1 < len(laid) else None
         h_in = float(heading_deg(surf, p.s[-1:], p.theta[-1:], p.direction[-1:])[0])
         h_out = float(heading_deg(surf, nxt.s[:1], nxt.theta[:1], nxt.direction[:1])[0]) if nxt else 180.0 - h_in
-        end = float(ret_starts[k // 2]) if p.kind is PassKind.FORWARD else theta0 + 2.0 * math.pi * pat.advance * (k // 2 + 1)
-        passes.append(dwell_pass(ctx, layer, p.circuit, len(passes) + 1, t_b if p.kind is PassKind.FORWARD else t_a,
-                                 float(p.theta[-1]), end, h_in, h_out))
+        passes.append(dwell_pass(ctx, layer, p.circuit, len(passes) + 1,
+                                 stations[1] if p.kind is PassKind.FORWARD else stations[0],
+                                 float(p.theta[-1]), end_of(k), h_in, h_out))
     return passes

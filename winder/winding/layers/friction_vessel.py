@@ -90,7 +90,7 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         slips.append(lam)
     cyl = prof.cylinder_length * math.tan(alpha) / big_r
     advance = 2.0 * (legs[0].advance + cyl + legs[1].advance) / (2.0 * math.pi)
-    n_c = circuits_for_coverage(2.0 * math.pi * big_r, alpha, w.band_width)
+    n_c = cfg.circuits or circuits_for_coverage(2.0 * math.pi * big_r, alpha, w.band_width)
     k, delta = _pattern(advance, n_c, cfg.pattern)
     if abs(delta) > 1e-12:
         # Each dome is laid twice per circuit (in and out): a quarter of the change each.

@@ -9,6 +9,7 @@ copies of the first; elsewhere every pass is solved on its own.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -31,38 +32,23 @@ from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_ope
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.slip import check as check_held
 from winder.geometry.surface import SweepSurface
-from winder.geometry.roots import bracketed_root
 from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
 from winder.winding.advance import reach_theta, turnaround_error
 
 TRACE_RTOL = 1e-10
 
 
-def _reach(surface: SweepSurface, start: tuple[float, float], heading_deg: float, s_target: float,
-           span: float) -> float:
-    """theta where the geodesic from start at heading_deg reaches station s_target."""
+def _reach(surface: SweepSurface, s_ref: float, starts: np.ndarray, heading_deg: float, s_target: float,
+           span: float) -> np.ndarray:
+    """theta where the geodesics from (s_ref, starts) (k,) at heading_deg reach station s_target."""
     # 1e-10 is plenty for a pattern advance, and tight tolerances crawl on guides whose third
     # derivative is only piecewise smooth (splines).
-    from winder.paths.ode import trace  # noqa: PLC0415 - only where winding.advance has no closed form
+    from winder.paths.ode import reach_station  # noqa: PLC0415 - only where winding.advance has no closed form
 
-    tr = trace(surface, start, heading_deg, span, rtol=TRACE_RTOL, atol=TRACE_RTOL)
-    ls = np.linspace(0.0, tr.length, 4001)
-    ss = tr.sol(ls)[0]
-    sign = 1.0 if s_target >= start[0] else -1.0
-    # The trace stops on the mandrel's end by an event located to ~1e-12: an end at the target counts.
-    reach = ss.max() if sign > 0 else ss.min()
-    if abs(reach - s_target) <= 1e-9 * (1.0 + abs(s_target)):
-        s_target = reach
-    hit = np.nonzero(sign * (ss - s_target) >= 0.0)[0]
-    if hit.size == 0:
-        raise turnaround_error(surface, float(ss.max() if sign > 0 else ss.min()), heading_deg)
-    k = int(hit[0])
-    if k == 0:
-        return float(start[1])
-    if ss[k] == s_target:
-        return float(tr.sol(ls[k:k + 1])[1][0])
-    l_hit = bracketed_root(lambda l: tr.sol(np.array([l]))[0][0] - s_target, ls[k - 1], ls[k], xtol=1e-12)
-    return float(tr.sol(np.array([l_hit]))[1][0])
+    th, farthest = reach_station(surface, s_ref, starts, heading_deg, s_target, span, rtol=TRACE_RTOL, atol=TRACE_RTOL)
+    for i in np.flatnonzero(np.isnan(th)).tolist():  # a ray that turned around before the target
+        raise turnaround_error(surface, float(farthest[i]), heading_deg)
+    return th
 
 
 def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alpha_deg: float) -> float:
@@ -80,7 +66,7 @@ def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alp
     for heading, s_end in ((alpha_deg, s_b), (alpha_deg + 180.0, s_a)):
         th = reach_theta(surf, s_ref, starts, heading, s_end) if s_end != s_ref else starts
         if th is None:
-            th = np.array([_reach(surf, (s_ref, th0), heading, s_end, span) for th0 in starts])
+            th = _reach(surf, s_ref, starts, heading, s_end, span)
         ends.append(th)
     return float(np.mean(ctx.arcs.fraction(ends[0]) - ctx.arcs.fraction(ends[1])))
 
@@ -195,37 +181,68 @@ def _least_dwells(ctx: PlanContext, legs: tuple[Leg, Leg]) -> tuple[float, float
                  for d, leg in ((w.dwell_start_deg, legs[0]), (w.dwell_end_deg, legs[1])))
 
 
+class OpenClosure(NamedTuple):
+    """What closes an open helical layer's pattern: the region (t_a, t_b, s_a, s_b), the reference
+    section (s_ref, perimeter), a forward pass's natural advance (turns), the end legs and the least
+    dwells (turns)."""
+
+    t_a: float
+    t_b: float
+    s_a: float
+    s_b: float
+    s_ref: float
+    perimeter: float
+    natural_fwd: float
+    legs: tuple[Leg, Leg]
+    least: tuple[float, float]
+
+    @property
+    def natural(self) -> float:
+        """A circuit's advance (turns) before the dwells: both passes and both turnarounds."""
+        return 2.0 * self.natural_fwd + (self.legs[0].turn + self.legs[1].turn) / (2.0 * math.pi)
+
+
+def open_closure(ctx: PlanContext, cfg: LayerConfig, index: int) -> OpenClosure:
+    """The quantities an open helical layer's pattern is closed with (close_open_pattern), without its passes."""
+    t_a, t_b = winding_region(ctx)
+    s_a, s_b = (float(v) for v in ctx.surface.s_of_t(np.array([t_a, t_b])))
+    s_ref, perimeter = reference_section(ctx, t_a, t_b)
+    try:
+        natural_fwd = _natural_advance(ctx, s_ref, s_a, s_b, cfg.angle_deg)
+    except SolverError as exc:
+        raise SolverError(f"{ctx.key(index, 'angle')}: {exc}") from exc
+    legs = _legs(ctx, s_ref, s_a, s_b, cfg.angle_deg)
+    return OpenClosure(t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, _least_dwells(ctx, legs))
+
+
 def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
     """Open mandrels. On a surface of revolution N_c = ceil(P cos(alpha) / B) covers by construction.
     Elsewhere (bends, non-circular sections) geodesics between evenly spaced slots drift apart
     (toward the inside of a bend, which is shorter); the circuit count is then raised until the
     measured coverage is complete, and the note says by how much."""
     surf, w = ctx.surface, ctx.winding
-    t_a, t_b = winding_region(ctx)
-    s_a, s_b = (float(v) for v in surf.s_of_t(np.array([t_a, t_b])))
-    s_ref, perimeter = reference_section(ctx, t_a, t_b)
+    closure = open_closure(ctx, cfg, index)
+    t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, least = closure
     alpha = cfg.angle_deg
     n_c0 = n_c = circuits_for_coverage(perimeter, math.radians(alpha), w.band_width)
-    try:
-        natural_fwd = _natural_advance(ctx, s_ref, s_a, s_b, alpha)
-    except SolverError as exc:
-        raise SolverError(f"{ctx.key(index, 'angle')}: {exc}") from exc
-    stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     notes: list[str] = []
+    if cfg.circuits is not None:  # the engineer's count (winder patterns): wound as given, never raised
+        if cfg.circuits < n_c0:
+            notes.append(f"{cfg.circuits} circuits as given, fewer than the {n_c0} whose bands span the perimeter "
+                         f"(P cos(alpha) / B): the layer leaves gaps")
+        n_c0 = n_c = cfg.circuits
+    stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     ends = (t_a, t_b, s_a, s_b)
     last_cov = None
     cov = None
     held = None
-    legs = _legs(ctx, s_ref, s_a, s_b, alpha)
-    turns = (legs[0].turn + legs[1].turn) / (2.0 * math.pi)
-    least = _least_dwells(ctx, legs)
     while True:
-        pat = close_open_pattern(n_c, 2.0 * natural_fwd + turns, *least, cfg.pattern, ctx.key(index, "pattern"))
+        pat = close_open_pattern(n_c, closure.natural, *least, cfg.pattern, ctx.key(index, "pattern"))
         passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
         held = check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index),
-                          alpha)
-        if surf.is_revolution or cfg.pattern is not None:
+                          alpha, ctx.bridging_tolerance(index))
+        if surf.is_revolution or cfg.pattern is not None or cfg.circuits is not None:
             break
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
         if cov.covered_fraction >= COVERED_TARGET and cov.max_gap_mm <= GAP_TARGET * w.band_width:

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import Callable
 
 import numpy as np
 
 from winder.config.winding import LayerConfig
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import ConfigError, SolverError
-from winder.geometry.roots import bracketed_root
 from winder.winding.passes import (
     COVERAGE_STATIONS,
     PlanContext,
@@ -41,13 +41,14 @@ def _gauss() -> tuple[np.ndarray, np.ndarray]:
 
 def turnaround_stations(prof: VesselMeridian, c: float) -> tuple[float, float]:
     """Stations s where r = c on the first and the end dome."""
+    from scipy.optimize import brentq  # noqa: PLC0415 - vessel helicals only
+
     e1, e2 = prof.equator_s
 
     def r_minus_c(s: float) -> float:
         return float(prof.evaluate(np.array([s])).r[0]) - c
 
-    return (bracketed_root(r_minus_c, 0.0, e1, xtol=1e-13),
-            bracketed_root(r_minus_c, e2, prof.length, xtol=1e-13))
+    return brentq(r_minus_c, 0.0, e1, xtol=1e-13), brentq(r_minus_c, e2, prof.length, xtol=1e-13)
 
 
 def advances(prof: VesselMeridian, c: float) -> tuple[float, float, float]:
@@ -180,23 +181,32 @@ def turnaround_refusal(prof: VesselMeridian, angle_deg: float, band_width: float
             f"plus half a band ({c_min:.3f} mm); the least angle on this vessel is {least:.3f} deg")
 
 
+def vessel_closure(ctx: PlanContext, cfg: LayerConfig, index: int) -> tuple[Callable[[float], float], float, float,
+                                                                          float]:
+    """(a circuit's advance in turns as a function of the turnaround radius c, c at the layer's angle, the
+    least and the largest c): what close_vessel_pattern closes a vessel layer's pattern with."""
+    prof, w = ctx.surface.profile, ctx.winding
+    big_r = prof.radius
+    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
+    if (why := turnaround_refusal(prof, cfg.angle_deg, w.band_width)) is not None:
+        # check refuses it on the bare mandrel (winder.winding.budget); here, a laminate's grown one
+        raise SolverError(f"{ctx.key(index, 'angle')}: {why}")
+
+    def advance(c: float) -> float:
+        return 2.0 * half_advance(prof, c) / (2.0 * math.pi)
+
+    return (advance, big_r * math.sin(math.radians(cfg.angle_deg)), r_open + 0.5 * w.band_width,
+            big_r * math.sin(math.radians(89.0)))
+
+
 def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
     surf, w = ctx.surface, ctx.winding
     prof = surf.profile
     big_r = prof.radius
     r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
-    c_min = r_open + 0.5 * w.band_width
-    c0 = big_r * math.sin(math.radians(cfg.angle_deg))
-    if (why := turnaround_refusal(prof, cfg.angle_deg, w.band_width)) is not None:
-        # check refuses it on the bare mandrel (winder.winding.budget); here, a laminate's grown one
-        raise SolverError(f"{ctx.key(index, 'angle')}: {why}")
-    c_hi = big_r * math.sin(math.radians(89.0))
+    advance, c0, c_min, c_hi = vessel_closure(ctx, cfg, index)
     perimeter = 2.0 * math.pi * big_r
-
-    def advance(c: float) -> float:
-        return 2.0 * half_advance(prof, c) / (2.0 * math.pi)
-
-    n_c = circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
+    n_c = cfg.circuits or circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
     for attempt in range(4):
         try:
             k, c = close_vessel_pattern(advance, c0, c_min, c_hi, n_c, cfg.pattern, ctx.key(index, "pattern"))
@@ -207,7 +217,7 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
             # the given pattern: a result of the computation, not of the config alone.
             raise SolverError(str(exc)) from exc
         need = circuits_for_coverage(perimeter, math.asin(c / big_r), w.band_width)
-        if need <= n_c:
+        if need <= n_c or cfg.circuits is not None:  # the engineer's count is wound as given
             break
         n_c = need
     alpha = math.degrees(math.asin(c / big_r))

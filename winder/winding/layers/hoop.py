@@ -40,6 +40,22 @@ def _cylinder_region(ctx: PlanContext) -> tuple[float, float]:
     return winding_region(ctx)
 
 
+def _traverses(ctx: PlanContext, cfg: LayerConfig, index: int, t_a: float, t_b: float) -> list[tuple[float, float]]:
+    """(start, end) stations of each traverse: from where the last one ended to its far end moved in
+    by k taper / P (traverse k of P; docs/math/08-laminate-edges.md 8.9). Without a taper, the region."""
+    step = cfg.taper / cfg.passes
+    spans, at = [], t_a
+    for k in range(cfg.passes):
+        end = t_b - k * step if k % 2 == 0 else t_a + k * step
+        if (end - at) * (1.0 if k % 2 == 0 else -1.0) <= 0.0:
+            raise SolverError(f"{ctx.key(index, 'taper')}: steps the hoop's reversals in by "
+                              f"{2.0 * cfg.taper * (cfg.passes - 1) / cfg.passes:g} mm in all, more than the "
+                              f"cylindrical region ({t_b - t_a:g} mm), got {cfg.taper:g}")
+        spans.append((at, end))
+        at = end
+    return spans
+
+
 def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
     surf, w = ctx.surface, ctx.winding
     t_a, t_b = _cylinder_region(ctx)
@@ -54,15 +70,17 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         alpha = cfg.angle_deg
     pitch = perimeter / math.tan(math.radians(alpha))  # axial advance per turn
     turns = (t_b - t_a) / pitch
-    m = max(3, int(math.ceil(turns * 360.0 / HOOP_STEP_DEG)) + 1)
+    spans = _traverses(ctx, cfg, index, t_a, t_b)
     passes: list[FiberPass] = []
     theta_start = theta0
     for k in range(cfg.passes):
         ctx.report(index, k / cfg.passes, f"hoop traverse {k + 1} of {cfg.passes}")
         f0 = float(ctx.arcs.fraction(np.array([theta_start]))[0])
-        frac = f0 + np.linspace(0.0, turns, m)
+        turns_k = abs(spans[k][1] - spans[k][0]) / pitch
+        m = max(3, int(math.ceil(turns_k * 360.0 / HOOP_STEP_DEG)) + 1)
+        frac = f0 + np.linspace(0.0, turns_k, m)
         forward = k % 2 == 0
-        t = np.linspace(t_a, t_b, m) if forward else np.linspace(t_b, t_a, m)
+        t = np.linspace(spans[k][0], spans[k][1], m)
         s = surf.s_of_t(t)
         th = ctx.arcs.theta(frac)
         th[0] = theta_start

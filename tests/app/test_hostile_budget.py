@@ -1,0 +1,52 @@
+"""Many layers (issue 34): the work budget counts layers and stops summing once past its limit, so that
+`check` refuses a config of 20,000 aliased layers (80 kB) at once (it took 85 s); the 40-layer vessel
+within 1 GB (WINDER_NIGHTLY=1: it runs about three minutes; not met yet: 1.23 GB):
+WINDER_NIGHTLY=1 python -m pytest tests/app/test_hostile_budget.py
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from tests.sandbox import run_limited
+
+ROOT = Path(__file__).resolve().parents[2]
+VESSEL = ROOT / "samples" / "vessel_hemi.yaml"
+HANG_GUARD_S = 120
+BUSY_MACHINE_S = 20.0
+ONE_GB_MB = 1024
+
+
+def _vessel(tmp_path: Path, name: str, layers: str) -> Path:
+    text = VESSEL.read_text(encoding="utf-8")
+    head = text[:text.index("winding:")].replace("name: vessel_hemi", f"name: {name}")
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(head + "winding:\n  band_width: 10\n  points: 30\n  layers:\n" + layers +
+                    "machine:\n  eye: {radius: 180}\n  feed: 2500\n", encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("count, key", [(20_000, "winding.layers: 20000 layers, more than the limit of 1000"),
+                                        (900, "winding.points: the job would plan")])
+def test_many_aliased_layers_are_refused_fast(tmp_path: Path, count: int, key: str) -> None:
+    layers = "    - &h {type: helical, angle: 22}\n" + "    - *h\n" * (count - 1)
+    config = _vessel(tmp_path, "aliased", layers)
+    (result,), = run_limited([[["check", str(config)]]], seconds=HANG_GUARD_S)
+    assert result["code"] == 2 and "internal error" not in result["stderr"], result
+    errors = [line for line in result["stderr"].splitlines() if line.startswith("Error:")]
+    assert len(errors) == 1 and key in errors[0], errors
+    assert result["seconds"] < BUSY_MACHINE_S, result["seconds"]
+
+
+@pytest.mark.skipif(not os.environ.get("WINDER_NIGHTLY"), reason="about three minutes: WINDER_NIGHTLY=1")
+@pytest.mark.xfail(reason="measured 1.23 GB peak (189 s): the plan keeps every layer's arrays; releasing them "
+                          "layer by layer is still open (issue 34)", strict=False)
+def test_a_40_layer_vessel_runs_within_1_gb(tmp_path: Path) -> None:
+    layers = "    - {type: helical, angle: 22}\n    - {type: hoop, passes: 1}\n" * 20
+    config = _vessel(tmp_path, "v40", layers)
+    (result,), = run_limited([[["run", str(config), "-o", str(tmp_path / "out")]]], seconds=600)
+    assert result["code"] == 0, result["stderr"]
+    assert result["peak_mb"] < ONE_GB_MB, result["peak_mb"]

@@ -1,0 +1,262 @@
+"""Robot cells (docs/math/10-robot-cell.md): KRL, RAPID and URScript programs of a bent mandrel read by
+structural readers written here, an independent forward kinematics (tests/machine/test_arm_ik.py) from
+each program's written poses to the arm's joints, the program's time against the summary's, simulate
+reading each back, and an elbow out of reach refused naming the pose and the joint.
+
+The full jobs of samples/elbow.yaml, configs/elbow.yaml and configs/spline_tube.yaml take a minute or
+more each: WINDER_NIGHTLY=1 runs them (`WINDER_NIGHTLY=1 pytest tests/export/test_robot_cells.py`);
+the fast tests use a shorter elbow with a wider band.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.machine.test_arm_ik import independent_fk
+from winder.app.jobs import run_job
+from winder.app.simulate import simulate
+from winder.config.arms import ARMS
+from winder.config.job import load_config
+from winder.config.robot import Pose, RobotCell
+from winder.errors import ExportError
+from winder.export.dialects import krl, rapid, urscript
+from winder.machine.program import build_program as program_of
+from winder.export.summary import summary_dict
+from winder.machine.cell import cell_motion
+from winder.machine.envelope import eye_envelope
+from winder.machine.kinematics import make_guide
+from winder.winding.plan import plan as plan_job
+
+ROOT = Path(__file__).resolve().parents[2]
+FK_TOL_MM = 0.01
+FK_TOL_DEG = 0.01
+TIME_TOL = 0.01  # relative
+QUATERNION_TOL = 1e-8
+SMALL_ELBOW = """
+name: small_elbow
+mandrel:
+  axis:
+    type: path
+    segments:
+      - line: 60
+      - arc: {radius: 150, angle: 90, toward: 0}
+      - line: 60
+  profile: {type: constant, radius: 40}
+winding:
+  band_width: 25
+  friction: 0.3
+  layers:
+    - {type: helical, angle: 45, slip: auto}
+machine:
+  eye: {clearance: 25}
+  robot: {arm: kuka_kr16}
+"""
+CELLS = {"kuka_kr16": Pose(x=1000, z=800, ry=-90, rz=-90), "abb_irb4600": Pose(x=1000, z=800, ry=-90, rz=-90),
+         "ur10e": Pose(x=800, z=500, ry=-90, rz=-90)}
+
+
+def _matrix(p: Pose) -> np.ndarray:
+    """Rz(rz) Ry(ry) Rx(rx) with the translation, written here with plain matrices."""
+    a, b, c = np.radians([p.rz, p.ry, p.rx])
+    rz = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    ry = np.array([[np.cos(b), 0, np.sin(b)], [0, 1, 0], [-np.sin(b), 0, np.cos(b)]])
+    rx = np.array([[1, 0, 0], [0, np.cos(c), -np.sin(c)], [0, np.sin(c), np.cos(c)]])
+    t = np.eye(4)
+    t[:3, :3], t[:3, 3] = rz @ ry @ rx, (p.x, p.y, p.z)
+    return t
+
+
+@pytest.fixture(scope="module")
+def job_plan(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cell") / "small_elbow.yaml"
+    path.write_text(SMALL_ELBOW)
+    job = load_config(path)
+    return job, plan_job(job)
+
+
+@pytest.fixture(scope="module")
+def programs(job_plan):
+    """The program on each arm's cell: {arm: (machine, program)}."""
+    job, plan = job_plan
+    out = {}
+    for arm, ring in CELLS.items():
+        machine = dataclasses.replace(job.machine, cell=RobotCell(arm, ring=ring))
+        out[arm] = (machine, program_of(plan, machine))
+    return out
+
+
+def _krl_points(dat: str) -> dict[str, dict[str, float]]:
+    found = {}
+    for m in re.finditer(r"^DECL E6POS (\w+)=\{([^}]*)\}$", dat, re.M):
+        found[m[1]] = {k: float(v) for k, v in (part.split() for part in m[2].split(","))}
+    return found
+
+
+def test_krl_structure_and_time(job_plan, programs) -> None:
+    machine, program = programs["kuka_kr16"]
+    texts = krl.serialize(program)
+    src, dat = texts[".src"].splitlines(), texts[".dat"].splitlines()
+    code = [line for line in src if line.strip() and not line.startswith((";", "&"))]
+    assert code[0] == "DEF small_elbow( )" and code[-1] == "END"
+    dat_code = [line for line in dat if not line.startswith("&")]
+    assert dat_code[0] == "DEFDAT small_elbow PUBLIC" and dat_code[-1] == "ENDDAT"
+    points = _krl_points(texts[".dat"])
+    lins = [line.split()[1] for line in code if line.startswith("LIN ")]
+    assert len(lins) == len(points) == len(set(lins))  # one E6POS per LIN
+    assert all(set(p) >= {"X", "Y", "Z", "A", "B", "C", "S", "T", "E1", "E2", "E3"} for p in points.values())
+    total, vel = 0.0, None
+    prev = None
+    for line in code:
+        if line.startswith("$VEL.CP"):
+            vel = float(line.split("=")[1])
+        if line.startswith("LIN "):
+            p = points[line.split()[1]]
+            if prev is not None:
+                total += np.linalg.norm([p[k] - prev[k] for k in "XYZ"]) / (vel * 1000.0)
+            prev = p
+    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    assert abs(total - expected) <= TIME_TOL * expected
+
+
+def test_rapid_structure_and_time(job_plan, programs) -> None:
+    machine, program = programs["abb_irb4600"]
+    text = rapid.serialize(program)[".mod"]
+    lines = [line.strip() for line in text.splitlines() if line.strip() and not line.strip().startswith("!")]
+    assert lines[0] == "MODULE small_elbow" and lines[-1] == "ENDMODULE"
+    assert "PROC main()" in lines and lines[-2] == "ENDPROC"
+    quats = [np.array(m[1].split(","), dtype=float)
+             for m in re.finditer(r"robtarget \w+ := \[\[[^\]]*\],\[([^\]]*)\]", text)]
+    assert quats and all(abs(np.linalg.norm(q) - 1.0) < QUATERNION_TOL for q in quats)
+    times = [float(t) for t in re.findall(r"^\s*MoveL \w+, v1000 \\T:=([0-9.]+), z0, tRing \\WObj:=wMandrel;$",
+                                          text, re.M)]
+    assert len(times) == len(quats)
+    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    assert abs(sum(times) - expected) <= TIME_TOL * expected
+
+
+def test_urscript_structure_and_time(job_plan, programs) -> None:
+    machine, program = programs["ur10e"]
+    text = urscript.serialize(program)[".script"]
+    lines = [line for line in text.splitlines() if line.strip() and not line.strip().startswith("#")]
+    assert lines[0] == "def small_elbow():" and lines[-1] == "end"
+    times = [float(t) for t in re.findall(r"^  movel\(p\[[^\]]*\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=0\)$", text, re.M)]
+    assert times and len(re.findall(r"^  ring\(", text, re.M)) == len(times) + 1
+    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    assert abs(sum(times) - expected) <= TIME_TOL * expected
+
+
+@pytest.mark.parametrize("arm", sorted(CELLS))
+def test_joints_land_on_every_written_pose(programs, arm: str) -> None:
+    """The reach check's joints through the independent FK land on the flange the written pose needs:
+    KRL's E6POS (the ring in the mandrel frame) for the KUKA, the same station frames for the others."""
+    machine, program = programs[arm]
+    cell = machine.cell
+    motion = program.cell
+    q = motion.reach.joints
+    limits = ARMS[arm].limits
+    assert np.all(q >= limits[:, 0]) and np.all(q <= limits[:, 1])
+    assert np.max(np.abs(np.diff(q, axis=0))) <= cell.max_joint_step
+    if arm == "kuka_kr16":
+        points = list(_krl_points(krl.serialize(program)[".dat"]).values())
+        frames = []
+        for p in points:
+            frames.append(_matrix(Pose(p["X"], p["Y"], p["Z"], p["C"], p["B"], p["A"])))
+        rows = [row for _, row in krl_rows(program)]
+        q = q[rows]
+    else:
+        frames = list(motion.frames)
+    need = np.linalg.inv(_matrix(cell.base)) @ _matrix(cell.ring)
+    for k, frame in enumerate(frames):
+        flange = need @ np.linalg.inv(frame) @ np.linalg.inv(_matrix(cell.tool))
+        got = independent_fk(arm, q[k])
+        assert np.linalg.norm(got[:3, 3] - flange[:3, 3]) < FK_TOL_MM
+        turn = got[:3, :3].T @ flange[:3, :3]
+        angle = np.degrees(np.arccos(np.clip((np.trace(turn) - 1.0) / 2.0, -1.0, 1.0)))
+        assert angle < FK_TOL_DEG
+
+
+def krl_rows(program):
+    from winder.export.dialects.robot_text import rows  # noqa: PLC0415
+
+    return list(rows(program))
+
+
+@pytest.mark.parametrize(("arm", "language"), [("kuka_kr16", "krl"), ("abb_irb4600", "rapid"), ("ur10e", "urscript")])
+def test_simulate_reads_back(job_plan, programs, arm: str, language: str) -> None:
+    machine, program = programs[arm]
+    module = {"krl": krl, "rapid": rapid, "urscript": urscript}[language]
+    texts = module.serialize(program)
+    text = "".join(texts[k] for k in sorted(texts, key=lambda s: s != ".src"))
+    sim = simulate(machine, job_plan[1], text, f"program.{language}")
+    assert sim.dialect == language
+    assert sim.max_deviation_mm <= machine.chord_tolerance
+    assert abs(sim.time_s - program.times.total_s) <= TIME_TOL * program.times.total_s
+    assert abs(sim.fiber_length_mm - sim.planned_fiber_length_mm) <= 1e-3 * sim.planned_fiber_length_mm
+
+
+def test_out_of_reach_refused_naming_the_pose_and_joint(job_plan) -> None:
+    job, plan = job_plan
+    machine = dataclasses.replace(job.machine, cell=RobotCell("kuka_kr16", ring=Pose(x=1000, z=1100, ry=-90, rz=-90)))
+    env = eye_envelope(plan.outer_surface, machine)
+    program = program_of(plan, dataclasses.replace(job.machine, cell=None, robot=True))
+    with pytest.raises(ExportError) as info:
+        cell_motion(machine, make_guide(plan.outer_surface, env), program.values, program.fiber,
+                    lambda row: f"layer 1 circuit 1 pass {row}")
+    message = str(info.value)
+    assert re.search(r"layer 1 circuit 1 pass \d+", message) and "joint A5" in message and "limit 130" in message
+
+
+def test_run_refuses_before_writing(tmp_path) -> None:
+    config = tmp_path / "far.yaml"
+    config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, positioner: "
+                                          "{origin: {x: 2200, z: 800, ry: -90, rz: -90}}}"))
+    report = run_job(config, tmp_path / "out", formats=("csv",))
+    assert report.exit_code == 1 and not report.outputs
+    assert "circuit" in report.message and "pass" in report.message and "joint" in report.message
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+NIGHTLY = pytest.mark.skipif(not os.environ.get("WINDER_NIGHTLY"), reason="WINDER_NIGHTLY not set (minutes per job)")
+
+
+@NIGHTLY
+@pytest.mark.parametrize("config", ["samples/elbow.yaml", "configs/elbow.yaml", "configs/spline_tube.yaml"])
+def test_shipped_cells(tmp_path, config: str) -> None:
+    job = load_config(ROOT / config)
+    plan = plan_job(job)
+    program = program_of(plan, job.machine)
+    module = {"krl": krl, "rapid": rapid, "urscript": urscript}[job.machine.dialect]
+    texts = module.serialize(program)
+    text = "".join(texts[k] for k in sorted(texts, key=lambda s: s != ".src"))
+    sim = simulate(job.machine, plan, text, config)
+    assert sim.max_deviation_mm <= job.machine.chord_tolerance
+    expected = summary_dict(plan, job.machine)["winding_time_s"]
+    assert abs(sim.time_s - expected) <= TIME_TOL * expected
+
+
+def test_each_language_for_its_arm(programs) -> None:
+    """KRL and RAPID hold the cell's poses for any arm (configuration bits only for their maker's);
+    URScript moves a UR arm in its own base frame and refuses another arm."""
+    _, abb = programs["abb_irb4600"]
+    assert ",S " not in krl.serialize(abb)[".dat"]
+    _, kuka = programs["kuka_kr16"]
+    with pytest.raises(ExportError, match="machine.robot.arm: URScript moves a Universal Robots arm"):
+        urscript.serialize(kuka)
+
+
+def test_check_refuses_a_ring_beyond_the_arm(tmp_path) -> None:
+    from winder.app.validate import validate  # noqa: PLC0415
+    from winder.errors import InfeasibleConfigError  # noqa: PLC0415
+
+    config = tmp_path / "far.yaml"
+    config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, positioner: "
+                                          "{origin: {x: 4000, z: 800, ry: -90, rz: -90}}}"))
+    with pytest.raises(InfeasibleConfigError, match="machine.robot.positioner.origin: the ring is 4079 mm") as info:
+        validate(config)
+    assert info.value.exit_code == 1

@@ -1,0 +1,55 @@
+"""What a job's analysis needs from its config: each layer's ply material, the load case, and the checks
+`check` and `run` make before any computation (an unknown material name, missing ply data: exit 2)."""
+
+from __future__ import annotations
+
+from winder.analysis.loads import LoadCase
+from winder.analysis.materials import Lamina, lamina_of
+from winder.errors import ConfigError
+
+
+def layer_laminae(job) -> tuple[Lamina | None, ...]:
+    """Each layer's ply (None where its material gives no ply data); ConfigError for an unknown name or
+    incomplete properties. The job's material key path is winding.material, a layer's own
+    winding.layers[i].material."""
+    out = []
+    for i, layer in enumerate(job.winding.layers):
+        cfg = job.winding.material_of(i)
+        if cfg is None or cfg.lamina is None:
+            out.append(None)
+            continue
+        own = layer.material is not None
+        path = f"winding.layers[{i}].material" if own else "winding.material"
+        out.append(lamina_of(cfg.lamina.name, cfg.lamina.values, job.source, path))
+    return tuple(out)
+
+
+def check_analysis(job) -> tuple[Lamina | None, ...]:
+    """The layers' plies; with an `analysis:` section every layer needs one (and a thickness: a material)."""
+    if job.winding is None:
+        return ()
+    plies = layer_laminae(job)
+    if job.analysis is None:
+        return plies
+    if not job.winding.has_laminate:
+        raise ConfigError("needs winding.material (the ply thickness and its stiffness and strength: a name from "
+                          "winder's table or E1, E2, G12, nu12, Xt, Xc, Yt, Yc, S)", file=job.source,
+                          key_path="analysis")
+    for i, ply in enumerate(plies):
+        if ply is None:
+            raise ConfigError("the structural analysis needs the ply's stiffness and strength: a name from "
+                              "winder's table or E1, E2, G12, nu12, Xt, Xc, Yt, Yc, S", file=job.source,
+                              key_path="winding.material" if job.winding.layers[i].material is None
+                              else f"winding.layers[{i}].material")
+    return plies
+
+
+def load_case(job) -> LoadCase:
+    a = job.analysis
+    return LoadCase(a.pressure, a.axial_force, a.torque, a.ends == "closed")
+
+
+def netting_stress(job, index: int, ply: Lamina) -> float:
+    """The netting allowable of layer `index` (0-based): its fiber strength on the job's V_f (9.2)."""
+    cfg = job.winding.material_of(index)
+    return ply.netting_stress(None if cfg is None else cfg.fiber_volume_fraction)

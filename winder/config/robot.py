@@ -1,0 +1,110 @@
+"""`machine.robot` as a robot cell (docs/math/10-robot-cell.md): the arm, its base in the cell, the
+mandrel's mount on its flange (`tool`), the winding ring (`positioner`) with its external axes, and the
+reach check's margins. `machine.robot: true` (eye poses only, no cell) stays as it was."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from winder.config.arms import ARMS
+
+if TYPE_CHECKING:
+    from winder.config.reader import Reader
+
+DIALECT_OF_MAKER = {"KUKA": "krl", "ABB": "rapid", "Universal Robots": "urscript"}
+POSE_KEYS = ("x", "y", "z", "rx", "ry", "rz")
+DEFAULT_TOOL = {"z": 250.0}  # the mandrel's origin 250 mm out from the flange, axes as the flange's
+# The ring 1 m in front of the arm, 800 mm up, its axis across (the cell's +y), its x axis up: the
+# flange then stays square to the forearm (the wrist far from its singularity) while the mandrel's
+# bend turns it (docs/math/10-robot-cell.md 10.1).
+DEFAULT_RING = {"x": 1000.0, "y": 0.0, "z": 800.0, "rx": 0.0, "ry": -90.0, "rz": -90.0}
+DEFAULT_AXES = 2
+DEFAULT_JOINT_STEP = 20.0  # deg between consecutive poses
+DEFAULT_SINGULARITY_MARGIN = 5.0  # deg of the wrist from its singularity
+MAX_CELL_SIZE = 20000.0  # mm: no cell is larger
+
+
+@dataclasses.dataclass(frozen=True)
+class Pose:
+    """A frame: position (mm) and rotations (deg), R = Rz(rz) Ry(ry) Rx(rx)."""
+
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+    rx: float = 0.0
+    ry: float = 0.0
+    rz: float = 0.0
+
+    def matrix(self) -> np.ndarray:
+        """The homogeneous transform (4, 4)."""
+        a, b, c = np.radians([self.rz, self.ry, self.rx])
+        rz = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
+        ry = np.array([[np.cos(b), 0.0, np.sin(b)], [0.0, 1.0, 0.0], [-np.sin(b), 0.0, np.cos(b)]])
+        rx = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(c), -np.sin(c)], [0.0, np.sin(c), np.cos(c)]])
+        out = np.eye(4)
+        out[:3, :3] = rz @ ry @ rx
+        out[:3, 3] = (self.x, self.y, self.z)
+        return out
+
+
+@dataclasses.dataclass(frozen=True)
+class RobotCell:
+    """A robot cell (YAML `machine.robot` as a mapping).
+
+    arm : a name of winder.config.arms.ARMS. base : the arm's base in the cell. tool : the mandrel
+    frame on the flange. ring : the winding ring's centre and axis (its z) in the cell
+    (`positioner.origin`). axes : the ring's external axes, 1 (E1 the ring's turn), 2 (and E2 the
+    eye's yaw, keeping a flat band flat), 3 (and E3 the eye's radial slide). max_joint_step (deg),
+    singularity_margin (deg): the reach check's limits.
+    """
+
+    arm: str
+    base: Pose = Pose()
+    tool: Pose = Pose(**DEFAULT_TOOL)
+    ring: Pose = Pose(**DEFAULT_RING)
+    axes: int = DEFAULT_AXES
+    max_joint_step: float = DEFAULT_JOINT_STEP
+    singularity_margin: float = DEFAULT_SINGULARITY_MARGIN
+
+
+def parse_pose(rd: Reader, value: Any, path: str, default: dict | None = None) -> Pose:
+    m = rd.mapping(value, path, POSE_KEYS)
+    values = dict(default or {})
+    for key, v in m.items():
+        number = rd.number(v, rd.at(path, key))
+        limit = MAX_CELL_SIZE if key in ("x", "y", "z") else 360.0
+        if abs(number) > limit:
+            raise rd.error(rd.at(path, key), f"must be within +-{limit:g} ({'mm' if limit > 360 else 'deg'})", v)
+        values[key] = number
+    return Pose(**values)
+
+
+def parse_robot_cell(rd: Reader, value: dict, path: str) -> RobotCell:
+    """The cell of `machine.robot: {arm: ..., ...}`."""
+    m = rd.mapping(value, path, ("arm", "base", "tool", "positioner", "max_joint_step", "singularity_margin"),
+                   required=("arm",))
+    arm = m["arm"]
+    if not isinstance(arm, str) or arm not in ARMS:
+        raise rd.error(rd.at(path, "arm"), f"must be one of {', '.join(ARMS)}", arm)
+    base = parse_pose(rd, m["base"], rd.at(path, "base")) if "base" in m else Pose()
+    tool = parse_pose(rd, m["tool"], rd.at(path, "tool")) if "tool" in m else Pose(**DEFAULT_TOOL)
+    ring, axes = Pose(**DEFAULT_RING), DEFAULT_AXES
+    if "positioner" in m:
+        where = rd.at(path, "positioner")
+        pm = rd.mapping(m["positioner"], where, ("axes", "origin"))
+        if "axes" in pm:
+            axes = rd.integer(pm["axes"], rd.at(where, "axes"), 1, 3,
+                              "must be 1 (the ring's turn), 2 (and the eye's yaw) or 3 (and its radial slide)")
+        if "origin" in pm:
+            ring = parse_pose(rd, pm["origin"], rd.at(where, "origin"))
+    step = rd.positive(m.get("max_joint_step", DEFAULT_JOINT_STEP), rd.at(path, "max_joint_step"))
+    if step > 180.0:
+        raise rd.error(rd.at(path, "max_joint_step"), "must be <= 180 deg (a larger step is a flip)",
+                       m["max_joint_step"])
+    margin = rd.number(m.get("singularity_margin", DEFAULT_SINGULARITY_MARGIN), rd.at(path, "singularity_margin"))
+    if not 0.0 <= margin < 90.0:
+        raise rd.error(rd.at(path, "singularity_margin"), "must be >= 0 and < 90 deg", m["singularity_margin"])
+    return RobotCell(arm, base, tool, ring, axes, step, margin)

@@ -1,0 +1,97 @@
+"""What the robot-cell dialects (krl.py, rapid.py, urscript.py) share: the header comments, the pass
+comments simulate reads back, the rows worth a move, and the rotations in each language's form. They
+serialize winder.machine.cell.CellMotion and compute nothing else."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+
+import numpy as np
+
+from winder.errors import ExportError
+from winder.export.dialects.text import JOB_LINE, clean, fmt, layer_line
+from winder.machine.program import MotionProgram
+
+POSITION_DECIMALS = 4  # mm: the station's path read back keeps the move times to 1e-4 relative
+ANGLE_DECIMALS = 4  # deg
+TIME_DECIMALS = 4  # s
+AXIS_LABELS = ("E1 ring turn (deg, cumulative)", "E2 eye yaw on the ring (deg)", "E3 eye radius (mm)")
+
+
+def cell_of(program: MotionProgram):
+    """The program's cell motion; ExportError when the machine has no robot cell."""
+    if program.cell is None:
+        raise ExportError(f"{program.source}: machine.dialect: a robot language needs a robot cell: machine.robot as "
+                          f"a mapping with an arm (kuka_kr16, abb_irb4600, ur10e)")
+    return program.cell
+
+
+def checked_name(name: str, language: str, longest: int) -> str:
+    """The job's name as the language's module name, which must match the file's: refused otherwise."""
+    if not re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", name):
+        raise ExportError(f"name: {language} needs a module name of letters, digits and _, starting with a letter, "
+                          f"at most {longest} characters, the same as its file's: rename the job, got {name!r}")
+    return name
+
+
+def header(program: MotionProgram, mark: str) -> list[str]:
+    """The comment lines every robot program starts with."""
+    cell = cell_of(program)
+    c = cell.cell
+    lines = ["winder filament-winding program", f"{JOB_LINE[2:]} {clean(program.name)}",
+             f"source: {clean(program.source)}",
+             f"cell: {cell.arm.maker} {cell.arm.name} holds the mandrel (tool: its frame on the flange); the payout "
+             f"eye rides a fixed winding ring (positioner) at {_pose_text(c.ring)} in the cell",
+             f"arm base in the cell: {_pose_text(c.base)}; mandrel on the flange: {_pose_text(c.tool)}",
+             "external axes: " + ", ".join(AXIS_LABELS[:max(c.axes, 1)] if c.axes < 3 else AXIS_LABELS),
+             f"poses: the ring's centre in the mandrel frame (station t*, axes e2 e3 e1); time {fmt(cell.times.total_s)} s",
+             f"layers: {len(program.layers)}, fiber {fmt(program.total_fiber_length_mm)} mm"]
+    lines += [layer_line(layer) for layer in program.layers]
+    return [f"{mark} {line}" for line in lines]
+
+
+def _pose_text(pose) -> str:
+    return (f"x {fmt(pose.x)} y {fmt(pose.y)} z {fmt(pose.z)} mm, rz {fmt(pose.rz)} ry {fmt(pose.ry)} "
+            f"rx {fmt(pose.rx)} deg")
+
+
+def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
+    """(a pass comment to write before the row, or None; the row) of every row worth a move: the first,
+    and every later one that takes time (a row the program repeats is no move)."""
+    cell = cell_of(program)
+    time = cell.times.time_s
+    first = True
+    for layer, segments in zip(program.layers, program.segments):
+        for seg in segments:
+            head = f"layer {layer.index} circuit {seg.circuit} pass {seg.number} {seg.kind.value}"
+            told = False
+            for row in range(seg.start, seg.stop):
+                if not first and time[row] <= 0.0:
+                    continue
+                yield (None if told else head), row
+                told, first = True, False
+
+
+def abc_deg(r: np.ndarray) -> np.ndarray:
+    """KUKA's A, B, C (deg) (m, 3) of rotations (m, 3, 3) = Rz(A) Ry(B) Rx(C)."""
+    b = np.arctan2(-r[:, 2, 0], np.hypot(r[:, 0, 0], r[:, 1, 0]))
+    a = np.arctan2(r[:, 1, 0], r[:, 0, 0])
+    c = np.arctan2(r[:, 2, 1], r[:, 2, 2])
+    return np.degrees(np.column_stack([a, b, c]))
+
+
+def quaternions(r: np.ndarray) -> np.ndarray:
+    """Unit quaternions (w, x, y, z) (m, 4) of rotations (m, 3, 3), w >= 0."""
+    from scipy.spatial.transform import Rotation  # noqa: PLC0415 - slow to import
+
+    xyzw = Rotation.from_matrix(r).as_quat()
+    q = np.column_stack([xyzw[:, 3], xyzw[:, :3]])
+    return np.where(q[:, :1] < 0.0, -q, q)
+
+
+def rotation_vectors(r: np.ndarray) -> np.ndarray:
+    """Rotation vectors (rad) (m, 3) of rotations (m, 3, 3), URScript's pose orientation."""
+    from scipy.spatial.transform import Rotation  # noqa: PLC0415
+
+    return Rotation.from_matrix(r).as_rotvec()
