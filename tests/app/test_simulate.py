@@ -288,7 +288,7 @@ WRITTEN_POSE_TOL = 0.002  # mm: three coordinates rounded to 0.001 move a point 
 
 def test_a_robot_pose_inside_the_mandrel_is_refused():
     """The elbow sample (robot poses): one pose moved halfway toward its closest guide point, 32.5 mm
-    from the axis of the 40 mm tube: 7.5 mm inside it, at the pose itself."""
+    from the axis of the 40 mm tube: 7.5 mm inside it (to the program's 3 decimals), at the pose itself."""
     from winder.machine.envelope import eye_envelope  # noqa: PLC0415
     from winder.machine.kinematics import make_guide  # noqa: PLC0415
 

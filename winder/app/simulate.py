@@ -4,10 +4,13 @@ The program (any dialect winder writes, winder.export.dialects.parse) gives the 
 programmed point through the forward kinematics (SPEC.md: with the mandrel turned by A the eye is
 at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free fiber runs from the
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
-point p(u) of the planned pass (the smooth path through its points: a cubic spline in (s, theta)
-over the point index, MATH.md 2) whose tangent ray p + lambda d, lambda > 0, passes closest to E;
+point p(u) of the planned pass whose tangent ray p + lambda d, lambda > 0, passes closest to E;
 the samples of a pass are matched together, their contacts moving forward along it
-(winder.app.contacts: on a flat face one tangent line fits a whole stretch of points). Its
+(winder.app.contacts: on a flat face one tangent line fits a whole stretch of points). The pass is
+the fiber the plan's points stand for: between two planned points of a geodesic the geodesic ODE
+from the first (winder.app.exact_paths, scipy's solve_ivp, independent of the program writer's
+integration), elsewhere the smooth path through them (a cubic spline in (s, theta) over the point
+index, MATH.md 2). Its
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
 lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
 Samples: every programmed point and the midpoint of every move within a pass (the eye the
@@ -28,6 +31,7 @@ import io
 import numpy as np
 
 from winder.app.contacts import candidates, forward, monotone_points, ray_distance, refine, repair, widen_ends
+from winder.app.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
@@ -37,7 +41,6 @@ from winder.machine.envelope import EyeEnvelope, eye_envelope
 from winder.machine.kinematics import make_guide
 from winder.machine.dynamics import move_times
 from winder.machine.program import APPROACH
-from winder.machine.smooth import SmoothPaths
 from winder.winding.results import WindingPlan, winding_angle_deg
 
 # The largest program the work budget allows, 1.5 million points of about 60 bytes (a move of
@@ -190,7 +193,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str =
         surface = plan.surface_of(int(layer))
         mine = np.flatnonzero(layer_of[all_pass] == layer)
         local = np.flatnonzero(layer_of == layer)
-        paths = SmoothPaths(surface, [passes[j] for j in local])
+        paths = ExactPaths(surface, [passes[j] for j in local])
         where = np.searchsorted(local, all_pass[mine])
         first, last = paths.offset[where], paths.last[where]
         cand = candidates(paths)

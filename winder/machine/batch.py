@@ -10,6 +10,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.densify import densify, densify_many
+from winder.machine.exact import exact_points
 from winder.machine.kinematics import RobotPoses, robot_poses
 from winder.machine.leads import eye_leads
 from winder.winding.results import FiberPass, WindingPlan
@@ -77,7 +78,7 @@ def all_midpoints(plan: WindingPlan, smooth: dict, number: dict, env) -> dict:
         paths = smooth[layer.index]
         sizes = [len(fp.points) - 1 for fp in passes]
         u = np.concatenate([paths.offset[number[id(fp)]] + np.arange(k) + 0.5 for fp, k in zip(passes, sizes)])
-        _, th, p, d = paths.point(u)
+        _, th, p, d = exact_points(paths, u)
         try:
             lam, ok = eye_leads(p, d, env)
         except ExportError:

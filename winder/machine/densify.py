@@ -3,7 +3,8 @@ two programmed points, and the exact eye path between two planned points can bow
 (near a dome's turnaround the mandrel turns quickly while the contact point hardly moves).
 
 Per pass: the axis values at the midpoints of the planned point intervals (on the smooth path,
-winder.machine.smooth) against the chords' midpoints give each interval's bow e (in the scaled axis
+winder.machine.smooth; inside a geodesic interval the exact
+geodesic, winder.machine.exact) against the chords' midpoints give each interval's bow e (in the scaled axis
 space of the point reduction). A smooth curve's bow falls as 1 / K^2 when its interval is cut in K,
 so each interval is resampled at its own K = ceil(sqrt(e / (tol / 4))) points (at most MAX_FACTOR),
 which puts the exact eye path within a quarter of the chord tolerance of the dense polyline; the point
@@ -19,6 +20,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from winder.machine.exact import exact_points
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass
 from winder.geometry.measure import row_norms
@@ -90,7 +92,7 @@ def dense_index(bows: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray] |
 def midpoints(paths: SmoothPaths, j: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(points (n-1, 3), directions (n-1, 3), theta (n-1,)) on the smooth path of pass j (n points)
     halfway between its planned points."""
-    _, th, p, d = paths.point(paths.offset[j] + np.arange(n - 1) + 0.5)
+    _, th, p, d = exact_points(paths, paths.offset[j] + np.arange(n - 1) + 0.5)
     return p, d, th
 
 
@@ -117,7 +119,7 @@ def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: 
     if found is None:
         return None
     planned, u = found
-    _, th, p, d = paths.point(paths.offset[j] + u)
+    _, th, p, d = exact_points(paths, paths.offset[j] + u)
     p[planned], d[planned], th[planned] = fp.points, fp.direction, fp.theta
     return p, d, th + shift, u
 
@@ -151,7 +153,7 @@ def densify_many(paths: SmoothPaths, numbers: list[int], passes: list[FiberPass]
     out: list = [None] * len(passes)
     if not todo:
         return out
-    _, th, p, d = paths.point(np.concatenate(us))
+    _, th, p, d = exact_points(paths, np.concatenate(us))
     cuts = np.cumsum([u.size for _, _, u in todo])[:-1]
     for (i, planned, u), th_i, p_i, d_i in zip(todo, np.split(th, cuts), np.split(p, cuts), np.split(d, cuts)):
         fp = passes[i]

@@ -27,6 +27,7 @@ from winder.machine.densify import dense_factor, interval_factors, varying_u
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.kinematics import EyePath, eye_points, rotation_deg, unwrap_each
 from winder.machine.leads import lead_straight, unit_rows
+from winder.machine.exact import exact_points
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, WindingPlan
 from winder.geometry.measure import row_norms
@@ -88,8 +89,8 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
         if not own:
             continue
         paths = smooth[layer.index] = SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
-        found.append(paths.point(np.concatenate([paths.offset[j] + np.arange(len(fp.points) - 1) + 0.5
-                                                 for j, fp in own]))[1:])
+        found.append(exact_points(paths, np.concatenate([paths.offset[j] + np.arange(len(fp.points) - 1) + 0.5
+                                                         for j, fp in own]))[1:])
         two += [(index_of[id(fp)], j, layer.index) for j, fp in own]
     if not two:
         return _assemble(passes, wheres, machine, (base, None, None), sizes, starts, [None] * len(passes), None)
@@ -116,7 +117,7 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
     extra = None
     if extra_u:
         items = [item for group in extra_u.values() for item in group]
-        th, p, d = (np.concatenate(a) for a in zip(*(smooth[layer].point(np.concatenate([v for _, v in group]))[1:]
+        th, p, d = (np.concatenate(a) for a in zip(*(exact_points(smooth[layer], np.concatenate([v for _, v in group]))[1:]
                                                       for layer, group in extra_u.items())))
         extra = _points(p, d, th + 0.0, env, sense)
         counts = np.array([v.size for _, v in items])
