@@ -16,6 +16,7 @@ from winder.paths.ode import reach_station
 ROOT = Path(__file__).resolve().parents[2]
 THETA_TOL = 1e-7  # rad: two integrations at rtol 1e-10 on a spline axis
 HELIX_TOL = 2e-8  # rad: the cylinder's closed form (1 um at R 50 after 450 mm of path)
+REACH_TOL = 1e-6  # mm: the terminal event stops within round-off of the station (to ~1e-12 relative)
 
 
 def test_fan_on_a_spline_axis_matches_each_ray_alone() -> None:
@@ -35,4 +36,4 @@ def test_cylinder_helix_closed_form_and_a_ray_that_turns_back() -> None:
     starts = np.array([0.0, 1.0, 2.0])
     th, far = reach_station(surface, 30.0, starts, 55.0, 400.0, 2000.0)
     assert th == pytest.approx(starts + math.tan(math.radians(55.0)) * 370.0 / r, abs=HELIX_TOL)
-    assert np.all(far >= 400.0)
+    assert np.all(far >= 400.0 - REACH_TOL)
