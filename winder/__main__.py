@@ -12,6 +12,7 @@ import signal
 
 
 _ARRIVALS: int | None = None  # the read end of the signal wake-up pipe: the order signals arrived in
+_COMMAND_RAN = False  # the command has run: a signal now comes as winder ends, not while it starts
 
 
 def _first_arrived(signum: int) -> int:
@@ -29,7 +30,8 @@ def _starting(signum: int, frame) -> None:
     # written, so one Error line and the first signal's status, whatever comes next.
     signal.pthread_sigmask(signal.SIG_BLOCK, (signal.SIGINT, signal.SIGTERM))
     signum = _first_arrived(signum)  # TERM then INT: TERM's status
-    os.write(2, f"Error: interrupted by {signal.Signals(signum).name} while starting\n".encode())
+    when = " as it ended" if _COMMAND_RAN else " while starting"
+    os.write(2, f"Error: interrupted by {signal.Signals(signum).name}{when}\n".encode())
     os._exit(128 + signum)
 
 
@@ -85,6 +87,8 @@ def main() -> None:
         sys.exit(2)
     from winder.cli import main as cli  # noqa: PLC0415 - after the handlers: the import takes a while
 
+    global _COMMAND_RAN  # noqa: PLW0603 - read by the handler
+    _COMMAND_RAN = True  # winder.cli's handlers from here; _starting again only once they are put back
     try:
         cli()
     finally:

@@ -5,6 +5,12 @@ job's writes (winder.app.jobs.write_outputs takes back what it put in place) and
 loop, which stops its workers with `stop_workers`. A worker runs each job through `in_worker`: a signal
 in the middle of a job rolls that job back and ends the worker; between jobs it just ends it. Workers
 also get TERM when their parent dies (Linux), so none outlives a killed batch.
+
+The first stop signal decides, whatever becomes of its exception: it is recorded (`interrupted`) before
+Interrupted is raised, and later signals change nothing. An exception raised inside an import can come
+out as another one (pybind11's modules of scipy wrap it: `ImportError: initialization failed`), or be
+swallowed (a `__del__`), or leave a half-imported module that fails later; so whoever turns an error
+into a report or an `Error:` line first calls `raise_if_interrupted`, which re-raises the interrupt.
 """
 
 from __future__ import annotations
@@ -55,7 +61,9 @@ def time_limit(seconds: float | None) -> Iterator[None]:
             left = old_delay - (time.monotonic() - started)
             signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
 
-__all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "first_arrived", "in_worker", "interrupts_raise", "stop_workers", "time_limit", "watch_arrival_order", "worker_init"]
+__all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "first_arrived", "held", "in_worker", "interrupted",
+           "interrupts_raise", "raise_if_interrupted", "stop_workers", "time_limit", "watch_arrival_order",
+           "worker_init"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 WORKER_GRACE_S = 1.0  # a worker stopped by TERM rolls back its job's files within this, or is killed
@@ -100,10 +108,62 @@ def first_arrived(signum: int) -> int:
     return next((b for b in arrived if b in STOP_SIGNALS), signum)
 
 
+_FIRST: int | None = None  # the first stop signal this process caught: its status is the exit status
+_HELD = 0  # inside `held` (nested): an interrupt is recorded, and raised as the section ends
+_PENDING = False  # an interrupt recorded inside `held`, not raised yet
+
+
+def interrupted() -> int | None:
+    """The first stop signal this process caught (None: none)."""
+    return _FIRST
+
+
+def raise_if_interrupted(cause: BaseException | None = None) -> None:
+    """Raise Interrupted (from cause) if a stop signal was caught: an error that comes after it (an
+    import it broke, a half-imported module) is the interrupt's doing, and ends as the interrupt."""
+    if _FIRST is not None:
+        raise Interrupted(_FIRST) from cause
+
+
 def _raise_interrupted(signum: int, frame) -> None:
+    # Idempotent: a second signal (this handler nested in the first, or run after it) finds the first
+    # recorded and raises that one again, or finds _ignore installed.
+    global _FIRST, _PENDING  # noqa: PLW0603 - the state the handler shares with the code it interrupts
     for sig in STOP_SIGNALS:  # one interrupt: the rollback on the way out must not be interrupted
         signal.signal(sig, _ignore)
-    raise Interrupted(first_arrived(signum))
+    if _FIRST is None:
+        _FIRST = first_arrived(signum)
+    if _HELD:
+        _PENDING = True
+        return
+    raise Interrupted(_FIRST)
+
+
+@contextmanager
+def held() -> Iterator[None]:
+    """An interrupt inside is raised as the section ends (or not, if it raises something else: whoever
+    reports that calls raise_if_interrupted). For the few statements that must run together, as a file
+    renamed into place and noted for the rollback, a temporary file made and noted for removal."""
+    global _HELD, _PENDING  # noqa: PLW0603
+    _HELD += 1
+    try:
+        yield
+    finally:
+        _HELD -= 1
+    if _PENDING and not _HELD:
+        _PENDING = False
+        raise Interrupted(_FIRST if _FIRST is not None else signal.SIGTERM)
+
+
+def _unraisable(hook: Callable[[Any], None]) -> Callable[[Any], None]:
+    """sys.unraisablehook, quiet for an Interrupted raised where Python cannot raise it (a `__del__`, a
+    weakref callback): it would print a traceback; the interrupt is recorded and ends winder all the same."""
+
+    def quiet(unraisable: Any) -> None:
+        if not isinstance(unraisable.exc_value, Interrupted):
+            hook(unraisable)
+
+    return quiet
 
 
 def block_stop_signals() -> None:
@@ -120,19 +180,24 @@ def block_stop_signals() -> None:
 def interrupts_raise() -> Iterator[None]:
     """TERM and INT raise Interrupted in this (main) thread while inside, so that a job's writes are
     rolled back and batch workers stopped on the way out; the old handlers come back after."""
+    import sys  # noqa: PLC0415
+
     try:
         old = {sig: signal.signal(sig, _raise_interrupted) for sig in STOP_SIGNALS}
     except ValueError:  # not the main thread: signals stay as they are
         yield
         return
+    old_hook = sys.unraisablehook
+    sys.unraisablehook = _unraisable(old_hook)
     try:
         yield
     finally:
-        if signal.getsignal(signal.SIGINT) is _ignore:  # interrupted: the process ends on the way out
+        if _FIRST is not None:  # interrupted: the process ends on the way out
             block_stop_signals()  # and a second signal must not end it first
         else:
             for sig, handler in old.items():
                 signal.signal(sig, handler)
+            sys.unraisablehook = old_hook
 
 
 _IN_JOB = False  # in a worker process: inside a job (an interrupt must roll its files back)
@@ -147,7 +212,8 @@ def _worker_signal(signum: int, frame) -> None:
 def worker_init() -> None:
     """A batch worker: TERM and INT roll back the job in hand and end the process; and it gets TERM
     when its parent dies (Linux), so no worker outlives a killed batch."""
-    global _ARRIVALS  # noqa: PLW0603 - the parent's pipe, copied by fork: not this process's
+    global _ARRIVALS, _FIRST, _HELD, _PENDING  # noqa: PLW0603 - the parent's, copied by fork: not this process's
+    _FIRST, _HELD, _PENDING = None, 0, False
     if _ARRIVALS is not None:
         try:
             signal.set_wakeup_fd(-1)
@@ -171,11 +237,14 @@ def in_worker(job: Callable[..., Any], *args, **kwargs) -> Any:
     global _IN_JOB  # noqa: PLW0603 - the one flag the signal handler reads
     _IN_JOB = True
     try:
-        return job(*args, **kwargs)
+        result = job(*args, **kwargs)
     except Interrupted as exc:  # the job's files are rolled back by now
         os._exit(exc.exit_code)
     finally:
         _IN_JOB = False
+    if _FIRST is not None:  # an interrupt some library swallowed: the worker ends all the same
+        os._exit(128 + _FIRST)
+    return result
 
 
 def stop_workers(pool: ProcessPoolExecutor) -> None:

@@ -18,7 +18,7 @@ import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from winder.app.interrupts import TimeUp, in_worker, stop_workers, time_limit, worker_init
+from winder.app.interrupts import TimeUp, in_worker, raise_if_interrupted, stop_workers, time_limit, worker_init
 from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
@@ -208,12 +208,14 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")
-    except TimeUp:
+    except TimeUp as up:
+        raise_if_interrupted(up)  # a stop signal came first: the job ends as interrupted
         exc = WinderError(f"the job did not finish within its time limit of {seconds:g} s (--time-limit); "
                           "its solvers do not converge on this mandrel in reasonable time")
         return JobReport(config, name, False, 1, error_message(exc, shown), (), _fiber_length(plan),
                          _layer_count(plan), time.perf_counter() - started)
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback
+        raise_if_interrupted(exc)  # what a stop signal broke (an import it cut short) ends as the interrupt
         return JobReport(config, name, False, exit_code_of(exc), error_message(exc, shown),
                          (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
     return JobReport(config, name, True, 0, "", tuple(outputs), _fiber_length(plan), _layer_count(plan),
@@ -326,6 +328,7 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
         raise
     pool.shutdown(wait=True)
     for i in sorted(retry):
+        raise_if_interrupted()  # the workers died of the terminal's Ctrl-C: no second chance
         task = tasks[i]
         alone = ProcessPoolExecutor(max_workers=1, initializer=worker_init)
         try:

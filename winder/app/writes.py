@@ -23,6 +23,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from winder.app.interrupts import held
 from winder.errors import ExportError
 
 __all__ = ["folder_lock", "write_outputs"]
@@ -92,27 +93,30 @@ def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
                     write_atomic(path, data)
                     continue
                 target = output_target(path)
-                backup = _keep_old(target)
-                if backup is not None:
-                    backups[target] = backup
-                write_atomic(target, data)
-                written.append(target)
+                with held():  # a stop signal waits until the file is in place and noted for the rollback
+                    backup = _keep_old(target)
+                    if backup is not None:
+                        backups[target] = backup
+                    write_atomic(target, data)
+                    written.append(target)
         except BaseException:
-            for path in reversed(written):
-                try:
-                    if path in backups:
-                        os.replace(backups.pop(path), path)
-                    else:
-                        path.unlink(missing_ok=True)
-                except OSError:
-                    pass
+            with held():  # the rollback is not cut short by an interrupt (after a failure of another kind)
+                for path in reversed(written):
+                    try:
+                        if path in backups:
+                            os.replace(backups.pop(path), path)
+                        else:
+                            path.unlink(missing_ok=True)
+                    except OSError:
+                        pass
             raise
         finally:
-            for backup in backups.values():
-                try:
-                    backup.unlink(missing_ok=True)
-                except OSError:
-                    pass
+            with held():  # nor is the removal of the old files kept for it
+                for backup in backups.values():
+                    try:
+                        backup.unlink(missing_ok=True)
+                    except OSError:
+                        pass
     return [str(folder / file_name) for file_name in rendered]
 
 

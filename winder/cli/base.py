@@ -14,7 +14,7 @@ from typing import Callable
 import click
 
 from winder import __version__
-from winder.app.interrupts import interrupts_raise
+from winder.app.interrupts import interrupted, interrupts_raise, raise_if_interrupted
 from winder.errors import ExportError, Interrupted, WinderError
 
 # Each command imports the stages it needs when it runs: numpy, scipy and the pipeline take most of a
@@ -40,6 +40,7 @@ def _echo(message: str, err: bool = False) -> None:
 
 def _error(exc: BaseException, source: str | None = None) -> int:
     """Print exc's one `Error: ...` line (naming source) and return its SPEC exit status (2 invalid, else 1)."""
+    raise_if_interrupted(exc)  # an error a stop signal caused (an import it cut short) ends as the interrupt
     from winder.app.jobs import error_message, exit_code_of  # noqa: PLC0415
 
     _echo(f"Error: {error_message(exc, source)}", err=True)
@@ -68,26 +69,36 @@ class WinderGroup(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         if not standalone_mode:  # a caller handling click's exceptions itself
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
-        try:  # the outer one: standard output on a full disk past _guard (click's --help, the bare help)
-            try:
-                with warnings.catch_warnings(), interrupts_raise():
-                    warnings.simplefilter("ignore")  # numbers are checked where they are reported
-                    rv = super().main(args, prog_name, complete_var, False, **extra)
-            except click.exceptions.NoArgsIsHelpError as exc:  # a bare `winder`: the help, as click shows it
-                _echo(exc.ctx.get_help() if exc.ctx is not None else exc.format_message())
-                sys.exit(exc.exit_code)
-            except click.ClickException as exc:
-                _echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
-                sys.exit(exc.exit_code)
-            except Interrupted as exc:
-                _echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
-                sys.exit(exc.exit_code)
-            except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread
-                _echo("Error: interrupted by SIGINT", err=True)
-                sys.exit(130)
-        except (WinderError, OSError) as exc:  # a closed pipe click ends itself, quietly
-            why = exc if isinstance(exc, WinderError) else ExportError(f"standard output: cannot write: {exc.strerror}")
-            sys.exit(_error(why))
+        try:  # the outermost: an interrupt anywhere below, even in a handler of another error
+            try:  # the outer one: standard output on a full disk past _guard (click's --help, the bare help)
+                try:
+                    with warnings.catch_warnings(), interrupts_raise():
+                        warnings.simplefilter("ignore")  # numbers are checked where they are reported
+                        rv = super().main(args, prog_name, complete_var, False, **extra)
+                except click.exceptions.NoArgsIsHelpError as exc:  # a bare `winder`: the help, as click shows it
+                    _echo(exc.ctx.get_help() if exc.ctx is not None else exc.format_message())
+                    sys.exit(exc.exit_code)
+                except click.ClickException as exc:
+                    raise_if_interrupted(exc)
+                    _echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
+                    sys.exit(exc.exit_code)
+                except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread
+                    _echo("Error: interrupted by SIGINT", err=True)
+                    sys.exit(130)
+            except (WinderError, OSError) as exc:  # a closed pipe click ends itself, quietly
+                why = (exc if isinstance(exc, WinderError)
+                       else ExportError(f"standard output: cannot write: {exc.strerror}"))
+                sys.exit(_error(why))
+            raise_if_interrupted()  # a stop signal whose exception a library swallowed: its status all the same
+        except Interrupted as exc:
+            _echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
+            sys.exit(exc.exit_code)
+        except SystemExit as exc:  # a command's status, decided after a stop signal it never saw raised
+            first = interrupted()
+            if first is None or exc.code == 128 + first:
+                raise
+            _echo(f"Error: {Interrupted(first)}", err=True)
+            sys.exit(128 + first)
         sys.exit(rv if isinstance(rv, int) else 0)
 
 
