@@ -15,6 +15,7 @@ can be read back from them (README: they count as TERM).
 
 Repeated WINDER_TRIALS times per order (default 10; the issue's 200, a few minutes):
 WINDER_TRIALS=200 python -m pytest tests/app/test_hostile_signals.py
+The same on a batch of two jobs on two workers, WINDER_BATCH_TRIALS times per order (default 2).
 """
 
 from __future__ import annotations
@@ -105,3 +106,92 @@ def test_double_signal_at_any_moment(tmp_path: Path, first: int, second: int) ->
             bad.append((k, code, sorted(files), stderr[-400:]))
     assert bad == [], f"{len(bad)} of {TRIALS} trials: {bad[:3]}"
     assert finished < TRIALS  # most trials were interrupted
+
+
+# -- a batch on worker processes ------------------------------------------------------------------------
+BATCH_TRIALS = int(os.environ.get("WINDER_BATCH_TRIALS", "2"))
+BATCH = ("pipe", "cone")
+BATCH_FIRST_WITHIN_S = 3.0  # imports, the pool's start, both jobs
+WORKERS_GONE_S = 2.0  # a worker rolls back and ends within its grace (1 s), or is killed
+
+
+def _alive(pids: set[int]) -> set[int]:
+    alive = set()
+    for pid in pids:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except OSError:
+            continue
+        if state != "Z":
+            alive.add(pid)
+    return alive
+
+
+def _children(pid: int) -> set[int]:
+    kids = set()
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                parent = int(Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                continue
+            if parent == pid:
+                kids.add(int(entry))
+    return kids
+
+
+def _send(proc: subprocess.Popen, sig: int, group: bool) -> None:
+    if proc.poll() is None:
+        if group:
+            os.killpg(proc.pid, sig)
+        else:
+            proc.send_signal(sig)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("first, first_group, second, second_group",
+                         [(signal.SIGINT, True, signal.SIGTERM, False), (signal.SIGTERM, False, signal.SIGINT, True)],
+                         ids=["ctrl-c-then-term", "term-then-ctrl-c"])
+def test_double_signal_to_a_batch(tmp_path: Path, first: int, first_group: bool, second: int,
+                                  second_group: bool) -> None:
+    # group: to the whole process group, as a terminal's Ctrl-C (the workers get it too); else to the
+    # parent alone, as `kill` (the parent stops its workers). Each worker ends: none outlives the batch,
+    # and a job's files are its whole set or none, no temporary or backup file left.
+    rng = random.Random(first * 100 + second + 1)
+    configs = [str(ROOT / "samples" / f"{name}.yaml") for name in BATCH]
+    bad = []
+    for k in range(BATCH_TRIALS):
+        out = tmp_path / f"out{k}"
+        proc = subprocess.Popen([sys.executable, "-m", "winder", "run", *configs, "--jobs", "2", "-o", str(out)],
+                                env=dict(os.environ, PYTHONPATH=str(ROOT)), stdout=subprocess.DEVNULL,
+                                stderr=subprocess.PIPE, text=True, start_new_session=True)
+        workers: set[int] = set()
+        try:
+            while not _catches_stop_signals(proc.pid):
+                time.sleep(0.001)
+            until = time.monotonic() + rng.uniform(0.0, BATCH_FIRST_WITHIN_S)
+            while time.monotonic() < until and proc.poll() is None:
+                workers |= _children(proc.pid)
+                time.sleep(0.01)
+            _send(proc, first, first_group)
+            handed_by = time.monotonic() + HAND_OVER_GUARD_S
+            while proc.poll() is None and not _handed_over(proc.pid, first) and time.monotonic() < handed_by:
+                time.sleep(0.0005)
+            time.sleep(rng.uniform(0.0, SECOND_WITHIN_S))
+            _send(proc, second, second_group)
+            _, stderr = proc.communicate(timeout=120)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+        time.sleep(WORKERS_GONE_S)
+        code = proc.returncode
+        errors = [line for line in stderr.splitlines() if line.startswith("Error:")]
+        files = sorted(os.listdir(out)) if out.exists() else []
+        whole = all({f for f in files if f.split(".")[0] == name} in (set(), {f"{name}.csv", f"{name}.gcode",
+                    f"{name}.ply", f"{name}.summary.json"}) for name in BATCH)
+        ok = (code == 0 and not errors) or (code == 128 + first and len(errors) == 1
+                                            and "interrupted by" in errors[0])
+        ok = ok and "Traceback" not in stderr and whole and not any(f.startswith(".") for f in files)
+        if not ok or _alive(workers):
+            bad.append((k, code, files, sorted(_alive(workers)), stderr[-400:]))
+    assert bad == [], f"{len(bad)} of {BATCH_TRIALS} trials: {bad[:3]}"

@@ -62,8 +62,8 @@ def time_limit(seconds: float | None) -> Iterator[None]:
             signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
 
 __all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "first_arrived", "held", "in_worker", "interrupted",
-           "interrupts_raise", "raise_if_interrupted", "stop_workers", "time_limit", "watch_arrival_order",
-           "worker_init"]
+           "interrupts_raise", "raise_if_interrupted", "stop_signals_held_back", "stop_workers", "time_limit",
+           "watch_arrival_order", "worker_init"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 WORKER_GRACE_S = 1.0  # a worker stopped by TERM rolls back its job's files within this, or is killed
@@ -177,6 +177,24 @@ def block_stop_signals() -> None:
 
 
 @contextmanager
+def stop_signals_held_back() -> Iterator[None]:
+    """TERM and INT wait (pending) while this thread is inside. The threads and worker processes
+    started inside inherit it, so a stop signal always reaches the main thread, which handles it: a
+    thread that did not hold them back could be handed one in the interpreter's last moments, after
+    Python put the default handlers back, and the process would die by it after its Error line.
+    A worker lets them through once its own handlers are in (worker_init)."""
+    try:
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+    except (AttributeError, OSError, ValueError):  # not POSIX
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextmanager
 def interrupts_raise() -> Iterator[None]:
     """TERM and INT raise Interrupted in this (main) thread while inside, so that a job's writes are
     rolled back and batch workers stopped on the way out; the old handlers come back after."""
@@ -230,6 +248,10 @@ def worker_init() -> None:
         if os.getppid() == 1:  # the parent died before prctl
             os._exit(128 + signal.SIGTERM)
     except (OSError, AttributeError):  # not Linux: the parent's TERM handler stops the workers
+        pass
+    try:  # started with them held back (stop_signals_held_back): a signal sent since comes now
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
+    except (AttributeError, OSError, ValueError):
         pass
 
 

@@ -18,7 +18,8 @@ import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from winder.app.interrupts import TimeUp, in_worker, raise_if_interrupted, stop_workers, time_limit, worker_init
+from winder.app.interrupts import (TimeUp, in_worker, raise_if_interrupted, stop_signals_held_back, stop_workers,
+                                   time_limit, worker_init)
 from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
@@ -302,10 +303,11 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
     pool = ProcessPoolExecutor(max_workers=workers, initializer=worker_init)
     retry: list[int] = []
     try:
-        futures: dict[Future, int] = {
-            pool.submit(in_worker, job, *task.submit_args()[0], **task.submit_args()[1]): i
-            for i, task in enumerate(tasks)
-        }
+        with stop_signals_held_back():  # the pool's threads and workers start here: only this thread takes them
+            futures: dict[Future, int] = {
+                pool.submit(in_worker, job, *task.submit_args()[0], **task.submit_args()[1]): i
+                for i, task in enumerate(tasks)
+            }
         pending = set(futures)
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
@@ -333,7 +335,9 @@ def run_jobs(tasks: Sequence[JobTask], workers: int = 1,
         alone = ProcessPoolExecutor(max_workers=1, initializer=worker_init)
         try:
             args, kwargs = task.submit_args()
-            report = alone.submit(in_worker, job, *args, **kwargs).result()
+            with stop_signals_held_back():
+                submitted = alone.submit(in_worker, job, *args, **kwargs)
+            report = submitted.result()
         except Exception as exc:  # noqa: BLE001 - this job kills its worker: it fails, alone
             report = _worker_failure(task.config, exc)
         except BaseException:
