@@ -90,3 +90,22 @@ def test_a_signal_while_a_set_is_written_leaves_the_set_or_nothing(monkeypatch, 
         write_outputs(tmp_path, {"a.csv": b"1", "a.gcode": b"2", "a.ply": b"3"})
     assert len(calls) == 2  # held until the second file was noted, then raised before the third
     assert os.listdir(tmp_path) == []  # no file, no temporary or backup file
+
+
+def test_a_signal_in_a_finalizer_is_quiet_and_still_ends_the_work(monkeypatch) -> None:
+    import sys
+
+    printed = []
+    monkeypatch.setattr(sys, "unraisablehook", printed.append)  # where Python would print its traceback
+
+    class Finalized:
+        def __del__(self) -> None:
+            _signal_self(signal.SIGINT)  # raised in a __del__: Python cannot raise it, only report it
+
+    with pytest.raises(Interrupted) as caught, interrupts_raise():
+        Finalized()
+        assert interrupted() == signal.SIGINT
+        interrupts.raise_if_interrupted()  # where the job's next error or the command's end asks
+    assert caught.value.exit_code == 128 + signal.SIGINT
+    assert printed == []
+    assert sys.unraisablehook == printed.append  # put back

@@ -210,12 +210,12 @@ def interrupts_raise() -> Iterator[None]:
     try:
         yield
     finally:
+        sys.unraisablehook = old_hook  # after the first signal, no handler raises again
         if _FIRST is not None:  # interrupted: the process ends on the way out
             block_stop_signals()  # and a second signal must not end it first
         else:
             for sig, handler in old.items():
                 signal.signal(sig, handler)
-            sys.unraisablehook = old_hook
 
 
 _IN_JOB = False  # in a worker process: inside a job (an interrupt must roll its files back)
