@@ -30,6 +30,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.app.test_hostile import _alive, _children
+
 ROOT = Path(__file__).resolve().parents[2]
 TRIALS = int(os.environ.get("WINDER_TRIALS", "10"))
 PIPE = ROOT / "samples" / "pipe.yaml"
@@ -113,31 +115,6 @@ BATCH_TRIALS = int(os.environ.get("WINDER_BATCH_TRIALS", "2"))
 BATCH = ("pipe", "cone")
 BATCH_FIRST_WITHIN_S = 3.0  # imports, the pool's start, both jobs
 WORKERS_GONE_S = 2.0  # a worker rolls back and ends within its grace (1 s), or is killed
-
-
-def _alive(pids: set[int]) -> set[int]:
-    alive = set()
-    for pid in pids:
-        try:
-            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-        except OSError:
-            continue
-        if state != "Z":
-            alive.add(pid)
-    return alive
-
-
-def _children(pid: int) -> set[int]:
-    kids = set()
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                parent = int(Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[1])
-            except (OSError, IndexError, ValueError):
-                continue
-            if parent == pid:
-                kids.add(int(entry))
-    return kids
 
 
 def _send(proc: subprocess.Popen, sig: int, group: bool) -> None:
