@@ -109,3 +109,16 @@ def test_a_signal_in_a_finalizer_is_quiet_and_still_ends_the_work(monkeypatch) -
     assert caught.value.exit_code == 128 + signal.SIGINT
     assert printed == []
     assert sys.unraisablehook == printed.append  # put back
+
+
+def test_a_signal_printed_by_a_c_extension_is_quiet(monkeypatch) -> None:
+    # numpy's import_array (in scipy's modules) prints the error it got through sys.excepthook
+    # (PyErr_Print) and raises ImportError: the ImportError ends as the interrupt, the print is silent.
+    import sys
+
+    printed = []
+    monkeypatch.setattr(sys, "excepthook", lambda *args: printed.append(args))
+    with interrupts_raise():
+        sys.excepthook(Interrupted, Interrupted(signal.SIGINT), None)
+        sys.excepthook(ValueError, ValueError("other"), None)
+    assert [args[0] for args in printed] == [ValueError]

@@ -166,6 +166,17 @@ def _unraisable(hook: Callable[[Any], None]) -> Callable[[Any], None]:
     return quiet
 
 
+def _excepthook(hook: Callable[..., None]) -> Callable[..., None]:
+    """sys.excepthook, quiet for an Interrupted: a C extension that fails to import numpy's C API prints
+    the error it got (PyErr_Print, numpy's import_array) and raises an ImportError instead."""
+
+    def quiet(kind: type[BaseException], value: BaseException, tb: Any) -> None:
+        if not isinstance(value, Interrupted):
+            hook(kind, value, tb)
+
+    return quiet
+
+
 def block_stop_signals() -> None:
     """Block TERM and INT for the rest of this process (it is ending on an interrupt): a second signal
     stays pending and dies with the process, even in the interpreter's last moments, when Python puts
@@ -205,12 +216,12 @@ def interrupts_raise() -> Iterator[None]:
     except ValueError:  # not the main thread: signals stay as they are
         yield
         return
-    old_hook = sys.unraisablehook
-    sys.unraisablehook = _unraisable(old_hook)
+    old_hooks = sys.unraisablehook, sys.excepthook
+    sys.unraisablehook, sys.excepthook = _unraisable(old_hooks[0]), _excepthook(old_hooks[1])
     try:
         yield
     finally:
-        sys.unraisablehook = old_hook  # after the first signal, no handler raises again
+        sys.unraisablehook, sys.excepthook = old_hooks  # after the first signal, no handler raises again
         if _FIRST is not None:  # interrupted: the process ends on the way out
             block_stop_signals()  # and a second signal must not end it first
         else:
