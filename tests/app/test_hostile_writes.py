@@ -13,27 +13,17 @@ from pathlib import Path
 
 import pytest
 
+from tests.configs import tiny_pipe
 from winder.app.batch import name_clash
 from winder.app.jobs import run_job
 
 ROOT = Path(__file__).resolve().parents[2]
 TRIALS = int(os.environ.get("WINDER_TRIALS", "10"))
-TINY = """\
-name: {name}
-mandrel:
-  axis: {{type: line, length: 300}}
-  profile: {{type: constant, radius: 40}}
-winding:
-  band_width: 10
-  points: 8
-  layers:
-    - {{type: helical, angle: {angle}}}
-"""
 
 
 def _config(folder: Path, stem: str, name: str = "tiny", angle: float = 45.0) -> Path:
     path = folder / f"{stem}.yaml"
-    path.write_text(TINY.format(name=name, angle=angle), encoding="utf-8")
+    path.write_text(tiny_pipe(name, angle), encoding="utf-8")
     return path
 
 
@@ -163,7 +153,7 @@ def test_a_dangling_link_as_the_output_file_is_refused(tmp_path: Path) -> None:
 @pytest.mark.parametrize("command", ["check", "run"])
 def test_a_config_path_holding_a_newline_stays_on_one_error_line(tmp_path: Path, command: str) -> None:
     config = tmp_path / "a\nb.yaml"
-    config.write_text(TINY.format(name="nl", angle=45).replace("band_width: 10", "band_width: -1"))
+    config.write_text(tiny_pipe("nl", 45).replace("band_width: 10", "band_width: -1"))
     args = [command, str(config)] + (["-o", str(tmp_path / "out")] if command == "run" else [])
     code, errors = _invoke(args)
     assert code == 2 and len(errors) == 1, errors
