@@ -86,8 +86,9 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
         cell, dialect, lines_in_text = text.survey(2 * max_moves + 10_000)
     else:
         cell, dialect, lines_in_text = detect_cell(text), None, text.count("\n") + 1
-    if lines_in_text > 2 * max_moves + 10_000:
-        raise ConfigError(f"{source}: {lines_in_text:,} lines for at most {max_moves:,} moves, past what simulate "
+    if lines_in_text > 2 * max_moves + 10_000:  # a file's survey stops counting one line past that
+        counted = f"{lines_in_text:,}" if isinstance(text, str) else f"more than {2 * max_moves + 10_000:,}"
+        raise ConfigError(f"{source}: {counted} lines for at most {max_moves:,} moves, past what simulate "
                           f"reads for this job (its plan's points, with room for the program's own rows and comments)")
     if cell is not None:
         whole = text.text(CELL_BYTES_PER_MOVE * max_moves + CELL_BYTES_SLACK) if isinstance(text, ProgramFile) else text
