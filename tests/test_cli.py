@@ -20,6 +20,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from tests.configs import TINY_PIPE
 from winder.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -27,18 +28,6 @@ SAMPLES = ROOT / "samples"
 INVALID = ROOT / "tests" / "config" / "invalid"
 PIPE = SAMPLES / "pipe.yaml"
 ELBOW = SAMPLES / "elbow.yaml"
-
-TINY_PIPE = """\
-name: {name}
-mandrel:
-  axis: {{type: line, length: 300}}
-  profile: {{type: constant, radius: 40}}
-winding:
-  band_width: 10
-  points: 8
-  layers:
-    - {{type: helical, angle: 45}}
-{machine}"""
 
 # A 90 deg elbow (bend radius 150, tube 40) wound geodesically at 20 deg: the fiber bridges at the
 # inside of the bend, where no friction holds it below 31.1 deg. Valid YAML and values, but no winding
@@ -79,7 +68,7 @@ def error_lines(result) -> list[str]:
 
 def tiny(tmp_path: Path, name: str = "tiny", template: str = TINY_PIPE, machine: str = "") -> Path:
     path = tmp_path / f"{name}.yaml"
-    path.write_text(template.format(name=name, machine=machine), encoding="utf-8")
+    path.write_text(template.format(name=name, machine=machine, angle=45), encoding="utf-8")
     return path
 
 

@@ -40,10 +40,13 @@ def _folder(tmp_path: Path, name: str) -> Path:
     elif name == "gcode_3gb":
         with open(ref / "pipe.gcode", "r+b") as fh:  # sparse: no 3 GB on the disk
             fh.truncate(3 * 1024**3)
+    elif name == "csv_20x":  # far past its output's size, far below the absolute limit
+        with open(ref / "pipe.csv", "r+b") as fh:
+            fh.truncate(20 * (ref / "pipe.csv").stat().st_size + 2_000_000)
     return folder
 
 
-CASES = {"csv_0e999": "pipe.csv", "gcode_z0e999": "pipe.gcode", "ply_property_twice": "pipe.ply",
+CASES = {"csv_20x": "pipe.csv", "csv_0e999": "pipe.csv", "gcode_z0e999": "pipe.gcode", "ply_property_twice": "pipe.ply",
          "gcode_3gb": "pipe.gcode"}
 
 
@@ -56,3 +59,5 @@ def test_tampered_reference_is_a_readable_difference(tmp_path: Path, name: str) 
     errors = [line for line in result["stderr"].splitlines() if line.startswith("Error:")]
     assert len(errors) == 1 and CASES[name] in errors[0], result["stderr"]
     assert result["peak_mb"] < 2048
+    if name in ("csv_20x", "gcode_3gb"):
+        assert "not read" in result["stdout"], result["stdout"]

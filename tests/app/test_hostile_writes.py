@@ -13,27 +13,17 @@ from pathlib import Path
 
 import pytest
 
+from tests.configs import tiny_pipe
 from winder.app.batch import name_clash
 from winder.app.jobs import run_job
 
 ROOT = Path(__file__).resolve().parents[2]
 TRIALS = int(os.environ.get("WINDER_TRIALS", "10"))
-TINY = """\
-name: {name}
-mandrel:
-  axis: {{type: line, length: 300}}
-  profile: {{type: constant, radius: 40}}
-winding:
-  band_width: 10
-  points: 8
-  layers:
-    - {{type: helical, angle: {angle}}}
-"""
 
 
 def _config(folder: Path, stem: str, name: str = "tiny", angle: float = 45.0) -> Path:
     path = folder / f"{stem}.yaml"
-    path.write_text(TINY.format(name=name, angle=angle), encoding="utf-8")
+    path.write_text(tiny_pipe(name, angle), encoding="utf-8")
     return path
 
 
@@ -163,7 +153,7 @@ def test_a_dangling_link_as_the_output_file_is_refused(tmp_path: Path) -> None:
 @pytest.mark.parametrize("command", ["check", "run"])
 def test_a_config_path_holding_a_newline_stays_on_one_error_line(tmp_path: Path, command: str) -> None:
     config = tmp_path / "a\nb.yaml"
-    config.write_text(TINY.format(name="nl", angle=45).replace("band_width: 10", "band_width: -1"))
+    config.write_text(tiny_pipe("nl", 45).replace("band_width: 10", "band_width: -1"))
     args = [command, str(config)] + (["-o", str(tmp_path / "out")] if command == "run" else [])
     code, errors = _invoke(args)
     assert code == 2 and len(errors) == 1, errors
@@ -189,3 +179,83 @@ def test_geodesic_into_a_closed_pipe_ends_quietly(tmp_path: Path) -> None:
     res = subprocess.run(["sh", "-c", cmd], capture_output=True, text=True, timeout=120,
                          env=dict(os.environ, PYTHONPATH=str(ROOT)))
     assert res.stdout == "i,t,theta_" and res.stderr == "", res.stderr
+
+
+# -- links to existing files and folders outside the output folder: replaced, never written through --
+def _links_out(folder: Path, outside: Path, names: tuple[str, str]) -> bytes:
+    """Make names[0] a link to a file outside folder and names[1] a link to a folder outside it; the
+    outside file's bytes."""
+    outside.mkdir(exist_ok=True)
+    (outside / "victim").write_bytes(b"keep me\n")
+    (outside / "sub").mkdir(exist_ok=True)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / names[0]).symlink_to(outside / "victim")
+    if names[1]:
+        (folder / names[1]).symlink_to(outside / "sub")
+    return (outside / "victim").read_bytes()
+
+
+def _assert_nothing_escaped(folder: Path, outside: Path, names: tuple[str, str], before: bytes) -> None:
+    assert (outside / "victim").read_bytes() == before and list((outside / "sub").iterdir()) == []
+    assert sorted(p.name for p in outside.iterdir()) == ["sub", "victim"]
+    for name in filter(None, names):
+        assert not (folder / name).is_symlink() and (folder / name).is_file(), name
+        assert (folder / name).stat().st_size > 0
+
+
+@pytest.mark.parametrize("command", ["run", "run_jobs_2", "geodesic", "simulate", "regress_update"])
+def test_links_out_of_the_folder_are_replaced_not_written_through(tmp_path: Path, command: str) -> None:
+    """A link in DIR (or an `-o` file) to an existing file or folder outside its folder: the output
+    replaces the link itself; the file or folder it named is left as it was."""
+    outside = tmp_path / "outside"
+    pipe = str(ROOT / "samples" / "pipe.yaml")
+    out = tmp_path / "out"
+    if command.startswith("run"):
+        configs = [_config(tmp_path, "tiny"), _config(tmp_path, "tiny2", "tiny2", 50.0)]
+        names = ("tiny.csv", "tiny2.gcode")
+        jobs = ["--jobs", "2"] if command == "run_jobs_2" else []
+        args = ["run", *map(str, configs if jobs else configs[:1]), "-o", str(out), *jobs]
+        if not jobs:
+            names = ("tiny.csv", "tiny.gcode")
+    elif command == "geodesic":
+        names = ("g.csv", "")
+        args = ["geodesic", pipe, "--start", "10,0", "--end", "400,90", "-o", str(out / "g.csv")]
+    elif command == "simulate":
+        names = ("s.csv", "")
+        program = str(ROOT / "samples" / "reference" / "pipe" / "pipe.gcode")
+        args = ["simulate", pipe, program, "-o", str(out / "s.csv")]
+    else:
+        out.mkdir()
+        _config(out, "tiny")
+        names = ("tiny.csv", "tiny.gcode")
+        out = out / "reference" / "tiny"
+        args = ["regress", str(tmp_path / "out"), "--update"]
+    before = _links_out(out, outside, names)
+    res = subprocess.run([sys.executable, "-m", "winder", *args], env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert "Traceback" not in res.stderr and "Error" not in res.stderr, res.stderr
+    _assert_nothing_escaped(out, outside, names, before)
+
+
+def test_a_link_out_of_the_folder_is_put_back_when_the_job_fails(tmp_path: Path, monkeypatch) -> None:
+    """The roll-back puts back the link itself (not a copy of the file it names)."""
+    from winder.errors import ExportError  # noqa: PLC0415
+    from winder.export import atomic  # noqa: PLC0415
+
+    config = _config(tmp_path, "tiny")
+    out, outside = tmp_path / "out", tmp_path / "outside"
+    before = _links_out(out, outside, ("tiny.csv", "tiny.gcode"))
+    real, calls = atomic.write_atomic, []
+
+    def third_fails(path, data):
+        calls.append(path)
+        if len(calls) == 3:
+            raise ExportError(f"{path}: cannot write: No space left on device")
+        return real(path, data)
+
+    monkeypatch.setattr(atomic, "write_atomic", third_fails)
+    assert not run_job(config, out).ok
+    assert (out / "tiny.csv").is_symlink() and os.readlink(out / "tiny.csv") == str(outside / "victim")
+    assert (out / "tiny.gcode").is_symlink() and (outside / "victim").read_bytes() == before
+    assert sorted(p.name for p in out.iterdir()) == ["tiny.csv", "tiny.gcode"]

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from tests.configs import tiny_pipe
 import winder.export.atomic
 import winder.export.gcode
 import winder.export.ply
@@ -25,17 +26,7 @@ SAMPLES = ROOT / "samples"
 CONFIGS = sorted(SAMPLES.glob("*.yaml"))
 ALL_FILES = {"pipe.csv", "pipe.gcode", "pipe.ply", "pipe.summary.json"}
 
-TINY = """\
-name: tiny
-mandrel:
-  axis: {type: line, length: 300}
-  profile: {type: constant, radius: 40}
-winding:
-  band_width: 10
-  points: 8
-  layers:
-    - {type: helical, angle: 45}
-"""
+TINY = tiny_pipe()
 
 
 @pytest.fixture

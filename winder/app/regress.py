@@ -39,6 +39,10 @@ REFERENCE_FORMATS = ("csv", "gcode")
 # A reference file past this is not read (the largest job the work budget allows writes about 150 MB
 # per file): a difference, not unbounded memory.
 MAX_REFERENCE_BYTES = 400_000_000
+# Nor is one much larger than the output it is compared with (decided from the sizes, before reading):
+# a difference in size this large is no rounding, and memory stays a few times the output's.
+REFERENCE_SIZE_FACTOR = 4
+REFERENCE_SIZE_SLACK = 1_000_000
 
 
 # -- what is compared ------------------------------------------------------------------------------
@@ -134,22 +138,31 @@ def _orphan(sample: Sample, update: bool) -> SampleResult:
     return SampleResult(sample, report, tuple(checks), updated=True)
 
 
-def _reference_files(sample: Sample) -> dict[str, bytes | int]:
-    """The reference's files: name -> bytes; a file past MAX_REFERENCE_BYTES is not read: its size."""
+def _reference_files(sample: Sample) -> dict[str, int]:
+    """The reference's files: name -> size (read one by one, when compared: _read_reference)."""
     if not sample.reference.is_dir():
         return {}
-    files: dict[str, bytes | int] = {}
-    for p in sorted(sample.reference.iterdir()):
-        if p.is_file() and not p.name.startswith("."):
-            size = p.stat().st_size
-            files[p.name] = size if size > MAX_REFERENCE_BYTES else p.read_bytes()
-    return files
+    return {p.name: p.stat().st_size for p in sorted(sample.reference.iterdir())
+            if p.is_file() and not p.name.startswith(".")}
 
 
-def _too_large(file_name: str, size: int) -> FileCheck:
+def _reference_limit(got: bytes) -> int:
+    return min(MAX_REFERENCE_BYTES, REFERENCE_SIZE_FACTOR * len(got) + REFERENCE_SIZE_SLACK)
+
+
+def _read_reference(sample: Sample, file_name: str, size: int, got: bytes) -> bytes | None:
+    """The reference file's bytes, or None when it is past _reference_limit (not read)."""
+    if size > _reference_limit(got):
+        return None
+    with open(sample.reference / file_name, "rb") as fh:
+        return fh.read(_reference_limit(got) + 1)  # a file that grew since: still bounded
+
+
+def _too_large(file_name: str, size: int, got: bytes) -> FileCheck:
     return FileCheck(file_name, "differs", (Difference(
-        "file size", f"at most {MAX_REFERENCE_BYTES:,} bytes (regress's limit)", f"{size:,} bytes",
-        "a reference this large is no output of a job within the work budget; not read"),), 1)
+        "file size", f"at most {_reference_limit(got):,} bytes (regress reads a reference of up to "
+        f"{REFERENCE_SIZE_FACTOR}x its output's {len(got):,} bytes plus {REFERENCE_SIZE_SLACK:,}, and never past "
+        f"{MAX_REFERENCE_BYTES:,})", f"{size:,} bytes", "not read"),), 1)
 
 
 def _formats_for(sample: Sample) -> tuple[str, ...]:
@@ -175,10 +188,10 @@ def _check(sample: Sample, report: JobReport) -> tuple[FileCheck, ...]:
         elif file_name not in reference:
             checks.append(FileCheck(file_name, "unexpected", (Difference(
                 "file", "absent (not in the reference)", "produced"),), 1))
-        elif isinstance(reference[file_name], int):
-            checks.append(_too_large(file_name, reference[file_name]))
+        elif (expected := _read_reference(sample, file_name, reference[file_name], got[file_name])) is None:
+            checks.append(_too_large(file_name, reference[file_name], got[file_name]))
         else:
-            shown, count = compare_file(file_name, reference[file_name], got[file_name])
+            shown, count = compare_file(file_name, expected, got[file_name])
             checks.append(FileCheck(file_name, "differs" if count else "same", tuple(shown), count))
     return tuple(checks)
 
@@ -191,14 +204,15 @@ def _update(sample: Sample, report: JobReport) -> tuple[FileCheck, ...]:
     got = {Path(p).name: Path(p).read_bytes() for p in report.outputs}
     checks = []
     for file_name, data in got.items():
-        if file_name not in reference or isinstance(reference[file_name], int):  # absent, or too large to read
+        expected = _read_reference(sample, file_name, reference[file_name], data) if file_name in reference else None
+        if expected is None:  # absent, or too large to read
             write_atomic(sample.reference / file_name, data)
             checks.append(FileCheck(file_name, "new"))
             continue
-        shown, count = compare_file(file_name, reference[file_name], data)
-        if reference[file_name] != data:
+        shown, count = compare_file(file_name, expected, data)
+        if expected != data:
             write_atomic(sample.reference / file_name, data)
-        status = "changed" if count else ("refreshed" if reference[file_name] != data else "same")
+        status = "changed" if count else ("refreshed" if expected != data else "same")
         checks.append(FileCheck(file_name, status, tuple(shown), count))
     for file_name in reference:
         if file_name not in got and file_name.endswith(registry.suffixes()):

@@ -35,6 +35,7 @@ from winder.app.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parse import ParsedProgram, parse_program
+from winder.export.dialects.program_file import ProgramFile
 from winder.geometry.surface import SweepSurface
 from winder.machine.collision import move_distances
 from winder.machine.envelope import EyeEnvelope, eye_envelope
@@ -133,9 +134,10 @@ def _refuse_large_table(chain: np.ndarray, size: np.ndarray, parsed: ParsedProgr
                           f"job's ({parsed.values.shape[0]:,} moves)")
 
 
-def simulate(machine: MachineConfig, plan: WindingPlan, text: str, source: str = "program") -> Simulation:
-    """Read the program `text` written for a job planned as `plan` on `machine` and reconstruct
-    what it lays (module docstring)."""
+def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
+             source: str = "program") -> Simulation:
+    """Read the program (its text, or its file, read line by line) written for a job planned as `plan`
+    on `machine` and reconstruct what it lays (module docstring)."""
     by_key = {(fp.layer, fp.circuit, fp.number): fp for layer in plan.layers for fp in layer.passes}
     planned_points = sum(len(fp.points) for fp in by_key.values())
     parsed = parse_program(text, machine, source, max_moves=MOVES_PER_POINT * planned_points + MOVES_SLACK)
@@ -271,7 +273,7 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
 
     from winder.app.interrupts import TimeUp, time_limit  # noqa: PLC0415
     from winder.app.validate import validate_job  # noqa: PLC0415
-    from winder.config.job import load_config, read_text  # noqa: PLC0415
+    from winder.config.job import load_config  # noqa: PLC0415
     from winder.errors import SolverError  # noqa: PLC0415
     from winder.export.atomic import check_output_file, write_atomic  # noqa: PLC0415
     from winder.winding.plan import plan as plan_job  # noqa: PLC0415
@@ -279,17 +281,15 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     if output is not None:
         check_output_file(output, {"CONFIG": config, "PROGRAM": program})
     job = load_config(config)
-    # Read before planning: a program that is not one (/dev/zero, a FIFO) is refused at once. One
-    # edited on another system may carry other bytes in its comments (a Latin-1 accent, a byte-order
-    # mark): the codes are ASCII, so such bytes are read as replacements, not refused.
-    text = read_text(program, program, "winding program", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
-    if program.lower().endswith(".src"):  # a KRL program's points are in the .dat beside it
-        dat = program[:-4] + (".DAT" if program.endswith(".SRC") else ".dat")
-        text += read_text(dat, dat, "KRL data list", MAX_PROGRAM_BYTES, errors="replace").removeprefix("\ufeff")
+    # Checked before planning (a program that is not a file, /dev/zero, a FIFO, is refused at once), read
+    # line by line after it, within the plan's move budget. One edited on another system may carry
+    # other bytes in its comments (a Latin-1 accent, a byte-order mark): the codes are ASCII, so such
+    # bytes are read as replacements, not refused.
+    source = ProgramFile(program, MAX_PROGRAM_BYTES)
     validate_job(job)  # run's work budget: a job `check` refuses is not planned here either
     try:
         with time_limit(seconds):  # and run's time limit, over the plan and the reading
-            sim = simulate(job.machine, plan_job(job), text, program)
+            sim = simulate(job.machine, plan_job(job), source, program)
     except TimeUp as exc:
         raise SolverError(f"{config}: the simulation did not finish within its time limit of {seconds:g} s "
                           "(--time-limit)") from exc

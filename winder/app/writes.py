@@ -9,8 +9,10 @@ Each file is written atomically (winder.export.atomic); the set is made whole by
 - a roll-back: on any failure (or an interrupt) the files already put in place are taken back and the
   files they replaced put back (kept as hard links until the end).
 
-An output name that is a link is followed only to an existing file (the file it names is replaced
-and the link stays); a link to nothing (dangling, or to a folder that does not exist) or a loop of
+An output name that is a link is followed only to an existing file inside the output folder (the
+file it names is replaced and the link stays); a link to an existing file or folder outside it is
+replaced itself, atomically, by the job's file (winder.export.atomic.output_target), the file it
+named left untouched, and put back if the job fails; a link to nothing (dangling, or to a folder that does not exist) or a loop of
 links is refused before anything is written: following it would create folders and files outside the
 output folder.
 """
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 import errno
 import os
+import stat
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -121,13 +124,18 @@ def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
 
 
 def _keep_old(path: Path) -> Path | None:
-    """A hard link to an existing file at path (to put it back if the job fails), or None."""
-    if not path.is_file():
+    """A hard link to an existing file or symbolic link at path (the link itself, not what it names: to
+    put it back if the job fails), or None."""
+    try:
+        mode = os.lstat(path).st_mode
+    except OSError:
+        return None
+    if not (stat.S_ISREG(mode) or stat.S_ISLNK(mode)):
         return None
     backup = path.with_name(f".{path.name}.{os.getpid()}.old")
     try:
         backup.unlink(missing_ok=True)
-        os.link(path, backup)
+        os.link(path, backup, follow_symlinks=False)
     except OSError:  # no hard links here (some network or FAT folders): no way back, as without
         return None
     return backup

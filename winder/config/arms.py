@@ -51,20 +51,25 @@ class Arm:
 _RX180 = np.diag([1.0, -1.0, -1.0])
 _RZ180 = np.diag([-1.0, -1.0, 1.0])
 
+
+def _arm(name: str, maker: str, kind: str, dh: tuple, *, offset: tuple, sign: tuple, limits: tuple, speed: tuple,
+         flange: np.ndarray, base: np.ndarray, payload: float, reach: float, source: str) -> Arm:
+    """An Arm from its numbers as the data sheets list them: dh (d, a, alpha) joint after joint, limits
+    (low, high) joint after joint."""
+    return Arm(name=name, maker=maker, kind=kind, dh=np.array(dh, dtype=float).reshape(6, 3),
+               offset=np.array(offset, dtype=float), sign=np.array(sign, dtype=float),
+               limits=np.array(limits, dtype=float).reshape(6, 2), speed=np.array(speed, dtype=float), flange=flange,
+               base=base, payload=payload, reach=reach, source=source)
+
 # KUKA KR 16-2 (KR C4): lengths 675 / 260 / 680 / 35 / 670 / 158 mm, axis ranges A1 +-185, A2 -155..35,
 # A3 -130..154, A4 +-350, A5 +-130, A6 +-350 deg and speeds 156 156 156 330 330 615 deg/s from KUKA's
 # KR 16-2 data sheet, as transcribed (joint origins, axes and limits) in ROS-Industrial's
 # kuka_experimental/kuka_kr16_support/urdf/kr16_2_macro.xacro. Zero pose: upper arm horizontal forward,
 # A1 turns about -z, A4 and A6 about -x. Reach 1610 mm, payload 16 kg (data sheet).
-KUKA_KR16 = Arm(
-    name="kuka_kr16", maker="KUKA", kind=SPHERICAL,
-    dh=np.array([[675.0, 260.0, -90.0], [0.0, 680.0, 0.0], [0.0, 35.0, -90.0],
-                 [-670.0, 0.0, 90.0], [0.0, 0.0, -90.0], [-158.0, 0.0, 0.0]]),
-    offset=np.array([0.0, 0.0, 90.0, 0.0, 0.0, 0.0]), sign=np.array([-1.0, 1, 1, 1, 1, 1]),
-    limits=np.array([[-185.0, 185.0], [-155.0, 35.0], [-130.0, 154.0], [-350.0, 350.0], [-130.0, 130.0],
-                     [-350.0, 350.0]]),
-    speed=np.array([156.0, 156.0, 156.0, 330.0, 330.0, 615.0]),
-    flange=_RX180, base=np.eye(3), payload=16.0, reach=1610.0,
+KUKA_KR16 = _arm(
+    "kuka_kr16", "KUKA", SPHERICAL, (675, 260, -90, 0, 680, 0, 0, 35, -90, -670, 0, 90, 0, 0, -90, -158, 0, 0),
+    offset=(0, 0, 90, 0, 0, 0), sign=(-1, 1, 1, 1, 1, 1), limits=(-185, 185, -155, 35, -130, 154, -350, 350, -130, 130,
+    -350, 350), speed=(156, 156, 156, 330, 330, 615), flange=_RX180, base=np.eye(3), payload=16.0, reach=1610.0,
     source="KUKA KR 16-2 data sheet; ROS-Industrial kuka_experimental kr16_2_macro.xacro")
 
 # ABB IRB 4600-60/2.05 (IRC5): lengths 495 / 175 / 900 / 175 / 960 / 135 mm, axis ranges 1 +-180,
@@ -72,15 +77,10 @@ KUKA_KR16 = Arm(
 # from ABB's IRB 4600 product specification (3HAC032885), as transcribed in ROS-Industrial's
 # abb/abb_irb4600_support/urdf/irb4600_60_205_macro.xacro. Zero pose: upper arm vertical, forearm
 # horizontal forward. Reach 2050 mm, payload 60 kg.
-ABB_IRB4600 = Arm(
-    name="abb_irb4600", maker="ABB", kind=SPHERICAL,
-    dh=np.array([[495.0, 175.0, -90.0], [0.0, 900.0, 0.0], [0.0, 175.0, -90.0],
-                 [960.0, 0.0, 90.0], [0.0, 0.0, -90.0], [135.0, 0.0, 0.0]]),
-    offset=np.array([0.0, -90.0, 0.0, 0.0, 0.0, 0.0]), sign=np.ones(6),
-    limits=np.array([[-180.0, 180.0], [-90.0, 150.0], [-180.0, 75.0], [-400.0, 400.0], [-125.0, 120.0],
-                     [-400.0, 400.0]]),
-    speed=np.array([175.0, 175.0, 175.0, 250.0, 250.0, 360.0]),
-    flange=_RZ180, base=np.eye(3), payload=60.0, reach=2050.0,
+ABB_IRB4600 = _arm(
+    "abb_irb4600", "ABB", SPHERICAL, (495, 175, -90, 0, 900, 0, 0, 175, -90, 960, 0, 90, 0, 0, -90, 135, 0, 0),
+    offset=(0, -90, 0, 0, 0, 0), sign=(1, 1, 1, 1, 1, 1), limits=(-180, 180, -90, 150, -180, 75, -400, 400, -125, 120,
+    -400, 400), speed=(175, 175, 175, 250, 250, 360), flange=_RZ180, base=np.eye(3), payload=60.0, reach=2050.0,
     source="ABB IRB 4600 product specification (60/2.05); ROS-Industrial abb irb4600_60_205_macro.xacro")
 
 # Universal Robots UR10e: DH parameters d1 = 180.7, a2 = -612.7, a3 = -571.55, d4 = 174.15,
@@ -88,12 +88,10 @@ ABB_IRB4600 = Arm(
 # ("Parameters for calculations of kinematics and dynamics", universal-robots.com, article 45257);
 # every joint +-360 deg; speeds 120 120 180 180 180 180 deg/s, reach 1300 mm, payload 12.5 kg
 # (UR10e technical specifications). The controller's base frame is DH frame 0 turned 180 deg about z.
-UR10E = Arm(
-    name="ur10e", maker="Universal Robots", kind=UR,
-    dh=np.array([[180.7, 0.0, 90.0], [0.0, -612.7, 0.0], [0.0, -571.55, 0.0],
-                 [174.15, 0.0, 90.0], [119.85, 0.0, -90.0], [116.55, 0.0, 0.0]]),
-    offset=np.zeros(6), sign=np.ones(6), limits=np.tile([-360.0, 360.0], (6, 1)),
-    speed=np.array([120.0, 120.0, 180.0, 180.0, 180.0, 180.0]),
+UR10E = _arm(
+    "ur10e", "Universal Robots", UR,
+    (180.7, 0, 90, 0, -612.7, 0, 0, -571.55, 0, 174.15, 0, 90, 119.85, 0, -90, 116.55, 0, 0),
+    offset=(0, 0, 0, 0, 0, 0), sign=(1, 1, 1, 1, 1, 1), limits=(-360, 360) * 6, speed=(120, 120, 180, 180, 180, 180),
     flange=np.eye(3), base=_RZ180, payload=12.5, reach=1300.0,
     source="Universal Robots, DH parameters of the e-Series (article 45257); UR10e technical specifications")
 

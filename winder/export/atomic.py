@@ -3,7 +3,9 @@
 A job that fails leaves no output file of its own behind, not even a partial one (SPEC.md). An
 output path that names a device, a FIFO or a socket (`-o /dev/null`, `-o /dev/stdout`) is written
 straight into it: a rename would put a regular file in the device's place. A symbolic link to a
-file stays a link: the file it names is replaced.
+file in the link's own folder (or below it) stays a link: the file it names is replaced. A link out of
+its folder is never written through: the link itself is replaced by the new file, and the file it
+named, elsewhere, is left as it was (an output folder's files stay inside it, whatever links it holds).
 """
 
 from __future__ import annotations
@@ -43,9 +45,13 @@ def is_stream(path: Path) -> bool:
 
 
 def output_target(path: str | Path) -> Path:
-    """The path a write to path replaces: the file a symbolic link names (so the link stays), else path."""
+    """The path a write to path replaces: the file a symbolic link names when that file is in the link's
+    own folder or below it (so the link stays), else path itself (a link out of the folder included)."""
     path = Path(path)
-    return path.resolve() if path.is_symlink() and not is_stream(path) else path
+    if not path.is_symlink() or is_stream(path):
+        return path
+    target = path.resolve()
+    return target if target.is_relative_to(path.parent.resolve()) else path
 
 
 def check_output_file(output: str, inputs: dict[str, str]) -> None:

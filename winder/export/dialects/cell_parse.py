@@ -9,6 +9,7 @@ exists on the registries; these read what winder writes, and refuse what is not 
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 
 import numpy as np
 
@@ -71,6 +72,17 @@ class _Rows:
         if hit and self.job is None:
             self.job = hit[1].strip()
         return line.lstrip()[:1] in (";", "!", "#")
+
+    def code_lines(self, text: str, last: str, unended: str) -> Iterator[tuple[int, str, str]]:
+        """(line number, stripped line, raw line) of each line that is neither blank nor a comment
+        (comments read as they pass); ConfigError `unended` when the text's last line is not `last`."""
+        lines = text.splitlines()
+        if not (lines and lines[-1].strip() == last):
+            raise ConfigError(f"{self.source}: {unended}: cut short?")
+        for number, raw in enumerate(lines, start=1):
+            line = raw.strip()
+            if line and not self.comment(line):
+                yield number, line, raw
 
     def add(self, number: int, seconds: float, raw: str) -> None:
         if self.key == (0, 0, 0):
@@ -157,13 +169,7 @@ def _rapid(text: str, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
     targets: dict[str, list[float]] = {}
     rows = _Rows(source)
     names: list[str] = []
-    lines = text.splitlines()
-    if not (lines and lines[-1].strip() == "ENDMODULE"):
-        raise ConfigError(f"{source}: the module does not end with ENDMODULE: cut short?")
-    for number, raw in enumerate(lines, start=1):
-        line = raw.strip()
-        if not line or rows.comment(line):
-            continue
+    for number, line, raw in rows.code_lines(text, "ENDMODULE", "the module does not end with ENDMODULE"):
         hit = _ROBTARGET.match(line)
         if hit:
             parts = [p for p in re.split(r"\]\s*,\s*\[", hit[2])]
@@ -194,13 +200,7 @@ def _urscript(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np
     rows = _Rows(source)
     poses, ring = [], None
     external = []
-    lines = text.splitlines()
-    if not (lines and lines[-1].strip() == "end"):
-        raise ConfigError(f"{source}: the script does not end with its function's end: cut short?")
-    for number, raw in enumerate(lines, start=1):
-        line = raw.strip()
-        if not line or rows.comment(line):
-            continue
+    for number, line, raw in rows.code_lines(text, "end", "the script does not end with its function's end"):
         hit = _RING.match(line)
         if hit:
             ring = [float(hit[1]), float(hit[2]), float(hit[3])]

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.export.dialects.robot_text import (ANGLE_DECIMALS, POSITION_DECIMALS, abc_deg, cell_of, checked_name,
-                                               header, rows)
+from winder.export.dialects.robot_text import (ANGLE_DECIMALS, POSITION_DECIMALS, abc_deg, cell_of, cell_start,
+                                               header, numbered_rows)
 from winder.export.dialects.text import fmt, fmt_significant
 from winder.machine.program import MotionProgram
 
@@ -45,15 +45,11 @@ def status_turn(program: MotionProgram) -> tuple[np.ndarray, np.ndarray]:
 
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .src and .dat texts of the program."""
-    cell = cell_of(program)
-    name = checked_name(program.name, "KRL", NAME_LENGTH)
+    cell, name, xyz, ext, time = cell_start(program, "KRL", NAME_LENGTH)
     c = cell.cell
     abc = abc_deg(cell.frames[:, :3, :3])
-    xyz = cell.frames[:, :3, 3]
-    ext = cell.external
     s, t = status_turn(program)
     turns = cell.arm.maker == "KUKA"  # S and T are a KUKA arm's; LIN itself ignores them
-    time = cell.times.time_s
     top_e1 = program.machine.dynamics.rotation.speed / 60.0  # deg/s
     src = ["&ACCESS RVP", "&REL 1", f"DEF {name}( )"] + header(program, ";")
     if cell.arm.maker != "KUKA":
@@ -68,12 +64,8 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     src.append("PTP {" + ",".join(f"A{i + 1} {fmt(q0[i])}" for i in range(6)) + ","
                + ",".join(f"E{i + 1} {fmt(ext[0, i])}" for i in range(3)) + "}  ; the first pose, joint by joint")
     dat = ["&ACCESS RVP", "&REL 1", f"DEFDAT {name} PUBLIC"]
-    n = 0
     slow, prev = False, 0
-    for head, row in rows(program):
-        if head is not None:
-            src.append(f"; {head}")
-        n += 1
+    for n, row in numbered_rows(program, src, ";"):
         dat.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
                    f"Z {fmt(xyz[row, 2], POSITION_DECIMALS)},A {fmt(abc[row, 0], ANGLE_DECIMALS)},"
                    f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},"

@@ -19,6 +19,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.export.dialects.parsed import ParsedProgram
+from winder.export.dialects.program_file import ProgramFile
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects.robot import LETTERS as POSE_LETTERS
@@ -43,6 +44,11 @@ MAX_WORD_VALUE = 1e12
 # The moves simulate reads at most (its caller passes the plan's own bound): the work budget's points
 # of a whole job, with room for a program's approach and turnaround rows.
 MAX_MOVES = 3_000_000
+BLOCK_ROWS = 65_536
+# A robot cell's program is read whole (winder.export.dialects.program_file): at most this per move (a
+# KRL move is a LIN line and a DECL E6POS of about 200 bytes; RAPID's robtarget about 250).
+CELL_BYTES_PER_MOVE = 1_000
+CELL_BYTES_SLACK = 1_000_000
 
 
 def detect(text: str) -> str:
@@ -68,21 +74,27 @@ def _code(line: str) -> str:
     return " ".join(_PADDED_G.sub(r"G\1", word) for word in code.split())
 
 
-def parse_program(text: str, machine: MachineConfig, source: str = "program",
+def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str = "program",
                   max_moves: int = MAX_MOVES) -> ParsedProgram:
-    """Read a program's text written for `machine` (its dialect detected from the text); refused
-    past max_moves moves, as soon as the line past them is read (or at once when the text has more
-    than twice as many lines: a winder program has a comment line per pass, not per move)."""
-    lines_in_text = text.count("\n") + 1
-    if lines_in_text > 2 * max_moves + 10_000:
-        raise ConfigError(f"{source}: {lines_in_text:,} lines for at most {max_moves:,} moves, past what simulate "
-                          f"reads for this job (its plan's points, with room for the program's own rows and comments)")
+    """Read a program (its text, or its file read line by line: winder.export.dialects.program_file)
+    written for `machine`, its dialect detected from the text; refused past max_moves moves, as soon
+    as the line past them is read (or at once when the text has more than twice as many lines: a
+    winder program has a comment line per pass, not per move). Memory: the rows read, in numpy blocks."""
     from winder.export.dialects.cell_parse import detect_cell, parse_cell  # noqa: PLC0415
 
-    cell = detect_cell(text)
+    if isinstance(text, ProgramFile):
+        cell, dialect, lines_in_text = text.survey(2 * max_moves + 10_000)
+    else:
+        cell, dialect, lines_in_text = detect_cell(text), None, text.count("\n") + 1
+    if lines_in_text > 2 * max_moves + 10_000:  # a file's survey stops counting one line past that
+        counted = f"{lines_in_text:,}" if isinstance(text, str) else f"more than {2 * max_moves + 10_000:,}"
+        raise ConfigError(f"{source}: {counted} lines for at most {max_moves:,} moves, past what simulate "
+                          f"reads for this job (its plan's points, with room for the program's own rows and comments)")
     if cell is not None:
-        return parse_cell(text, machine, source, cell)
-    dialect = detect(text)
+        whole = text.text(CELL_BYTES_PER_MOVE * max_moves + CELL_BYTES_SLACK) if isinstance(text, ProgramFile) else text
+        return parse_cell(whole, machine, source, cell)
+    if dialect is None:
+        dialect = detect(text)
     ax = machine.axes
     if dialect == "robot":
         letters, prefixes = POSE_LETTERS, ("POSE",)
@@ -90,16 +102,13 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program",
         letters, prefixes = marlin.LETTERS, ("G1", "G0")
     else:
         letters, prefixes = (ax.carriage, ax.rotation, ax.cross_feed, ax.yaw), ("G1", "G0")
-    rows: list[list[float]] = []
-    keys: list[tuple[int, int, int]] = []
+    rows = _Rows(len(letters))
     kinds: list[str] = []
-    feeds: list[float] = []
     key, kind = (0, 0, 0), ""
     job, job_line = None, None
     fixed_z = None
-    numbers: list[int] = []
     end = None
-    for number, raw in enumerate(text.splitlines(), start=1):
+    for number, raw in enumerate(text.lines() if isinstance(text, ProgramFile) else text.splitlines(), start=1):
         line = raw.strip()
         if line.startswith(";"):
             hit = _PASS.match(line)
@@ -126,7 +135,7 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program",
         if extra is not None:  # Z0e999 reads as Z0 and E999: no axis of this machine
             raise ConfigError(f"{source}: line {number}: {extra} is no axis of this {dialect} program (its axes: "
                               f"{', '.join(letters)}, and F), got {line[:60]!r}")
-        if len(rows) >= max_moves:
+        if rows.count >= max_moves:
             raise ConfigError(f"{source}: line {number}: more than {max_moves:,} moves, past what simulate reads "
                               f"for this job (its plan's points, with room for the program's own)")
         missing = [c for c in letters if c not in values]
@@ -135,32 +144,61 @@ def parse_program(text: str, machine: MachineConfig, source: str = "program",
         if key == (0, 0, 0):  # winder writes a pass comment before a pass's first move
             raise ConfigError(f"{source}: line {number}: a move before any '; layer L circuit C pass P kind' "
                               f"comment, which winder writes before each pass and simulate reads, got {line[:60]!r}")
-        rows.append([values[c] for c in letters])
-        keys.append(key)
+        rows.add([values[c] for c in letters], key, values.get("F", np.nan), number)
         kinds.append(kind)
-        feeds.append(values.get("F", np.nan))
-        numbers.append(number)
-    if not rows:  # an empty file, or comments only: there is no last move to name a line by
+    if not rows.count:  # an empty file, or comments only: there is no last move to name a line by
         raise ConfigError(f"{source}: the program has no moves")
     if end is None and dialect != "marlin":
-        last = numbers[-1]
+        last = rows.last_line
         raise ConfigError(f"{source}: line {last}: the program stops without its end (M2): cut short? "
-                          f"got {len(rows)} moves, the last on line {last}")
-    table = np.array(rows, dtype=float).reshape(-1, len(letters))
+                          f"got {rows.count} moves, the last on line {last}")
+    written, keys_arr, feeds_arr, lines = rows.arrays()
+    table = written
     if dialect == "marlin":
         if fixed_z is None:
             raise ConfigError(f"{source}: a marlin program without its '{marlin.FIXED_EYE}' comment")
         table = np.column_stack([table[:, 0], -table[:, 1], np.full(len(table), fixed_z), -table[:, 2]])
-    lines = np.array(numbers, dtype=int)
-    keys_arr, kinds_t, feeds_arr = np.array(keys, dtype=int).reshape(-1, 3), tuple(kinds), np.array(feeds, dtype=float)
+    kinds_t = tuple(kinds)
+    del kinds
     if dialect == "marlin":  # a move cut at full turns of A is one programmed move: its pieces joined
-        keep = ~marlin_cuts(np.array(rows, dtype=float).reshape(-1, 3), keys_arr)
+        keep = ~marlin_cuts(written, keys_arr)
         table, lines, keys_arr, feeds_arr = table[keep], lines[keep], keys_arr[keep], feeds_arr[keep]
         kinds_t = tuple(k for k, ok in zip(kinds_t, keep.tolist()) if ok)
     if dialect != "robot":
         _check_limits(table, lines, machine, letters if dialect != "marlin" else (ax.carriage, ax.rotation,
                                                                                   ax.cross_feed, ax.yaw), source)
     return ParsedProgram(dialect, table, keys_arr, kinds_t, feeds_arr, lines, job, job_line=job_line)
+
+
+class _Rows:
+    """The moves read so far, gathered in numpy blocks of BLOCK_ROWS (72 bytes a move of 4 axes, where
+    Python lists of floats took about 400): (values, pass key, feed, line number) per move."""
+
+    def __init__(self, width: int) -> None:
+        self.width, self.count, self.last_line = width, 0, 0
+        self._blocks: list[np.ndarray] = []
+        self._open: list[tuple] = []
+
+    def add(self, values: list[float], key: tuple[int, int, int], feed: float, number: int) -> None:
+        self._open.append((*values, *key, feed, number))
+        self.count, self.last_line = self.count + 1, number
+        if len(self._open) == BLOCK_ROWS:
+            self._close()
+
+    def _close(self) -> None:
+        if self._open:
+            self._blocks.append(np.array(self._open, dtype=float))
+            self._open = []
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(values (m, width) float, keys (m, 3) int, feeds (m,) float, lines (m,) int); keys and line
+        numbers are exact in float64 (below MAX_PASS_NUMBER and 2^53)."""
+        self._close()
+        block = np.concatenate(self._blocks) if len(self._blocks) != 1 else self._blocks[0]
+        self._blocks = []
+        w = self.width
+        return (block[:, :w].copy(), block[:, w:w + 3].astype(np.int64), block[:, w + 3].copy(),
+                block[:, w + 4].astype(np.int64))
 
 
 def marlin_cuts(written: np.ndarray, keys: np.ndarray) -> np.ndarray:

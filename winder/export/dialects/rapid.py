@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from winder.export.dialects.robot_text import (ANGLE_DECIMALS, POSITION_DECIMALS, TIME_DECIMALS, cell_of,
-                                               checked_name, header, quaternions, rows)
+                                               cell_start, header, numbered_rows, quaternions)
 from winder.export.dialects.text import fmt
 from winder.machine.program import MotionProgram
 
@@ -47,14 +47,10 @@ def configuration(program: MotionProgram) -> np.ndarray:
 
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .mod text of the program."""
-    cell = cell_of(program)
-    name = checked_name(program.name, "RAPID", NAME_LENGTH)
+    cell, name, xyz, ext, time = cell_start(program, "RAPID", NAME_LENGTH)
     c = cell.cell
     quat = quaternions(cell.frames[:, :3, :3])
-    xyz = cell.frames[:, :3, 3]
-    ext = cell.external
     conf = configuration(program)
-    time = cell.times.time_s
     lines = [f"MODULE {name}"] + header(program, "  !")
     if cell.arm.maker != "ABB":  # robconf is an ABB arm's; ConfL \Off lets an ABB arm in its place choose
         conf = np.zeros_like(conf)
@@ -65,11 +61,7 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     lines.append("  CONST jointtarget jStart := [[" + ",".join(fmt(v) for v in q0) + "],["
                  + ",".join(fmt(v) for v in ext[0]) + f",{NOT_USED},{NOT_USED},{NOT_USED}]];")
     targets, moves = [], []
-    n = 0
-    for head, row in rows(program):
-        if head is not None:
-            moves.append(f"    ! {head}")
-        n += 1
+    for n, row in numbered_rows(program, moves, "    !"):
         targets.append(f"  CONST robtarget p{n} := [[{fmt(xyz[row, 0], POSITION_DECIMALS)},"
                        f"{fmt(xyz[row, 1], POSITION_DECIMALS)},{fmt(xyz[row, 2], POSITION_DECIMALS)}],["
                        + ",".join(fmt(v, QUATERNION_DECIMALS) for v in quat[row]) + "],["

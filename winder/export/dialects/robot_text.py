@@ -73,6 +73,23 @@ def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
                 told, first = True, False
 
 
+def cell_start(program: MotionProgram, language: str, longest: int):
+    """What a cell language's serializer starts from: (the cell motion, the module name, the frames'
+    positions (m, 3), the external axes (m, 3), the move times (m,))."""
+    cell = cell_of(program)
+    name = checked_name(program.name, language, longest)
+    return cell, name, cell.frames[:, :3, 3], cell.external, cell.times.time_s
+
+
+def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Iterator[tuple[int, int]]:
+    """(n, row) of every row of rows(program), n counted from 1; each pass comment is appended to
+    comments, as `mark head`, before its row is given."""
+    for n, (head, row) in enumerate(rows(program), start=1):
+        if head is not None:
+            comments.append(f"{mark} {head}")
+        yield n, row
+
+
 def abc_deg(r: np.ndarray) -> np.ndarray:
     """KUKA's A, B, C (deg) (m, 3) of rotations (m, 3, 3) = Rz(A) Ry(B) Rx(C)."""
     b = np.arctan2(-r[:, 2, 0], np.hypot(r[:, 0, 0], r[:, 1, 0]))

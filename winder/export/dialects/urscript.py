@@ -17,7 +17,8 @@ import numpy as np
 
 from winder.config.arms import UR
 from winder.errors import ExportError
-from winder.export.dialects.robot_text import TIME_DECIMALS, cell_of, checked_name, header, rotation_vectors, rows
+from winder.export.dialects.robot_text import (TIME_DECIMALS, cell_of, checked_name, header, numbered_rows,
+                                               rotation_vectors)
 from winder.export.dialects.text import fmt
 from winder.machine.program import MotionProgram
 
@@ -52,11 +53,7 @@ def serialize(program: MotionProgram) -> dict[str, str]:
               f"  set_tcp({_pose(tool[:3, 3], rotation_vectors(tool[None, :3, :3])[0])})",
               f"  ring({fmt(ext[0, 0])}, {fmt(ext[0, 1])}, {fmt(ext[0, 2])}, 0)",
               "  movej([" + ", ".join(fmt(v, RADIAN_DECIMALS) for v in q0) + "], a=0.5, v=0.5)"]
-    n = 0
-    for head, row in rows(program):
-        if head is not None:
-            lines.append(f"  # {head}")
-        n += 1
+    for n, row in numbered_rows(program, lines, "  #"):
         seconds = max(float(time[row]), 10.0 ** -TIME_DECIMALS) if n > 1 else 10.0 ** -TIME_DECIMALS
         t = fmt(seconds, TIME_DECIMALS)
         lines.append(f"  ring({fmt(ext[row, 0], 4)}, {fmt(ext[row, 1], 4)}, {fmt(ext[row, 2], 4)}, {t})")

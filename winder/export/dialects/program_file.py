@@ -1,0 +1,108 @@
+"""A winding program on disk, read line by line (simulate's input; winder.export.dialects.parse).
+
+Nothing but the line being read is held: its dialect is found by one streaming pass (the same tests
+as winder.export.dialects.parse.detect and cell_parse.detect_cell, line by line), which also counts
+the lines, and its moves by a second pass. A line longer than MAX_LINE_BYTES (a winder program's are
+under 200 bytes) is refused naming it, so no line is read whole whatever the file holds. A robot
+cell's program (KRL, RAPID, URScript) is read whole, within a size its caller bounds by its budget:
+those readers resolve names across the file (a KRL move names a point of its .dat).
+
+Lines split as str.splitlines splits a text (\\r\\n, \\r and the other line breaks); bytes that are
+not UTF-8 (a Latin-1 accent in a comment) are read as U+FFFD, and a leading byte-order mark dropped.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+from collections.abc import Iterator
+
+from winder.errors import ConfigError
+from winder.export.dialects import marlin
+
+_MARLIN_FIRST = marlin.HEADER.strip().upper()  # a marlin program's first text
+
+MAX_LINE_BYTES = 1_000_000
+_LINUXCNC = re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?G0*93[ \t]*$")
+_POSE = re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?POSE[ \t]")
+_URSCRIPT = re.compile(r"^\s*def\s+\w+\(\):")
+_KRL = re.compile(r"^\s*DEF\s+\w+\s*\([^)]*\)\s*$", re.I)
+_RAPID = re.compile(r"^\s*MODULE\s+\w+")
+
+
+class ProgramFile:
+    """A program's file (and, for KRL's .src, the .dat beside it), checked at once: a regular file of
+    at most max_bytes (opening a FIFO would block, /dev/zero never ends)."""
+
+    def __init__(self, path: str, max_bytes: int, kind: str = "winding program") -> None:
+        self.path = path
+        self.paths = [path]
+        if path.lower().endswith(".src"):  # a KRL program's points are in the .dat beside it
+            self.paths.append(path[:-4] + (".DAT" if path.endswith(".SRC") else ".dat"))
+        self.size = sum(self._stat(p, max_bytes, kind if p == path else "KRL data list") for p in self.paths)
+
+    @staticmethod
+    def _stat(path: str, max_bytes: int, kind: str) -> int:
+        try:
+            info = os.stat(path)
+        except OSError as exc:
+            raise ConfigError(f"{path}: cannot read the file: {exc.strerror or exc}") from exc
+        if not stat.S_ISREG(info.st_mode):
+            raise ConfigError(f"{path}: not a regular file (a {kind} is a text file)")
+        if info.st_size > max_bytes:
+            raise ConfigError(f"{path}: the file has {info.st_size} bytes, more than a {kind}'s limit of {max_bytes}")
+        return info.st_size
+
+    def lines(self) -> Iterator[str]:
+        """The lines of the file(s), in order, as str.splitlines gives them (module docstring)."""
+        number = 0
+        for k, path in enumerate(self.paths):
+            try:
+                fh = open(path, "rb")  # noqa: SIM115 - closed below, also when the reader stops early
+            except OSError as exc:
+                raise ConfigError(f"{path}: cannot read the file: {exc.strerror or exc}") from exc
+            with fh:
+                first = True
+                while raw := fh.readline(MAX_LINE_BYTES + 1):
+                    if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
+                        raise ConfigError(f"{path}: line {number + 1}: longer than {MAX_LINE_BYTES:,} bytes, which "
+                                          "no winding program's line is")
+                    text = raw.decode("utf-8", errors="replace")
+                    if first:
+                        text, first = text.removeprefix("\ufeff"), False
+                    pieces = text.splitlines() or [""]
+                    number += len(pieces)
+                    yield from pieces
+
+    def text(self, limit: int) -> str:
+        """The whole text (a robot cell's program), refused past limit bytes."""
+        if self.size > limit:
+            raise ConfigError(f"{self.path}: the program has {self.size:,} bytes, more than simulate reads for this "
+                              f"job ({limit:,}: its plan's points, with room for the program's own lines)")
+        return "\n".join(self.lines()) + "\n"
+
+    def survey(self, max_lines: int) -> tuple[str | None, str, int]:
+        """(cell dialect or None, G-code dialect, lines): one streaming pass, the dialect decided as
+        parse.detect and cell_parse.detect_cell decide it over the whole text (module docstring); it
+        stops past max_lines lines (the caller refuses the program: its dialect is then moot)."""
+        found: set[str] = set()
+        count, first = 0, None
+        for line in self.lines():
+            count += 1
+            if count > max_lines:
+                break
+            if first is None and line.strip():
+                first = line.lstrip().upper()
+            if len(found) < len(_TESTS):
+                upper = line.upper()
+                found.update(name for name, pattern in _TESTS
+                             if name not in found and pattern.match(upper if name in _UPPER else line))
+        cell = next((name for name in ("urscript", "krl", "rapid") if name in found), None)
+        if first is not None and first.startswith(_MARLIN_FIRST):
+            return cell, "marlin", count
+        return cell, next((name for name in ("linuxcnc", "robot") if name in found), "generic"), count
+
+
+_UPPER = ("linuxcnc", "robot")  # tested in upper case, as parse.detect tests them
+_TESTS = (("urscript", _URSCRIPT), ("krl", _KRL), ("rapid", _RAPID), ("linuxcnc", _LINUXCNC), ("robot", _POSE))
