@@ -50,3 +50,36 @@ def test_a_40_layer_vessel_runs_within_1_gb(tmp_path: Path) -> None:
     (result,), = run_limited([[["run", str(config), "-o", str(tmp_path / "out")]]], seconds=600)
     assert result["code"] == 0, result["stderr"]
     assert result["peak_mb"] < ONE_GB_MB, result["peak_mb"]
+
+
+SPLINE_ROUNDS = ROOT / "tests" / "app" / "hostile" / "spline_rounds_31.yaml"
+ROUNDS_AGREE = 0.05  # the straightened tube's rounds against the traced geodesic's, relative
+
+
+def test_spline_helix_with_too_few_points_is_refused_by_check(tmp_path: Path) -> None:
+    (result,), = run_limited([[["check", str(SPLINE_ROUNDS)]]], seconds=HANG_GUARD_S)
+    assert result["code"] == 2 and "internal error" not in result["stderr"], result
+    errors = [line for line in result["stderr"].splitlines() if line.startswith("Error:")]
+    assert len(errors) == 1 and "spline_rounds_31.yaml: winding.points: must be at least" in errors[0], errors
+    assert result["seconds"] < BUSY_MACHINE_S, result["seconds"]
+
+
+def test_check_rounds_estimate_agrees_with_the_traced_geodesic() -> None:
+    """The rounds `check` estimates (no geodesic) against those the planner finds by tracing the
+    geodesic on the bent tube (winder.winding.plan without validation: its own refusal names them)."""
+    import re
+
+    from winder.config.job import load_config
+    from winder.errors import ConfigError
+    from winder.geometry.build import build_surface
+    from winder.winding.budget import check_budget
+    from winder.winding.plan import plan
+
+    job = load_config(str(SPLINE_ROUNDS))
+    with pytest.raises(ConfigError) as estimated:
+        check_budget(job, build_surface(job.mandrel, job.source, job.name))
+    with pytest.raises(ConfigError) as traced:
+        plan(job)
+    guess = float(re.search(r"about ([0-9.]+) rounds", estimated.value.message).group(1))
+    found = float(re.search(r"path of ([0-9.]+) rounds", traced.value.message).group(1))
+    assert abs(guess - found) <= ROUNDS_AGREE * found, (guess, found)

@@ -52,6 +52,7 @@ SOLVER_BYTES_PER_POINT = 2_500
 MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
 START_SAMPLES = 257  # start fractions of a turn sampled for a pass's widest angle span
+BENT_ROUNDS_SHARE = 0.8  # of a bent tube's estimated rounds, what `check` holds the points to
 
 
 @dataclasses.dataclass(frozen=True)
@@ -225,6 +226,7 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
             for heading, s_end in ((cfg.angle_deg, s_b), (cfg.angle_deg + 180.0, s_a)):
                 th = reach_theta(surface, s_ref, np.array([0.0]), heading, s_end)
                 if th is None:
+                    _check_bent_points(job, surface, cfg, region)
                     return
                 ends.append(th)
         except SolverError as exc:  # the geodesic turns around on a narrowing mandrel
@@ -240,6 +242,28 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
         check_points(n, rounds, max(REFINE_MAX_POINTS, n))
     except ConfigError as exc:
         raise _refuse(job.source, "winding.points", exc.message) from exc
+
+
+def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, region: tuple[float, float]) -> None:
+    """Too few points for a pass on a bent tube of circular section (no closed form: the planner
+    traces the geodesic for minutes before its solver refuses n): the rounds estimated as on the
+    straightened tube, the integral of tan(alpha) / perimeter along the axis (docs/math/13-work-estimates.md), refused
+    where even BENT_ROUNDS_SHARE of them would be refused (the bend moves the rounds a little)."""
+    from winder.paths.resolution import MIN_SEGMENTS_PER_ROUND, POINTS_PER_ROUND  # noqa: PLC0415
+
+    if not surface.section.is_circle:
+        return
+    n = job.winding.points or DEFAULT_POINTS
+    t = np.linspace(*region, REGION_STATIONS)
+    per = np.asarray(surface.perimeter(surface.s_of_t(t)), dtype=float)
+    rounds = math.tan(math.radians(cfg.angle_deg)) * float(np.mean(1.0 / per)) * (region[1] - region[0])
+    least = math.ceil(MIN_SEGMENTS_PER_ROUND * BENT_ROUNDS_SHARE * rounds) - 1
+    if n < least:
+        raise _refuse(job.source, "winding.points",
+                      f"must be at least {least} for a pass of about {rounds:.4g} rounds ({region[1] - region[0]:.6g} mm "
+                      f"of axis at {cfg.angle_deg:g} deg): with fewer, a segment spans over a third of a turn and "
+                      f"cuts across the mandrel (an accurate length wants {POINTS_PER_ROUND} per round: "
+                      f"{math.ceil(POINTS_PER_ROUND * rounds)}), got {n}")
 
 
 def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> LayerBudget:
