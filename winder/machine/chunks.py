@@ -35,7 +35,7 @@ from winder.machine.batch import pass_where
 from winder.machine.collision import check_collision
 from winder.machine.dynamics import move_times
 from winder.machine.envelope import eye_envelope
-from winder.machine.program import MotionProgram, Segment, approach, build_program, is_robot
+from winder.machine.program import MotionProgram, Segment, approach, as_written, build_program, is_robot
 from winder.winding.budget import PROGRAM_CHUNK_POINTS
 from winder.winding.results import FiberPass, WindingPlan
 
@@ -61,8 +61,10 @@ def layer_groups(plan: WindingPlan, most: int = CHUNK_POINTS) -> list[tuple]:
     return [tuple(g) for g in groups if g]
 
 
-def _progress(layers) -> float:
-    return sum(float(fp.theta[-1] - fp.theta[0]) for layer in layers for fp in layer.passes if len(fp.theta))
+def _sense_of(layers) -> float:
+    """The winding sense build_program gives B for these layers: that of their whole turn."""
+    turn = sum(float(fp.theta[-1] - fp.theta[0]) for layer in layers for fp in layer.passes if len(fp.theta))
+    return -1.0 if turn < 0.0 else 1.0
 
 
 def _nonempty(layers) -> list[FiberPass]:
@@ -72,14 +74,15 @@ def _nonempty(layers) -> list[FiberPass]:
 def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int = CHUNK_POINTS) -> MotionProgram:
     """build_program(plan, machine), built a group of layers at a time (module docstring)."""
     groups = layer_groups(plan, most)
-    whole = _progress(plan.layers)
-    if (len(groups) <= 1 or is_robot(plan, machine) or machine.limits.rotation is not None or machine.limits.yaw is not None
-            or any(_progress(g) * whole < 0.0 for g in groups)):
+    whole = _sense_of(plan.layers)
+    limited = machine.limits.rotation is not None or machine.limits.yaw is not None
+    if len(groups) <= 1 or limited or is_robot(plan, machine) or any(_sense_of(g) != whole for g in groups):
         return build_program(plan, machine)
     env = eye_envelope(plan.outer_surface, machine)
     parts: list[tuple] = []  # per group: values, index, fiber, segments (rows numbered in the whole)
     rows, sense = 0, 1.0
-    last: FiberPass | None = None  # the last non-empty pass of the groups so far
+    last: FiberPass | None = None  # the last non-empty pass of the groups so far, and its last row
+    end_row: np.ndarray | None = None
     done = 0  # layers of the groups before
     for group in groups:
         # The layers before stay, without passes: a layer's number is its place in the plan.
@@ -90,18 +93,21 @@ def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int
         del own  # its times are recomputed on the joined rows; its dense arrays are gone already
         passes = _nonempty(group)
         added = 0
-        if parts and passes and values.shape[0]:
-            values, lift, jumped = _joined(parts[-1][0][-1], values, last, passes[0], sense)
-            lift = approach(parts[-1][0][-1], values[0], env.max_radius) if jumped else None
+        if end_row is not None and last is not None and passes and values.shape[0]:
+            values, jumped = _joined(end_row, values, last, passes[0], sense)
+            lift = approach(end_row, values[0], env.max_radius) if jumped else None
             if lift is not None:
                 added = lift.shape[0]
                 values = np.vstack([lift, values])
                 index = np.concatenate([np.full(added, -1.0), index])
                 fiber = np.concatenate([np.zeros(added), fiber])
                 where = pass_where(plan, passes[0])
-                check_collision(np.vstack([parts[-1][0][-1:], values[:added + 1]]), env, machine, lambda _row: where)
+                window = as_written(np.vstack([end_row[None, :], values[:added + 1]]), False)  # as written
+                check_collision(window, env, machine, lambda _row: where)
         parts.append((values, index, fiber, _shifted(own_segments, rows, added)))
         rows += values.shape[0]
+        if values.shape[0]:
+            end_row = values[-1]
         if passes:
             last = passes[-1]
             sense = _sense_after(passes, sense)
@@ -118,7 +124,7 @@ def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int
 
 
 def _joined(end_row: np.ndarray, values: np.ndarray, prev: FiberPass, first: FiberPass,
-            sense: float) -> tuple[np.ndarray, None, bool]:
+            sense: float) -> tuple[np.ndarray, bool]:
     """A group's rows (m, 4) with A and B continued from the row end_row (the whole program's last so
     far, after the pass prev) as turn_counts continues them, and whether its first pass jumped."""
     a_end, b_end = float(end_row[1]), float(end_row[3])
@@ -138,7 +144,7 @@ def _joined(end_row: np.ndarray, values: np.ndarray, prev: FiberPass, first: Fib
     out = values.copy()
     out[:, 1] -= math.degrees(offset)
     out[:, 3] += 360.0 * float(np.rint((b_end - float(values[0, 3])) / 360.0))
-    return out, None, jumped
+    return out, jumped
 
 
 def _shifted(segments: tuple, rows: int, added: int) -> list[tuple[Segment, ...]]:

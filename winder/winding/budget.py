@@ -29,8 +29,8 @@ from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REF
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
 
-__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "PROGRAM_CHUNK_POINTS", "MAX_LAYERS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
-           "MAX_TOTAL_POINTS", "check_budget", "job_budget"]
+__all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_LAYERS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
+           "MAX_TOTAL_POINTS", "PROGRAM_CHUNK_POINTS", "check_budget", "job_budget"]
 
 MAX_CIRCUITS = 20_000  # per helical layer: a 1 m vessel at 10 deg with 1 mm bands needs 3,100
 MAX_PASSES = 10_000  # per hoop layer
@@ -268,8 +268,8 @@ def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
     least = math.ceil(MIN_SEGMENTS_PER_ROUND * BENT_ROUNDS_SHARE * rounds) - 1
     if n < least:
         raise _refuse(job.source, "winding.points",
-                      f"must be at least {least} for a pass of about {rounds:.4g} rounds ({region[1] - region[0]:.6g} mm "
-                      f"of axis at {cfg.angle_deg:g} deg): with fewer, a segment spans over a third of a turn and "
+                      f"must be at least {least} for a pass of about {rounds:.4g} rounds "
+                      f"({region[1] - region[0]:.6g} mm of axis at {cfg.angle_deg:g} deg): with fewer, a segment spans over a third of a turn and "
                       f"cuts across the mandrel (an accurate length wants {POINTS_PER_ROUND} per round: "
                       f"{math.ceil(POINTS_PER_ROUND * rounds)}), got {n}")
 
