@@ -131,12 +131,12 @@ def motion_program(job, plan):
     summary, the report), or the ExportError that kept it from being built (the G-code raises it, the
     summary says why), or None without a machine."""
     from winder.errors import ExportError  # noqa: PLC0415
-    from winder.machine.program import build_program  # noqa: PLC0415
+    from winder.machine.chunks import build_program_in_groups  # noqa: PLC0415 - a few layers at a time
 
     if getattr(job, "machine", None) is None:
         return None
     try:
-        return build_program(plan, job.machine)
+        return build_program_in_groups(plan, job.machine)
     except ExportError as exc:
         return exc
 

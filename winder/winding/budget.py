@@ -30,7 +30,7 @@ from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
 
 __all__ = ["Budget", "LayerBudget", "MAX_CIRCUITS", "MAX_LAYERS", "MAX_MEMORY_BYTES", "MAX_PASSES", "MAX_PASS_POINTS", "MAX_PASS_TURNS",
-           "MAX_TOTAL_POINTS", "check_budget", "job_budget"]
+           "MAX_TOTAL_POINTS", "PROGRAM_CHUNK_POINTS", "check_budget", "job_budget"]
 
 MAX_CIRCUITS = 20_000  # per helical layer: a 1 m vessel at 10 deg with 1 mm bands needs 3,100
 MAX_PASSES = 10_000  # per hoop layer
@@ -41,17 +41,26 @@ MAX_PASS_TURNS = 500
 MAX_PASS_POINTS = 1_000_000  # points of one pass as planned (a hoop of 13,900 turns)
 MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 GB to plan and write
 # Peak memory = the interpreter with numpy and scipy + bytes per planned point + the largest solve.
-# Measured (ru_maxrss, bench/vessel_series.py and the issue 29 jobs): a vessel's points cost about
-# 3 kB each at the peak (the machine stage's dense eye paths around the domes' turnarounds, the
-# outputs' text), an open mandrel's about 450 B; the Newton solve of a pass about 2.5 kB per point.
+# Measured (ru_maxrss, bench/vessel_series.py and the issue 29 jobs): an open mandrel's points cost
+# about 450 B each at the peak; the Newton solve of a pass about 2.5 kB per point. A vessel's
+# (docs/math/13-work-estimates.md): VESSEL_BYTES_PER_POINT per planned point for what the job keeps
+# and writes, and PROGRAM_BATCH_BYTES per point of the largest group of layers the machine stage
+# takes in one batch (winder.machine.chunks: PROGRAM_CHUNK_POINTS; the dense eye paths around the
+# domes' turnarounds), over VESSEL_BASE_BYTES. Fitted on the 10- and 40-layer vessels of
+# tests/app/test_hostile_budget.py and parts/large_vessel.yaml: 248 / 400 / 675 MB estimated, 232 /
+# 386 / 683 MB measured.
 BASE_BYTES = 70_000_000
 BYTES_PER_POINT = 450
-VESSEL_BYTES_PER_POINT = 3_000
+VESSEL_BASE_BYTES = 130_000_000  # the interpreter, numpy, scipy and their BLAS buffers
+VESSEL_BYTES_PER_POINT = 1_700
+PROGRAM_BATCH_BYTES = 4_000
+PROGRAM_CHUNK_POINTS = 16_000  # planned points of the layers the machine stage takes in one batch
 MAX_LAYERS = 1_000  # layers of one job: real tanks have 10 to 40
 SOLVER_BYTES_PER_POINT = 2_500
 MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
 START_SAMPLES = 257  # start fractions of a turn sampled for a pass's widest angle span
+BENT_ROUNDS_SHARE = 0.8  # of a bent tube's estimated rounds, what `check` holds the points to
 
 
 @dataclasses.dataclass(frozen=True)
@@ -225,6 +234,7 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
             for heading, s_end in ((cfg.angle_deg, s_b), (cfg.angle_deg + 180.0, s_a)):
                 th = reach_theta(surface, s_ref, np.array([0.0]), heading, s_end)
                 if th is None:
+                    _check_bent_points(job, surface, cfg, region)
                     return
                 ends.append(th)
         except SolverError as exc:  # the geodesic turns around on a narrowing mandrel
@@ -240,6 +250,28 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
         check_points(n, rounds, max(REFINE_MAX_POINTS, n))
     except ConfigError as exc:
         raise _refuse(job.source, "winding.points", exc.message) from exc
+
+
+def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, region: tuple[float, float]) -> None:
+    """Too few points for a pass on a bent tube of circular section (no closed form: the planner
+    traces the geodesic for minutes before its solver refuses n): the rounds estimated as on the
+    straightened tube, the integral of tan(alpha) / perimeter along the axis (docs/math/13-work-estimates.md), refused
+    where even BENT_ROUNDS_SHARE of them would be refused (the bend moves the rounds a little)."""
+    from winder.paths.resolution import MIN_SEGMENTS_PER_ROUND, POINTS_PER_ROUND  # noqa: PLC0415
+
+    if not surface.section.is_circle:
+        return
+    n = job.winding.points or DEFAULT_POINTS
+    t = np.linspace(*region, REGION_STATIONS)
+    per = np.asarray(surface.perimeter(surface.s_of_t(t)), dtype=float)
+    rounds = math.tan(math.radians(cfg.angle_deg)) * float(np.mean(1.0 / per)) * (region[1] - region[0])
+    least = math.ceil(MIN_SEGMENTS_PER_ROUND * BENT_ROUNDS_SHARE * rounds) - 1
+    if n < least:
+        raise _refuse(job.source, "winding.points",
+                      f"must be at least {least} for a pass of about {rounds:.4g} rounds "
+                      f"({region[1] - region[0]:.6g} mm of axis at {cfg.angle_deg:g} deg): with fewer, a segment spans over a third of a turn and "
+                      f"cuts across the mandrel (an accurate length wants {POINTS_PER_ROUND} per round: "
+                      f"{math.ceil(POINTS_PER_ROUND * rounds)}), got {n}")
 
 
 def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> LayerBudget:
@@ -311,8 +343,28 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                           f"pass ({floor:.2g} mm for the {t_b - t_a:.6g} mm wound), got {w.tolerance:g}")
     points = sum(layer.points for layer in layers)
     solve = max((layer.solve_points for layer in layers), default=0)
-    per_point = VESSEL_BYTES_PER_POINT if vessel else BYTES_PER_POINT
-    return Budget(tuple(layers), points, BASE_BYTES + points * per_point + solve * SOLVER_BYTES_PER_POINT)
+    if not vessel:
+        return Budget(tuple(layers), points, BASE_BYTES + points * BYTES_PER_POINT + solve * SOLVER_BYTES_PER_POINT)
+    batch = _largest_batch(job, [layer.points for layer in layers])
+    return Budget(tuple(layers), points, VESSEL_BASE_BYTES + points * VESSEL_BYTES_PER_POINT
+                  + batch * PROGRAM_BATCH_BYTES + solve * SOLVER_BYTES_PER_POINT)
+
+
+def _largest_batch(job: JobConfig, points: list[int]) -> int:
+    """Planned points of the largest group of layers the machine stage takes in one batch
+    (winder.machine.chunks.layer_groups: consecutive layers up to PROGRAM_CHUNK_POINTS, a larger layer
+    alone); every layer at once where it takes the plan whole (a robot, rotation or yaw limits)."""
+    machine = job.machine
+    if machine is not None and (machine.robot or machine.limits.rotation is not None
+                                or machine.limits.yaw is not None):
+        return sum(points)
+    largest = count = 0
+    for n in points:
+        if count and count + n > PROGRAM_CHUNK_POINTS:
+            count = 0
+        count += n
+        largest = max(largest, count)
+    return largest
 
 
 def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:

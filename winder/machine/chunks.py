@@ -1,0 +1,174 @@
+"""The motion program of a large plan built a few layers at a time (winder.machine.program), so that
+the machine stage's peak memory follows the program it writes, not the plan's densified points.
+
+build_program takes every pass of a plan in one batch: the eye of every planned point, the densify
+check's midpoints, the dense points around the domes' turnarounds (up to 64 per planned interval),
+the point reduction and the clearance of every move, all held at once: about 7 kB per planned point
+on a vessel, where the program keeps a few rows per pass. Here the layers are taken in groups of
+about CHUNK_POINTS planned points; each group's program is built alone, its dense arrays freed
+before the next, and the groups' rows are joined as build_program joins its passes:
+
+- A (rotation) and B (yaw) continue over the program. A group's own program starts at its first
+  pass's planned angle; build_program's turn count (winder.machine.axis_batch.turn_counts) shifts a
+  pass by whole turns only, and by the same shift every pass after it that continues, so the
+  group's A differs from the whole program's by whole turns S (found from the last written row of
+  the groups before, as turn_counts finds it from the last pass), and B likewise by 360 deg.
+- A group whose first pass starts away from where the last group ended gets build_program's
+  approach rows (winder.machine.program.approach); their moves are checked for clearance here.
+- The moves' times are those of the joined rows (winder.machine.dynamics.move_times).
+
+A plan of one group, a robot's (no turn count; its joins and cell are the program's), a machine
+with rotation or yaw limits (checked on the joined values by build_program alone) or a plan whose
+groups wind in another sense than the whole is built by build_program in one batch.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from winder.config.machine import MachineConfig
+from winder.machine.axis_batch import TURN_BACK_DEG
+from winder.machine.batch import pass_where
+from winder.machine.collision import check_collision
+from winder.machine.dynamics import move_times
+from winder.machine.envelope import eye_envelope
+from winder.machine.program import MotionProgram, Segment, approach, as_written, build_program, is_robot
+from winder.winding.budget import PROGRAM_CHUNK_POINTS
+from winder.winding.results import FiberPass, WindingPlan
+
+# Planned points of the layers built in one batch (about 4 kB each at the peak on a vessel); the work
+# budget's memory estimate counts the same groups.
+CHUNK_POINTS = PROGRAM_CHUNK_POINTS
+_CONTINUITY_TOL = 1e-9  # rad, as axis_batch: two passes whose angles meet this closely are continuous
+_POINT_TOL = 1e-6  # mm, as axis_batch: a pass starting this close to where the last one ended continues it
+_TWO_PI = 2.0 * math.pi
+
+
+def layer_groups(plan: WindingPlan, most: int = CHUNK_POINTS) -> list[tuple]:
+    """The plan's layers in order, in groups of at most `most` planned points (a larger layer alone)."""
+    groups: list[list] = [[]]
+    count = 0
+    for layer in plan.layers:
+        n = sum(len(fp.t) for fp in layer.passes)
+        if groups[-1] and count + n > most:
+            groups.append([])
+            count = 0
+        groups[-1].append(layer)
+        count += n
+    return [tuple(g) for g in groups if g]
+
+
+def _sense_of(layers) -> float:
+    """The winding sense build_program gives B for these layers: that of their whole turn."""
+    turn = sum(float(fp.theta[-1] - fp.theta[0]) for layer in layers for fp in layer.passes if len(fp.theta))
+    return -1.0 if turn < 0.0 else 1.0
+
+
+def _nonempty(layers) -> list[FiberPass]:
+    return [fp for layer in layers for fp in layer.passes if len(fp.points)]
+
+
+def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int = CHUNK_POINTS) -> MotionProgram:
+    """build_program(plan, machine), built a group of layers at a time (module docstring)."""
+    groups = layer_groups(plan, most)
+    whole = _sense_of(plan.layers)
+    limited = machine.limits.rotation is not None or machine.limits.yaw is not None
+    if len(groups) <= 1 or limited or is_robot(plan, machine) or any(_sense_of(g) != whole for g in groups):
+        return build_program(plan, machine)
+    env = eye_envelope(plan.outer_surface, machine)
+    parts: list[tuple] = []  # per group: values, index, fiber, segments (rows numbered in the whole)
+    rows, sense = 0, 1.0
+    last: FiberPass | None = None  # the last non-empty pass of the groups so far, and its last row
+    end_row: np.ndarray | None = None
+    done = 0  # layers of the groups before
+    for group in groups:
+        # The layers before stay, without passes: a layer's number is its place in the plan.
+        earlier = tuple(dataclasses.replace(layer, passes=()) for layer in plan.layers[:done])
+        own = build_program(dataclasses.replace(plan, layers=earlier + group), machine)
+        values, index, fiber, own_segments = own.values, own.index, own.fiber, own.segments[done:]
+        done += len(group)
+        del own  # its times are recomputed on the joined rows; its dense arrays are gone already
+        passes = _nonempty(group)
+        added = 0
+        if end_row is not None and last is not None and passes and values.shape[0]:
+            values, jumped = _joined(end_row, values, last, passes[0], sense)
+            lift = approach(end_row, values[0], env.max_radius) if jumped else None
+            if lift is not None:
+                added = lift.shape[0]
+                values = np.vstack([lift, values])
+                index = np.concatenate([np.full(added, -1.0), index])
+                fiber = np.concatenate([np.zeros(added), fiber])
+                where = pass_where(plan, passes[0])
+                window = as_written(np.vstack([end_row[None, :], values[:added + 1]]), False)  # as written
+                check_collision(window, env, machine, lambda _row: where)
+        parts.append((values, index, fiber, _shifted(own_segments, rows, added)))
+        rows += values.shape[0]
+        if values.shape[0]:
+            end_row = values[-1]
+        if passes:
+            last = passes[-1]
+            sense = _sense_after(passes, sense)
+    values = np.vstack([p[0] for p in parts])
+    fiber = np.concatenate([p[2] for p in parts])
+    times = move_times(values, fiber, machine, False)
+    return MotionProgram(
+        name=plan.name, source=plan.source, robot=False, machine=machine, layers=tuple(plan.layers),
+        total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,
+        envelope_clearance=env.clearance, values=values, feed=times.feed,
+        index=np.concatenate([p[1] for p in parts]),
+        segments=tuple(s for p in parts for s in p[3]), fiber=fiber, times=times,
+        mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(plan.outer_surface.axial_length))
+
+
+def _joined(end_row: np.ndarray, values: np.ndarray, prev: FiberPass, first: FiberPass,
+            sense: float) -> tuple[np.ndarray, bool]:
+    """A group's rows (m, 4) with A and B continued from the row end_row (the whole program's last so
+    far, after the pass prev) as turn_counts continues them, and whether its first pass jumped."""
+    a_end, b_end = float(end_row[1]), float(end_row[3])
+    theta_end = float(prev.theta[-1])
+    # The whole program's angle offset at prev: whole turns; A = -(theta + offset + lead) in degrees,
+    # the lead within half a turn.
+    offset = _TWO_PI * float(np.rint((-math.radians(a_end) - theta_end) / _TWO_PI))
+    end = theta_end + offset
+    t0 = float(first.theta[0])
+    offset += _TWO_PI * float(np.rint((end - (t0 + offset)) / _TWO_PI))
+    gap = t0 + offset - end
+    jumped = abs(gap) > _CONTINUITY_TOL or float(np.linalg.norm(first.points[0] - prev.points[-1])) > _POINT_TOL
+    if abs(gap) > _CONTINUITY_TOL and gap * sense < 0.0:
+        offset += _TWO_PI * sense
+    if jumped and (float(values[0, 1]) - math.degrees(offset) - a_end) * sense > TURN_BACK_DEG:
+        offset += _TWO_PI * sense  # the eye would turn back on the way to this pass: one more turn
+    out = values.copy()
+    out[:, 1] -= math.degrees(offset)
+    out[:, 3] += 360.0 * float(np.rint((b_end - float(values[0, 3])) / 360.0))
+    return out, jumped
+
+
+def _shifted(segments: tuple, rows: int, added: int) -> list[tuple[Segment, ...]]:
+    """A group's segments with their rows numbered in the whole program: `added` approach rows in
+    front of its first non-empty pass, the group's rows from row `rows` on."""
+    out = []
+    for segs in segments:
+        layer = []
+        for seg in segs:
+            if seg.stop == 0:  # empty, before any row of the group
+                layer.append(dataclasses.replace(seg, start=rows, stop=rows))
+            elif seg.start == 0:  # the first non-empty pass: the approach rows are its own
+                layer.append(dataclasses.replace(seg, start=rows, stop=rows + added + seg.stop,
+                                                 approach=seg.approach + added))
+            else:
+                layer.append(dataclasses.replace(seg, start=rows + added + seg.start, stop=rows + added + seg.stop))
+        out.append(tuple(layer))
+    return out
+
+
+def _sense_after(passes: list[FiberPass], sense: float) -> float:
+    """The winding sense turn_counts holds after these passes: that of the last one that turns."""
+    for fp in reversed(passes):
+        turn = float(fp.theta[-1]) - float(fp.theta[0])
+        if turn != 0.0 and not math.isnan(turn):
+            return math.copysign(1.0, turn)
+    return sense
