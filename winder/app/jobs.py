@@ -114,7 +114,8 @@ def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
                    progress: Progress | None = None, program=None) -> dict[str, bytes]:
     """Every requested output of a planned job, in memory: file name -> bytes (writing order);
     program: the job's motion program when the caller has built it already."""
-    chosen = registry.chosen(formats, always=summary)
+    machine = getattr(job, "machine", None)
+    chosen = registry.for_machine(registry.chosen(formats, always=summary), bool(machine and machine.robot))
     if program is None and any(f.program for f in chosen):
         program = motion_program(job, plan)
     rendered = {}
