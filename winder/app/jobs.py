@@ -104,10 +104,11 @@ def exit_status(codes: Iterable[int]) -> int:
     return 0
 
 
-def output_names(name: str, formats: Iterable[str], summary: bool = True) -> list[str]:
+def output_names(name: str, formats: Iterable[str], summary: bool = True, robot: bool = False) -> list[str]:
     """File names of a job's outputs, in writing order: the requested formats, then the summary
-    (unless summary is False: `winder report` writes the page alone)."""
-    return [name + f.suffix for f in registry.chosen(formats, always=summary)]
+    (unless summary is False: `winder report` writes the page alone); robot: the machine's program is
+    a robot's (`<name>.poses` for `<name>.gcode`)."""
+    return [name + f.suffix for f in registry.for_machine(registry.chosen(formats, always=summary), robot)]
 
 
 def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
