@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicHermiteSpline
 
 QUAD_TOL = 1e-12  # solve_ivp's rtol = atol for Theta(v)
-GRID = 4001  # even reads of v over the dome before the golden-section refinement
+GRID = 1201  # even reads of v over the dome before the golden-section refinement
 GOLDEN_STEPS = 40  # golden-section steps between a grid minimum's neighbours (0.618^40 of 2 steps: 1e-11)
 CANDIDATES = 4  # grid minima refined per eye
 CANDIDATE_MM = 1.0  # a grid minimum this close to the grid's least is refined too (a grid step moves
