@@ -222,9 +222,9 @@ def test_a_whole_program_of_another_config_is_not_only_called_cut_short():
     """The elbow sample's program (band 10: 18 circuits) read against configs/elbow.yaml (band 8: 23
     circuits, every pass of the program among them): complete, ended by M2, yet short of that plan."""
     job = load_config(SAMPLES.parent / "configs" / "elbow.yaml")
-    program = (SAMPLES / "reference" / "elbow" / "elbow.gcode").read_text()
+    program = (SAMPLES / "reference" / "elbow" / "elbow.poses").read_text()
     with pytest.raises(ConfigError) as err:
-        simulate(job.machine, plan_job(job), program, "elbow.gcode")
+        simulate(job.machine, plan_job(job), program, "elbow.poses")
     text = str(err.value)
     assert "the program stops before the end of the plan of" in text and "configs/elbow.yaml" in text
     assert "(layer 1 circuit 23 pass 92): cut short, or written for another config?" in text

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from every_job import EVERY, IDS, program_of, text_of
+from every_job import EVERY, IDS, job_of, planned, program_of, text_of
 from winder.machine.limits import AXIS_DECIMALS
 
 RS274 = shutil.which("rs274")
@@ -113,3 +113,23 @@ def test_rs274_reads_the_program(path, dialect, tmp_path):
     close = np.abs(seconds[check] - planned[check]) <= TIME_TOL * planned[check] + 1e-4
     assert close.all(), (np.flatnonzero(~close)[:5], seconds[check][~close][:5], planned[check][~close][:5])
     assert np.sum(seconds[check]) == pytest.approx(program.times.total_s, rel=TOTAL_TOL, abs=1e-3)
+
+
+@pytest.mark.parametrize("path", EVERY, ids=IDS)
+def test_rs274_reads_every_gcode_file_run_writes(path, tmp_path):
+    """The program file `run` writes by default (its gcode format, rendered as run renders it): a
+    `.gcode` one is read by rs274; a robot's eye poses (POSE lines, no G-code) go to `<name>.poses`."""
+    from winder.app.jobs import ALL_FORMATS, render_outputs  # noqa: PLC0415
+
+    assert "gcode" in ALL_FORMATS
+    job, program = job_of(path), program_of(path)
+    names = render_outputs(job, planned(path), ("gcode",), summary=False, program=program)
+    programs = {name: data for name, data in names.items() if name.endswith((".gcode", ".poses"))}
+    assert set(programs) == {job.name + (".poses" if program.robot else ".gcode")}
+    for name, data in programs.items():
+        text = data.decode("utf-8")
+        if name.endswith(".poses"):
+            assert re.search(r"^POSE ", text, re.M)
+            continue
+        ends, _ = canonical(tmp_path / f"{path.stem}.ngc", text)
+        assert ends.shape[0] > 0

@@ -130,6 +130,14 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
                 np.concatenate([[thetas[i]], guide_th[inside], [thetas[i + 1]]]))
         t_a, t_b = (float(v) for v in prof.t_of_s(np.array([knots[i], knots[i + 1]])))
         s, th, d, ln, _ = solve_pass(ctx, (t_a, thetas[i]), (t_b, thetas[i + 1]), warm, n_i)
+        if i == 1 and d_out:
+            # The first joint's direction from the cylinder's piece (a helix: a line in (t, theta),
+            # which its spline holds exactly; the second joint's already is), not from a dome's spline
+            # end: on a 2.5:1 ellipsoid that end is 3e-5 rad off, past the exact eye's landing test
+            # (winder.machine.exact), and the eye there fell back to the smooth path's direction
+            # (0.025 mm off the fiber's tangent).
+            d_out[-1] = d_out[-1].copy()
+            d_out[-1][-1] = d[0]
         s_out.append(s if not s_out else s[1:])
         th_out.append(th if not th_out else th[1:])
         d_out.append(d if not d_out else d[1:])
