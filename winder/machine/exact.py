@@ -22,14 +22,17 @@ from __future__ import annotations
 import numpy as np
 
 from winder.geometry.measure import row_norms, tangent_coordinates
-from winder.machine.smooth import GAUSS_NODES, SmoothPaths
+from winder.machine.smooth import SmoothPaths
 from winder.paths.ode import geodesic_rhs
 
 STEPS = 16  # Runge-Kutta steps over an interval between planned points
 # The arc length of an interval's points: its speed at ARC_NODES Chebyshev nodes, the polynomial through
 # them integrated (the smooth path's speed is smooth within an interval: error far below a nanometre),
-# where that takes fewer evaluations than the smooth path's own per-point quadrature (arc_at).
+# instead of the smooth path's own quadrature per point (arc_at: 5 nodes a point, up to 64 points an
+# interval).
 ARC_NODES = 8
+_ARC_X = 0.5 - 0.5 * np.cos(np.pi * (np.arange(ARC_NODES) + 0.5) / ARC_NODES)  # on [0, 1]
+_ARC_FIT = np.linalg.inv(np.vander(_ARC_X, ARC_NODES, increasing=True))  # speeds -> polynomial coefficients
 ARRIVE_TOL = 1e-3  # mm: the ODE over an interval lands this close to the next planned point
 ARRIVE_TURN = 1e-5  # rad: and this close to its planned direction: a geodesic (a path held by friction
 # may land within ARRIVE_TOL over a short interval, its direction far off: on a grown dome 0.145 mm at the eye)
@@ -60,16 +63,14 @@ def _run(surface, y0: np.ndarray, length: np.ndarray) -> np.ndarray:
 
 
 def _arc_within(paths: SmoothPaths, intervals: np.ndarray, own: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Arc length (m,) of the smooth path from the first node of interval intervals[own] to u (m,)."""
+    """Arc length (m,) of the smooth path from the first node of interval intervals[own] to u (m,): each
+    interval's on its own (a batch of passes gets each pass's figures to round-off)."""
     used, back = np.unique(own, return_inverse=True)
-    if u.size * GAUSS_NODES <= used.size * ARC_NODES:
-        return paths.arc_at(u) - paths.arc[intervals[own]]
-    x = 0.5 - 0.5 * np.cos(np.pi * (np.arange(ARC_NODES) + 0.5) / ARC_NODES)
-    speed = paths.speed((intervals[used][:, None] + x).ravel()).reshape(used.size, ARC_NODES)
-    coef = np.linalg.solve(np.vander(x, ARC_NODES, increasing=True), speed.T)  # (ARC_NODES, intervals)
+    speed = paths.speed((intervals[used][:, None] + _ARC_X).ravel()).reshape(used.size, ARC_NODES)
     h = u - intervals[own]
     j = np.arange(1, ARC_NODES + 1)
-    return np.einsum("mj,jm->m", h[:, None] ** j / j, coef[:, back])
+    weights = (h[:, None] ** j / j) @ _ARC_FIT  # the integral's weights of the nodes' speeds, (m, nodes)
+    return np.einsum("mj,mj->m", weights, speed[back])
 
 
 def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
