@@ -1,7 +1,8 @@
 """`python -m bench.parts`: the realistic parts of parts/ as whole jobs (issue 29), one table.
 
 Each part runs `winder run` in its own process (every default output written) and reports its exit
-status, wall time and peak resident memory (ru_maxrss), with the summary's fiber length, the least
+status, wall time, CPU time (user + system: less sensitive to other load on the machine than the
+wall time) and peak resident memory (ru_maxrss), with the summary's fiber length, the least
 covered fraction of its layers, the largest lift-off over a concave stretch and the largest slip
 |k_g / k_n| any fiber needs (against the friction the config allows). `folded_spline.yaml` is a
 config `check` must refuse: its row is the refusal's time. Writes bench/results/parts.md (or -o)
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import subprocess
 import sys
 import tempfile
@@ -28,9 +30,10 @@ import json, resource, sys, time
 t0 = time.perf_counter()
 from winder.app.jobs import run_job
 report = run_job(sys.argv[1], sys.argv[2])
+usage = resource.getrusage(resource.RUSAGE_SELF)
 print(json.dumps({"ok": report.ok, "exit": report.exit_code, "message": report.message,
-                  "seconds": time.perf_counter() - t0,
-                  "peak_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}))
+                  "seconds": time.perf_counter() - t0, "cpu_seconds": usage.ru_utime + usage.ru_stime,
+                  "peak_bytes": usage.ru_maxrss * 1024}))
 """
 
 
@@ -58,15 +61,16 @@ def run_part(cfg: Path, out: Path) -> dict:
 
 
 def table(rows: list[dict]) -> str:
-    lines = ["| part | exit | layers | time (s) | peak memory (MB) | fiber (m) | least coverage | "
-             "max lift-off (mm) | max slip |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = ["| part | exit | layers | time (s) | CPU (s) | peak memory (MB) | fiber (m) | least coverage | "
+             "max lift-off (mm) | max slip |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         if r.get("check"):
-            lines.append(f"| {r['name']} (check) | {r['exit']} | | {r['seconds']:.2f} | | | | | |")
+            lines.append(f"| {r['name']} (check) | {r['exit']} | | {r['seconds']:.2f} | | | | | | |")
             continue
-        figures = (f"{r['layers']} | {r['seconds']:.1f} | {r['peak_bytes'] / 1e6:.0f} | {r['fiber_m']:.1f} | "
-                   f"{r['coverage']:.4f} | {r['lift_off']:.3f} | {r['slip']:.3f}") if "layers" in r else \
-                  f" | {r['seconds']:.1f} | {r['peak_bytes'] / 1e6:.0f} | | | |"
+        figures = (f"{r['layers']} | {r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['peak_bytes'] / 1e6:.0f} | "
+                   f"{r['fiber_m']:.1f} | {r['coverage']:.4f} | {r['lift_off']:.3f} | {r['slip']:.3f}") \
+            if "layers" in r else \
+            f" | {r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['peak_bytes'] / 1e6:.0f} | | | |"
         lines.append(f"| {r['name']} | {r['exit']} | {figures} |")
     failed = [r for r in rows if not r.get("check") and not r["ok"]]
     for r in failed:
@@ -81,11 +85,13 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     configs = [PARTS / f"{n}.yaml" for n in args.names] or sorted(PARTS.glob("*.yaml"))
     rows = []
+    start_load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
         for cfg in configs:
             rows.append(run_part(cfg, Path(tmp) / cfg.stem))
             print(f"{cfg.stem}: exit {rows[-1]['exit']}, {rows[-1]['seconds']:.1f} s", file=sys.stderr)
-    text = "# The realistic parts as whole jobs\n\n" + (__doc__ or "").split("\n\n")[1] + "\n\n" + table(rows)
+    load = f"Load average (1 min) at the start {start_load:.2f}, at the end {os.getloadavg()[0]:.2f}.\n\n"
+    text = "# The realistic parts as whole jobs\n\n" + (__doc__ or "").split("\n\n")[1] + "\n\n" + load + table(rows)
     Path(args.output).write_text(text, encoding="utf-8")
     print(text)
     return 0 if all(r.get("check") and r["exit"] == 2 or r.get("ok") for r in rows) else 1

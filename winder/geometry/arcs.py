@@ -113,6 +113,20 @@ class Path:
                                              e2b[0] * col[3], e3b[0] * col[3]))
 
     def evaluate(self, z: np.ndarray) -> CurveEval:
+        x, tan, nrm, kappa, e2u, e2bb, e3u, e3bb = self._pieces_at(z)
+        return CurveEval(x.T, tan.T, (kappa * nrm).T, (-(kappa * kappa) * tan).T, (e2u * nrm + e2bb).T,
+                         (e3u * nrm + e3bb).T)
+
+    def centerline(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """x, x' and x'' at stations z (m,): evaluate's first three fields (each (m, 3), new arrays)
+        without the frame, for closest-point searches that do not need it."""
+        x, tan, nrm, kappa = self._pieces_at(z, frame=False)[:4]
+        return x.T, tan.T, (kappa * nrm).T
+
+    def _pieces_at(self, z: np.ndarray, frame: bool = True) -> tuple:
+        """Point, unit tangent and in-plane normal (each (3, m)), the curvature, and the frame's
+        coefficients (e2.u, (e2.b) b, e3.u, (e3.b) b; None without frame) of the pieces holding the
+        stations z (m,)."""
         z = np.asarray(z, dtype=float)
         if len(self.pieces) == 1:  # no per-point gather
             origin, t0, u, b, kappa, e2u, e3u, e2bb, e3bb = self._single
@@ -122,7 +136,7 @@ class Path:
             cols = self._columns[:, k]
             origin, t0, u, b = cols[0:3], cols[3:6], cols[6:9], cols[9:12]
             kappa, inv, e2u, e2b, e3u, e3b = self._scalars[:, k]
-            e2bb, e3bb = e2b * b, e3b * b
+            e2bb, e3bb = (e2b * b, e3b * b) if frame else (None, None)
             zl = z - self.starts[k]
         # Component-major (3, m): the arithmetic runs along m. sin(phi) / kappa and
         # (1 - cos(phi)) / kappa = 2 sin(phi / 2)^2 / kappa tend to z and 0 on lines (kappa = 0).
@@ -137,8 +151,7 @@ class Path:
         x = origin + along * t0 + across * u
         tan = c * t0 + s * u
         nrm = c * u - s * t0
-        return CurveEval(x.T, tan.T, (kappa * nrm).T, (-(kappa * kappa) * tan).T, (e2u * nrm + e2bb).T,
-                         (e3u * nrm + e3bb).T)
+        return x, tan, nrm, kappa, e2u, e2bb, e3u, e3bb
 
     def max_curvature(self) -> float:
         return max(p.max_curvature() for p in self.pieces)

@@ -35,6 +35,12 @@ class SplineCurve:
         e2, e3 = orthonormalize(self.e2s(z), d1 / np.linalg.norm(d1, axis=1)[:, None])
         return CurveEval(self.xs(z), d1, self.xs(z, 2), self.xs(z, 3), e2, e3)
 
+    def centerline(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """x, x' and x'' at stations z (m,): evaluate's first three fields (each (m, 3), new arrays)
+        without the frame, for closest-point searches that do not need it."""
+        z = np.asarray(z, dtype=float)
+        return self.xs(z), self.xs(z, 1), self.xs(z, 2)
+
     def max_curvature(self) -> float:
         return self.kappa_max
 

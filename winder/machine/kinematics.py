@@ -66,7 +66,13 @@ from winder.machine.leads import MAX_LEAD_FACTOR, first_crossing, lead_straight,
 from winder.geometry.measure import row_norms
 
 CURVE_STEP = 0.5  # mm, guide-curve samples for the closest-point search (robot mode)
-PROJECT_NEWTON = 4  # Newton steps refining the closest guide point from the nearest sample
+# The nearest-sample search uses every TREE_EVERY-th sample: a k-d tree's nearest-neighbour query
+# visits the samples of the curve's stretch within about the point's distance, so its cost grows as
+# distance / spacing (an eye 100 to 2000 mm out on a 0.5 mm grid: most of a robot export's time);
+# Newton closes the up to TREE_EVERY * CURVE_STEP / 2 mm left in a step or two more.
+TREE_EVERY = 4
+PROJECT_NEWTON = 5  # Newton steps refining the closest guide point from the nearest tree sample
+PROJECT_TOL = 1e-11  # mm: Newton stops when no station moves by more (the answer moves by ~ its square)
 # ... and from a neighbour's station: quadratic from within ~1 mm, where the distance is stationary in
 # the station, so a remaining error of d moves it by about d^2 kappa
 WARM_NEWTON = 2
@@ -227,13 +233,20 @@ class Guide:
         self.curve = curve
         from scipy.spatial import cKDTree  # noqa: PLC0415 - scipy.spatial is slow to import
 
-        self.tree = cKDTree(self.x)
+        every = np.unique(np.r_[np.arange(0, self.z.size, TREE_EVERY), self.z.size - 1])
+        self.tree_z = self.z[every]
+        self.tree = cKDTree(self.x[every])
 
     def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Point, unit tangent and curvature vector x'' of the extended guide at stations z."""
         zi = np.clip(z, 0.0, self.T)
-        ev = self.curve.evaluate(zi)
-        x, tan, kap = ev.x.copy(), unit_rows(ev.d1), ev.d2.copy()
+        centerline = getattr(self.curve, "centerline", None)  # without the frame, where a curve has it
+        if centerline is not None:
+            x, d1, kap = centerline(zi)
+            tan = unit_rows(d1)
+        else:
+            ev = self.curve.evaluate(zi)
+            x, tan, kap = ev.x.copy(), unit_rows(ev.d1), ev.d2.copy()
         lo, hi = z < 0.0, z > self.T
         x[lo] = self.x0 + z[lo, None] * self.t0
         tan[lo] = self.t0
@@ -248,16 +261,26 @@ class Guide:
         millimetre or so of the answers (a point's neighbour's): WARM_NEWTON steps from there."""
         if start is None:
             _, k = self.tree.query(e)
-            z, steps = self.z[k], PROJECT_NEWTON
+            z, steps = self.tree_z[k], PROJECT_NEWTON
         else:
             z, steps = np.clip(start, self.z[0], self.z[-1]), WARM_NEWTON
-        for _ in range(steps):  # Newton on g(z) = (e - x(z)) . x'(z) = 0
-            x, tan, kap = self.evaluate(z)
-            rel = e - x
-            slope = 1.0 - np.einsum("ij,ij->i", rel, kap)  # -g'(z), > 0 outside the centre of curvature
-            step = np.einsum("ij,ij->i", rel, tan) / np.where(slope > 0.1, slope, 1.0)
-            z = np.clip(z + np.clip(step, -CURVE_STEP * 4, CURVE_STEP * 4), self.z[0], self.z[-1])
-        x, tan, kap = self.evaluate(z)
+        # Newton on g(z) = (e - x(z)) . x'(z) = 0, each point until its step is below PROJECT_TOL (its
+        # last evaluation then stands) or for `steps` steps (then evaluated once more where it ended)
+        x, tan, kap = np.empty_like(e), np.empty_like(e), np.empty_like(e)
+        z = np.array(z, dtype=float)
+        active = np.arange(z.size)
+        for it in range(steps + 1):
+            x[active], tan[active], kap[active] = self.evaluate(z[active])
+            if it == steps:
+                break
+            rel = e[active] - x[active]
+            slope = 1.0 - np.einsum("ij,ij->i", rel, kap[active])  # -g'(z), > 0 outside the centre of curvature
+            step = np.einsum("ij,ij->i", rel, tan[active]) / np.where(slope > 0.1, slope, 1.0)
+            moving = np.abs(step) > PROJECT_TOL
+            active, step = active[moving], np.clip(step[moving], -CURVE_STEP * 4, CURVE_STEP * 4)
+            if active.size == 0:
+                break
+            z[active] = np.clip(z[active] + step, self.z[0], self.z[-1])
         rel = e - x
         return (z, row_norms(rel), rel, tan, kap) if full else (z, row_norms(rel))
 

@@ -19,6 +19,7 @@ pattern closes with the cylinder angle and the turnaround radius both kept.
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import math
 from dataclasses import field
@@ -45,7 +46,11 @@ MERIDIAN_SAMPLES = 1201  # per dome: the quintic table's error is far below the 
 
 class DomeMeridian:
     """One dome's meridian as a quintic spline table of (r, z) in s: a leg evaluates it thousands of
-    times, and the table costs a tenth of the profile's own evaluation. s in [lo, hi] (clipped)."""
+    times, and the table costs a tenth of the profile's own evaluation. s in [lo, hi] (clipped).
+
+    The integrator asks for one station at a time, where a scipy spline call costs tens of
+    microseconds: each piece of the spline is kept as its Taylor coefficients about the piece's
+    middle (plain floats) and read by Horner's rule (the same polynomials, to round-off)."""
 
     def __init__(self, profile, lo: float, hi: float):
         from scipy.interpolate import make_interp_spline  # noqa: PLC0415
@@ -54,13 +59,34 @@ class DomeMeridian:
         pe = profile.evaluate(s)
         spline = make_interp_spline(s, np.column_stack([pe.r, pe.z]), k=5)
         self.lo, self.hi, self.length = lo, hi, profile.length
-        self._d = (spline, spline.derivative(1), spline.derivative(2))
+        breaks = np.unique(spline.t[5:-5])
+        mid = 0.5 * (breaks[:-1] + breaks[1:])
+        d = [spline(mid, j) for j in range(6)]  # (pieces, 2) each: r and z and their derivatives
+        r, z = [[d[j][:, c] for j in range(6)] for c in (0, 1)]
+        # per piece: r's Taylor coefficients c0..c5, then those of r' and r'' and of z' and z''
+        table = np.column_stack([
+            r[0], r[1], r[2] / 2, r[3] / 6, r[4] / 24, r[5] / 120,
+            r[1], r[2], r[3] / 2, r[4] / 6, r[5] / 24,
+            r[2], r[3], r[4] / 2, r[5] / 6,
+            z[1], z[2], z[3] / 2, z[4] / 6, z[5] / 24,
+            z[2], z[3], z[4] / 2, z[5] / 6])
+        self._inner = breaks[1:-1].tolist()  # a station's piece: bisect in these
+        self._mid = mid.tolist()
+        self._table = [tuple(row) for row in table.tolist()]
 
     def at(self, s: float) -> tuple[float, float, float, float, float]:
         """r, r', r'', z', z'' at station s."""
-        s = min(max(s, self.lo), self.hi)
-        (r, _), (r1, z1), (r2, z2) = (d(s) for d in self._d)
-        return float(r), float(r1), float(r2), float(z1), float(z2)
+        s = min(max(float(s), self.lo), self.hi)
+        i = bisect.bisect_right(self._inner, s)
+        h = s - self._mid[i]
+        (a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, c0, c1, c2, c3,
+         p0, p1, p2, p3, p4, q0, q1, q2, q3) = self._table[i]
+        r = a0 + h * (a1 + h * (a2 + h * (a3 + h * (a4 + h * a5))))
+        r1 = b0 + h * (b1 + h * (b2 + h * (b3 + h * b4)))
+        r2 = c0 + h * (c1 + h * (c2 + h * c3))
+        z1 = p0 + h * (p1 + h * (p2 + h * (p3 + h * p4)))
+        z2 = q0 + h * (q1 + h * (q2 + h * q3))
+        return r, r1, r2, z1, z2
 
 
 def dome_meridian(profile, end: bool) -> DomeMeridian:
