@@ -83,8 +83,8 @@ def refine(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, u: np.ndarray, plann
     fractional planned point index, planned (k,) each pass's planned points) and say where it needs more
     points: (least, worst). least : per pass None or (planned - 1,) int, the pieces each planned
     interval must be cut in at least (the given least raised where a move still cuts more than
-    share (mm; densify.DENSE_SHARE of the chord tolerance), 13.3), or None where no move does (or none can be cut finer). worst : (k,) each
-    pass's largest cut (mm)."""
+    share (mm; densify.DENSE_SHARE of the chord tolerance), 13.3), or None where no move does (or
+    none can be cut finer). worst : (k,) each pass's largest cut (mm)."""
     sizes = np.asarray(sizes, dtype=np.int64)
     cuts = move_cuts(x, z, sizes, env)
     moves = np.maximum(sizes - 1, 0)
