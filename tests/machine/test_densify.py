@@ -20,9 +20,9 @@ def test_batched_densify_is_pass_by_pass(monkeypatch):
     batched = program.build_program(plan, job.machine)
     calls = []
 
-    def one_by_one(*args):
+    def one_by_one(*args, **kwargs):
         calls.append(len(args))
-        return batch.all_dense(*args[:8])  # without axes_many: densify pass by pass
+        return batch.all_dense(*args[:8], **kwargs)  # without axes_many: densify pass by pass
 
     monkeypatch.setattr(program, "straight_passes", lambda *args: None)  # the steps, not the one gather
     monkeypatch.setattr(program, "all_dense", one_by_one)

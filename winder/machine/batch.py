@@ -90,12 +90,14 @@ def all_midpoints(plan: WindingPlan, smooth: dict, number: dict, env) -> dict:
 
 
 def all_dense(plan: WindingPlan, smooth: dict, number: dict, leads: dict, mids: dict, env, axes_of,
-              tol: float, axes_many=None) -> dict:
+              tol: float, axes_many=None, least: dict | None = None) -> dict:
     """id(pass) -> (points, directions, theta, u, leads) of every pass the chord tolerance makes
     densify (winder.machine.densify), theta at the plan's own turn count (the bow does not depend on
     it), the dense points' leads in one call. axes_of(fp) -> the pass's axes function for densify;
     axes_many: that of many passes at once (winder.machine.densify.densify_many), used for a layer
-    whose leads and midpoints were all found in their batches."""
+    whose leads and midpoints were all found in their batches. least: id(pass) -> the least pieces
+    per planned interval for the clearance (winder.machine.chords.refine), where it has some."""
+    least = least or {}
     out = {}
     for layer in plan.layers:
         passes = [fp for fp in layer.passes if len(fp.points) >= 2]
@@ -106,10 +108,11 @@ def all_dense(plan: WindingPlan, smooth: dict, number: dict, leads: dict, mids: 
             mid = [np.concatenate([mids[id(fp)][k] for fp in passes]) for k in range(3)]
             mid_lead = tuple(np.concatenate([mids[id(fp)][3][k] for fp in passes]) for k in (0, 1))
             found = densify_many(smooth[layer.index], [number[id(fp)] for fp in passes], passes, axes_many, tol,
-                                 base_lead, (*mid, mid_lead))
+                                 base_lead, (*mid, mid_lead), env, [least.get(id(fp)) for fp in passes])
         else:  # pass by pass: a failure names its pass
             found = [densify(smooth[layer.index], number[id(fp)], fp, np.asarray(fp.theta, dtype=float),
-                             axes_of(fp), tol, leads.get(id(fp)), mids.get(id(fp))) for fp in passes]
+                             axes_of(fp), tol, leads.get(id(fp)), mids.get(id(fp)), env, least.get(id(fp)))
+                     for fp in passes]
         out.update((id(fp), dense) for fp, dense in zip(passes, found) if dense is not None)
     if not out:
         return {}

@@ -20,6 +20,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from winder.machine.chords import cut_factors, move_cuts
 from winder.machine.exact import exact_points
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass
@@ -40,22 +41,26 @@ def dense_factor(bow: float, tol: float) -> int | None:
     return None if factor <= 1 else factor
 
 
-def interval_factors(bows: np.ndarray, tol: float) -> np.ndarray | None:
+def interval_factors(bows: np.ndarray, tol: float, floor: np.ndarray | None = None) -> np.ndarray | None:
     """(n - 1,) int: the dense points of each planned interval of a pass whose intervals bow `bows`
-    (n - 1,) off their chords, or None where the planned points suffice (module docstring)."""
+    (n - 1,) off their chords, at least floor (n - 1,) (the clearance's, clearance_floor), or None
+    where the planned points suffice (module docstring)."""
     bows = np.asarray(bows, dtype=float)
     share = DENSE_SHARE * tol
     factors = np.ones(bows.size, dtype=np.int64)
     big = np.isfinite(bows) & (bows > share)
     factors[big] = np.minimum(MAX_FACTOR, np.ceil(np.sqrt(bows[big] / share))).astype(np.int64)
-    if not np.any(factors > 1):
-        return None
-    # A midpoint can miss a corner of the eye's path inside its interval (the eye rounding a tube's end
-    # during a dwell, where the midpoint's eye still lies on the level part): each interval takes the
-    # largest factor of the NEIGHBOURS intervals either side.
-    padded = np.pad(factors, NEIGHBOURS, mode="edge")
-    width = factors.size
-    return np.max(np.stack([padded[k:k + width] for k in range(2 * NEIGHBOURS + 1)]), axis=0)
+    if np.any(factors > 1):
+        # A midpoint can miss a corner of the eye's path inside its interval (the eye rounding a tube's
+        # end during a dwell, where the midpoint's eye still lies on the level part): each interval takes
+        # the largest factor of the NEIGHBOURS intervals either side. The clearance's floor measures the
+        # moves themselves and needs no such margin.
+        padded = np.pad(factors, NEIGHBOURS, mode="edge")
+        width = factors.size
+        factors = np.max(np.stack([padded[k:k + width] for k in range(2 * NEIGHBOURS + 1)]), axis=0)
+    if floor is not None:
+        factors = np.maximum(factors, floor)
+    return factors if np.any(factors > 1) else None
 
 
 def varying_u(factors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -79,10 +84,29 @@ def dense_u(n: int, factor: int) -> np.ndarray:
     return u
 
 
-def dense_index(bows: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray] | None:
+def clearance_floor(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, env, tol: float,
+                    least: list | None = None) -> np.ndarray:
+    """(sum(sizes - 1),) int: the pieces each planned interval of runs of sizes (k,) planned points
+    (carriage x and cross-feed z (m,) of their eyes) is cut in at least for the clearance
+    (docs/math/13-clearance-chords.md 13.3: its chord's cut, and least, per run None or (size - 1,),
+    where the dense polyline was measured before, winder.machine.chords.refine); ones without env."""
+    sizes = np.asarray(sizes, dtype=np.int64)
+    moves = np.maximum(sizes - 1, 0)
+    if env is None:
+        floor = np.ones(int(moves.sum()), dtype=np.int64)
+    else:
+        floor = cut_factors(move_cuts(x, z, sizes, env), DENSE_SHARE * tol)
+    for start, more in zip((np.cumsum(moves) - moves).tolist(), least or ()):
+        if more is not None:
+            floor[start:start + more.size] = np.maximum(floor[start:start + more.size], more)
+    return floor
+
+
+def dense_index(bows: np.ndarray, tol: float, floor: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray] | None:
     """(planned, u): which dense points are planned ones and the dense point indices of a pass whose
-    intervals bow `bows` (n - 1,), or None where the planned points suffice."""
-    factors = interval_factors(bows, tol)
+    intervals bow `bows` (n - 1,), cut at least in floor (n - 1,), or None where the planned points
+    suffice."""
+    factors = interval_factors(bows, tol, floor)
     if factors is None:
         return None
     u, _ = varying_u(factors)
@@ -97,13 +121,14 @@ def midpoints(paths: SmoothPaths, j: int, n: int) -> tuple[np.ndarray, np.ndarra
 
 
 def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: Callable, tol: float,
-            base_lead=None, mid=None):
+            base_lead=None, mid=None, env=None, least: np.ndarray | None = None):
     """(points (k, 3), directions (k, 3), theta (k,), u (k,) fractional planned point index) of pass
     j resampled for the chord tolerance, or None where the planned points suffice. theta : (n,) the
     pass's program angles (unwrapped, with the program's turn count). axes(points, directions, theta,
     lead) -> (k, c) the scaled axis values of those contact points (lead: their eye leads, or None).
     base_lead : the planned points' leads; mid : (points, directions, theta, leads) of the midpoints,
-    when the caller computed them for many passes at once (the leads are pointwise)."""
+    when the caller computed them for many passes at once (the leads are pointwise). env, least:
+    the eye envelope and the pass's least pieces per interval for the clearance (clearance_floor)."""
     n = len(fp.s)
     if n < 2:
         return None
@@ -115,7 +140,8 @@ def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: 
     else:
         p_mid, d_mid, th_mid, mid_lead = mid
     q_mid = axes(p_mid, d_mid, th_mid + shift, mid_lead)
-    found = dense_index(row_norms(q_mid - 0.5 * (base[1:] + base[:-1])), tol)
+    floor = clearance_floor(base[:, 0], base[:, 1], np.array([n]), env, tol, [least])
+    found = dense_index(row_norms(q_mid - 0.5 * (base[1:] + base[:-1])), tol, floor)
     if found is None:
         return None
     planned, u = found
@@ -126,12 +152,14 @@ def densify(paths: SmoothPaths, j: int, fp: FiberPass, theta: np.ndarray, axes: 
 
 def densify_many(paths: SmoothPaths, numbers: list[int], passes: list[FiberPass], axes_many: Callable,
                  tol: float, base_lead: tuple[np.ndarray, np.ndarray],
-                 mid: tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]) -> list:
+                 mid: tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]],
+                 env=None, least: list | None = None) -> list:
     """densify of the passes (each >= 2 points) of one smooth-path set at their planned turn counts,
     in one batch: the same (points, directions, theta, u) or None per pass. numbers : each pass's j.
     axes_many(points, directions, theta, lead, sizes) -> the scaled axis values of consecutive runs of
     contact points of those sizes. base_lead : the passes' points' leads, concatenated; mid : the
-    concatenated (points, directions, theta, leads) of their midpoints (sizes n_i - 1)."""
+    concatenated (points, directions, theta, leads) of their midpoints (sizes n_i - 1). env, least:
+    as densify's, least per pass."""
     sizes = np.array([len(fp.s) for fp in passes])
     base = axes_many(np.concatenate([fp.points for fp in passes]), np.concatenate([fp.direction for fp in passes]),
                      np.concatenate([np.asarray(fp.theta, dtype=float) for fp in passes]), base_lead, sizes)
@@ -142,9 +170,10 @@ def densify_many(paths: SmoothPaths, numbers: list[int], passes: list[FiberPass]
     k = np.flatnonzero(~last)  # each interval's first point
     err = row_norms(q_mid - 0.5 * (base[k + 1] + base[k]))
     cuts = np.cumsum(sizes - 1)[:-1]
+    floors = np.split(clearance_floor(base[:, 0], base[:, 1], sizes, env, tol, least), cuts)
     todo, us = [], []
-    for i, bows in enumerate(np.split(err, cuts)):
-        found = dense_index(bows, tol)
+    for i, (bows, floor) in enumerate(zip(np.split(err, cuts), floors)):
+        found = dense_index(bows, tol, floor)
         if found is None:
             continue
         planned, u = found

@@ -30,6 +30,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.machine.cell import CellMotion, cell_motion
+from winder.machine.chords import CLEAR_ROUNDS, refine
 from winder.machine.collision import GAP_TOL, check_collision, clearance_gaps
 from winder.machine.batch import all_dense, all_leads, all_midpoints, pass_where
 from winder.machine.densify import DENSE_SHARE
@@ -144,9 +145,10 @@ def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | 
 
 
 def _stepwise(plan: WindingPlan, nonempty: list[FiberPass], wheres: list[str], env, machine: MachineConfig,
-              sense: float, surface, tol: float, scaled) -> tuple:
+              sense: float, surface, tol: float, scaled, least: list | None = None) -> tuple:
     """straight_passes' result step by step: the leads, the densify check and the dense points of
-    winder.machine.batch, then axis_batch.straight_axes; a refusal names its pass."""
+    winder.machine.batch, then axis_batch.straight_axes; a refusal names its pass. least: as
+    straight_passes'."""
     leads = all_leads(plan, env)
     lead_of = {id(fp): lead for fp, lead in zip(nonempty, leads)}
     # Each layer's smooth paths lie on the surface it was wound on (the mandrel grown by the layers below).
@@ -162,7 +164,8 @@ def _stepwise(plan: WindingPlan, nonempty: list[FiberPass], wheres: list[str], e
     def axes_many(p, d, th, ld, sizes) -> np.ndarray:
         return scaled(eye_path(p, d, surface, machine, theta=th, envelope=env, sense=sense, lead=ld, sizes=sizes))
 
-    dense_of = all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol, axes_many)
+    more = {} if least is None else {id(fp): v for fp, v in zip(nonempty, least) if v is not None}
+    dense_of = all_dense(plan, smooth, number, lead_of, mids, env, axes_of, tol, axes_many, least=more)
     dense = [dense_of.get(id(fp)) for fp in nonempty]
     path, sizes, jumped = straight_axes(nonempty, wheres, leads, dense, env, machine, sense)
     return (path, sizes, jumped, [None if dn is None else dn[3] for dn in dense],
@@ -281,19 +284,27 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     sizes = np.array([len(fp.points) for fp in nonempty], dtype=int)
     dense = np.zeros(len(nonempty), dtype=bool)
     lifts: list[tuple[int, np.ndarray]] = []
+    cut = np.zeros(len(nonempty))  # each pass's dense polyline's largest cut into the clearance (mm)
     if robot:
         rows = robot_rows(plan, machine, env, guide, angle_scale, tol)
         table, u, contacts, on_envelope, lead = rows.table, rows.u, rows.contacts, rows.on_envelope, rows.lead
         q = np.column_stack([table[:, :3], angle_scale * table[:, 3:]])
         sizes, dense = rows.sizes, rows.dense
     elif nonempty:
-        found = straight_passes(plan, nonempty, wheres, env, machine, sense, arc_radius, angle_scale, tol)
-        path, sizes, jumped, us, contacts = found if found is not None else _stepwise(
-            plan, nonempty, wheres, env, machine, sense, surface, tol, scaled)
+        # The dense polyline keeps the clearance by construction (docs/math/13-clearance-chords.md): measured,
+        # and cut finer where a move still cuts in (a few rounds at most; none on a cylinder).
+        least, planned = None, np.array([len(fp.points) for fp in nonempty], dtype=np.int64)
+        for _ in range(CLEAR_ROUNDS + 1):
+            found = straight_passes(plan, nonempty, wheres, env, machine, sense, arc_radius, angle_scale, tol, least)
+            path, sizes, jumped, us, contacts = found if found is not None else _stepwise(
+                plan, nonempty, wheres, env, machine, sense, surface, tol, scaled, least)
+            u = np.concatenate([np.arange(k, dtype=float) if v is None else v for k, v in zip(sizes.tolist(), us)])
+            least, cut = refine(path.x, path.z, sizes, u, planned, env, DENSE_SHARE * tol, least)
+            if least is None:
+                break
         table = np.column_stack([path.x, path.a_deg, path.z, path.b_deg])
         q, on_envelope, lead = scaled(path), path.on_envelope, path.lead
         dense = np.array([u is not None for u in us], dtype=bool)
-        u = np.concatenate([np.arange(k, dtype=float) if v is None else v for k, v in zip(sizes.tolist(), us)])
         last = np.cumsum(sizes) - 1
         for k in np.flatnonzero(jumped).tolist():
             lift = approach(table[last[k - 1]], table[last[k] - sizes[k] + 1], env.max_radius) if k else None
@@ -302,8 +313,9 @@ def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     else:
         table = q = np.zeros((0, 4))
         u, contacts, on_envelope, lead = np.zeros(0), np.zeros((0, 3)), np.zeros(0, dtype=bool), np.zeros(0)
-    # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow.
-    tols = np.maximum(np.where(dense, tol * (1.0 - DENSE_SHARE), tol) - ROUNDING_MARGIN, 0.0)
+    # A densified pass leaves DENSE_SHARE of the tolerance to the dense polyline's own bow; every pass
+    # its own polyline's cut into the clearance (docs/math/13-clearance-chords.md 13.2).
+    tols = np.maximum(np.minimum(np.where(dense, tol * (1.0 - DENSE_SHARE), tol), tol - cut) - ROUNDING_MARGIN, 0.0)
     width = len(POSE_AXES if robot else AXES)
     laid = (table, u, contacts, on_envelope, lead, sizes, lifts, [fp.length for fp in nonempty])
     kept, moves, joins, gaps = _kept_clear(q, sizes, tols, laid, width, env, machine, guide)

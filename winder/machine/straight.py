@@ -23,7 +23,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.axis_batch import checked, turn_counts
-from winder.machine.densify import dense_factor, interval_factors, varying_u
+from winder.machine.densify import clearance_floor, dense_factor, interval_factors, varying_u
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.kinematics import EyePath, eye_points, rotation_deg, unwrap_each
 from winder.machine.leads import lead_straight, unit_rows
@@ -52,13 +52,15 @@ class _Points:
 
 
 def straight_passes(plan: WindingPlan, passes: list[FiberPass], wheres: list[str], env: EyeEnvelope,
-                    machine: MachineConfig, sense: float, arc_radius: float, angle_scale: float, tol: float):
+                    machine: MachineConfig, sense: float, arc_radius: float, angle_scale: float, tol: float,
+                    least: list | None = None):
     """(path, sizes, jumped, us, points) of the non-empty passes in program order, as straight_axes
     gives them after all_dense: the EyePath of every row, each pass's rows, whether it jumped, its
     fractional point indices u (None where not densified); the contact points of every row); None where a lead
-    batch fails. arc_radius, angle_scale: the scaled axes of the point reduction (program.py)."""
+    batch fails. arc_radius, angle_scale: the scaled axes of the point reduction (program.py). least:
+    per pass None or the least pieces per planned interval for the clearance (chords.refine)."""
     try:
-        return _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale, tol)
+        return _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale, tol, least)
     except _NoLead:
         return None
 
@@ -74,7 +76,7 @@ def _points(p, d, theta, env, sense) -> _Points:
         raise _NoLead from exc
 
 
-def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale, tol):
+def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale, tol, least):
     sizes = np.array([len(fp.points) for fp in passes])
     starts = np.cumsum(sizes) - sizes
     base = _points(np.asarray(np.concatenate([fp.points for fp in passes]), dtype=float).reshape(-1, 3),
@@ -104,13 +106,18 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
     first = np.repeat(starts[k_two] - mid_start, n_mid) + np.arange(q_mid.shape[0])  # each interval's first point
     errs = row_norms(q_mid - 0.5 * (q_base.take(first + 1, axis=0) + q_base.take(first, axis=0)))
     bows = np.maximum.reduceat(errs, mid_start)
+    # The clearance's least pieces per interval (densify.clearance_floor), laid out as errs (the passes
+    # of >= 2 points in the same order, each its n - 1 intervals).
+    floors = clearance_floor(base.e[:, 2], base.zr, sizes, env, tol, least)
     # Which passes densify, and how (densify.densify_many's rule); the dense points neither planned nor midpoints.
     dense: list = [None] * len(passes)
     extra_u: dict[int, list] = {}
     for (k, j, layer), n, bow, m0 in zip(two, (n_mid + 1).tolist(), bows.tolist(), mid_start.tolist()):
-        if dense_factor(bow, tol) is None:
+        own = errs[m0:m0 + n - 1] if dense_factor(bow, tol) is not None else np.zeros(n - 1)
+        factors = interval_factors(own, tol, floors[m0:m0 + n - 1])
+        if factors is None:
             continue
-        u, planned, at_mid, others, interval, local, pool = _varying_rows(interval_factors(errs[m0:m0 + n - 1], tol))
+        u, planned, at_mid, others, interval, local, pool = _varying_rows(factors)
         dense[k] = [u, planned, at_mid, others, interval, m0, 0, local, pool]
         if others.any():
             extra_u.setdefault(layer, []).append((k, smooth[layer].offset[j] + u[others]))
