@@ -39,13 +39,15 @@ def _plan():
 def test_one_program_for_the_gcode_and_the_summary(monkeypatch):
     plan = _plan()
     calls = []
-    real = program_module.build_program
+    import winder.machine.chunks as chunks_module
+
+    real = chunks_module.build_program_in_groups
 
     def counting(*args):
         calls.append(args)
         return real(*args)
 
-    monkeypatch.setattr(program_module, "build_program", counting)
+    monkeypatch.setattr(chunks_module, "build_program_in_groups", counting)
     out = render_outputs(_Job(), plan, ["gcode"])
     assert len(calls) == 1
     fresh = build_program(plan, MACHINE)
