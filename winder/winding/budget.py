@@ -43,7 +43,7 @@ MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 
 # Peak memory = the interpreter with numpy and scipy + bytes per planned point + the largest solve.
 # Measured (ru_maxrss, bench/vessel_series.py and the issue 29 jobs): an open mandrel's points cost
 # about 450 B each at the peak; the Newton solve of a pass about 2.5 kB per point. A vessel's
-# (docs/math/13-work-estimates.md): VESSEL_BYTES_PER_POINT per planned point for what the job keeps
+# (docs/math/14-work-estimates.md): VESSEL_BYTES_PER_POINT per planned point for what the job keeps
 # and writes, and PROGRAM_BATCH_BYTES per point of the largest group of layers the machine stage
 # takes in one batch (winder.machine.chunks: PROGRAM_CHUNK_POINTS; the dense eye paths around the
 # domes' turnarounds), over VESSEL_BASE_BYTES. Fitted on the 10- and 40-layer vessels of
@@ -255,7 +255,7 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
 def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, region: tuple[float, float]) -> None:
     """Too few points for a pass on a bent tube of circular section (no closed form: the planner
     traces the geodesic for minutes before its solver refuses n): the rounds estimated as on the
-    straightened tube, the integral of tan(alpha) / perimeter along the axis (docs/math/13-work-estimates.md), refused
+    straightened tube, the integral of tan(alpha) / perimeter along the axis (docs/math/14-work-estimates.md), refused
     where even BENT_ROUNDS_SHARE of them would be refused (the bend moves the rounds a little)."""
     from winder.paths.resolution import MIN_SEGMENTS_PER_ROUND, POINTS_PER_ROUND  # noqa: PLC0415
 
