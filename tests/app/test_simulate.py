@@ -222,9 +222,9 @@ def test_a_whole_program_of_another_config_is_not_only_called_cut_short():
     """The elbow sample's program (band 10: 18 circuits) read against configs/elbow.yaml (band 8: 23
     circuits, every pass of the program among them): complete, ended by M2, yet short of that plan."""
     job = load_config(SAMPLES.parent / "configs" / "elbow.yaml")
-    program = (SAMPLES / "reference" / "elbow" / "elbow.poses").read_text()
+    program = (SAMPLES / "reference" / "elbow" / "elbow.gcode").read_text()
     with pytest.raises(ConfigError) as err:
-        simulate(job.machine, plan_job(job), program, "elbow.poses")
+        simulate(job.machine, plan_job(job), program, "elbow.gcode")
     text = str(err.value)
     assert "the program stops before the end of the plan of" in text and "configs/elbow.yaml" in text
     assert "(layer 1 circuit 23 pass 92): cut short, or written for another config?" in text
@@ -295,13 +295,13 @@ def test_a_robot_pose_inside_the_mandrel_is_refused():
     job = load_config(SAMPLES / "elbow.yaml")
     plan = plan_job(job)
     lines = gcode_text(plan, job.machine).splitlines()
-    k = [i for i, line in enumerate(lines) if line.startswith("POSE ")][500]
+    k = [i for i, line in enumerate(lines) if line.startswith("G1 ")][500]
     words = lines[k].split()
     eye = np.array([[float(w[1:]) for w in words[1:4]]])
     guide = make_guide(plan.surface, eye_envelope(plan.surface, job.machine))
     rel = guide.project(eye, full=True)[2]
     moved = (eye - 0.5 * rel)[0]
-    lines[k] = "POSE X%.3f Y%.3f Z%.3f " % tuple(moved) + " ".join(words[4:])
+    lines[k] = "G1 X%.3f Y%.3f Z%.3f " % tuple(moved) + " ".join(words[4:])
     with pytest.raises(ConfigError, match=rf"line {k + 1}: the eye enters the mandrel this point, ([\d.]+) mm "
                                           r"inside its surface at t = [\d.]+ mm, got pose X") as err:
         simulate(job.machine, plan, "\n".join(lines))

@@ -224,13 +224,13 @@ def test_robot_poses_for_bent_mandrel():
     machine = MachineConfig(eye_clearance=20.0, robot=True)
     text = gcode_text(plan, machine)
     assert text == gcode_text(plan, machine)
-    assert not any(ln.startswith("G1") for ln in text.splitlines())
     poses = []
     for ln in text.splitlines():
-        if ln.startswith("POSE "):
+        if ln.startswith("G1 "):
             w = dict((x[0], float(x[1:])) for x in ln.split()[1:])
-            assert set(w) == set("XYZIJKF")
-            poses.append([w[c] for c in "XYZIJK"])
+            assert set(w) == set("XYZBCF")
+            b, c = np.radians(w["B"]), np.radians(w["C"])  # the fiber's direction: B from +Z, C about +Z
+            poses.append([w["X"], w["Y"], w["Z"], np.sin(b) * np.cos(c), np.sin(b) * np.sin(c), np.cos(b)])
     poses = np.array(poses)
     moves = program_moves(plan, machine)
     assert len(moves) == len(poses)
@@ -243,7 +243,7 @@ def test_robot_poses_for_bent_mandrel():
     assert np.allclose(poses[:, 3:], -d, atol=1e-6)
     # The eye (from its contact point, back along I J K) is ahead of the contact point.
     assert (np.einsum("ij,ij->i", poses[:, :3] - p, d) > 0).all()
-    assert "G21" in text.splitlines() and "POSE X Y Z" in text
+    assert "G21" in text.splitlines() and "; X Y Z: eye position (mm); B C:" in text
 
 
 def test_robot_envelope_inside_mandrel_names_the_pass():

@@ -117,19 +117,38 @@ def test_rs274_reads_the_program(path, dialect, tmp_path):
 
 @pytest.mark.parametrize("path", EVERY, ids=IDS)
 def test_rs274_reads_every_gcode_file_run_writes(path, tmp_path):
-    """The program file `run` writes by default (its gcode format, rendered as run renders it): a
-    `.gcode` one is read by rs274; a robot's eye poses (POSE lines, no G-code) go to `<name>.poses`."""
+    """The program file `run` writes by default (its gcode format, rendered as run renders it) is read
+    by rs274, a robot's eye poses too (five-axis G-code: X Y Z the eye, B C the fiber's direction)."""
     from winder.app.jobs import ALL_FORMATS, render_outputs  # noqa: PLC0415
 
     assert "gcode" in ALL_FORMATS
     job, program = job_of(path), program_of(path)
     names = render_outputs(job, planned(path), ("gcode",), summary=False, program=program)
-    programs = {name: data for name, data in names.items() if name.endswith((".gcode", ".poses"))}
-    assert set(programs) == {job.name + (".poses" if program.robot else ".gcode")}
+    programs = {name: data for name, data in names.items() if name.endswith(".gcode")}
+    assert set(programs) == {job.name + ".gcode"}
     for name, data in programs.items():
         text = data.decode("utf-8")
-        if name.endswith(".poses"):
-            assert re.search(r"^POSE ", text, re.M)
+        if program.robot:
+            _check_poses(canonical(tmp_path / f"{path.stem}.ngc", text)[0], program.values)
             continue
         ends, _ = canonical(tmp_path / f"{path.stem}.ngc", text)
         assert ends.shape[0] > 0
+
+
+
+DIRECTION_TOL = 5e-6  # a unit vector from B and C as rs274 prints them (4 decimals of a degree: 1.7e-6 rad)
+
+
+def _check_poses(ends: np.ndarray, poses: np.ndarray) -> None:
+    """rs274's moves of a robot program against the program's poses (m, 6): one move per written row,
+    the eye where the row is, and B C (B from +Z, C about +Z from +X, as README.md's robot dialect
+    states) the row's unit fiber direction."""
+    b_deg = np.degrees(np.arccos(np.clip(poses[:, 5], -1.0, 1.0)))
+    c_deg = np.degrees(np.unwrap(np.arctan2(poses[:, 4], poses[:, 3])))
+    shown = np.column_stack([np.round(poses[:, :3], AXIS_DECIMALS), np.round(b_deg, 6), np.round(c_deg, 6)])
+    rows = np.flatnonzero(np.concatenate([[True], np.any(shown[1:] != shown[:-1], axis=1)]))
+    assert ends.shape[0] == rows.size
+    assert np.abs(ends[:, :3] - poses[rows, :3]).max() < POSITION_TOL
+    b, c = np.radians(ends[:, CANON.index("B")]), np.radians(ends[:, CANON.index("C")])
+    read = np.column_stack([np.sin(b) * np.cos(c), np.sin(b) * np.sin(c), np.cos(b)])
+    assert np.abs(read - poses[rows, 3:]).max() < DIRECTION_TOL

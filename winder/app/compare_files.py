@@ -30,4 +30,4 @@ def compare_file(file_name: str, expected: bytes, got: bytes,
     return compare(a, b, limit=limit)
 
 
-_TEXT_COMPARE = {"csv": compare_csv, "layup": compare_csv, "gcode": compare_lines, "poses": compare_lines}
+_TEXT_COMPARE = {"csv": compare_csv, "layup": compare_csv, "gcode": compare_lines}

@@ -105,19 +105,17 @@ def exit_status(codes: Iterable[int]) -> int:
     return 0
 
 
-def output_names(name: str, formats: Iterable[str], summary: bool = True, robot: bool = False) -> list[str]:
+def output_names(name: str, formats: Iterable[str], summary: bool = True) -> list[str]:
     """File names of a job's outputs, in writing order: the requested formats, then the summary
-    (unless summary is False: `winder report` writes the page alone); robot: the machine's program is
-    a robot's (`<name>.poses` for `<name>.gcode`)."""
-    return [name + f.suffix for f in registry.for_machine(registry.chosen(formats, always=summary), robot)]
+    (unless summary is False: `winder report` writes the page alone)."""
+    return [name + f.suffix for f in registry.chosen(formats, always=summary)]
 
 
 def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
                    progress: Progress | None = None, program=None) -> dict[str, bytes]:
     """Every requested output of a planned job, in memory: file name -> bytes (writing order);
     program: the job's motion program when the caller has built it already."""
-    machine = getattr(job, "machine", None)
-    chosen = registry.for_machine(registry.chosen(formats, always=summary), bool(machine and machine.robot))
+    chosen = registry.chosen(formats, always=summary)
     if program is None and any(f.program for f in chosen):
         program = motion_program(job, plan)
     rendered = {}

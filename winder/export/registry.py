@@ -41,8 +41,6 @@ class Format:
 FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
     Format("gcode", ".gcode", "winder.export.gcode", program=True),
-    # A robot's eye poses (POSE lines: no controller's G-code) in their own file, in the gcode's place.
-    Format("poses", ".poses", "winder.export.gcode", program=True, part_of="gcode"),
     Format("ply", ".ply", "winder.export.ply"),
     Format("stl", ".stl", "winder.export.ply", default=False, function="export_stl"),
     Format("obj", ".obj", "winder.export.ply", default=False, function="export_obj"),
@@ -59,13 +57,6 @@ FORMATS: tuple[Format, ...] = (  # in writing order
 )
 SELECTABLE = tuple(f.name for f in FORMATS if not f.always and f.part_of is None)  # the formats a job may leave out
 DEFAULT = tuple(f.name for f in FORMATS if not f.always and f.default and f.part_of is None)  # written when none is named
-
-
-def for_machine(formats: tuple[Format, ...], robot: bool) -> tuple[Format, ...]:
-    """The formats of chosen() a job writes on its machine: a robot's motion program (eye poses) as
-    `<name>.poses`, any other as `<name>.gcode`, never both."""
-    dropped = "gcode" if robot else "poses"
-    return tuple(f for f in formats if f.name != dropped)
 
 
 def suffixes() -> tuple[str, ...]:

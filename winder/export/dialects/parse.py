@@ -3,7 +3,8 @@ robot) to its rows of logical axes and the pass each row belongs to (from the pa
 
 The result is in winder's axis conventions whatever the dialect: (carriage, rotation, cross_feed,
 yaw) for a straight-axis winder (marlin's A and B negated back, its fixed cross-feed from the
-`; fixed eye` comment), (x, y, z, i, j, k) for robot poses. Every row, the rapid to the start of a
+`; fixed eye` comment), (x, y, z, i, j, k) for robot poses (their B and C read back as the unit
+direction: winder.export.dialects.robot). A robot's program is a robot config's: its machine says so. Every row, the rapid to the start of a
 linuxcnc program included, is one programmed point. A line that is not what the dialect writes is
 an error naming the line. A program is refused unless it is whole and within the machine: one
 without its end (M2: a file cut short; marlin writes no end, simulate checks that its last row ends
@@ -22,7 +23,7 @@ from winder.export.dialects.parsed import ParsedProgram
 from winder.export.dialects.program_file import ProgramFile
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
-from winder.export.dialects.robot import LETTERS as POSE_LETTERS
+from winder.export.dialects import robot as poses
 from winder.export.dialects.text import JOB_LINE
 
 _PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$", re.ASCII)
@@ -95,9 +96,11 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
         return parse_cell(whole, machine, source, cell)
     if dialect is None:
         dialect = detect(text)
+    if machine.robot or dialect == "robot":  # POSE lines (an older winder's) read as what they are not
+        dialect = "robot" if machine.robot else "generic"
     ax = machine.axes
     if dialect == "robot":
-        letters, prefixes = POSE_LETTERS, ("POSE",)
+        letters, prefixes = poses.LETTERS, ("G1", "G0")
     elif dialect == "marlin":
         letters, prefixes = marlin.LETTERS, ("G1", "G0")
     else:
@@ -164,7 +167,9 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
         keep = ~marlin_cuts(written, keys_arr)
         table, lines, keys_arr, feeds_arr = table[keep], lines[keep], keys_arr[keep], feeds_arr[keep]
         kinds_t = tuple(k for k, ok in zip(kinds_t, keep.tolist()) if ok)
-    if dialect != "robot":
+    if dialect == "robot":
+        table = np.column_stack([table[:, :3], poses.directions(table[:, 3:5])])
+    else:
         _check_limits(table, lines, machine, letters if dialect != "marlin" else (ax.carriage, ax.rotation,
                                                                                   ax.cross_feed, ax.yaw), source)
     return ParsedProgram(dialect, table, keys_arr, kinds_t, feeds_arr, lines, job, job_line=job_line)
@@ -235,7 +240,7 @@ def _pass_number(digits: str, line: str, number: int, source: str) -> int:
 
 def _words(code: str, prefixes: tuple[str, ...], dialect: str, line: str, number: int,
            source: str) -> tuple[str, list[tuple[str, str]]]:
-    """The move's command (G1, G0, POSE) and its words (letter, number text), with or without spaces
+    """The move's command (G1, G0) and its words (letter, number text), with or without spaces
     between them; ConfigError naming the line for anything else."""
     head = next((p for p in prefixes if code.startswith(p) and not code[len(p):len(p) + 1].isdigit()), None)
     if head is None:
