@@ -22,45 +22,13 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
+from winder.app.wall_clock import TimeUp, time_limit
 from winder.errors import Interrupted
 
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
 
-
-class TimeUp(BaseException):
-    """A job's wall-clock limit ran out (time_limit). A BaseException, so that it unwinds through
-    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1)."""
-
-
-def _time_up(signum: int, frame) -> None:
-    raise TimeUp()
-
-
-@contextmanager
-def time_limit(seconds: float | None) -> Iterator[None]:
-    """Raise TimeUp in this (main) thread after seconds of wall-clock time (None: no limit). The
-    guard of solvers that cannot converge (an integrator taking ever smaller steps, L-BFGS at its
-    iteration cap): whatever the job computes, it ends. A timer set before is restored after."""
-    if not seconds:
-        yield
-        return
-    try:
-        old_handler = signal.signal(signal.SIGALRM, _time_up)
-    except ValueError:  # not the main thread: no signals here
-        yield
-        return
-    old_delay, old_interval = signal.setitimer(signal.ITIMER_REAL, seconds)
-    started = time.monotonic()
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old_handler)
-        if old_delay > 0:
-            left = old_delay - (time.monotonic() - started)
-            signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
-
+# TimeUp and time_limit are winder.app.wall_clock's, named here too for the modules importing them from here.
 __all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "first_arrived", "held", "in_worker", "interrupted",
            "interrupts_raise", "raise_if_interrupted", "stop_signals_held_back", "stop_workers", "time_limit",
            "watch_arrival_order", "worker_init"]
