@@ -67,13 +67,15 @@ def move_cuts(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, env: EyeEnvelope)
     return cuts
 
 
-def cut_factors(cuts: np.ndarray, share: float) -> np.ndarray:
-    """(k,) int: the pieces each planned interval whose chord cuts `cuts` (k,) is cut in so that each
-    piece cuts about `share` (mm; densify.DENSE_SHARE of the chord tolerance) at most (13.3)."""
-    cuts = np.asarray(cuts, dtype=float)
-    out = np.ones(cuts.size, dtype=np.int64)
-    big = np.isfinite(cuts) & (cuts > share)
-    out[big] = np.minimum(CLEAR_MAX_FACTOR, np.ceil(np.sqrt(cuts[big] / share))).astype(np.int64)
+def pieces(errors: np.ndarray, share: float, most: int) -> np.ndarray:
+    """(k,) int: the pieces each planned interval whose chord errs by `errors` (k,) (its bow off the
+    eye's path, or its cut into the clearance) is cut in so that each piece errs by about `share` at
+    most, at most `most`: a smooth curve's error falls as 1 / K^2 in K pieces (13.3; 1 where the
+    error is within share or not finite)."""
+    errors = np.asarray(errors, dtype=float)
+    out = np.ones(errors.size, dtype=np.int64)
+    big = np.isfinite(errors) & (errors > share)
+    out[big] = np.minimum(most, np.ceil(np.sqrt(errors[big] / share))).astype(np.int64)
     return out
 
 
