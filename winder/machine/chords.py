@@ -36,16 +36,21 @@ def _bends(env: EyeEnvelope) -> np.ndarray:
     return np.concatenate([x[:1], x[1:-1][bent], x[-1:]])
 
 
+def _move_firsts(sizes: np.ndarray, rows: int) -> np.ndarray:
+    """The first row of each move (sum(sizes - 1),) of runs of sizes (k,) rows stored one after the
+    other, rows in all."""
+    last = np.cumsum(sizes) - 1
+    inner = np.ones(rows, dtype=bool)
+    inner[last[sizes > 0]] = False
+    return np.flatnonzero(inner)
+
+
 def move_cuts(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, env: EyeEnvelope) -> np.ndarray:
     """The cut (mm, >= 0) of each move between consecutive rows of each run: (sum(sizes - 1),) for
     runs of sizes (k,) rows stored one after the other in x (carriage) and z (cross-feed), (m,) each.
     Zero everywhere in radius mode (`eye: {radius}`: no clearance to keep)."""
     x, z = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
-    sizes = np.asarray(sizes, dtype=np.int64)
-    last = np.cumsum(sizes) - 1
-    inner = np.ones(x.size, dtype=bool)
-    inner[last[sizes > 0]] = False
-    first = np.flatnonzero(inner)  # each move's first row
+    first = _move_firsts(np.asarray(sizes, dtype=np.int64), x.size)
     cuts = np.zeros(first.size)
     if env.clearance is None or first.size == 0:
         return cuts
@@ -96,10 +101,7 @@ def refine(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, u: np.ndarray, plann
     bad = np.flatnonzero(cuts > share)
     if bad.size == 0:
         return None, worst
-    last = np.cumsum(sizes) - 1
-    inner = np.ones(u.size, dtype=bool)
-    inner[last[sizes > 0]] = False
-    row = np.flatnonzero(inner)[bad]
+    row = _move_firsts(sizes, u.size)[bad]
     step = u[row + 1] - u[row]
     interval = np.floor(u[row]).astype(np.int64)
     now = np.maximum(np.rint(1.0 / step), 1.0)
