@@ -25,6 +25,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
+from winder.winding.layer_batches import point_groups
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
@@ -352,19 +353,13 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
 
 def _largest_batch(job: JobConfig, points: list[int]) -> int:
     """Planned points of the largest group of layers the machine stage takes in one batch
-    (winder.machine.chunks.layer_groups: consecutive layers up to PROGRAM_CHUNK_POINTS, a larger layer
-    alone); every layer at once where it takes the plan whole (a robot, rotation or yaw limits)."""
+    (winder.winding.layer_batches); every layer at once where it takes the plan whole (a robot,
+    rotation or yaw limits)."""
     machine = job.machine
     if machine is not None and (machine.robot or machine.limits.rotation is not None
                                 or machine.limits.yaw is not None):
         return sum(points)
-    largest = count = 0
-    for n in points:
-        if count and count + n > PROGRAM_CHUNK_POINTS:
-            count = 0
-        count += n
-        largest = max(largest, count)
-    return largest
+    return max((sum(points[i] for i in group) for group in point_groups(points, PROGRAM_CHUNK_POINTS)), default=0)
 
 
 def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
