@@ -256,8 +256,9 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
 def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, region: tuple[float, float]) -> None:
     """Too few points for a pass on a bent tube of circular section (no closed form: the planner
     traces the geodesic for minutes before its solver refuses n): the rounds estimated as on the
-    straightened tube, the integral of tan(alpha) / perimeter along the axis (docs/math/14-work-estimates.md), refused
-    where even BENT_ROUNDS_SHARE of them would be refused (the bend moves the rounds a little)."""
+    straightened tube, the integral of tan(alpha) / perimeter along the axis
+    (docs/math/14-work-estimates.md), refused where even BENT_ROUNDS_SHARE of them would be refused
+    (the bend moves the rounds a little)."""
     from winder.paths.resolution import MIN_SEGMENTS_PER_ROUND, POINTS_PER_ROUND  # noqa: PLC0415
 
     if not surface.section.is_circle:
@@ -270,8 +271,8 @@ def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
     if n < least:
         raise _refuse(job.source, "winding.points",
                       f"must be at least {least} for a pass of about {rounds:.4g} rounds "
-                      f"({region[1] - region[0]:.6g} mm of axis at {cfg.angle_deg:g} deg): with fewer, a segment spans over a third of a turn and "
-                      f"cuts across the mandrel (an accurate length wants {POINTS_PER_ROUND} per round: "
+                      f"({region[1] - region[0]:.6g} mm of axis at {cfg.angle_deg:g} deg): with fewer, a segment "
+                      f"spans over a third of a turn and cuts across the mandrel (an accurate length wants {POINTS_PER_ROUND} per round: "
                       f"{math.ceil(POINTS_PER_ROUND * rounds)}), got {n}")
 
 
