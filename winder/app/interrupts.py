@@ -9,8 +9,9 @@ also get TERM when their parent dies (Linux), so none outlives a killed batch.
 The first stop signal decides, whatever becomes of its exception: it is recorded (`interrupted`) before
 Interrupted is raised, and later signals change nothing. An exception raised inside an import can come
 out as another one (pybind11's modules of scipy wrap it: `ImportError: initialization failed`), or be
-swallowed (a `__del__`), or leave a half-imported module that fails later; so whoever turns an error
-into a report or an `Error:` line first calls `raise_if_interrupted`, which re-raises the interrupt.
+swallowed (a `__del__`), or leave a half-imported module that fails later; so whatever leaves
+`interrupts_raise` after a stop signal leaves as the interrupt, and whoever turns an error into a report
+or an `Error:` line inside it (a batch's job report, a command's) first calls `raise_if_interrupted`.
 """
 
 from __future__ import annotations
@@ -22,45 +23,13 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
+from winder.app.wall_clock import TimeUp, time_limit
 from winder.errors import Interrupted
 
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
 
-
-class TimeUp(BaseException):
-    """A job's wall-clock limit ran out (time_limit). A BaseException, so that it unwinds through
-    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1)."""
-
-
-def _time_up(signum: int, frame) -> None:
-    raise TimeUp()
-
-
-@contextmanager
-def time_limit(seconds: float | None) -> Iterator[None]:
-    """Raise TimeUp in this (main) thread after seconds of wall-clock time (None: no limit). The
-    guard of solvers that cannot converge (an integrator taking ever smaller steps, L-BFGS at its
-    iteration cap): whatever the job computes, it ends. A timer set before is restored after."""
-    if not seconds:
-        yield
-        return
-    try:
-        old_handler = signal.signal(signal.SIGALRM, _time_up)
-    except ValueError:  # not the main thread: no signals here
-        yield
-        return
-    old_delay, old_interval = signal.setitimer(signal.ITIMER_REAL, seconds)
-    started = time.monotonic()
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old_handler)
-        if old_delay > 0:
-            left = old_delay - (time.monotonic() - started)
-            signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
-
+# TimeUp and time_limit are winder.app.wall_clock's, named here too for the modules importing them from here.
 __all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "first_arrived", "held", "in_worker", "interrupted",
            "interrupts_raise", "raise_if_interrupted", "stop_signals_held_back", "stop_workers", "time_limit",
            "watch_arrival_order", "worker_init"]
@@ -152,7 +121,7 @@ def held() -> Iterator[None]:
         _HELD -= 1
     if _PENDING and not _HELD:
         _PENDING = False
-        raise Interrupted(_FIRST if _FIRST is not None else signal.SIGTERM)
+        raise_if_interrupted()
 
 
 def _unraisable(hook: Callable[[Any], None]) -> Callable[[Any], None]:
@@ -208,7 +177,9 @@ def stop_signals_held_back() -> Iterator[None]:
 @contextmanager
 def interrupts_raise() -> Iterator[None]:
     """TERM and INT raise Interrupted in this (main) thread while inside, so that a job's writes are
-    rolled back and batch workers stopped on the way out; the old handlers come back after."""
+    rolled back and batch workers stopped on the way out; the old handlers come back after. After a
+    stop signal, whatever leaves the section leaves as Interrupted: an error (the signal's doing, module
+    docstring) or nothing (a library swallowed the exception)."""
     import sys  # noqa: PLC0415
 
     try:
@@ -220,6 +191,11 @@ def interrupts_raise() -> Iterator[None]:
     sys.unraisablehook, sys.excepthook = _unraisable(old_hooks[0]), _excepthook(old_hooks[1])
     try:
         yield
+    except Exception as exc:
+        raise_if_interrupted(exc)
+        raise
+    else:
+        raise_if_interrupted()
     finally:
         sys.unraisablehook, sys.excepthook = old_hooks  # after the first signal, no handler raises again
         if _FIRST is not None:  # interrupted: the process ends on the way out

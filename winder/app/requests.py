@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from winder.app.interrupts import TimeUp, time_limit
+from winder.app.wall_clock import TimeUp, time_limit
 from winder.config.reader import station_option
 from winder.errors import ConfigError, SolverError, WinderError
 

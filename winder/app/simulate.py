@@ -271,7 +271,7 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     the text to show (one JSON object with as_json, else one line)."""
     import json  # noqa: PLC0415
 
-    from winder.app.interrupts import TimeUp, time_limit  # noqa: PLC0415
+    from winder.app.wall_clock import TimeUp, time_limit  # noqa: PLC0415
     from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.config.job import load_config  # noqa: PLC0415
     from winder.errors import SolverError  # noqa: PLC0415

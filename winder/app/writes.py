@@ -12,9 +12,9 @@ Each file is written atomically (winder.export.atomic); the set is made whole by
 An output name that is a link is followed only to an existing file inside the output folder (the
 file it names is replaced and the link stays); a link to an existing file or folder outside it is
 replaced itself, atomically, by the job's file (winder.export.atomic.output_target), the file it
-named left untouched, and put back if the job fails; a link to nothing (dangling, or to a folder that does not exist) or a loop of
-links is refused before anything is written: following it would create folders and files outside the
-output folder.
+named left untouched, and put back if the job fails; a link to nothing (dangling, or to a folder
+that does not exist) or a loop of links is refused before anything is written: following it would
+create folders and files outside the output folder.
 """
 
 from __future__ import annotations

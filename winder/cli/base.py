@@ -79,7 +79,6 @@ class WinderGroup(click.Group):
                     _echo(exc.ctx.get_help() if exc.ctx is not None else exc.format_message())
                     sys.exit(exc.exit_code)
                 except click.ClickException as exc:
-                    raise_if_interrupted(exc)
                     _echo(f"Error: {' '.join(exc.format_message().split())}", err=True)
                     sys.exit(exc.exit_code)
                 except (click.Abort, KeyboardInterrupt):  # no prompts here: an interrupt off the main thread
@@ -89,8 +88,7 @@ class WinderGroup(click.Group):
                 why = (exc if isinstance(exc, WinderError)
                        else ExportError(f"standard output: cannot write: {exc.strerror}"))
                 sys.exit(_error(why))
-            raise_if_interrupted()  # a stop signal whose exception a library swallowed: its status all the same
-        except Interrupted as exc:
+        except Interrupted as exc:  # interrupts_raise's, also for an error or a return after a stop signal
             _echo(f"Error: {exc}; the files of the job in hand were not written or were removed", err=True)
             sys.exit(exc.exit_code)
         except SystemExit as exc:  # a command's status, decided after a stop signal it never saw raised

@@ -16,16 +16,26 @@ MAX_FILE_BYTES = 2_000_000
 MAX_NAME_LENGTH = 200
 
 
+def checked_size(path: str | Path, source: str, kind: str = "job file", limit: int = MAX_FILE_BYTES) -> int:
+    """The size of the file at path, a regular file of at most limit bytes, checked before it is opened
+    (opening a FIFO would block, /dev/zero never ends): else ConfigError naming source."""
+    try:
+        info = os.stat(path)
+    except OSError as exc:
+        raise ConfigError(f"{source}: cannot read the file: {exc.strerror or exc}") from exc
+    if not stat.S_ISREG(info.st_mode):
+        raise ConfigError(f"{source}: not a regular file (a {kind} is a text file)")
+    if info.st_size > limit:
+        raise ConfigError(f"{source}: the file has {info.st_size} bytes, more than a {kind}'s limit of {limit}")
+    return info.st_size
+
+
 def read_text(path: str | Path, source: str, kind: str = "job file", limit: int = MAX_FILE_BYTES,
               errors: str = "strict") -> str:
     """The text of a job file (or another kind of text file): a regular file of at most limit bytes,
     UTF-8 (errors: as bytes.decode's; "replace" reads other bytes as U+FFFD instead of refusing)."""
+    checked_size(path, source, kind, limit)
     try:
-        info = os.stat(path)  # before opening: opening a FIFO would block
-        if not stat.S_ISREG(info.st_mode):
-            raise ConfigError(f"{source}: not a regular file (a {kind} is a text file)")
-        if info.st_size > limit:
-            raise ConfigError(f"{source}: the file has {info.st_size} bytes, more than a {kind}'s limit of {limit}")
         with open(path, "rb") as fh:
             raw = fh.read(limit + 1)
     except OSError as exc:

@@ -42,15 +42,24 @@ class Arc:
         return self._coef
 
     def evaluate(self, z: np.ndarray) -> CurveEval:
+        x, tan, nrm = self._point_tangent_normal(z)
+        b, e2u, e2b, e3u, e3b = self._coef
+        rho = self.radius
+        return CurveEval(x, tan, nrm / rho, -tan / rho**2, e2u * nrm + e2b * b, e3u * nrm + e3b * b)
+
+    def centerline(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """GuideCurve.centerline."""
+        x, tan, nrm = self._point_tangent_normal(z)
+        return x, tan, nrm / self.radius
+
+    def _point_tangent_normal(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Point, unit tangent and in-plane unit normal toward the centre of curvature, (m, 3) each."""
         z = np.asarray(z, dtype=float)
         rho, t0, u = self.radius, self.tangent, self.toward_dir
-        b, e2u, e2b, e3u, e3b = self._coef
         phi = (z / rho)[:, None]
         c, s = np.cos(phi), np.sin(phi)
         x = self.origin + rho * s * t0 + rho * (1.0 - c) * u
-        tan = c * t0 + s * u
-        nrm = -s * t0 + c * u  # in-plane normal toward the centre of curvature
-        return CurveEval(x, tan, nrm / rho, -tan / rho**2, e2u * nrm + e2b * b, e3u * nrm + e3b * b)
+        return x, c * t0 + s * u, -s * t0 + c * u
 
     def max_curvature(self) -> float:
         return 1.0 / self.radius

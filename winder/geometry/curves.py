@@ -42,6 +42,11 @@ class GuideCurve(Protocol):
 
     def evaluate(self, z: np.ndarray) -> CurveEval: ...
 
+    def centerline(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """x, x' and x'' at stations z (m,): evaluate's first three fields (each (m, 3), new arrays)
+        without the frame, for closest-point searches that do not need it."""
+        ...
+
     def max_curvature(self) -> float: ...
 
 
@@ -66,6 +71,12 @@ class Line:
         zero = np.zeros((3, m)).T
         return CurveEval((self.origin[:, None] + z * self.tangent[:, None]).T, tile(self.tangent, m), zero,
                          zero, tile(self.e2, m), tile(self.e3, m))
+
+    def centerline(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """GuideCurve.centerline."""
+        z = np.asarray(z, dtype=float)
+        m = z.shape[0]
+        return (self.origin[:, None] + z * self.tangent[:, None]).T, tile(self.tangent, m), np.zeros((m, 3))
 
     @functools.cached_property
     def e3(self) -> np.ndarray:

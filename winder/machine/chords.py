@@ -36,16 +36,21 @@ def _bends(env: EyeEnvelope) -> np.ndarray:
     return np.concatenate([x[:1], x[1:-1][bent], x[-1:]])
 
 
+def _move_firsts(sizes: np.ndarray, rows: int) -> np.ndarray:
+    """The first row of each move (sum(sizes - 1),) of runs of sizes (k,) rows stored one after the
+    other, rows in all."""
+    last = np.cumsum(sizes) - 1
+    inner = np.ones(rows, dtype=bool)
+    inner[last[sizes > 0]] = False
+    return np.flatnonzero(inner)
+
+
 def move_cuts(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, env: EyeEnvelope) -> np.ndarray:
     """The cut (mm, >= 0) of each move between consecutive rows of each run: (sum(sizes - 1),) for
     runs of sizes (k,) rows stored one after the other in x (carriage) and z (cross-feed), (m,) each.
     Zero everywhere in radius mode (`eye: {radius}`: no clearance to keep)."""
     x, z = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
-    sizes = np.asarray(sizes, dtype=np.int64)
-    last = np.cumsum(sizes) - 1
-    inner = np.ones(x.size, dtype=bool)
-    inner[last[sizes > 0]] = False
-    first = np.flatnonzero(inner)  # each move's first row
+    first = _move_firsts(np.asarray(sizes, dtype=np.int64), x.size)
     cuts = np.zeros(first.size)
     if env.clearance is None or first.size == 0:
         return cuts
@@ -67,13 +72,15 @@ def move_cuts(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, env: EyeEnvelope)
     return cuts
 
 
-def cut_factors(cuts: np.ndarray, share: float) -> np.ndarray:
-    """(k,) int: the pieces each planned interval whose chord cuts `cuts` (k,) is cut in so that each
-    piece cuts about `share` (mm; densify.DENSE_SHARE of the chord tolerance) at most (13.3)."""
-    cuts = np.asarray(cuts, dtype=float)
-    out = np.ones(cuts.size, dtype=np.int64)
-    big = np.isfinite(cuts) & (cuts > share)
-    out[big] = np.minimum(CLEAR_MAX_FACTOR, np.ceil(np.sqrt(cuts[big] / share))).astype(np.int64)
+def pieces(errors: np.ndarray, share: float, most: int) -> np.ndarray:
+    """(k,) int: the pieces each planned interval whose chord errs by `errors` (k,) (its bow off the
+    eye's path, or its cut into the clearance) is cut in so that each piece errs by about `share` at
+    most, at most `most`: a smooth curve's error falls as 1 / K^2 in K pieces (13.3; 1 where the
+    error is within share or not finite)."""
+    errors = np.asarray(errors, dtype=float)
+    out = np.ones(errors.size, dtype=np.int64)
+    big = np.isfinite(errors) & (errors > share)
+    out[big] = np.minimum(most, np.ceil(np.sqrt(errors[big] / share))).astype(np.int64)
     return out
 
 
@@ -94,10 +101,7 @@ def refine(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, u: np.ndarray, plann
     bad = np.flatnonzero(cuts > share)
     if bad.size == 0:
         return None, worst
-    last = np.cumsum(sizes) - 1
-    inner = np.ones(u.size, dtype=bool)
-    inner[last[sizes > 0]] = False
-    row = np.flatnonzero(inner)[bad]
+    row = _move_firsts(sizes, u.size)[bad]
     step = u[row + 1] - u[row]
     interval = np.floor(u[row]).astype(np.int64)
     now = np.maximum(np.rint(1.0 / step), 1.0)

@@ -37,6 +37,7 @@ from winder.machine.dynamics import move_times
 from winder.machine.envelope import eye_envelope
 from winder.machine.program import MotionProgram, Segment, approach, as_written, build_program, is_robot
 from winder.winding.budget import PROGRAM_CHUNK_POINTS
+from winder.winding.layer_batches import point_groups
 from winder.winding.results import FiberPass, WindingPlan
 
 # Planned points of the layers built in one batch (about 4 kB each at the peak on a vessel); the work
@@ -49,16 +50,8 @@ _TWO_PI = 2.0 * math.pi
 
 def layer_groups(plan: WindingPlan, most: int = CHUNK_POINTS) -> list[tuple]:
     """The plan's layers in order, in groups of at most `most` planned points (a larger layer alone)."""
-    groups: list[list] = [[]]
-    count = 0
-    for layer in plan.layers:
-        n = sum(len(fp.t) for fp in layer.passes)
-        if groups[-1] and count + n > most:
-            groups.append([])
-            count = 0
-        groups[-1].append(layer)
-        count += n
-    return [tuple(g) for g in groups if g]
+    points = [sum(len(fp.t) for fp in layer.passes) for layer in plan.layers]
+    return [tuple(plan.layers[i] for i in group) for group in point_groups(points, most)]
 
 
 def _sense_of(layers) -> float:

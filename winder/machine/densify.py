@@ -20,7 +20,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from winder.machine.chords import cut_factors, move_cuts
+from winder.machine.chords import CLEAR_MAX_FACTOR, move_cuts, pieces
 from winder.machine.exact import exact_points
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass
@@ -35,9 +35,7 @@ NEIGHBOURS = 4  # intervals either side whose factor an interval takes too (inte
 def dense_factor(bow: float, tol: float) -> int | None:
     """The dense points per planned interval of a pass whose intervals bow up to `bow` off their
     chords, or None where the planned points suffice (module docstring)."""
-    if not np.isfinite(bow) or bow <= DENSE_SHARE * tol:
-        return None
-    factor = int(min(MAX_FACTOR, np.ceil(np.sqrt(bow / (DENSE_SHARE * tol)))))
+    factor = int(pieces(np.array([bow]), DENSE_SHARE * tol, MAX_FACTOR)[0])
     return None if factor <= 1 else factor
 
 
@@ -45,11 +43,7 @@ def interval_factors(bows: np.ndarray, tol: float, floor: np.ndarray | None = No
     """(n - 1,) int: the dense points of each planned interval of a pass whose intervals bow `bows`
     (n - 1,) off their chords, at least floor (n - 1,) (the clearance's, clearance_floor), or None
     where the planned points suffice (module docstring)."""
-    bows = np.asarray(bows, dtype=float)
-    share = DENSE_SHARE * tol
-    factors = np.ones(bows.size, dtype=np.int64)
-    big = np.isfinite(bows) & (bows > share)
-    factors[big] = np.minimum(MAX_FACTOR, np.ceil(np.sqrt(bows[big] / share))).astype(np.int64)
+    factors = pieces(bows, DENSE_SHARE * tol, MAX_FACTOR)
     if np.any(factors > 1):
         # A midpoint can miss a corner of the eye's path inside its interval (the eye rounding a tube's
         # end during a dwell, where the midpoint's eye still lies on the level part): each interval takes
@@ -95,7 +89,7 @@ def clearance_floor(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, env, tol: f
     if env is None:
         floor = np.ones(int(moves.sum()), dtype=np.int64)
     else:
-        floor = cut_factors(move_cuts(x, z, sizes, env), DENSE_SHARE * tol)
+        floor = pieces(move_cuts(x, z, sizes, env), DENSE_SHARE * tol, CLEAR_MAX_FACTOR)
     for start, more in zip((np.cumsum(moves) - moves).tolist(), least or ()):
         if more is not None:
             floor[start:start + more.size] = np.maximum(floor[start:start + more.size], more)

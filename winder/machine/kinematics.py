@@ -240,13 +240,8 @@ class Guide:
     def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Point, unit tangent and curvature vector x'' of the extended guide at stations z."""
         zi = np.clip(z, 0.0, self.T)
-        centerline = getattr(self.curve, "centerline", None)  # without the frame, where a curve has it
-        if centerline is not None:
-            x, d1, kap = centerline(zi)
-            tan = unit_rows(d1)
-        else:
-            ev = self.curve.evaluate(zi)
-            x, tan, kap = ev.x.copy(), unit_rows(ev.d1), ev.d2.copy()
+        x, d1, kap = self.curve.centerline(zi)  # without the frame
+        tan = unit_rows(d1)
         lo, hi = z < 0.0, z > self.T
         x[lo] = self.x0 + z[lo, None] * self.t0
         tan[lo] = self.t0

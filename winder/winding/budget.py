@@ -25,6 +25,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
+from winder.winding.layer_batches import point_groups
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
@@ -255,8 +256,9 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
 def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, region: tuple[float, float]) -> None:
     """Too few points for a pass on a bent tube of circular section (no closed form: the planner
     traces the geodesic for minutes before its solver refuses n): the rounds estimated as on the
-    straightened tube, the integral of tan(alpha) / perimeter along the axis (docs/math/14-work-estimates.md), refused
-    where even BENT_ROUNDS_SHARE of them would be refused (the bend moves the rounds a little)."""
+    straightened tube, the integral of tan(alpha) / perimeter along the axis
+    (docs/math/14-work-estimates.md), refused where even BENT_ROUNDS_SHARE of them would be refused
+    (the bend moves the rounds a little)."""
     from winder.paths.resolution import MIN_SEGMENTS_PER_ROUND, POINTS_PER_ROUND  # noqa: PLC0415
 
     if not surface.section.is_circle:
@@ -269,8 +271,8 @@ def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
     if n < least:
         raise _refuse(job.source, "winding.points",
                       f"must be at least {least} for a pass of about {rounds:.4g} rounds "
-                      f"({region[1] - region[0]:.6g} mm of axis at {cfg.angle_deg:g} deg): with fewer, a segment spans over a third of a turn and "
-                      f"cuts across the mandrel (an accurate length wants {POINTS_PER_ROUND} per round: "
+                      f"({region[1] - region[0]:.6g} mm of axis at {cfg.angle_deg:g} deg): with fewer, a segment "
+                      f"spans over a third of a turn and cuts across the mandrel (an accurate length wants {POINTS_PER_ROUND} per round: "
                       f"{math.ceil(POINTS_PER_ROUND * rounds)}), got {n}")
 
 
@@ -352,19 +354,13 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
 
 def _largest_batch(job: JobConfig, points: list[int]) -> int:
     """Planned points of the largest group of layers the machine stage takes in one batch
-    (winder.machine.chunks.layer_groups: consecutive layers up to PROGRAM_CHUNK_POINTS, a larger layer
-    alone); every layer at once where it takes the plan whole (a robot, rotation or yaw limits)."""
+    (winder.winding.layer_batches); every layer at once where it takes the plan whole (a robot,
+    rotation or yaw limits)."""
     machine = job.machine
     if machine is not None and (machine.robot or machine.limits.rotation is not None
                                 or machine.limits.yaw is not None):
         return sum(points)
-    largest = count = 0
-    for n in points:
-        if count and count + n > PROGRAM_CHUNK_POINTS:
-            count = 0
-        count += n
-        largest = max(largest, count)
-    return largest
+    return max((sum(points[i] for i in group) for group in point_groups(points, PROGRAM_CHUNK_POINTS)), default=0)
 
 
 def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:

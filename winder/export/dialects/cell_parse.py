@@ -16,6 +16,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.export.dialects.parsed import ParsedProgram
+from winder.export.dialects.program_file import CELL_LINES
 from winder.machine.cell import eye_of, mandrel_in_base
 
 _PASS = re.compile(r"^\s*(?:;|!|#)\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
@@ -30,14 +31,9 @@ QUATERNION_TOL = 1e-6  # |q| - 1 of a written quaternion
 
 
 def detect_cell(text: str) -> str | None:
-    """krl, rapid or urscript when the text is one of those programs, else None."""
-    if re.search(r"^\s*def\s+\w+\(\):", text, re.M):  # URScript's def ends with a colon, KRL's DEF does not
-        return "urscript"
-    if re.search(r"^\s*DEF\s+\w+\s*\([^)]*\)\s*$", text, re.M | re.I):
-        return "krl"
-    if re.search(r"^\s*MODULE\s+\w+", text, re.M):
-        return "rapid"
-    return None
+    """krl, rapid or urscript when the text is one of those programs, else None (the lines
+    winder.export.dialects.program_file's survey looks for, line by line, in a file)."""
+    return next((name for name, line in CELL_LINES if line.search(text)), None)
 
 
 def _rz_ry_rx(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:

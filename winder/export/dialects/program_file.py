@@ -13,22 +13,27 @@ not UTF-8 (a Latin-1 accent in a comment) are read as U+FFFD, and a leading byte
 
 from __future__ import annotations
 
-import os
 import re
-import stat
 from collections.abc import Iterator
 
+from winder.config.files import checked_size
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 
 _MARLIN_FIRST = marlin.HEADER.strip().upper()  # a marlin program's first text
 
 MAX_LINE_BYTES = 1_000_000
-_LINUXCNC = re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?G0*93[ \t]*$")
-_POSE = re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?POSE[ \t]")
-_URSCRIPT = re.compile(r"^\s*def\s+\w+\(\):")
-_KRL = re.compile(r"^\s*DEF\s+\w+\s*\([^)]*\)\s*$", re.I)
-_RAPID = re.compile(r"^\s*MODULE\s+\w+")
+# The line only a dialect writes, in the order the dialects are told apart. Multi-line: the same
+# pattern matches a line (survey) and searches a whole text (cell_parse.detect_cell).
+# The leading blanks never cross a newline ([^\S\n]*, the same matches as \s*: with \s*, a text's
+# search runs from every line start over all the blank lines after it, 76 s for 60,000 of them).
+# A robot cell's program (URScript's def ends with a colon, KRL's DEF does not):
+CELL_LINES = (("urscript", re.compile(r"^[^\S\n]*def\s+\w+\(\):", re.M)),
+              ("krl", re.compile(r"^[^\S\n]*DEF\s+\w+\s*\([^)]*\)\s*$", re.M | re.I)),
+              ("rapid", re.compile(r"^[^\S\n]*MODULE\s+\w+", re.M)))
+# A G-code program, in upper case:
+GCODE_LINES = (("linuxcnc", re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?G0*93[ \t]*$", re.M)),
+               ("robot", re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?POSE[ \t]", re.M)))
 
 
 class ProgramFile:
@@ -40,19 +45,7 @@ class ProgramFile:
         self.paths = [path]
         if path.lower().endswith(".src"):  # a KRL program's points are in the .dat beside it
             self.paths.append(path[:-4] + (".DAT" if path.endswith(".SRC") else ".dat"))
-        self.size = sum(self._stat(p, max_bytes, kind if p == path else "KRL data list") for p in self.paths)
-
-    @staticmethod
-    def _stat(path: str, max_bytes: int, kind: str) -> int:
-        try:
-            info = os.stat(path)
-        except OSError as exc:
-            raise ConfigError(f"{path}: cannot read the file: {exc.strerror or exc}") from exc
-        if not stat.S_ISREG(info.st_mode):
-            raise ConfigError(f"{path}: not a regular file (a {kind} is a text file)")
-        if info.st_size > max_bytes:
-            raise ConfigError(f"{path}: the file has {info.st_size} bytes, more than a {kind}'s limit of {max_bytes}")
-        return info.st_size
+        self.size = sum(checked_size(p, p, kind if p == path else "KRL data list", max_bytes) for p in self.paths)
 
     def lines(self) -> Iterator[str]:
         """The lines of the file(s), in order, as str.splitlines gives them (module docstring)."""
@@ -98,11 +91,11 @@ class ProgramFile:
                 upper = line.upper()
                 found.update(name for name, pattern in _TESTS
                              if name not in found and pattern.match(upper if name in _UPPER else line))
-        cell = next((name for name in ("urscript", "krl", "rapid") if name in found), None)
+        cell = next((name for name, _ in CELL_LINES if name in found), None)
         if first is not None and first.startswith(_MARLIN_FIRST):
             return cell, "marlin", count
-        return cell, next((name for name in ("linuxcnc", "robot") if name in found), "generic"), count
+        return cell, next((name for name, _ in GCODE_LINES if name in found), "generic"), count
 
 
-_UPPER = ("linuxcnc", "robot")  # tested in upper case, as parse.detect tests them
-_TESTS = (("urscript", _URSCRIPT), ("krl", _KRL), ("rapid", _RAPID), ("linuxcnc", _LINUXCNC), ("robot", _POSE))
+_UPPER = tuple(name for name, _ in GCODE_LINES)  # tested in upper case, as parse.detect tests them
+_TESTS = (*CELL_LINES, *GCODE_LINES)

@@ -134,7 +134,7 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
             # The first joint's direction from the cylinder's piece (a helix: a line in (t, theta),
             # which its spline holds exactly; the second joint's already is), not from a dome's spline
             # end: on a 2.5:1 ellipsoid that end is 3e-5 rad off, past the exact eye's landing test
-            # (winder.machine.exact), and the eye there fell back to the smooth path's direction
+            # (winder.machine.exact), which would put the eye there on the smooth path's direction
             # (0.025 mm off the fiber's tangent).
             d_out[-1] = d_out[-1].copy()
             d_out[-1][-1] = d[0]

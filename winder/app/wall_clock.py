@@ -1,0 +1,46 @@
+"""A job's wall-clock limit (`--time-limit` of run, simulate, geodesic): SIGALRM raises TimeUp in the
+main thread when it runs out. The stop signals TERM and INT are winder.app.interrupts'.
+"""
+
+from __future__ import annotations
+
+import signal
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+__all__ = ["TimeUp", "time_limit"]
+
+
+class TimeUp(BaseException):
+    """A job's wall-clock limit ran out (time_limit). A BaseException, so that it unwinds through
+    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1)."""
+
+
+def _time_up(signum: int, frame) -> None:
+    raise TimeUp()
+
+
+@contextmanager
+def time_limit(seconds: float | None) -> Iterator[None]:
+    """Raise TimeUp in this (main) thread after seconds of wall-clock time (None: no limit). The
+    guard of solvers that cannot converge (an integrator taking ever smaller steps, L-BFGS at its
+    iteration cap): whatever the job computes, it ends. A timer set before is restored after."""
+    if not seconds:
+        yield
+        return
+    try:
+        old_handler = signal.signal(signal.SIGALRM, _time_up)
+    except ValueError:  # not the main thread: no signals here
+        yield
+        return
+    old_delay, old_interval = signal.setitimer(signal.ITIMER_REAL, seconds)
+    started = time.monotonic()
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old_handler)
+        if old_delay > 0:
+            left = old_delay - (time.monotonic() - started)
+            signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
