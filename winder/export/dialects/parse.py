@@ -20,7 +20,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.export.dialects.parsed import ParsedProgram
-from winder.export.dialects.program_file import ProgramFile
+from winder.export.dialects.program_file import GCODE_LINES, ProgramFile
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects import robot as poses
@@ -57,12 +57,7 @@ def detect(text: str) -> str:
     upper = text.upper()
     if upper.lstrip().startswith(marlin.HEADER.strip().upper()):
         return "marlin"
-    # [ \t]*, never \s*: \s crosses newlines, and 30,000 blank lines made each search quadratic
-    if re.search(r"^[ \t]*(N[0-9]+[ \t]*)?G0*93[ \t]*$", upper, re.M):
-        return "linuxcnc"
-    if re.search(r"^[ \t]*(N[0-9]+[ \t]*)?POSE[ \t]", upper, re.M):
-        return "robot"
-    return "generic"
+    return next((name for name, pattern in GCODE_LINES if pattern.search(upper)), "generic")
 
 
 def _code(line: str) -> str:
