@@ -20,11 +20,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from winder.config.job import load_config
+from every_job import job_of, planned as planned_once  # each sample planned once per session
 from winder.errors import ConfigError
 from winder.export.summary import summary_dict
 from winder.winding.results import LayerPlan, PassKind
-from winder.winding.plan import plan as plan_job
 from winder.report.bands import Crossings, band_counts, covered_fraction
 from winder.report.coverage_map import layer_coverage_map
 from winder.report.html import report_html
@@ -45,8 +44,7 @@ def planned():
     """name -> (plan, summary dict, band width) of every sample."""
     out = {}
     for path in SAMPLES:
-        job = load_config(path)
-        plan = plan_job(job)
+        job, plan = job_of(path), planned_once(path)
         out[job.name] = (plan, summary_dict(plan), job.winding.band_width)
     return out
 
