@@ -1,6 +1,6 @@
 """Hostile input, second round (issue 34): outputs that never mix or escape the output folder.
 
-The race is repeated WINDER_TRIALS times (default 10; the issue's 200, about 7 minutes on 2 cores):
+The race is repeated WINDER_TRIALS times (default 4, to keep the suite short; the issue's 200, about 7 minutes on 2 cores):
 WINDER_TRIALS=200 python -m pytest tests/app/test_hostile_writes.py -k race
 """
 
@@ -18,7 +18,7 @@ from winder.app.batch import name_clash
 from winder.app.jobs import run_job
 
 ROOT = Path(__file__).resolve().parents[2]
-TRIALS = int(os.environ.get("WINDER_TRIALS", "10"))
+TRIALS = int(os.environ.get("WINDER_TRIALS", "4"))
 
 
 def _config(folder: Path, stem: str, name: str = "tiny", angle: float = 45.0) -> Path:

@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from roundoff import assert_roundoff
+from every_job import planned  # each sample planned once per session
 from winder.config.job import load_config
 from winder.export.gcode import program_text
 from winder.machine.chunks import build_program_in_groups, layer_groups
@@ -19,8 +20,7 @@ MAX_TIES = 2  # written lines that may differ in a last digit (a value within 1e
 
 
 def test_groups_follow_the_planned_points() -> None:
-    job = load_config(ROOT / "samples/vessel_hemi.yaml")
-    plan = plan_job(job)
+    plan = planned(ROOT / "samples/vessel_hemi.yaml")
     sizes = [sum(len(fp.t) for fp in layer.passes) for layer in plan.layers]
     assert [len(g) for g in layer_groups(plan, EVERY_LAYER_ALONE)] == [1] * len(sizes)
     assert [len(g) for g in layer_groups(plan, sum(sizes))] == [len(sizes)]

@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 from scipy.spatial import cKDTree
 
 from winder.config.job import load_config
@@ -23,10 +24,12 @@ from winder.winding.plan import plan
 
 HERE = Path(__file__).resolve().parent
 MOVE_SAMPLES = 64  # points per written move, ends included
-MERIDIAN_SAMPLES = 200_001  # along the part's meridian: 2.6 um apart on this tank
+MERIDIAN_SAMPLES = 20_001  # along the part's meridian: 26 um apart at most on this tank
 # The nearest meridian sample overstates the distance to the curve between samples by at most
-# spacing^2 / (8 distance) (< 1e-7 mm here), and a move's worst point lies within half a sample
-# spacing of a sample (a slope of 1 at most: 1.5 mm / 64 / 2 of distance).
+# spacing^2 / (8 distance) (< 4e-6 mm at the 25 mm clearance, far inside SAMPLING_TOL; 200,001
+# samples cost a minute of k-d tree search, every sample of a dome lying nearly as far from the eye),
+# and a move's worst point lies within half a sample spacing of a sample (a slope of 1 at most:
+# 1.5 mm / 64 / 2 of distance).
 SAMPLING_TOL = 1e-3
 CUT_TOL = 1e-6  # mm: a sampled cut against the closed form, where the worst point is a sample (an end)
 
@@ -42,9 +45,15 @@ def _meridian(surface) -> np.ndarray:
     return np.vstack([np.column_stack([t, r]), *discs])
 
 
-def test_every_written_move_keeps_the_clearance():
+@pytest.fixture(scope="module")
+def junction():
+    """The tank's job and plan, planned once for this file's tests."""
     job = load_config(HERE / "configs/ellipsoid_junction.yaml")
-    pl = plan(job)
+    return job, plan(job)
+
+
+def test_every_written_move_keeps_the_clearance(junction):
+    job, pl = junction
     machine = job.machine
     prog = build_program(pl, machine)
     read = parse_program(program_text(prog), machine)
@@ -61,12 +70,11 @@ def test_every_written_move_keeps_the_clearance():
     assert worst.min() < machine.eye_clearance
 
 
-def test_a_move_across_a_bend_cuts_its_sagitta():
+def test_a_move_across_a_bend_cuts_its_sagitta(junction):
     """move_cuts against the cylinder's closed form: a chord between two eye points on the envelope's
     level part cuts nothing; a chord from the envelope to a point 1 mm below it at the same carriage
     cuts the clearance less that point's height over the part's radius there."""
-    job = load_config(HERE / "configs/ellipsoid_junction.yaml")
-    pl = plan(job)
+    job, pl = junction
     env = eye_envelope(pl.outer_surface, job.machine)
     mid = 0.5 * (env.stations[0] + env.stations[-1])
     level = float(env.at(np.array([mid]))[0])

@@ -6,17 +6,15 @@ from pathlib import Path
 
 import numpy as np
 
-from winder.config.job import load_config
+from every_job import job_of, planned  # each sample planned once per session
 from winder.machine import batch, program
-from winder.winding.plan import plan as plan_job
 from roundoff import assert_roundoff
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_batched_densify_is_pass_by_pass(monkeypatch):
-    job = load_config(ROOT / "samples/vessel_isotensoid.yaml")
-    plan = plan_job(job)
+    job, plan = job_of(ROOT / "samples/vessel_isotensoid.yaml"), planned(ROOT / "samples/vessel_isotensoid.yaml")
     batched = program.build_program(plan, job.machine)
     calls = []
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from winder.config.job import load_config
+from every_job import job_of, planned  # each sample planned once per session
 from winder.machine import program, straight
 from winder.machine.chords import CLEAR_ROUNDS
 from winder.winding.plan import plan as plan_job
@@ -25,8 +25,7 @@ def _bits(a: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("sample", ["cone", "pipe", "elliptic_tube", "vessel_isotensoid"])
 def test_gathered_program_is_the_steps(sample, monkeypatch):
-    job = load_config(ROOT / "samples" / f"{sample}.yaml")
-    plan = plan_job(job)
+    job, plan = job_of(ROOT / "samples" / f"{sample}.yaml"), planned(ROOT / "samples" / f"{sample}.yaml")
     calls = []
     real = straight.straight_passes
     monkeypatch.setattr(program, "straight_passes", lambda *a: calls.append(1) or real(*a))
@@ -62,8 +61,7 @@ def test_a_program_no_pass_of_which_densifies_is_the_steps(monkeypatch):
 
 
 def test_a_lead_that_fails_leaves_it_to_the_steps(monkeypatch):
-    job = load_config(ROOT / "samples" / "pipe.yaml")
-    plan = plan_job(job)
+    job, plan = job_of(ROOT / "samples" / "pipe.yaml"), planned(ROOT / "samples" / "pipe.yaml")
 
     def refuse(*args, **kwargs):
         raise straight.ExportError("no lead")

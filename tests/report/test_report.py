@@ -20,11 +20,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from winder.config.job import load_config
+from every_job import job_of, planned as planned_once  # each sample planned once per session
 from winder.errors import ConfigError
 from winder.export.summary import summary_dict
 from winder.winding.results import LayerPlan, PassKind
-from winder.winding.plan import plan as plan_job
 from winder.report.bands import Crossings, band_counts, covered_fraction
 from winder.report.coverage_map import layer_coverage_map
 from winder.report.html import report_html
@@ -45,8 +44,7 @@ def planned():
     """name -> (plan, summary dict, band width) of every sample."""
     out = {}
     for path in SAMPLES:
-        job = load_config(path)
-        plan = plan_job(job)
+        job, plan = job_of(path), planned_once(path)
         out[job.name] = (plan, summary_dict(plan), job.winding.band_width)
     return out
 
@@ -282,35 +280,6 @@ SETTLE_S = 0.3
 DRAW_ATTEMPTS = 20
 
 
-def test_every_sample_report_loads_in_a_headless_browser_and_the_3d_view_draws(planned, tmp_path):
-    import report_browser as rb  # noqa: PLC0415 - beside this file (pytest puts the folder on the path)
-
-    exe = rb.find_browser()
-    if exe is None:
-        pytest.skip("no chromium found (apt-get install chromium); the browser check of the report did not run")
-    keep = os.environ.get("WINDER_REPORT_SCREENSHOTS")
-    with rb.Browser(exe) as browser:
-        for name, (plan, summary, band_width) in planned.items():
-            page = tmp_path / f"{name}.html"
-            page.write_text(report_html(plan, summary, band_width), encoding="utf-8")
-            load = browser.load(page, READY, settle=SETTLE_S)
-            assert load.errors == [], (name, load.errors)
-            assert load.requests == [], (name, load.requests)
-            for _ in range(DRAW_ATTEMPTS):  # software WebGL may still be drawing: look again
-                png = browser.screenshot(browser.rect("#winder-view3d"))
-                colors, band = _drawn(rb, png)
-                if colors >= MIN_3D_COLORS and band >= MIN_BAND_PIXELS:
-                    break
-                time.sleep(SETTLE_S)
-            if keep:
-                Path(keep).mkdir(parents=True, exist_ok=True)
-                (Path(keep) / f"{name}.view3d.png").write_bytes(png)
-            assert colors >= MIN_3D_COLORS, (name, colors)
-            assert band >= MIN_BAND_PIXELS, (name, band)
-            late = browser.seen()  # everything since the page was opened, the drawing included
-            assert late.errors == [] and late.requests == [], (name, late)
-
-
 def _drawn(rb, png: bytes) -> tuple[int, int]:
     """Distinct colors in the 3D view's screenshot, and pixels of the first layer's +alpha color."""
     pixels = rb.png_pixels(png)[..., :3].astype(int)
@@ -319,24 +288,71 @@ def _drawn(rb, png: bytes) -> tuple[int, int]:
 
 
 LAPTOP_WIDTH_PX = 1280  # a shop laptop's browser window
+FIT = ("(() => { const t = document.querySelector('table.layers'), s = t.closest('section');"
+       " return [t.getBoundingClientRect().right, s.getBoundingClientRect().right,"
+       " document.documentElement.scrollWidth, innerWidth]; })()")
 
 
-def test_the_layer_table_fits_its_section_in_a_laptop_window(planned, tmp_path):
-    # Columns past the section's edge are cut off the card and need a sideways scroll of the whole page
-    # to be found: the time and fiber columns of a laminate went missing that way.
-    import report_browser as rb  # noqa: PLC0415
+@dataclasses.dataclass(frozen=True)
+class BrowserSeen:
+    """What one sample's report showed in the browser: the load, the 3D view's screenshot (distinct
+    colors, band pixels, the PNG), everything seen up to the last screenshot, and the layer table's
+    fit (table right, section right, page width, window width)."""
+
+    load: object
+    colors: int
+    band: int
+    png: bytes
+    late: object
+    fit: list
+
+
+@pytest.fixture(scope="module")
+def in_browser(planned, tmp_path_factory) -> dict[str, BrowserSeen]:
+    """Every sample's report loaded once in a laptop-wide window, for the browser tests below: a page
+    takes about 7 s to load and draw in software WebGL, so the two tests share each load (the 3D
+    view is checked at the laptop width, not the browser's default 1400 px)."""
+    import report_browser as rb  # noqa: PLC0415 - beside this file (pytest puts the folder on the path)
 
     exe = rb.find_browser()
     if exe is None:
         pytest.skip("no chromium found (apt-get install chromium); the browser check of the report did not run")
-    fit = ("(() => { const t = document.querySelector('table.layers'), s = t.closest('section');"
-           " return [t.getBoundingClientRect().right, s.getBoundingClientRect().right,"
-           " document.documentElement.scrollWidth, innerWidth]; })()")
+    folder = tmp_path_factory.mktemp("pages")
+    out = {}
     with rb.Browser(exe, width=LAPTOP_WIDTH_PX) as browser:
         for name, (plan, summary, band_width) in planned.items():
-            page = tmp_path / f"{name}.html"
+            page = folder / f"{name}.html"
             page.write_text(report_html(plan, summary, band_width), encoding="utf-8")
-            browser.load(page, READY, settle=0.0)
-            table_right, section_right, page_width, window = browser.evaluate(fit)
-            assert table_right <= section_right and page_width <= window, (name, table_right, section_right,
-                                                                           page_width, window)
+            load = browser.load(page, READY, settle=SETTLE_S)
+            fit = browser.evaluate(FIT)
+            for _ in range(DRAW_ATTEMPTS):  # software WebGL may still be drawing: look again
+                png = browser.screenshot(browser.rect("#winder-view3d"))
+                colors, band = _drawn(rb, png)
+                if colors >= MIN_3D_COLORS and band >= MIN_BAND_PIXELS:
+                    break
+                time.sleep(SETTLE_S)
+            late = browser.seen()  # everything since the page was opened, the drawing included
+            out[name] = BrowserSeen(load, colors, band, png, late, fit)
+    return out
+
+
+def test_every_sample_report_loads_in_a_headless_browser_and_the_3d_view_draws(in_browser):
+    keep = os.environ.get("WINDER_REPORT_SCREENSHOTS")
+    for name, seen in in_browser.items():
+        assert seen.load.errors == [], (name, seen.load.errors)
+        assert seen.load.requests == [], (name, seen.load.requests)
+        if keep:
+            Path(keep).mkdir(parents=True, exist_ok=True)
+            (Path(keep) / f"{name}.view3d.png").write_bytes(seen.png)
+        assert seen.colors >= MIN_3D_COLORS, (name, seen.colors)
+        assert seen.band >= MIN_BAND_PIXELS, (name, seen.band)
+        assert seen.late.errors == [] and seen.late.requests == [], (name, seen.late)
+
+
+def test_the_layer_table_fits_its_section_in_a_laptop_window(in_browser):
+    # Columns past the section's edge are cut off the card and need a sideways scroll of the whole page
+    # to be found: the time and fiber columns of a laminate went missing that way.
+    for name, seen in in_browser.items():
+        table_right, section_right, page_width, window = seen.fit
+        assert table_right <= section_right and page_width <= window, (name, table_right, section_right,
+                                                                       page_width, window)
