@@ -12,9 +12,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import functools
+
 from conftest import surface_of
+from every_job import job_of, planned
 from plans import cylinder_plan
-from winder.config.job import load_config
 from winder.config.machine import MachineConfig
 from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ConfigError
@@ -86,8 +88,8 @@ def test_samples_round_trip(name):
     """The shipped references of every straight-axis sample: every programmed eye within TANGENT_TOL
     of its exact tangent line, every move's midpoint (the eye the controller interpolates) within
     chord_tolerance, the fiber as planned."""
-    job = load_config(SAMPLES / f"{name}.yaml")
-    plan = plan_job(job)
+    job = job_of(SAMPLES / f"{name}.yaml")
+    plan = planned(SAMPLES / f"{name}.yaml")
     text = (SAMPLES / "reference" / name / f"{name}.gcode").read_text()
     sim = simulate(job.machine, plan, text)
     assert sim.max_point_deviation_mm < TANGENT_TOL
@@ -118,15 +120,18 @@ def test_cli_simulate_json_and_csv(tmp_path):
     assert result.exit_code == 2 and result.stderr.startswith("Error: ")
 
 
-def test_long_swing_dwell_read_back_within_the_tolerance():
-    """Dwells of 100 turns where the ends hold the fiber: a move spans turns of the mandrel, and the
+@pytest.mark.parametrize("turns", [20, pytest.param(100, marks=pytest.mark.skipif(
+    not os.environ.get("WINDER_NIGHTLY"), reason="a minute of simulate: WINDER_NIGHTLY=1"))])
+def test_long_swing_dwell_read_back_within_the_tolerance(turns: int):
+    """Dwells of many turns where the ends hold the fiber: a move spans turns of the mandrel, and the
     dwell's tangent rays a turn apart nearly coincide; each move's midpoint is still found halfway
-    along its own move, within chord_tolerance of the plan."""
+    along its own move, within chord_tolerance of the plan (20 turns in the suite, 100 nightly)."""
     from winder.config.job import parse_config  # noqa: PLC0415
 
+    dwell = 360.0 * turns
     job = parse_config({"name": "swing", "mandrel": {"axis": {"type": "line", "length": 500},
                                                      "profile": {"type": "constant", "radius": 50}},
-                        "winding": {"band_width": 10, "points": 30, "dwell": {"start": 36000, "end": 36000},
+                        "winding": {"band_width": 10, "points": 30, "dwell": {"start": dwell, "end": dwell},
                                     "region": {"start": 10, "end": 490},
                                     "layers": [{"type": "helical", "angle": 45}]},
                         "machine": {"eye": {"clearance": 20}}}, "swing.yaml")
@@ -142,8 +147,8 @@ def test_bent_axis_read_back_across_the_line_arc_joints():
     line meets the arc, and the smooth path keeps the planned tangent on both sides of a point there,
     so the poses read back lie on the planned tangent lines through the joints too (a one-sided
     tangent put the eyes at the joints 5.5 mm off it)."""
-    job = load_config(SAMPLES / "elbow.yaml")
-    plan = plan_job(job)
+    job = job_of(SAMPLES / "elbow.yaml")
+    plan = planned(SAMPLES / "elbow.yaml")
     sim = simulate(job.machine, plan, gcode_text(plan, job.machine))
     assert sim.dialect == "robot"
     assert sim.max_point_deviation_mm < TANGENT_TOL
@@ -154,14 +159,20 @@ def test_bent_axis_read_back_across_the_line_arc_joints():
 CONFIGS = SAMPLES.parent / "configs"
 
 
+@functools.cache
+def _rounded_tube():
+    """configs/rounded_tube.yaml's job, plan and its program read back (shared by two tests)."""
+    path = CONFIGS / "rounded_tube.yaml"
+    job, plan = job_of(path), planned(path)
+    return job, plan, simulate(job.machine, plan, gcode_text(plan, job.machine))
+
+
 def test_flat_faces_read_back_along_the_pass():
     """The rounded tube (flat faces between 15 mm corners): an eye in a face's plane fits every point
     of the flat, and the corner's tangent sweeps past eyes between its points; the contacts still
     move forward along each pass, so the fiber and the time are the plan's (each sample choosing its
     contact on its own swung back and forth along the flats: 2.5 times the fiber, 2.4 times the time)."""
-    job = load_config(CONFIGS / "rounded_tube.yaml")
-    plan = plan_job(job)
-    sim = simulate(job.machine, plan, gcode_text(plan, job.machine))
+    job, plan, sim = _rounded_tube()
     assert sim.fiber_length_mm == pytest.approx(plan.total_fiber_length_mm, rel=1e-4)
     assert sim.time_s == pytest.approx(build_program(plan, job.machine).times.total_s, rel=FLAT_TIME_TOL)
 
@@ -176,9 +187,7 @@ def test_no_contact_between_the_neighbours_fits_better():
     back off its tangent by more than the chord tolerance, no point of the planned pass between its
     neighbours' contacts (the contacts move forward, so that stretch is open to it) has a ray nearer
     its eye (the program's point 3140 was put 0.51 mm off, a ray 0.006 mm off lay between them)."""
-    job = load_config(CONFIGS / "rounded_tube.yaml")
-    plan = plan_job(job)
-    sim = simulate(job.machine, plan, gcode_text(plan, job.machine))
+    job, plan, sim = _rounded_tube()
     sm = sim.samples
     by_key = {(fp.layer, fp.circuit, fp.number): fp for layer in plan.layers for fp in layer.passes}
     position = 2 * np.asarray(sm["i"]) - np.asarray(sm["mid"], dtype=int)
@@ -221,10 +230,10 @@ def test_a_program_cut_short_is_refused(plan):
 def test_a_whole_program_of_another_config_is_not_only_called_cut_short():
     """The elbow sample's program (band 10: 18 circuits) read against configs/elbow.yaml (band 8: 23
     circuits, every pass of the program among them): complete, ended by M2, yet short of that plan."""
-    job = load_config(SAMPLES.parent / "configs" / "elbow.yaml")
+    job = job_of(SAMPLES.parent / "configs" / "elbow.yaml")
     program = (SAMPLES / "reference" / "elbow" / "elbow.gcode").read_text()
     with pytest.raises(ConfigError) as err:
-        simulate(job.machine, plan_job(job), program, "elbow.gcode")
+        simulate(job.machine, planned(SAMPLES.parent / "configs" / "elbow.yaml"), program, "elbow.gcode")
     text = str(err.value)
     assert "the program stops before the end of the plan of" in text and "configs/elbow.yaml" in text
     assert "(layer 1 circuit 23 pass 92): cut short, or written for another config?" in text
@@ -241,8 +250,8 @@ def test_a_program_without_moves_is_refused_without_a_line_zero(plan, text):
 
 def test_a_move_beyond_the_limits_is_refused():
     """An edited X word outside machine.limits.carriage is refused with its line and value."""
-    job = load_config(SAMPLES / "pipe.yaml")
-    plan = plan_job(job)
+    job = job_of(SAMPLES / "pipe.yaml")
+    plan = planned(SAMPLES / "pipe.yaml")
     lines = gcode_text(plan, job.machine).splitlines()
     k = next(i for i, line in enumerate(lines) if line.startswith("G1 X")) + 5
     words = lines[k].split()
@@ -272,8 +281,8 @@ def test_an_eye_entering_the_mandrel_is_refused():
     """A cross-feed edited to 0 at the end of a long move: along it the eye dips into the pipe (radius
     50), deepest (41.25 mm, cross-feed 8.75) at the last sample inside the pipe's length, 7/8 of the way;
     a collision no axis limit shows; refused with its line, exit 2."""
-    job = load_config(SAMPLES / "pipe.yaml")
-    plan = plan_job(job)
+    job = job_of(SAMPLES / "pipe.yaml")
+    plan = planned(SAMPLES / "pipe.yaml")
     lines = gcode_text(plan, job.machine).splitlines()
     k = [i for i, line in enumerate(lines) if line.startswith("G1 X")][1]
     lines[k] = " ".join("Z0.000" if w.startswith("Z") else w for w in lines[k].split())
@@ -292,8 +301,8 @@ def test_a_robot_pose_inside_the_mandrel_is_refused():
     from winder.machine.envelope import eye_envelope  # noqa: PLC0415
     from winder.machine.kinematics import make_guide  # noqa: PLC0415
 
-    job = load_config(SAMPLES / "elbow.yaml")
-    plan = plan_job(job)
+    job = job_of(SAMPLES / "elbow.yaml")
+    plan = planned(SAMPLES / "elbow.yaml")
     lines = gcode_text(plan, job.machine).splitlines()
     k = [i for i, line in enumerate(lines) if line.startswith("G1 ")][500]
     words = lines[k].split()
@@ -381,8 +390,8 @@ def test_a_program_without_its_pass_comments_is_refused(plan):
 def test_another_jobs_program_is_named_by_its_job_line():
     """The cone sample's program read against the pipe's config: its passes are not the pipe's, and
     the program's own `; job:` line says whose it is."""
-    pipe, cone = (load_config(SAMPLES / f"{name}.yaml") for name in ("pipe", "cone"))
-    text = gcode_text(plan_job(cone), cone.machine)
+    pipe, cone = (job_of(SAMPLES / f"{name}.yaml") for name in ("pipe", "cone"))
+    text = gcode_text(planned(SAMPLES / "cone.yaml"), cone.machine)
     with pytest.raises(ConfigError, match=r"is not in the plan of .*pipe\.yaml: the program was written for "
                                           r"another job \('cone', by its job line; this config plans 'pipe'\)"):
-        simulate(pipe.machine, plan_job(pipe), text)
+        simulate(pipe.machine, planned(SAMPLES / "pipe.yaml"), text)
