@@ -23,15 +23,13 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
-from winder.app.wall_clock import TimeUp, time_limit
 from winder.errors import Interrupted
 
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
 
-# TimeUp and time_limit are winder.app.wall_clock's, named here too for the modules importing them from here.
-__all__ = ["STOP_SIGNALS", "TimeUp", "block_stop_signals", "first_arrived", "held", "in_worker", "interrupted",
-           "interrupts_raise", "raise_if_interrupted", "stop_signals_held_back", "stop_workers", "time_limit",
+__all__ = ["STOP_SIGNALS", "block_stop_signals", "first_arrived", "held", "in_worker", "interrupted",
+           "interrupts_raise", "raise_if_interrupted", "stop_signals_held_back", "stop_workers",
            "watch_arrival_order", "worker_init"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)

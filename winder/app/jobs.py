@@ -15,11 +15,10 @@ import os
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 import dataclasses
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from winder.app.interrupts import (TimeUp, in_worker, raise_if_interrupted, stop_signals_held_back, stop_workers,
-                                   time_limit, worker_init)
+from winder.app.interrupts import in_worker, raise_if_interrupted, stop_signals_held_back, stop_workers, worker_init
+from winder.app.wall_clock import TimeUp, time_limit
 from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
