@@ -91,8 +91,8 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
         return parse_cell(whole, machine, source, cell)
     if dialect is None:
         dialect = detect(text)
-    if machine.robot or dialect == "robot":  # POSE lines (an older winder's) read as what they are not
-        dialect = "robot" if machine.robot else "generic"
+    if machine.robot:  # a robot's poses are G-code too: the config says whose program it is
+        dialect = "robot"
     ax = machine.axes
     if dialect == "robot":
         letters, prefixes = poses.LETTERS, ("G1", "G0")

@@ -32,8 +32,7 @@ CELL_LINES = (("urscript", re.compile(r"^[^\S\n]*def\s+\w+\(\):", re.M)),
               ("krl", re.compile(r"^[^\S\n]*DEF\s+\w+\s*\([^)]*\)\s*$", re.M | re.I)),
               ("rapid", re.compile(r"^[^\S\n]*MODULE\s+\w+", re.M)))
 # A G-code program, in upper case:
-GCODE_LINES = (("linuxcnc", re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?G0*93[ \t]*$", re.M)),
-               ("robot", re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?POSE[ \t]", re.M)))  # an older winder's robot poses
+GCODE_LINES = (("linuxcnc", re.compile(r"^[ \t]*(N[0-9]+[ \t]*)?G0*93[ \t]*$", re.M)),)
 
 
 class ProgramFile:

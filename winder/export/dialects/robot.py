@@ -26,8 +26,7 @@ def angles(directions: np.ndarray) -> np.ndarray:
     """(m, 2) B and C (deg) of unit directions (m, 3): B = acos(k), C = atan2(j, i) unwrapped."""
     d = np.asarray(directions, dtype=float)
     b = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
-    c = np.degrees(np.unwrap(np.arctan2(d[:, 1], d[:, 0]))) if len(d) else np.zeros(0)
-    return np.column_stack([b, c])
+    return np.column_stack([b, np.degrees(np.unwrap(np.arctan2(d[:, 1], d[:, 0])))])
 
 
 def directions(bc: np.ndarray) -> np.ndarray:
@@ -46,8 +45,7 @@ class RobotPoses(BaseDialect):
         return (DECIMALS,) * 3 + (ANGLE_DECIMALS,) * 2
 
     def columns(self, program: MotionProgram) -> np.ndarray:
-        v = program.values
-        return np.column_stack([v[:, :3], angles(v[:, 3:6])]) if len(v) else np.zeros((0, 5))
+        return np.column_stack([program.values[:, :3], angles(program.values[:, 3:6])])
 
     def describe(self, program: MotionProgram) -> list[str]:
         return ["; machine: robot; eye poses in the mandrel frame",
