@@ -110,3 +110,22 @@ def test_tangent_coordinates_refuse_a_singular_system_as_before() -> None:
     tiny = np.array([[1e-160], [0.0], [0.0]])  # G's entry 1e-320 is subnormal: v = ps + 2 pt still
     a, b = tangent_coordinates(tiny, np.array([[0.0], [1.0], [0.0]]), np.array([[1e-160], [2.0], [0.0]]))
     assert abs(a[0] - 1.0) <= SOLVE_RTOL and abs(b[0] - 2.0) <= SOLVE_RTOL
+
+
+def test_grid_groups_gather_rows_within_a_cell_and_keep_the_lowest_row() -> None:
+    """Rows equal to round-off share a group whose first row is their lowest; rows a grid cell or
+    more apart do not; every row lies within the grid of its group's first row, column by column."""
+    from winder.geometry.measure import grid_groups  # noqa: PLC0415
+
+    rng = np.random.default_rng(3)
+    base = rng.uniform(-500.0, 500.0, (50, 3))
+    keys = np.tile(base, (20, 1)) + rng.uniform(-1e-13, 1e-13, (1000, 3))
+    keys[::7, 1] += 1e-6  # one column a thousand cells away: another group
+    grid = np.array([1e-9, 1e-9, 1e-12])
+    first, group = grid_groups(keys, grid)
+    assert np.all(np.abs(keys - keys[first][group]) < grid)
+    for g in range(first.size):
+        assert first[g] == np.flatnonzero(group == g).min()
+    apart = np.abs(keys[:, None, 1] - keys[None, :, 1]) > 1e-7
+    assert not np.any(apart & (group[:, None] == group[None, :]))
+    assert 100 <= first.size <= 200  # base rows in two families, split only at a cell's edge

@@ -17,6 +17,7 @@ from winder.machine.envelope import eye_envelope
 
 R, T = 40.0, 300.0
 CUT_TOL = 1e-6  # mm
+ROUNDOFF_MM = 1e-12  # mm: two computations of one distance of a point 200 mm out
 
 
 @pytest.fixture(scope="module")
@@ -165,3 +166,22 @@ def test_a_robot_chord_into_the_clearance_is_refused_but_a_join_may_pass(bend):
                                           r"the mandrel on the move to X[-\d.]+ Y[-\d.]+ Z[-\d.]+, closer than 19\.950"):
         check_collision(poses, env, machine, lambda row: "pass X", guide)
     check_collision(poses, env, machine, lambda row: "pass X", guide, joins=np.array([1]))
+
+
+@pytest.mark.parametrize("profile", ["cylinder", "dome"])
+def test_copies_of_points_are_measured_once_and_never_further(profile):
+    """Points repeated with round-off noise (the eye paths of turned circuits) and some exactly: each
+    within CUT_TOL of its own brute-force distance and never above it by more than round-off (the
+    shared measurement takes the 1-Lipschitz bound: it may only come nearer)."""
+    t = np.linspace(0.0, 200.0, 801)
+    r = {"cylinder": np.full_like(t, 40.0),
+         "dome": np.sqrt(np.maximum(100.0**2 - (t - 100.0) ** 2, 0.0)) * 0.5 + 10.0}[profile]
+    env = type("Env", (), {"stations": t, "mandrel_radius": r})()
+    rng = np.random.default_rng(11)
+    z0 = rng.uniform(0.0, 200.0, 300)
+    rho0 = np.interp(z0, t, r) + rng.uniform(0.5, 30.0, z0.size)
+    z = np.tile(z0, 40) + rng.uniform(-3e-11, 3e-11, 40 * z0.size) * (rng.random(40 * z0.size) < 0.5)
+    rho = np.tile(rho0, 40) + rng.uniform(-3e-11, 3e-11, z.size)
+    got, want = part_distance(rho, z, env), _brute_distance(rho, z, t, r)
+    assert got == pytest.approx(want, abs=CUT_TOL)
+    assert np.all(got <= want + ROUNDOFF_MM)

@@ -24,6 +24,20 @@ def row_norms(v: np.ndarray) -> np.ndarray:
     return np.linalg.norm(v, axis=1)
 
 
+def grid_groups(keys: np.ndarray, grid: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, group) of the rows of keys (n, c) that round to the same cell of a grid of spacing `grid`
+    (a float, or (c,) one per column): each group's lowest row (g,) and each row's group (n,). Rows i
+    and first[group[i]] differ by less than the grid in every column."""
+    cells = np.round(np.asarray(keys, dtype=float) / grid)
+    order = np.lexsort(cells.T[::-1])  # stable: each group's rows in ascending order
+    ranked = cells[order]
+    new = np.ones(order.size, dtype=bool)
+    new[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
+    group = np.empty(order.size, dtype=np.intp)
+    group[order] = np.cumsum(new) - 1
+    return order[new], group
+
+
 def polyline_length(points: np.ndarray) -> float:
     """Length of the polyline through points (m, 3)."""
     return float(np.sum(row_norms(points[1:] - points[:-1])))

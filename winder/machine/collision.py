@@ -25,17 +25,31 @@ from winder.config.machine import MachineConfig
 from winder.errors import ExportError
 from winder.machine.envelope import EyeEnvelope, turn
 from winder.machine.kinematics import Guide
-from winder.geometry.measure import row_norms
+from winder.geometry.measure import grid_groups, row_norms
 
 SAMPLES_PER_MOVE = 8
 SLAB_SEGMENTS = 16  # segments measured per point; more in its slab: the nearest vertex's two
 SEGMENT_BLOCK = 1 << 20  # point-segment pairs measured at once (memory stays bounded)
+SAME_POINT = 1e-10  # mm: eye points this close are measured once (part_distance)
 GAP_TOL = 1e-9  # mm: a move this little inside its clearance counts as keeping it
 STRAIGHT_TOL = 1e-11  # mm: a meridian vertex this close to its neighbours' chord is inside a straight run
 
 
 def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
-    """Distance (mm) of meridian points (rho, z) (m,) from the part (module docstring); < 0 inside."""
+    """Distance (mm) of meridian points (rho, z) (m,) from the part (module docstring); < 0 inside.
+
+    Points within SAME_POINT of one another (the circuits of a layer on a surface of revolution are
+    turned copies: their eye paths share (rho, z) to round-off) are measured once: each gets its
+    group's first point's distance less their separation, a bound the distance (1-Lipschitz) cannot
+    fall below. On copv_12 (parts/) 550,000 points a call become 5,000 to 12,000."""
+    rho, z = np.asarray(rho, dtype=float), np.asarray(z, dtype=float)
+    first, group = grid_groups(np.column_stack([rho, z]), SAME_POINT)
+    d = _part_distance(rho[first], z[first], env)[group]
+    return d - np.hypot(rho - rho[first][group], z - z[first][group])
+
+
+def _part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
+    """part_distance of distinct points."""
     t, r = _meridian(env.stations, env.mandrel_radius)
     q = np.column_stack([z, rho])
     # The segment over each point's own station bounds its distance d0 from above, so the nearest

@@ -15,13 +15,20 @@ dome's radius, where the step's error is far below a micrometre. A point inside 
 reached from the interval's run: from the step before it by one shorter Runge-Kutta step (the same
 step bound, four right-hand sides per point instead of a run of its own: the program's dense points
 are up to 64 to an interval).
+
+On a surface of revolution the ODE does not depend on theta (Clairaut), and a helical layer's
+circuits are turned copies of one another: the same stations and tangent coordinates, theta shifted.
+Intervals (and points within them) that agree within COPY_TOL are integrated once, each copy taking its
+representative's states with its own theta offset. On copv_12 (parts/) that is 45,000 intervals and
+250,000 points a layer group become a few hundred intervals and about 2,000 points (its exact points
+take 6 s instead of 23 s).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from winder.geometry.measure import row_norms, tangent_coordinates
+from winder.geometry.measure import grid_groups, row_norms, tangent_coordinates
 from winder.machine.smooth import SmoothPaths
 from winder.paths.ode import geodesic_rhs
 
@@ -33,6 +40,13 @@ STEPS = 16  # Runge-Kutta steps over an interval between planned points
 ARC_NODES = 8
 _ARC_X = 0.5 - 0.5 * np.cos(np.pi * (np.arange(ARC_NODES) + 0.5) / ARC_NODES)  # on [0, 1]
 _ARC_FIT = np.linalg.inv(np.vander(_ARC_X, ARC_NODES, increasing=True))  # speeds -> polynomial coefficients
+# On a surface of revolution, intervals whose start stations and arc lengths agree within COPY_MM, and
+# tangent coordinates (s' and theta' per mm) within COPY_TOL, share one integration, and so do their
+# points whose fractions of a step agree within COPY_FRACTION: a copy's point then lies within a few
+# nanometres of where its own integration would put it (the program writes micrometres).
+COPY_MM = 1e-9
+COPY_TOL = 1e-12
+COPY_FRACTION = 1e-9
 ARRIVE_TOL = 1e-3  # mm: the ODE over an interval lands this close to the next planned point
 ARRIVE_TURN = 1e-5  # rad: and this close to its planned direction: a geodesic (a path held by friction
 # may land within ARRIVE_TOL over a short interval, its direction far off: on a grown dome 0.145 mm at the eye)
@@ -62,10 +76,12 @@ def _run(surface, y0: np.ndarray, length: np.ndarray) -> np.ndarray:
     return out
 
 
-def _arc_within(paths: SmoothPaths, intervals: np.ndarray, own: np.ndarray, u: np.ndarray) -> np.ndarray:
+def _arc_within(paths: SmoothPaths, intervals: np.ndarray, own: np.ndarray, u: np.ndarray,
+                like: np.ndarray) -> np.ndarray:
     """Arc length (m,) of the smooth path from the first node of interval intervals[own] to u (m,): each
-    interval's on its own (a batch of passes gets each pass's figures to round-off)."""
-    used, back = np.unique(own, return_inverse=True)
+    interval's on its own (a batch of passes gets each pass's figures to round-off), its speed taken
+    from the interval intervals[like[own]] (its representative, module docstring)."""
+    used, back = np.unique(like[own], return_inverse=True)
     speed = paths.speed((intervals[used][:, None] + _ARC_X).ravel()).reshape(used.size, ARC_NODES)
     h = u - intervals[own]
     j = np.arange(1, ARC_NODES + 1)
@@ -95,8 +111,13 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
     ok_speed = speed > 0.0
     scale = np.where(ok_speed, speed, 1.0)
     y0 = np.vstack([paths.s[intervals], paths.th[intervals], a / scale, b / scale])
+    # On a surface of revolution each group of copies is integrated once (module docstring).
+    first, group = (grid_groups(np.column_stack([y0[0], y0[2], y0[3], length]),
+                                np.array([COPY_MM, COPY_TOL, COPY_TOL, COPY_MM]))
+                    if surface.is_revolution else (np.arange(intervals.size), np.arange(intervals.size)))
     with np.errstate(all="ignore"):
-        runs = _run(surface, y0, length)
+        runs = _run(surface, y0[:, first], length[first])[:, :, group]
+    runs[:, 1] += y0[1] - y0[1, first][group]
     end = runs[-1]
     finite = np.all(np.isfinite(end), axis=0)
     arrive = np.full(intervals.size, np.inf)
@@ -115,10 +136,16 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
         return s, th, p, d
     # Each point from the step of its interval's run before it, by one step of the rest of the way.
     own = back[take]
-    frac = np.clip(_arc_within(paths, intervals, own, u[inside[take]]) / length[own], 0.0, 1.0) * STEPS
+    frac = np.clip(_arc_within(paths, intervals, own, u[inside[take]], first[group]) / length[own], 0.0, 1.0) * STEPS
     j = np.minimum(np.floor(frac).astype(np.intp), STEPS - 1)
+    h = (frac - j) / STEPS
+    start = runs[j, :, own].T
+    # A point of a copy is its representative's, its theta offset as its interval's.
+    pick, copy = (grid_groups(np.column_stack([group[own], j, h]), np.array([1.0, 1.0, COPY_FRACTION]))
+                  if surface.is_revolution else (np.arange(own.size), np.arange(own.size)))
     with np.errstate(all="ignore"):
-        y = _step(surface, runs[j, :, own].T, length[own], (frac - j) / STEPS)
+        y = _step(surface, start[:, pick], length[own[pick]], h[pick])[:, copy]
+    y[1] += start[1] - start[1, pick][copy]
     fine = np.all(np.isfinite(y), axis=0)
     use = take[fine]
     if use.size == 0:
