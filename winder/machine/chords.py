@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.machine.collision import part_distance
-from winder.machine.envelope import EyeEnvelope, turn
+from winder.machine.collision import sampled_moves
+from winder.machine.dilation import turn
+from winder.machine.envelope import EyeEnvelope
 
 CUT_SAMPLES = 16  # pieces a measured move is sampled in (ends included)
 CUT_BLOCK = 1 << 15  # moves measured at once (memory stays bounded)
@@ -65,9 +66,7 @@ def move_cuts(x: np.ndarray, z: np.ndarray, sizes: np.ndarray, env: EyeEnvelope)
         if chunk.size == 0:
             continue
         a = first[chunk]
-        xs = x[a, None] + f * (x[a + 1] - x[a])[:, None]
-        zs = z[a, None] + f * (z[a + 1] - z[a])[:, None]
-        dist = part_distance(np.abs(zs).ravel(), xs.ravel(), env).reshape(xs.shape)
+        dist = sampled_moves(x[a], z[a], x[a + 1], z[a + 1], f, env)
         cuts[chunk] = np.maximum(c - dist.min(axis=1), 0.0)
     return cuts
 

@@ -23,7 +23,8 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ExportError
-from winder.machine.envelope import EyeEnvelope, turn
+from winder.machine.dilation import without_straight_runs
+from winder.machine.envelope import EyeEnvelope
 from winder.machine.kinematics import Guide
 from winder.geometry.measure import grid_groups, row_norms
 
@@ -32,7 +33,6 @@ SLAB_SEGMENTS = 16  # segments measured per point; more in its slab: the nearest
 SEGMENT_BLOCK = 1 << 20  # point-segment pairs measured at once (memory stays bounded)
 SAME_POINT = 1e-10  # mm: eye points this close are measured once (part_distance)
 GAP_TOL = 1e-9  # mm: a move this little inside its clearance counts as keeping it
-STRAIGHT_TOL = 1e-11  # mm: a meridian vertex this close to its neighbours' chord is inside a straight run
 
 
 def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
@@ -48,9 +48,24 @@ def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarra
     return d - np.hypot(rho - rho[first][group], z - z[first][group])
 
 
+def sampled_moves(x0: np.ndarray, z0: np.ndarray, x1: np.ndarray, z1: np.ndarray, f: np.ndarray,
+                  env: EyeEnvelope) -> np.ndarray:
+    """part_distance (m, k) of the eye centre at the fractions f (k,) of the straight moves from
+    (x0, z0) to (x1, z1) (m,) each (carriage, cross-feed). Moves whose ends agree within SAME_POINT
+    (a layer's turned circuits) are sampled once: a copy gets its representative's distances less the
+    larger of its two ends' separations, which bounds how much nearer the part its own samples lie."""
+    first, group = grid_groups(np.column_stack([x0, z0, x1, z1]), SAME_POINT)
+    a, b = first[group], group
+    sep = np.maximum(np.hypot(x0 - x0[a], z0 - z0[a]), np.hypot(x1 - x1[a], z1 - z1[a]))
+    x = x0[first, None] + f * (x1 - x0)[first, None]
+    z = z0[first, None] + f * (z1 - z0)[first, None]
+    d = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape)
+    return d[b] - sep[:, None]
+
+
 def _part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
     """part_distance of distinct points."""
-    t, r = _meridian(env.stations, env.mandrel_radius)
+    t, r = without_straight_runs(env.stations, env.mandrel_radius)
     q = np.column_stack([z, rho])
     # The segment over each point's own station bounds its distance d0 from above, so the nearest
     # point of the meridian lies within the slab |t - z| <= d0: only the segments crossing it count.
@@ -90,16 +105,6 @@ def _near_vertex_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray) -> np.nda
                       _segment_distance(q, t, r, np.clip(k, 0, last)))
 
 
-def _meridian(t: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The meridian polyline without the vertices inside its straight runs (a cylinder keeps its two
-    ends): the slabs then hold few segments. Each vertex dropped lies within STRAIGHT_TOL of its
-    neighbours' chord (a profile bent less would have a radius of curvature of thousands of km)."""
-    i = np.arange(t.size)
-    cross = np.abs(turn(t, r, i[:-2], i[1:-1], i[2:]))
-    keep = np.concatenate([[True], cross > STRAIGHT_TOL * np.hypot(t[2:] - t[:-2], r[2:] - r[:-2]), [True]])
-    return t[keep], r[keep]
-
-
 def _segment_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray, j: np.ndarray) -> np.ndarray:
     """Distance of points q (m, 2) as (z, rho) from the meridian segments j (m,)."""
     a = np.column_stack([t[j], r[j]])
@@ -123,9 +128,7 @@ def move_distances(values: np.ndarray, env: EyeEnvelope, guide: Guide | None = N
         near = before[:, None] + f * (at_row - before)[:, None]
         dist = tube_distance(e.reshape(-1, 3), env, guide, near.ravel()).reshape(e.shape[:2])
     else:
-        x = start[:, None, 0] + f * (values[:, None, 0] - start[:, None, 0])
-        z = start[:, None, 2] + f * (values[:, None, 2] - start[:, None, 2])
-        dist = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape)
+        dist = sampled_moves(start[:, 0], start[:, 2], values[:, 0], values[:, 2], f, env)
     k = np.argmin(dist, axis=1)
     return dist[np.arange(dist.shape[0]), k], f[k]
 

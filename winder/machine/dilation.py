@@ -15,6 +15,10 @@ Here the dilation of the polyline itself (its vertices' discs and its segments m
 their normals) is evaluated at the table's stations and at LIFT_FRACTIONS of each table segment; a
 station lying below it is raised, and a segment whose chord passes below it is raised at both ends
 by the deficit. The caller takes the concave majorant again.
+
+The polyline's straight runs (a cylinder) keep only their ends: the band around a segment covers
+the discs of its inner vertices, so the dilation is unchanged, and each query then reaches only the
+vertices of its own window; queries are measured in groups of equal window width.
 """
 
 from __future__ import annotations
@@ -24,6 +28,25 @@ import numpy as np
 LIFT_FRACTIONS = (0.25, 0.5, 0.75)  # where each table segment's chord is held against the dilation
 LIFT_TOL = 1e-4  # mm: a deficit this small is far below the program's last decimal (1 um): left as it is
 BLOCK = 1 << 20  # query-vertex pairs per block (memory stays bounded)
+STRAIGHT_TOL = 1e-11  # mm: a vertex this close to its neighbours' chord is inside a straight run
+
+
+def turn(x: np.ndarray, z: np.ndarray, a, b, c):
+    """(b - a) x (c - a) of the points (x, z) at indices a, b, c (ints or index arrays): < 0 where b
+    lies above the chord a-c (x increasing), 0 on it; twice the triangle's signed area."""
+    return (x[b] - x[a]) * (z[c] - z[a]) - (z[b] - z[a]) * (x[c] - x[a])
+
+
+def without_straight_runs(t: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The polyline (t, r) (k,) without the vertices inside its straight runs (a cylinder keeps its two
+    ends). Each vertex dropped lies within STRAIGHT_TOL of its neighbours' chord (a profile bent less
+    would have a radius of curvature of thousands of km)."""
+    if t.size < 3:
+        return t, r
+    i = np.arange(t.size)
+    cross = np.abs(turn(t, r, i[:-2], i[1:-1], i[2:]))
+    keep = np.concatenate([[True], cross > STRAIGHT_TOL * np.hypot(t[2:] - t[:-2], r[2:] - r[:-2]), [True]])
+    return t[keep], r[keep]
 
 
 def polyline_dilation(xq: np.ndarray, t: np.ndarray, r: np.ndarray, c: float) -> np.ndarray:
@@ -31,35 +54,43 @@ def polyline_dilation(xq: np.ndarray, t: np.ndarray, r: np.ndarray, c: float) ->
     -inf where no part of the polyline lies within c in x."""
     xq = np.asarray(xq, dtype=float)
     out = np.full(xq.shape, -np.inf)
+    t, r = without_straight_runs(np.asarray(t, dtype=float), np.asarray(r, dtype=float))
     if t.size == 0:
         return out
     lo = np.searchsorted(t, xq - c, side="left")
-    hi = np.searchsorted(t, xq + c, side="right")
-    width = int(np.max(hi - lo + 2)) if xq.size else 0
-    rows = max(1, BLOCK // max(width, 1))
+    widths = np.searchsorted(t, xq + c, side="right") - lo + 2
     dt, dr = np.diff(t), np.diff(r)
     length = np.hypot(dt, dr)
     safe = np.where(length > 0.0, length, 1.0)
     nx, nz = -dr / safe, dt / safe  # the upward unit normal of each segment
-    for a in range(0, xq.size, rows):
-        b = min(a + rows, xq.size)
-        j = lo[a:b, None] - 1 + np.arange(width)  # vertices (and the segments starting at them) in reach
-        valid = (j >= 0) & (j < t.size)
-        jv = np.clip(j, 0, t.size - 1)
-        dx = xq[a:b, None] - t[jv]
-        rise = np.sqrt(np.maximum(c * c - dx * dx, 0.0))
-        best = np.where(valid & (np.abs(dx) <= c), r[jv] + rise, -np.inf)
-        js = np.clip(j, 0, max(t.size - 2, 0))
-        if t.size >= 2:
-            x0 = t[js] + c * nx[js]
-            x1 = t[js + 1] + c * nx[js]
-            span = x1 - x0
-            f = (xq[a:b, None] - x0) / np.where(span != 0.0, span, 1.0)
-            on = valid & (j < t.size - 1) & (span > 0.0) & (f >= 0.0) & (f <= 1.0) & (length[js] > 0.0)
-            seg = r[js] + c * nz[js] + f * (r[js + 1] - r[js])
-            best = np.maximum(best, np.where(on, seg, -np.inf))
-        out[a:b] = best.max(axis=1)
+    for width in np.flatnonzero(np.bincount(widths)).tolist():
+        rows = np.flatnonzero(widths == width)
+        for block in np.array_split(rows, max(1, rows.size * width // BLOCK)):
+            out[block] = _reach(xq[block], lo[block], width, t, r, c, (length, nx, nz))
     return out
+
+
+def _reach(xq: np.ndarray, lo: np.ndarray, width: int, t: np.ndarray, r: np.ndarray, c: float,
+           normals: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    """polyline_dilation at xq (m,) from the `width` vertices from lo - 1 on (and the segments
+    starting at them); normals: each segment's length and upward unit normal (x, z)."""
+    length, nx, nz = normals
+    j = lo[:, None] - 1 + np.arange(width)  # vertices (and the segments starting at them) in reach
+    valid = (j >= 0) & (j < t.size)
+    jv = np.clip(j, 0, t.size - 1)
+    dx = xq[:, None] - t[jv]
+    rise = np.sqrt(np.maximum(c * c - dx * dx, 0.0))
+    best = np.where(valid & (np.abs(dx) <= c), r[jv] + rise, -np.inf)
+    if t.size >= 2:
+        js = np.clip(j, 0, t.size - 2)
+        x0 = t[js] + c * nx[js]
+        x1 = t[js + 1] + c * nx[js]
+        span = x1 - x0
+        f = (xq[:, None] - x0) / np.where(span != 0.0, span, 1.0)
+        on = valid & (j < t.size - 1) & (span > 0.0) & (f >= 0.0) & (f <= 1.0) & (length[js] > 0.0)
+        seg = r[js] + c * nz[js] + f * (r[js + 1] - r[js])
+        best = np.maximum(best, np.where(on, seg, -np.inf))
+    return best.max(axis=1)
 
 
 def lift_table(x: np.ndarray, z: np.ndarray, t: np.ndarray, r: np.ndarray, c: float) -> np.ndarray:

@@ -10,7 +10,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.geometry.surface import SweepSurface
-from winder.machine.dilation import lift_table
+from winder.machine.dilation import lift_table, turn
 
 SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
 ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
@@ -174,12 +174,6 @@ def _dilate(stations: np.ndarray, r_max: np.ndarray, c: float, h: float, k_max: 
         dil[k:] = np.maximum(dil[k:], r_ext[:-k] + rise)
         dil[:-k] = np.maximum(dil[:-k], r_ext[k:] + rise)
     return np.maximum(dil, 0.0), x
-
-
-def turn(x: np.ndarray, z: np.ndarray, a, b, c):
-    """(b - a) x (c - a) of the points (x, z) at indices a, b, c (ints or index arrays): < 0 where b
-    lies above the chord a-c (x increasing), 0 on it; twice the triangle's signed area."""
-    return (x[b] - x[a]) * (z[c] - z[a]) - (z[b] - z[a]) * (x[c] - x[a])
 
 
 def _concave_majorant(x: np.ndarray, z: np.ndarray) -> np.ndarray:
