@@ -83,10 +83,12 @@ def _arc_within(paths: SmoothPaths, intervals: np.ndarray, own: np.ndarray, u: n
     from the interval intervals[like[own]] (its representative, module docstring)."""
     used, back = np.unique(like[own], return_inverse=True)
     speed = paths.speed((intervals[used][:, None] + _ARC_X).ravel()).reshape(used.size, ARC_NODES)
+    coef = (speed @ _ARC_FIT.T / np.arange(1, ARC_NODES + 1))[back]  # the integral's: h^(k+1) / (k+1)
     h = u - intervals[own]
-    j = np.arange(1, ARC_NODES + 1)
-    weights = (h[:, None] ** j / j) @ _ARC_FIT  # the integral's weights of the nodes' speeds, (m, nodes)
-    return np.einsum("mj,mj->m", weights, speed[back])
+    out = coef[:, -1]
+    for k in range(ARC_NODES - 2, -1, -1):  # Horner's rule: no (m, nodes) powers
+        out = out * h + coef[:, k]
+    return out * h
 
 
 def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
