@@ -4,7 +4,8 @@ Each part runs `winder run` in its own process (every default output written) an
 status, wall time, CPU time (user + system: less sensitive to other load on the machine than the
 wall time) and peak resident memory (ru_maxrss), with the summary's fiber length, the least
 covered fraction of its layers, the largest lift-off over a concave stretch and the largest slip
-|k_g / k_n| any fiber needs (against the friction the config allows). `folded_spline.yaml` is a
+|k_g / k_n| any fiber needs (against the friction the config allows), and on vessels the wall at the
+bosses (each dome's thickest laminate and the bare radius there: the summary's `domes`). `folded_spline.yaml` is a
 config `check` must refuse: its row is the refusal's time. Writes bench/results/parts.md (or -o)
 and prints it. Wall times depend on the machine's load: run it alone.
 """
@@ -56,21 +57,24 @@ def run_part(cfg: Path, out: Path) -> dict:
         row.update(layers=len(layers), fiber_m=s["total_fiber_length_mm"] / 1e3,
                    coverage=min(layer["coverage"]["covered_fraction"] for layer in layers),
                    lift_off=max((layer.get("max_lift_off_mm") or 0.0) for layer in layers),
-                   slip=max((layer.get("max_slip") or 0.0) for layer in layers))
+                   slip=max((layer.get("max_slip") or 0.0) for layer in layers),
+                   walls=" / ".join(f"{d['max_wall_mm']:.1f} at r {d['max_wall_radius_mm']:.0f}"
+                                    for d in s.get("domes", [])))
     return row
 
 
 def table(rows: list[dict]) -> str:
     lines = ["| part | exit | layers | time (s) | CPU (s) | peak memory (MB) | fiber (m) | least coverage | "
-             "max lift-off (mm) | max slip |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "max lift-off (mm) | max slip | wall at the bosses (mm) |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in rows:
         if r.get("check"):
-            lines.append(f"| {r['name']} (check) | {r['exit']} | | {r['seconds']:.2f} | | | | | | |")
+            lines.append(f"| {r['name']} (check) | {r['exit']} | | {r['seconds']:.2f} | | | | | | | |")
             continue
         figures = (f"{r['layers']} | {r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['peak_bytes'] / 1e6:.0f} | "
-                   f"{r['fiber_m']:.1f} | {r['coverage']:.4f} | {r['lift_off']:.3f} | {r['slip']:.3f}") \
+                   f"{r['fiber_m']:.1f} | {r['coverage']:.4f} | {r['lift_off']:.3f} | {r['slip']:.3f} | {r['walls']}") \
             if "layers" in r else \
-            f" | {r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['peak_bytes'] / 1e6:.0f} | | | |"
+            f" | {r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['peak_bytes'] / 1e6:.0f} | | | | |"
         lines.append(f"| {r['name']} | {r['exit']} | {figures} |")
     failed = [r for r in rows if not r.get("check") and not r["ok"]]
     for r in failed:

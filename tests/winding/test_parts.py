@@ -127,3 +127,30 @@ def test_part_runs(part, tmp_path):
     out = subprocess.run([sys.executable, "-m", "winder", "run", str(part), "-o", str(tmp_path)], cwd=ROOT,
                          env={**os.environ, "PYTHONPATH": str(ROOT)}, capture_output=True, text=True, timeout=900)
     assert out.returncode == 0, out.stderr
+
+
+def test_tank_20_wall_at_the_bosses_against_the_model(tank_20):
+    """The summary's wall at the bosses (docs/math 8.11): near the port boss, where only geodesic
+    layers pile up (34 and 40 mm), W is the closed-form model's sum of those layers; the reported
+    largest wall is at least that, on the dome, and the end dome (boss 25) reports its own."""
+    from winder.winding.dome_wall import dome_walls, wall_at  # noqa: PLC0415
+
+    job, pl = tank_20
+    band = job.winding.band_width
+    area = job.winding.material.ply_thickness * band
+    bare = pl.surface.profile
+    first, end = dome_walls(pl)
+    for radius in (34.0, 40.0):
+        s_bare = _first_dome_station(bare, radius)
+        ev = bare.evaluate(np.array([s_bare]))
+        got = float(wall_at(pl, np.column_stack([ev.z, ev.r]))[0])
+        model = sum(_model_thickness(pl.surface_of(layer.index).profile, layer.turnaround_radius, 2 * layer.circuits,
+                                     area, band, _first_dome_station(pl.surface_of(layer.index).profile, radius))
+                    for layer in pl.layers
+                    if layer.type is not LayerType.HOOP and not any("friction-held" in n for n in layer.notes))
+        assert got == pytest.approx(model, rel=BOSS_MODEL_REL), radius
+        assert first.max_wall_mm >= got
+    assert first.opening_radius_mm == pytest.approx(20.0) and end.opening_radius_mm == pytest.approx(25.0)
+    for dome in (first, end):
+        assert dome.opening_radius_mm < dome.max_wall_radius_mm < bare.radius
+        assert dome.max_wall_mm > 2.0 * job.winding.material.ply_thickness * 10  # ten helical layers' pile-ups

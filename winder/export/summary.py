@@ -16,7 +16,9 @@ everywhere) with lift_off_t_mm and lift_off_pass (where; null without a lift-off
 With a material (a laminate), each layer also has thickness_mm (mean, at the reference section),
 max_thickness_mm, ply_thickness_mm, volume_mm3, fiber_mass_kg, resin_mass_kg, material_length_mm
 and outer_radius_mm (after the layer), and the job fiber_mass_kg, resin_mass_kg, mass_kg and
-outer_radius_mm; without one these keys are absent.
+outer_radius_mm; without one these keys are absent. On a vessel with a material, domes: the first and
+the end dome's wall at the bosses (docs/math/08-laminate-edges.md 8.11): opening_radius_mm,
+max_wall_mm (the largest laminate thickness on the dome) and max_wall_radius_mm (the bare radius there).
 With the machine: winding_time_s in total and per layer, the machine's time over the motion program
 from machine.dynamics, acceleration and deceleration included (winder.machine.dynamics); null when
 no program can be built (an axis limit). estimated_time_s / time_s stay the fiber length at the feed.
@@ -41,6 +43,7 @@ from winder.errors import ExportError, WinderError
 from winder.export.dialects.marlin import AXIS_SIGNS
 from winder.machine.program import MotionProgram, build_program
 from winder.machine.limits import AXIS_DECIMALS
+from winder.winding.dome_wall import dome_walls
 from winder.winding.results import LayerPlan, WindingPlan
 
 LENGTH_DECIMALS = 3
@@ -149,9 +152,15 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
         return {}
     fiber = sum(w.fiber_mass_kg for w in walls)
     resin = sum(w.resin_mass_kg for w in walls)
-    return {"fiber_mass_kg": _num(fiber, MASS_DECIMALS), "resin_mass_kg": _num(resin, MASS_DECIMALS),
-            "mass_kg": _num(fiber + resin, MASS_DECIMALS),
-            "outer_radius_mm": _num(walls[-1].outer_radius_mm, THICKNESS_DECIMALS)}
+    out = {"fiber_mass_kg": _num(fiber, MASS_DECIMALS), "resin_mass_kg": _num(resin, MASS_DECIMALS),
+           "mass_kg": _num(fiber + resin, MASS_DECIMALS),
+           "outer_radius_mm": _num(walls[-1].outer_radius_mm, THICKNESS_DECIMALS)}
+    domes = dome_walls(plan)
+    if domes is not None:
+        out["domes"] = [{"opening_radius_mm": _num(d.opening_radius_mm, LENGTH_DECIMALS),
+                         "max_wall_mm": _num(d.max_wall_mm, THICKNESS_DECIMALS),
+                         "max_wall_radius_mm": _num(d.max_wall_radius_mm, LENGTH_DECIMALS)} for d in domes]
+    return out
 
 
 def _winding_times(plan: WindingPlan, machine, program: MotionProgram | Exception | None = None

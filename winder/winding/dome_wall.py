@@ -1,0 +1,69 @@
+"""The wall at the bosses (docs/math/08-laminate-edges.md 8.11): on each dome of a vessel, the largest
+sum of the layers' reported thicknesses, each read at the foot of the bare point on its own surface,
+and the bare radius where it is."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from winder.geometry.vessel import VesselMeridian
+from winder.winding.results import WindingPlan
+
+WALL_SAMPLES = 4001  # points of each meridian polyline and of each bare dome
+
+
+@dataclasses.dataclass(frozen=True)
+class DomeWall:
+    """One dome's wall: the bare mandrel's opening radius, the largest wall (mm) and the bare radius
+    (mm) where it is."""
+
+    opening_radius_mm: float
+    max_wall_mm: float
+    max_wall_radius_mm: float
+
+
+def _foot(points: np.ndarray, prof: VesselMeridian) -> np.ndarray:
+    """Station (m,) on the meridian of prof nearest each point (m, 2) as (z, r): on one of the two
+    segments of its polyline around the point's nearest vertex."""
+    from scipy.spatial import cKDTree  # noqa: PLC0415 - vessels with a laminate only
+
+    s = np.linspace(0.0, prof.length, WALL_SAMPLES)
+    ev = prof.evaluate(s)
+    line = np.column_stack([ev.z, ev.r])
+    _, k = cKDTree(line).query(points)
+    best, station = np.full(points.shape[0], np.inf), np.zeros(points.shape[0])
+    for j in (np.maximum(k - 1, 0), np.minimum(k, s.size - 2)):
+        a, seg = line[j], line[j + 1] - line[j]
+        u = np.clip(np.einsum("ij,ij->i", points - a, seg) / np.einsum("ij,ij->i", seg, seg), 0.0, 1.0)
+        d = np.linalg.norm(points - a - u[:, None] * seg, axis=1)
+        nearer = d < best
+        best[nearer], station[nearer] = d[nearer], (s[j] + u * (s[j + 1] - s[j]))[nearer]
+    return station
+
+
+def wall_at(plan: WindingPlan, bare: np.ndarray) -> np.ndarray:
+    """W (m,) (mm) at points (m, 2) as (z, r) of the bare mandrel's meridian (module docstring)."""
+    wall = np.zeros(bare.shape[0])
+    for layer in plan.layers:
+        lam = layer.laminate
+        wall += np.interp(_foot(bare, plan.surface_of(layer.index).profile), lam.s, lam.thickness, left=0.0, right=0.0)
+    return wall
+
+
+def dome_walls(plan: WindingPlan) -> tuple[DomeWall, DomeWall] | None:
+    """The first and the end dome's walls; None unless the mandrel is a vessel of revolution and
+    every layer has a laminate (a material)."""
+    prof = plan.surface.profile
+    if not (isinstance(prof, VesselMeridian) and plan.surface.is_revolution and plan.layers
+            and all(layer.laminate is not None for layer in plan.layers)):
+        return None
+    out = []
+    for lo, hi in (prof.dome_ranges.dome, prof.dome_ranges.end_dome):
+        ev = prof.evaluate(np.linspace(lo, hi, WALL_SAMPLES))
+        wall = wall_at(plan, np.column_stack([ev.z, ev.r]))
+        k = int(np.argmax(wall))
+        opening = ev.r[0] if lo == 0.0 else ev.r[-1]
+        out.append(DomeWall(float(opening), float(wall[k]), float(ev.r[k])))
+    return out[0], out[1]
