@@ -1,0 +1,64 @@
+"""A job's peak memory, estimated from its work budget before any path (docs/math/14-work-estimates.md 14.2).
+
+Vessel: the interpreter, bytes per planned point, per helical pass (the program's rows and the dense
+turnarounds the machine stage holds per pass) and per mm of the mandrel (the envelope's and clearance's
+tables; larger domes, larger turnarounds). Open mandrel: per planned point and per mm. Robot on an open
+axis: per planned point (poses, the whole plan in one batch). Each: plus the largest Newton solve, and,
+where the machine stage takes the whole plan in one batch (a robot, rotation or yaw limits), the dense
+points of every layer beyond its largest group's. Coefficients fitted on the parts of parts/ and the
+hostile budget vessels (ru_maxrss), scaled to hold every measured peak from above.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from winder.winding.layer_batches import point_groups
+
+__all__ = ["BASE_BYTES", "PROGRAM_CHUNK_POINTS", "SOLVER_BYTES_PER_POINT", "peak_bytes"]
+
+BASE_BYTES = 90_000_000  # the interpreter with numpy and scipy: 84 MiB before any work
+SOLVER_BYTES_PER_POINT = 2_500  # the Newton solve of a pass
+VESSEL_BYTES_PER_POINT = 490
+VESSEL_BYTES_PER_PASS = 111_000  # per helical pass (2 per circuit)
+VESSEL_BYTES_PER_MM = 132_000  # of the vessel's axial length
+OPEN_BYTES_PER_POINT = 230  # per point of the budget, which counts the most the planner may lay
+OPEN_BYTES_PER_MM = 32_000
+ROBOT_BYTES_PER_POINT = 1_530
+DENSE_POINTS_PER_PASS = 700  # dense points of a helical pass's two turnarounds beyond the planned ones
+DENSE_BYTES = 610  # per dense point of a batch (the 10- and 40-layer vessels built whole)
+OPEN_BATCH_BYTES_PER_POINT = 1_300  # per planned point of an open plan built whole, beyond one group
+PROGRAM_CHUNK_POINTS = 16_000  # planned points of the layers the machine stage takes in one batch
+
+
+def _dense(points: Sequence[int], passes: Sequence[int], layers) -> int:
+    return sum(points[i] + DENSE_POINTS_PER_PASS * passes[i] for i in layers)
+
+
+def peak_bytes(points: Sequence[int], passes: Sequence[int], solve: int, length: float, *, vessel: bool,
+               robot: bool, whole: bool) -> int:
+    """The estimated peak memory (bytes) of a job.
+
+    Parameters
+    ----------
+    points : (k,) planned points of each layer (the work budget's).
+    passes : (k,) helical passes of each layer (0 for a hoop).
+    solve : points of the largest single solve.
+    length : the mandrel's axial length (mm).
+    vessel, robot : the mandrel is a vessel; the program is a robot's (poses).
+    whole : the machine stage takes the whole plan in one batch (a robot, rotation or yaw limits).
+    """
+    total = sum(points)
+    base = BASE_BYTES + SOLVER_BYTES_PER_POINT * solve
+    groups = point_groups(points, PROGRAM_CHUNK_POINTS)
+    if vessel:
+        extra = 0
+        if whole and groups:
+            extra = DENSE_BYTES * (_dense(points, passes, range(len(points)))
+                                   - max(_dense(points, passes, g) for g in groups))
+        return int(base + VESSEL_BYTES_PER_POINT * total + VESSEL_BYTES_PER_PASS * sum(passes)
+                   + VESSEL_BYTES_PER_MM * length + extra)
+    if robot:
+        return int(base + ROBOT_BYTES_PER_POINT * total)
+    extra = OPEN_BATCH_BYTES_PER_POINT * (total - max(sum(points[i] for i in g) for g in groups)) if whole and groups else 0
+    return int(base + OPEN_BYTES_PER_POINT * total + OPEN_BYTES_PER_MM * length + extra)
