@@ -42,7 +42,8 @@ MAX_PASS_TURNS = 500
 MAX_PASS_POINTS = 1_000_000  # points of one pass as planned (a hoop of 13,900 turns)
 MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 GB to plan and write
 MAX_LAYERS = 1_000  # layers of one job: real tanks have 10 to 40
-MAX_MEMORY_BYTES = 1_200_000_000  # of the estimate (winder.winding.memory_model); room for numpy, scipy and libraries in 2 GB
+# Of the estimate (winder.winding.memory_model): room for numpy, scipy and their libraries in 2 GB.
+MAX_MEMORY_BYTES = 1_200_000_000
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
 START_SAMPLES = 257  # start fractions of a turn sampled for a pass's widest angle span
 BENT_ROUNDS_SHARE = 0.8  # of a bent tube's estimated rounds, what `check` holds the points to

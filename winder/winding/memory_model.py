@@ -60,5 +60,7 @@ def peak_bytes(points: Sequence[int], passes: Sequence[int], solve: int, length:
                    + VESSEL_BYTES_PER_MM * length + extra)
     if robot:
         return int(base + ROBOT_BYTES_PER_POINT * total)
-    extra = OPEN_BATCH_BYTES_PER_POINT * (total - max(sum(points[i] for i in g) for g in groups)) if whole and groups else 0
+    extra = 0
+    if whole and groups:
+        extra = OPEN_BATCH_BYTES_PER_POINT * (total - max(sum(points[i] for i in g) for g in groups))
     return int(base + OPEN_BYTES_PER_POINT * total + OPEN_BYTES_PER_MM * length + extra)
