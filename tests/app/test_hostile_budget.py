@@ -58,7 +58,7 @@ def _estimate_mb(config: Path) -> float:
 HELICAL_HOOP = "    - {type: helical, angle: 22}\n    - {type: hoop, passes: 1}\n"
 WHOLE = "  limits: {rotation: [-1e9, 1e9]}\n"  # rotation limits: the machine stage builds the plan in one batch
 PARTS = sorted(p.stem for p in (ROOT / "parts").glob("*.yaml") if p.stem != "folded_spline")  # that one `check` refuses
-VESSELS = {"v10": (5, ""), "v40": (20, ""), "v10_whole": (5, WHOLE)}  # helical + hoop pairs, machine extra
+VESSELS = {"v10": (5, ""), "v40": (20, ""), "v10_whole": (5, WHOLE), "v40_whole": (20, WHOLE)}  # helical + hoop pairs, machine extra
 
 
 @pytest.mark.skipif(not os.environ.get("WINDER_NIGHTLY"), reason="about five minutes in all: WINDER_NIGHTLY=1")

@@ -1,12 +1,13 @@
 """A job's peak memory, estimated from its work budget before any path (docs/math/14-work-estimates.md 14.2).
 
 Vessel: the interpreter, bytes per planned point, per helical pass (the program's rows and the dense
-turnarounds the machine stage holds per pass) and per mm of the mandrel (the envelope's and clearance's
-tables; larger domes, larger turnarounds). Open mandrel: per planned point and per mm. Robot on an open
-axis: per planned point (poses, the whole plan in one batch). Each: plus the largest Newton solve, and,
-where the machine stage takes the whole plan in one batch (a robot, rotation or yaw limits), the dense
-points of every layer beyond its largest group's. Coefficients fitted on the parts of parts/ and the
-hostile budget vessels (ru_maxrss), scaled to hold every measured peak from above.
+turnarounds the machine stage holds per pass), per mm of the vessel (larger domes, larger turnarounds)
+and the largest Newton solve. Open mandrel: per planned point and per point of the largest solve (the
+solve and the machine stage's arrays of a pass both follow the points of a pass). Robot on an open axis:
+per planned point (poses, the whole plan in one batch). Where the machine stage takes the whole plan in
+one batch (a robot, rotation or yaw limits), the dense points of every layer beyond its largest group's.
+Coefficients fitted on the parts of parts/ and the hostile budget vessels (ru_maxrss), scaled to hold
+every measured peak from above.
 """
 
 from __future__ import annotations
@@ -19,15 +20,15 @@ __all__ = ["BASE_BYTES", "PROGRAM_CHUNK_POINTS", "SOLVER_BYTES_PER_POINT", "peak
 
 BASE_BYTES = 90_000_000  # the interpreter with numpy and scipy: 84 MiB before any work
 SOLVER_BYTES_PER_POINT = 2_500  # the Newton solve of a pass
-VESSEL_BYTES_PER_POINT = 490
-VESSEL_BYTES_PER_PASS = 111_000  # per helical pass (2 per circuit)
-VESSEL_BYTES_PER_MM = 132_000  # of the vessel's axial length
-OPEN_BYTES_PER_POINT = 230  # per point of the budget, which counts the most the planner may lay
-OPEN_BYTES_PER_MM = 32_000
-ROBOT_BYTES_PER_POINT = 1_530
-DENSE_POINTS_PER_PASS = 700  # dense points of a helical pass's two turnarounds beyond the planned ones
-DENSE_BYTES = 610  # per dense point of a batch (the 10- and 40-layer vessels built whole)
-OPEN_BATCH_BYTES_PER_POINT = 1_300  # per planned point of an open plan built whole, beyond one group
+VESSEL_BYTES_PER_POINT = 640
+VESSEL_BYTES_PER_PASS = 104_000  # per helical pass (2 per circuit)
+VESSEL_BYTES_PER_MM = 83_000  # of the vessel's axial length
+OPEN_BYTES_PER_POINT = 100  # per point of the budget, which counts the most the planner may lay
+OPEN_BYTES_PER_SOLVE_POINT = 7_200  # the solve and the machine stage's arrays of a pass
+ROBOT_BYTES_PER_POINT = 1_510
+DENSE_POINTS_PER_PASS = 650  # dense points of a helical pass's two turnarounds beyond the planned ones
+DENSE_BYTES = 450  # per dense point of a batch (vessels built whole: 450 to 500 measured)
+OPEN_BATCH_BYTES_PER_POINT = 600  # per planned point of an open plan built whole, beyond one group
 PROGRAM_CHUNK_POINTS = 16_000  # planned points of the layers the machine stage takes in one batch
 
 
@@ -44,7 +45,7 @@ def peak_bytes(points: Sequence[int], passes: Sequence[int], solve: int, length:
     points : (k,) planned points of each layer (the work budget's).
     passes : (k,) helical passes of each layer (0 for a hoop).
     solve : points of the largest single solve.
-    length : the mandrel's axial length (mm).
+    length : the mandrel's axial length (mm); the vessel model's.
     vessel, robot : the mandrel is a vessel; the program is a robot's (poses).
     whole : the machine stage takes the whole plan in one batch (a robot, rotation or yaw limits).
     """
@@ -63,4 +64,4 @@ def peak_bytes(points: Sequence[int], passes: Sequence[int], solve: int, length:
     extra = 0
     if whole and groups:
         extra = OPEN_BATCH_BYTES_PER_POINT * (total - max(sum(points[i] for i in g) for g in groups))
-    return int(base + OPEN_BYTES_PER_POINT * total + OPEN_BYTES_PER_MM * length + extra)
+    return int(BASE_BYTES + OPEN_BYTES_PER_SOLVE_POINT * solve + OPEN_BYTES_PER_POINT * total + extra)
