@@ -25,7 +25,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
-from winder.winding.memory_model import PROGRAM_CHUNK_POINTS, SOLVER_BYTES_PER_POINT, peak_bytes
+from winder.winding.memory_model import PROGRAM_CHUNK_POINTS, peak_bytes, solve_bytes_per_point
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
@@ -362,7 +362,8 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                       f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
     if budget.memory_bytes > MAX_MEMORY_BYTES:
         largest = max(range(len(budget.layers)), key=lambda i: budget.layers[i].solve_points)
-        solver = budget.layers[largest].solve_points * SOLVER_BYTES_PER_POINT
+        per_point = solve_bytes_per_point(isinstance(surface.profile, VesselMeridian), _is_robot(job, surface))
+        solver = budget.layers[largest].solve_points * per_point
         # A hoop's points come from its turns (band width and length), not from winding.points.
         hoop = job.winding.layers[largest].type is LayerType.HOOP
         key = f"winding.layers[{largest}]" if hoop else "winding.points"

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 from winder.winding.layer_batches import point_groups
 
-__all__ = ["BASE_BYTES", "PROGRAM_CHUNK_POINTS", "SOLVER_BYTES_PER_POINT", "peak_bytes"]
+__all__ = ["BASE_BYTES", "PROGRAM_CHUNK_POINTS", "SOLVER_BYTES_PER_POINT", "peak_bytes", "solve_bytes_per_point"]
 
 BASE_BYTES = 90_000_000  # the interpreter with numpy and scipy: 84 MiB before any work
 SOLVER_BYTES_PER_POINT = 2_500  # the Newton solve of a pass
@@ -30,6 +30,11 @@ DENSE_POINTS_PER_PASS = 650  # dense points of a helical pass's two turnarounds 
 DENSE_BYTES = 450  # per dense point of a batch (vessels built whole: 450 to 500 measured)
 OPEN_BATCH_BYTES_PER_POINT = 600  # per planned point of an open plan built whole, beyond one group
 PROGRAM_CHUNK_POINTS = 16_000  # planned points of the layers the machine stage takes in one batch
+
+
+def solve_bytes_per_point(vessel: bool, robot: bool) -> int:
+    """The estimate's bytes per point of the largest solve (peak_bytes)."""
+    return SOLVER_BYTES_PER_POINT if vessel or robot else OPEN_BYTES_PER_SOLVE_POINT
 
 
 def _dense(points: Sequence[int], passes: Sequence[int], layers) -> int:
@@ -50,7 +55,7 @@ def peak_bytes(points: Sequence[int], passes: Sequence[int], solve: int, length:
     whole : the machine stage takes the whole plan in one batch (a robot, rotation or yaw limits).
     """
     total = sum(points)
-    base = BASE_BYTES + SOLVER_BYTES_PER_POINT * solve
+    base = BASE_BYTES + solve_bytes_per_point(vessel, robot) * solve
     groups = point_groups(points, PROGRAM_CHUNK_POINTS)
     if vessel:
         extra = 0
@@ -64,4 +69,4 @@ def peak_bytes(points: Sequence[int], passes: Sequence[int], solve: int, length:
     extra = 0
     if whole and groups:
         extra = OPEN_BATCH_BYTES_PER_POINT * (total - max(sum(points[i] for i in g) for g in groups))
-    return int(BASE_BYTES + OPEN_BYTES_PER_SOLVE_POINT * solve + OPEN_BYTES_PER_POINT * total + extra)
+    return int(base + OPEN_BYTES_PER_POINT * total + extra)
