@@ -4,9 +4,10 @@ The planner's sizes follow from a few numbers: the circuits of a helical layer N
 / B) (MATH.md 5, P the perimeter, so the surface is needed), the turns of a hoop layer (region length
 over pitch, HOOP_STEP_DEG per point), the dwells (DWELL_STEP_DEG per point) and the points per pass.
 From them: circuits, passes, points per pass, points in total and a memory estimate
-(winder.winding.memory_model: docs/math/14-work-estimates.md 14.2), each held against a limit. A
-job past a limit is refused (ConfigError, exit 2) naming the key that drives it and the limit, instead of running for minutes and dying of memory. `check` and `run` both call
-`check_budget`, so what `check` accepts, `run` will not refuse for its size.
+(winder.winding.memory_model: docs/math/14-work-estimates.md 14.2), each held against a limit. A job
+past a limit is refused (ConfigError, exit 2) naming the key that drives it and the limit, instead of
+running for minutes and dying of memory. `check` and `run` both call `check_budget`, so what `check`
+accepts, `run` will not refuse for its size.
 """
 
 from __future__ import annotations
