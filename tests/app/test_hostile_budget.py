@@ -1,6 +1,6 @@
 """Many layers (issue 34): the work budget counts layers and stops summing once past its limit, so that
 `check` refuses a config of 20,000 aliased layers (80 kB) at once (it took 85 s). Nightly (WINDER_NIGHTLY=1,
-about five minutes on 2 cores): every part of parts/ and the 10- and 40-layer vessels (also built whole, as
+about four minutes on 2 cores): every part of parts/ and the 10- and 40-layer vessels (also built whole, as
 under rotation limits) run within 1 GB, and the work budget's memory estimate holds each measured peak
 within 1.5x (issue 29; docs/math/14-work-estimates.md 14.2):
 WINDER_NIGHTLY=1 timeout 1800 python -m pytest tests/app/test_hostile_budget.py
@@ -61,7 +61,7 @@ PARTS = sorted(p.stem for p in (ROOT / "parts").glob("*.yaml") if p.stem != "fol
 VESSELS = {"v10": (5, ""), "v40": (20, ""), "v10_whole": (5, WHOLE), "v40_whole": (20, WHOLE)}  # helical + hoop pairs, machine extra
 
 
-@pytest.mark.skipif(not os.environ.get("WINDER_NIGHTLY"), reason="about five minutes in all: WINDER_NIGHTLY=1")
+@pytest.mark.skipif(not os.environ.get("WINDER_NIGHTLY"), reason="about four minutes in all: WINDER_NIGHTLY=1")
 @pytest.mark.parametrize("part", list(VESSELS) + PARTS)
 def test_peak_within_1_gb_and_the_estimate_within_1_5x(tmp_path: Path, part: str) -> None:
     if part in VESSELS:
