@@ -103,3 +103,18 @@ def test_validate_refuses_what_run_needs() -> None:
     assert info.value.key_path == "winding" and "required key missing" in info.value.message
     job, surface, budget = validate(PIPE)
     assert job.name == "pipe" and budget.points > 0 and surface.axial_length == 500
+
+
+ESTIMATE_WITHIN = 1.5  # the memory estimate against the measured peak, either way (issue 29)
+
+
+def test_memory_estimate_holds_a_part_within_1_5x(tmp_path: Path) -> None:
+    """The estimate against ru_maxrss of `winder run` in a fresh process, on a quick realistic part (the
+    cone reducer, about 2 s); the slow parts and the vessels: tests/app/test_hostile_budget.py, nightly."""
+    from tests.sandbox import run_limited
+
+    part = ROOT / "parts" / "cone_reducer.yaml"
+    (result,), = run_limited([[["run", str(part), "-o", str(tmp_path / "out")]]], seconds=120)
+    assert result["code"] == 0, result["stderr"]
+    estimate = _budget(part).memory_bytes / 2**20
+    assert 1.0 / ESTIMATE_WITHIN < estimate / result["peak_mb"] < ESTIMATE_WITHIN, (estimate, result["peak_mb"])

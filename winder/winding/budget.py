@@ -3,10 +3,11 @@
 The planner's sizes follow from a few numbers: the circuits of a helical layer N_c = ceil(P cos(alpha)
 / B) (MATH.md 5, P the perimeter, so the surface is needed), the turns of a hoop layer (region length
 over pitch, HOOP_STEP_DEG per point), the dwells (DWELL_STEP_DEG per point) and the points per pass.
-From them: circuits, passes, points per pass, points in total and a memory estimate, each held against
-a limit. A job past a limit is refused (ConfigError, exit 2) naming the key that drives it and the
-limit, instead of running for minutes and dying of memory. `check` and `run` both call
-`check_budget`, so what `check` accepts, `run` will not refuse for its size.
+From them: circuits, passes, points per pass, points in total and a memory estimate
+(winder.winding.memory_model: docs/math/14-work-estimates.md 14.2), each held against a limit. A job
+past a limit is refused (ConfigError, exit 2) naming the key that drives it and the limit, instead of
+running for minutes and dying of memory. `check` and `run` both call `check_budget`, so what `check`
+accepts, `run` will not refuse for its size.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
-from winder.winding.layer_batches import point_groups
+from winder.winding.memory_model import PROGRAM_CHUNK_POINTS, peak_bytes, solve_bytes_per_point
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
@@ -41,24 +42,9 @@ MAX_PASSES = 10_000  # per hoop layer
 MAX_PASS_TURNS = 500
 MAX_PASS_POINTS = 1_000_000  # points of one pass as planned (a hoop of 13,900 turns)
 MAX_TOTAL_POINTS = 1_500_000  # points of the whole job; about a minute and 0.9 GB to plan and write
-# Peak memory = the interpreter with numpy and scipy + bytes per planned point + the largest solve.
-# Measured (ru_maxrss, bench/vessel_series.py and the issue 29 jobs): an open mandrel's points cost
-# about 450 B each at the peak; the Newton solve of a pass about 2.5 kB per point. A vessel's
-# (docs/math/14-work-estimates.md): VESSEL_BYTES_PER_POINT per planned point for what the job keeps
-# and writes, and PROGRAM_BATCH_BYTES per point of the largest group of layers the machine stage
-# takes in one batch (winder.machine.chunks: PROGRAM_CHUNK_POINTS; the dense eye paths around the
-# domes' turnarounds), over VESSEL_BASE_BYTES. Fitted on the 10- and 40-layer vessels of
-# tests/app/test_hostile_budget.py and parts/large_vessel.yaml: 248 / 400 / 675 MB estimated, 232 /
-# 386 / 683 MB measured.
-BASE_BYTES = 70_000_000
-BYTES_PER_POINT = 450
-VESSEL_BASE_BYTES = 130_000_000  # the interpreter, numpy, scipy and their BLAS buffers
-VESSEL_BYTES_PER_POINT = 1_700
-PROGRAM_BATCH_BYTES = 4_000
-PROGRAM_CHUNK_POINTS = 16_000  # planned points of the layers the machine stage takes in one batch
 MAX_LAYERS = 1_000  # layers of one job: real tanks have 10 to 40
-SOLVER_BYTES_PER_POINT = 2_500
-MAX_MEMORY_BYTES = 1_200_000_000  # leaves room for numpy, scipy and their libraries in 2 GB
+# Of the estimate (winder.winding.memory_model): room for numpy, scipy and their libraries in 2 GB.
+MAX_MEMORY_BYTES = 1_200_000_000
 REGION_STATIONS = 41  # stations sampled for the largest perimeter, as the planner does
 START_SAMPLES = 257  # start fractions of a turn sampled for a pass's widest angle span
 BENT_ROUNDS_SHARE = 0.8  # of a bent tube's estimated rounds, what `check` holds the points to
@@ -345,22 +331,23 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                           f"pass ({floor:.2g} mm for the {t_b - t_a:.6g} mm wound), got {w.tolerance:g}")
     points = sum(layer.points for layer in layers)
     solve = max((layer.solve_points for layer in layers), default=0)
-    if not vessel:
-        return Budget(tuple(layers), points, BASE_BYTES + points * BYTES_PER_POINT + solve * SOLVER_BYTES_PER_POINT)
-    batch = _largest_batch(job, [layer.points for layer in layers])
-    return Budget(tuple(layers), points, VESSEL_BASE_BYTES + points * VESSEL_BYTES_PER_POINT
-                  + batch * PROGRAM_BATCH_BYTES + solve * SOLVER_BYTES_PER_POINT)
+    helical = [0 if cfg.type is LayerType.HOOP else layer.passes for cfg, layer in zip(w.layers, layers)]
+    robot = _is_robot(job, surface)
+    memory = peak_bytes([layer.points for layer in layers], helical, solve, float(surface.axial_length),
+                        vessel=vessel, robot=robot, whole=robot or _whole_plan(job))
+    return Budget(tuple(layers), points, memory)
 
 
-def _largest_batch(job: JobConfig, points: list[int]) -> int:
-    """Planned points of the largest group of layers the machine stage takes in one batch
-    (winder.winding.layer_batches); every layer at once where it takes the plan whole (a robot,
-    rotation or yaw limits)."""
+def _is_robot(job: JobConfig, surface: SweepSurface) -> bool:
+    """Whether the program is a robot's poses (winder.machine.program.is_robot: machine.robot or a bent axis)."""
+    return bool((job.machine is not None and job.machine.robot) or not surface.curve.is_straight)
+
+
+def _whole_plan(job: JobConfig) -> bool:
+    """Whether the machine stage takes the whole plan in one batch (winder.machine.chunks): rotation or
+    yaw limits are checked on the joined values (a robot's too, _is_robot)."""
     machine = job.machine
-    if machine is not None and (machine.robot or machine.limits.rotation is not None
-                                or machine.limits.yaw is not None):
-        return sum(points)
-    return max((sum(points[i] for i in group) for group in point_groups(points, PROGRAM_CHUNK_POINTS)), default=0)
+    return machine is not None and (machine.limits.rotation is not None or machine.limits.yaw is not None)
 
 
 def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
@@ -376,7 +363,8 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                       f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
     if budget.memory_bytes > MAX_MEMORY_BYTES:
         largest = max(range(len(budget.layers)), key=lambda i: budget.layers[i].solve_points)
-        solver = budget.layers[largest].solve_points * SOLVER_BYTES_PER_POINT
+        per_point = solve_bytes_per_point(isinstance(surface.profile, VesselMeridian), _is_robot(job, surface))
+        solver = budget.layers[largest].solve_points * per_point
         # A hoop's points come from its turns (band width and length), not from winding.points.
         hoop = job.winding.layers[largest].type is LayerType.HOOP
         key = f"winding.layers[{largest}]" if hoop else "winding.points"
