@@ -21,7 +21,7 @@ circuits are turned copies of one another: the same stations and tangent coordin
 Intervals (and points within them) that agree within COPY_TOL are integrated once, each copy taking its
 representative's states with its own theta offset. On copv_12 (parts/) that is 45,000 intervals and
 250,000 points a layer group become a few hundred intervals and about 2,000 points (its exact points
-take 6 s instead of 23 s).
+take 5 s instead of 23 s).
 """
 
 from __future__ import annotations
