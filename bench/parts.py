@@ -2,7 +2,7 @@
 
 Each part runs `winder run` in its own process (every default output written) and reports its exit
 status, wall time, CPU time (user + system: less sensitive to other load on the machine than the
-wall time) and peak resident memory (ru_maxrss), with the summary's fiber length, the least
+wall time) and peak resident memory (VmHWM, the process's own high-water mark), with the summary's fiber length, the least
 covered fraction of its layers, the largest lift-off over a concave stretch and the largest slip
 |k_g / k_n| any fiber needs (against the friction the config allows), and on vessels the wall at the
 bosses (each dome's thickest laminate and the bare radius there: the summary's `domes`). `folded_spline.yaml` is a
@@ -32,9 +32,12 @@ t0 = time.perf_counter()
 from winder.app.jobs import run_job
 report = run_job(sys.argv[1], sys.argv[2])
 usage = resource.getrusage(resource.RUSAGE_SELF)
+# VmHWM: this process's own high-water mark (ru_maxrss of a spawned child also counts its parent's)
+peak_kb = next((int(line.split()[1]) for line in open("/proc/self/status") if line.startswith("VmHWM:")),
+               usage.ru_maxrss)
 print(json.dumps({"ok": report.ok, "exit": report.exit_code, "message": report.message,
                   "seconds": time.perf_counter() - t0, "cpu_seconds": usage.ru_utime + usage.ru_stime,
-                  "peak_bytes": usage.ru_maxrss * 1024}))
+                  "peak_bytes": peak_kb * 1024}))
 """
 
 

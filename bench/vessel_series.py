@@ -3,7 +3,7 @@
 A series of vessels of radius 100 to 400 mm, each the same job scaled (cylinder 2 R, isotensoid domes
 with openings of 0.2 R, a 12 mm band: a helical layer at 13 deg and one at 20 deg, `slip: auto` with
 friction 0.2, two hoops between them), as the issue's large vessel: the fiber length grows as R^2. Each job runs `winder run` in its own process
-(every output written), which reports its wall time and peak resident memory (ru_maxrss); beside them
+(every output written), which reports its wall time and peak resident memory (VmHWM); beside them
 the work budget's memory estimate (winder.winding.budget) and the bytes written. The fitted exponents
 say whether memory follows the output (the issue: peak memory grew as R^1.44 against the output's
 R^1.07, 32x the bytes written at R 400). Writes bench/results/vessel_series.md (or -o) and prints it.
@@ -36,8 +36,11 @@ _, _, budget = validate(cfg)
 report = run_job(cfg, out)
 seconds = time.perf_counter() - t0
 written = sum(p.stat().st_size for p in Path(out).iterdir())
+# VmHWM: this process's own high-water mark (ru_maxrss of a spawned child also counts its parent's)
+peak_kb = next((int(line.split()[1]) for line in open("/proc/self/status") if line.startswith("VmHWM:")),
+               resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 print(json.dumps({"status": report.status, "seconds": seconds, "fiber_mm": report.fiber_length_mm,
-                  "peak_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+                  "peak_bytes": peak_kb * 1024,
                   "estimate_bytes": budget.memory_bytes, "points": budget.points, "written_bytes": written}))
 """
 

@@ -4,7 +4,8 @@
 `prlimit --as`) before numpy is imported, and runs each case's commands through click's CliRunner,
 each under SIGALRM. A case is a list of argument lists (e.g. check, then run, on the same config);
 the result of each command: exit code (or "hang" / "crash"), seconds, peak memory of the worker so
-far (ru_maxrss), stdout, stderr, the uncaught exception if any, and the files left in its -o folder.
+far (VmHWM: the high-water mark of its own memory since exec; ru_maxrss would also count the test
+process it was spawned from, hundreds of MB late in a suite), stdout, stderr, the uncaught exception if any, and the files left in its -o folder.
 """
 
 from __future__ import annotations
@@ -24,6 +25,13 @@ limit, seconds = int(sys.argv[1]), int(sys.argv[2])
 resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 from click.testing import CliRunner
 from winder.cli import main
+
+def peak_mb():
+    try:
+        with open("/proc/self/status") as status:
+            return next(int(line.split()[1]) for line in status if line.startswith("VmHWM:")) / 1024
+    except (OSError, StopIteration):
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 class Hang(BaseException):
     pass
@@ -49,7 +57,7 @@ for line in sys.stdin:
         folder = args[args.index("-o") + 1] if "-o" in args else None
         left = sorted(os.listdir(folder)) if folder and os.path.isdir(folder) else []
         out.append({"args": args, "code": code, "seconds": time.perf_counter() - started,
-                    "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+                    "peak_mb": peak_mb(),
                     "stdout": stdout, "stderr": stderr, "uncaught": uncaught, "left": left})
     print(json.dumps(out), flush=True)
 """

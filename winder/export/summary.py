@@ -62,7 +62,8 @@ DECIMALS_BY_SUFFIX = (("_mm", LENGTH_DECIMALS), ("_deg", ANGLE_DECIMALS), ("_fra
                       ("_s", TIME_DECIMALS), ("_kg", MASS_DECIMALS), ("_mm3", LENGTH_DECIMALS))
 DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm": CURVATURE_DECIMALS,
                     "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
-                    "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS}
+                    "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS,
+                    "max_wall_mm": THICKNESS_DECIMALS}
 _DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
 DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.structure)
 
