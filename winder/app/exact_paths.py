@@ -33,6 +33,7 @@ GRID = 32  # even reads of each interval's geodesic (an interval a few per cent 
 RTOL, ATOL = 1e-10, 1e-10  # solve_ivp's tolerances over the scaled interval
 ARRIVE_TOL = 1e-3  # mm: the ODE lands this close to the next planned point
 ARRIVE_TURN = 1e-5  # rad: and this close to its planned direction (an eye 200 mm out: 0.002 mm): a geodesic
+CHUNK = 65_536  # parameters read at once by point
 
 
 class ExactPaths(SmoothPaths):
@@ -90,17 +91,29 @@ class ExactPaths(SmoothPaths):
 
     def point(self, u: np.ndarray):
         """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,): on the geodesic inside a
-        geodesic interval, else SmoothPaths.point's."""
-        u = np.asarray(u, dtype=float)
-        s, th, p, d = super().point(u)
+        geodesic interval, else SmoothPaths.point's; read CHUNK parameters at a time (the surface's
+        evaluation holds tens of temporaries per point)."""
+        u = np.asarray(u, dtype=float).reshape(-1)
+        if u.size <= CHUNK:
+            return self._point(u)
+        parts = [self._point(u[i:i + CHUNK]) for i in range(0, u.size, CHUNK)]
+        return tuple(np.concatenate([part[j] for part in parts]) for j in range(4))
+
+    def _point(self, u: np.ndarray):
         table = self._table
         if table is None or u.size == 0:
-            return s, th, p, d
+            return super().point(u)
         use, row, y, f = table
         k, h = self._interval(u)
-        on = np.flatnonzero(use[k] & (h > 0.0) & (h < 1.0))
+        inside = use[k] & (h > 0.0) & (h < 1.0)
+        on = np.flatnonzero(inside)
         if not on.size:
-            return s, th, p, d
+            return super().point(u)
+        # The smooth path only where the geodesic does not stand for it (each is a surface evaluation).
+        s, th, p, d = np.empty(u.size), np.empty(u.size), np.empty((u.size, 3)), np.empty((u.size, 3))
+        off = np.flatnonzero(~inside)
+        if off.size:
+            s[off], th[off], p[off], d[off] = super().point(u[off])
         r = row[k[on]]
         x = h[on] * GRID
         j = np.minimum(np.floor(x).astype(int), GRID - 1)
@@ -113,7 +126,6 @@ class ExactPaths(SmoothPaths):
                  + (-2 * t3 + 3 * t2) * y1 + (t3 - t2) * f1)
         ev = self.surface.evaluate(state[0], state[1], order=1)
         dd = ev.ps * state[2][:, None] + ev.pt * state[3][:, None]
-        s, th, p, d = s.copy(), th.copy(), p.copy(), d.copy()
         s[on], th[on], p[on] = state[0], state[1], ev.p
         d[on] = dd / row_norms(dd)[:, None]
         return s, th, p, d
