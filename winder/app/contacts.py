@@ -52,17 +52,23 @@ def ray_distance(e: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 def _segment_miss(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     """(c, j): how near each eye (c, 3) comes to the rays of candidates j to j + 1 (points / dirs
-    (c, j, 3); the last one repeated): the eye's offset from the ray, linear between two candidates
-    (the tangent turns little between them), at its smallest. Between two candidates a corner's rays
-    sweep past an eye that neither of them passes near."""
-    rel = eye[:, None, :] - points
-    along = np.einsum("cjk,cjk->cj", rel, dirs)
-    off = np.where((along > 0.0)[..., None], rel - along[..., None] * dirs, rel)
-    a, b = off, np.concatenate([off[:, 1:], off[:, -1:]], axis=1)
-    ab = b - a
-    den = np.einsum("cjk,cjk->cj", ab, ab)
-    h = np.clip(-np.einsum("cjk,cjk->cj", a, ab) / np.where(den > 0, den, 1.0), 0.0, 1.0)
-    return np.linalg.norm(a + h[..., None] * ab, axis=-1)
+    (3, c, j): a component each, the arithmetic running along j; the last one repeated): the eye's
+    offset from the ray, linear between two candidates (the tangent turns little between them), at
+    its smallest. Between two candidates a corner's rays sweep past an eye that neither of them
+    passes near."""
+    rel = [eye[:, i, None] - points[i] for i in range(3)]
+    along = rel[0] * dirs[0] + rel[1] * dirs[1] + rel[2] * dirs[2]
+    ahead = along > 0.0
+    off = [np.where(ahead, r - along * d, r) for r, d in zip(rel, dirs)]
+    ab = []
+    for o in off:
+        step = np.zeros_like(o)
+        step[:, :-1] = o[:, 1:] - o[:, :-1]
+        ab.append(step)
+    den = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]
+    h = np.clip(-(off[0] * ab[0] + off[1] * ab[1] + off[2] * ab[2]) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    near = [o + h * s for o, s in zip(off, ab)]
+    return np.sqrt(near[0] * near[0] + near[1] * near[1] + near[2] * near[2])
 
 
 def _prefix_argmin(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -80,6 +86,7 @@ def _monotone_group(eye: np.ndarray, seq: np.ndarray, points: np.ndarray, dirs: 
     entry of seq (c, l)."""
     c, length = seq.shape
     jj = points.shape[1]
+    points, dirs = (np.ascontiguousarray(np.moveaxis(v, -1, 0)) for v in (points, dirs))
     valid = np.arange(jj) < count[:, None]
     rows = np.arange(c)
     back = np.zeros((length, c, jj), dtype=np.int32)
