@@ -16,8 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.app.contacts import (REPAIR_GRID, REPAIR_SPLIT, REPAIR_STEP, REPAIR_TURN, _monotone_group, _touched,
-                                 candidates, ray_distance)
+from winder.app.contacts import _monotone_group, ray_distance, window_reads
 from winder.machine.smooth import SmoothPaths
 
 WINDOW = 1  # samples matched again on either side of one off its ray
@@ -50,7 +49,7 @@ def unpin(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray,
         span = np.where(inner, out[order[at[:, 1:-1]]], np.nan)
         lo = np.where(same[:, 0], out[order[at[:, 0]]], np.nanmin(span, axis=1))
         hi = np.where(same[:, -1], out[order[at[:, -1]]], np.nanmax(span, axis=1))
-        window, reads, rp, rd = _reads(paths, lo, hi)
+        window, reads, rp, rd = window_reads(paths, lo, hi)
         count = np.bincount(window, minlength=q.size)
         begin = np.cumsum(count) - count
         jmax = int(count.max())
@@ -67,23 +66,3 @@ def unpin(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray,
         take = inner & better[:, None]
         out[seq[take]] = new_u[take]
     return out
-
-
-def _reads(paths: SmoothPaths, lo: np.ndarray,
-           hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(window (r,), u (r,), p (r, 3), unit d (r, 3)) of the reads of every stretch [lo, hi] (k,): the
-    fine candidates in it and reads REPAIR_STEP apart, sorted by stretch, then u."""
-    fu, fp, fd, _ = candidates(paths, REPAIR_TURN, REPAIR_SPLIT, _touched(paths.s.size, lo, hi))
-    a0, b0 = np.searchsorted(fu, lo, "left"), np.searchsorted(fu, hi, "right")
-    n_even = np.minimum(np.ceil((hi - lo) / REPAIR_STEP), REPAIR_GRID).astype(int) + 1
-    win_e = np.repeat(np.arange(lo.size), n_even)
-    at_e = np.arange(win_e.size) - np.repeat(np.cumsum(n_even) - n_even, n_even)
-    even = lo[win_e] + (hi - lo)[win_e] * (at_e / np.maximum(n_even - 1, 1)[win_e])
-    _, _, ep, ed = paths.point(even)
-    n_fine = b0 - a0
-    win_f = np.repeat(np.arange(lo.size), n_fine)
-    at_f = np.repeat(a0, n_fine) + np.arange(win_f.size) - np.repeat(np.cumsum(n_fine) - n_fine, n_fine)
-    window = np.concatenate([win_f, win_e])
-    reads = np.concatenate([fu[at_f], even])
-    sort = np.lexsort((reads, window))
-    return window[sort], reads[sort], np.vstack([fp[at_f], ep])[sort], np.vstack([fd[at_f], ed])[sort]

@@ -280,12 +280,11 @@ def _touched(count: int, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return np.cumsum(edge)[:count] > 0
 
 
-def _best_read(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray,
-               hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(u of the best read, the reads before and after it) (k,) in each window [lo, hi] (k,) for its
-    eye (k, 3): the fine candidates (REPAIR_TURN) in it, and reads REPAIR_STEP apart (at most
-    REPAIR_GRID + 1), all windows in one evaluation; a tie goes to the first in u (a candidate before
-    an even read)."""
+def window_reads(paths: SmoothPaths, lo: np.ndarray,
+                 hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(window (r,), u (r,), p (r, 3), unit d (r, 3)) of the reads of every window [lo, hi] (k,): the
+    fine candidates (REPAIR_TURN) in it and reads REPAIR_STEP apart (at most REPAIR_GRID + 1), all
+    windows in one evaluation, sorted by window, then u (a candidate before an even read of the same u)."""
     # The fine reads of the nodes and intervals the windows touch, not the whole layer's.
     fu, fp, fd, _ = candidates(paths, REPAIR_TURN, REPAIR_SPLIT, _touched(paths.s.size, lo, hi))
     a0, b0 = np.searchsorted(fu, lo, "left"), np.searchsorted(fu, hi, "right")
@@ -300,9 +299,16 @@ def _best_read(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray,
     at_f = np.repeat(a0, n_fine) + np.arange(win_f.size) - np.repeat(np.cumsum(n_fine) - n_fine, n_fine)
     window = np.concatenate([win_f, win_e])
     reads = np.concatenate([fu[at_f], even])
-    sort = np.lexsort((reads, window))  # stable: a candidate before an even read of the same u
-    window, reads = window[sort], reads[sort]
-    dist = ray_distance(eye[window], np.vstack([fp[at_f], ep])[sort], np.vstack([fd[at_f], ed])[sort])
+    sort = np.lexsort((reads, window))  # stable
+    return window[sort], reads[sort], np.vstack([fp[at_f], ep])[sort], np.vstack([fd[at_f], ed])[sort]
+
+
+def _best_read(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray,
+               hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(u of the best read, the reads before and after it) (k,) in each window [lo, hi] (k,) for its
+    eye (k, 3) (window_reads); a tie goes to the first in u."""
+    window, reads, p, d = window_reads(paths, lo, hi)
+    dist = ray_distance(eye[window], p, d)
     # The first least distance of each window (lexsort on (position, distance, window)).
     pos = np.arange(reads.size)
     best = np.lexsort((pos, dist, window))
