@@ -37,6 +37,7 @@ REPAIR_ROUNDS = 12  # half-sweeps (alternate samples of a chain, then the others
 REPAIR_MAX_SHARE = 0.1
 REPAIR_MAX_SAMPLES = 2_000
 TABLE_ENTRIES = 8_000_000  # back-pointers kept at once by the dynamic program (int32 each)
+WIDEN_ENTRIES = 2_000_000  # chain ends times candidates measured at once by widen_ends
 _INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
 
 
@@ -51,17 +52,23 @@ def ray_distance(e: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 def _segment_miss(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     """(c, j): how near each eye (c, 3) comes to the rays of candidates j to j + 1 (points / dirs
-    (c, j, 3); the last one repeated): the eye's offset from the ray, linear between two candidates
-    (the tangent turns little between them), at its smallest. Between two candidates a corner's rays
-    sweep past an eye that neither of them passes near."""
-    rel = eye[:, None, :] - points
-    along = np.einsum("cjk,cjk->cj", rel, dirs)
-    off = np.where((along > 0.0)[..., None], rel - along[..., None] * dirs, rel)
-    a, b = off, np.concatenate([off[:, 1:], off[:, -1:]], axis=1)
-    ab = b - a
-    den = np.einsum("cjk,cjk->cj", ab, ab)
-    h = np.clip(-np.einsum("cjk,cjk->cj", a, ab) / np.where(den > 0, den, 1.0), 0.0, 1.0)
-    return np.linalg.norm(a + h[..., None] * ab, axis=-1)
+    (3, c, j): a component each, the arithmetic running along j; the last one repeated): the eye's
+    offset from the ray, linear between two candidates (the tangent turns little between them), at
+    its smallest. Between two candidates a corner's rays sweep past an eye that neither of them
+    passes near."""
+    rel = [eye[:, i, None] - points[i] for i in range(3)]
+    along = rel[0] * dirs[0] + rel[1] * dirs[1] + rel[2] * dirs[2]
+    ahead = along > 0.0
+    off = [np.where(ahead, r - along * d, r) for r, d in zip(rel, dirs)]
+    ab = []
+    for o in off:
+        step = np.zeros_like(o)
+        step[:, :-1] = o[:, 1:] - o[:, :-1]
+        ab.append(step)
+    den = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]
+    h = np.clip(-(off[0] * ab[0] + off[1] * ab[1] + off[2] * ab[2]) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    near = [o + h * s for o, s in zip(off, ab)]
+    return np.sqrt(near[0] * near[0] + near[1] * near[1] + near[2] * near[2])
 
 
 def _prefix_argmin(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -79,6 +86,7 @@ def _monotone_group(eye: np.ndarray, seq: np.ndarray, points: np.ndarray, dirs: 
     entry of seq (c, l)."""
     c, length = seq.shape
     jj = points.shape[1]
+    points, dirs = (np.ascontiguousarray(np.moveaxis(v, -1, 0)) for v in (points, dirs))
     valid = np.arange(jj) < count[:, None]
     rows = np.arange(c)
     back = np.zeros((length, c, jj), dtype=np.int32)
@@ -129,26 +137,30 @@ def monotone_points(eye: np.ndarray, chain: np.ndarray, position: np.ndarray, pa
     return out
 
 
-def candidates(paths: SmoothPaths, step: float = TURN_STEP,
-               max_split: int = MAX_SPLIT) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def candidates(paths: SmoothPaths, step: float = TURN_STEP, max_split: int = MAX_SPLIT,
+               wanted: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Points of the smooth paths the contact search starts from: the planned points, and between
     two of them where the tangent turns by more than TURN_STEP, evenly spaced ones (in u) that it
     turns less between (at a corner the rays of neighbouring points miss an eye between them by far).
+    wanted (n,) bool: only these nodes and the intervals they start (default: all).
     (u (c,), p (c, 3), unit d (c, 3), start (passes + 1,): pass j's candidates are start[j]:start[j+1])."""
     count = paths.s.size
     last = np.zeros(count, dtype=bool)
     last[paths.last] = True
-    inside = ~last[:-1]
+    if wanted is None:
+        wanted = np.ones(count, dtype=bool)
+    inside = ~last[:-1] & wanted[:-1]
     # The turning along each interval, read at its quarters: at a corner's end the tangent may turn
-    # and turn back between two points whose own tangents nearly agree.
+    # and turn back between two points whose own tangents nearly agree. At the ends: the nodes'.
     k = np.flatnonzero(inside)
-    q = (k[:, None] + np.linspace(0.0, 1.0, TURN_READS + 1)).ravel()
-    dq = paths.point(q)[3].reshape(k.size, TURN_READS + 1, 3)
+    dq = np.empty((k.size, TURN_READS + 1, 3))
+    q = (k[:, None] + np.linspace(0.0, 1.0, TURN_READS + 1)[1:-1]).ravel()
+    dq[:, 1:-1] = paths.point(q)[3].reshape(k.size, TURN_READS - 1, 3)
     dq[:, 0], dq[:, -1] = _unit(paths.d[k]), _unit(paths.d[k + 1])
     turn = np.zeros(count - 1 if count else 0)
     turn[k] = np.arccos(np.clip(np.einsum("kij,kij->ki", dq[:, :-1], dq[:, 1:]), -1.0, 1.0)).sum(axis=1)
     split = np.where(inside, np.clip(np.ceil(turn / step), 1, max_split), 0).astype(int)
-    per_node = np.concatenate([split, [0]]) + last  # a pass's last node: one more
+    per_node = np.concatenate([split, [0]]) + (last & wanted)  # a pass's last node: one more
     at = np.repeat(np.arange(count), per_node)
     within = np.arange(at.size) - np.repeat(np.cumsum(per_node) - per_node, per_node)
     u = at + within / np.maximum(np.concatenate([split, [1]])[at], 1)
@@ -178,15 +190,25 @@ def refine(paths: SmoothPaths, eye: np.ndarray, left: np.ndarray, mid: np.ndarra
     rows, at = np.arange(len(mid)), np.argmin(miss, axis=1)
     best, fbest = grid[rows, at], miss[rows, at]
     a, b = grid[rows, np.maximum(at - 1, 0)], grid[rows, np.minimum(at + 1, grid.shape[1] - 1)]
+    a, b = golden(lambda v: f(v[:, None])[:, 0], a, b)
+    found = 0.5 * (a + b)
+    return np.where(f(found[:, None])[:, 0] <= fbest, found, best)
+
+
+def golden(f, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The brackets [a, b] (n,) of f's minima after GOLDEN_STEPS golden-section steps (f of (n,) u:
+    (n,) values). Each step reads f once: the inner point kept is the next step's other one."""
     c, d = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
-    fc, fd = f(c[:, None])[:, 0], f(d[:, None])[:, 0]
+    fc, fd = f(c), f(d)
     for _ in range(GOLDEN_STEPS):
         left_side = fc < fd
         b, a = np.where(left_side, d, b), np.where(left_side, a, c)
-        c, d = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
-        fc, fd = f(c[:, None])[:, 0], f(d[:, None])[:, 0]
-    found = 0.5 * (a + b)
-    return np.where(f(found[:, None])[:, 0] <= fbest, found, best)
+        # Left: the old c is the new d; right: the old d is the new c; the other one is read.
+        new = np.where(left_side, b - _INV_PHI * (b - a), a + _INV_PHI * (b - a))
+        fnew = f(new)
+        c, d = np.where(left_side, new, d), np.where(left_side, c, new)
+        fc, fd = np.where(left_side, fnew, fd), np.where(left_side, fc, fnew)
+    return a, b
 
 
 def forward(u: np.ndarray, chain: np.ndarray, position: np.ndarray) -> np.ndarray:
@@ -212,25 +234,88 @@ def widen_ends(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.nda
     out = u.copy()
     for end, side in ((np.concatenate([[True], ch[1:] != ch[:-1]]), -1),
                       (np.concatenate([ch[1:] != ch[:-1], [True]]), 1)):
-        k = order[end]
-        j = pass_of[k]
-        jmax = int((start[j + 1] - start[j]).max())
-        index = np.minimum(start[j, None] + np.arange(jmax), start[j + 1, None] - 1)
-        miss = ray_distance(eye[k][:, None, :], cp[index], cd[index])
-        _, _, p, d = paths.point(u[k])
-        fits = miss <= ray_distance(eye[k], p, d)[:, None] + TIE
-        at = np.arange(jmax)
-        here = np.clip(np.searchsorted(cu, u[k], "right" if side < 0 else "left") - (side < 0) - start[j],
-                       0, start[j + 1] - start[j] - 1)
-        if side < 0:  # the run of fitting candidates up to the contact: back to its first
-            bad = np.maximum.accumulate(np.where(fits, -1, at), axis=1)
-            reach = np.maximum(bad[np.arange(k.size), here] + 1, 0)
-            out[k] = np.minimum(u[k], cu[start[j] + reach])
-        else:
-            bad = np.minimum.accumulate(np.where(fits, jmax, at)[:, ::-1], axis=1)[:, ::-1]
-            reach = np.minimum(bad[np.arange(k.size), here], start[j + 1] - start[j]) - 1
-            out[k] = np.maximum(u[k], cu[start[j] + reach])
+        for k in _chunks(order[end], start[pass_of[order[end]] + 1] - start[pass_of[order[end]]]):
+            out[k] = _widen(paths, eye, u, k, pass_of, cand, side)
     return out
+
+
+def _chunks(k: np.ndarray, size: np.ndarray) -> list[np.ndarray]:
+    """k (c,) split into runs whose rows times the largest of their sizes (c,) stay within
+    WIDEN_ENTRIES (one chain's end against all candidates of its pass at once)."""
+    if not k.size:
+        return []
+    rows = max(1, WIDEN_ENTRIES // max(int(size.max()), 1))
+    return [k[i:i + rows] for i in range(0, k.size, rows)]
+
+
+def _widen(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, k: np.ndarray, pass_of: np.ndarray,
+           cand: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], side: int) -> np.ndarray:
+    """widen_ends for the chain ends k (c,), the first (side -1) or the last (side 1): their new u."""
+    cu, cp, cd, start = cand
+    j = pass_of[k]
+    jmax = int((start[j + 1] - start[j]).max())
+    index = np.minimum(start[j, None] + np.arange(jmax), start[j + 1, None] - 1)
+    miss = ray_distance(eye[k][:, None, :], cp[index], cd[index])
+    _, _, p, d = paths.point(u[k])
+    fits = miss <= ray_distance(eye[k], p, d)[:, None] + TIE
+    at = np.arange(jmax)
+    here = np.clip(np.searchsorted(cu, u[k], "right" if side < 0 else "left") - (side < 0) - start[j],
+                   0, start[j + 1] - start[j] - 1)
+    if side < 0:  # the run of fitting candidates up to the contact: back to its first
+        bad = np.maximum.accumulate(np.where(fits, -1, at), axis=1)
+        reach = np.maximum(bad[np.arange(k.size), here] + 1, 0)
+        return np.minimum(u[k], cu[start[j] + reach])
+    bad = np.minimum.accumulate(np.where(fits, jmax, at)[:, ::-1], axis=1)[:, ::-1]
+    reach = np.minimum(bad[np.arange(k.size), here], start[j + 1] - start[j]) - 1
+    return np.maximum(u[k], cu[start[j] + reach])
+
+
+def _touched(count: int, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(count,) bool: the nodes floor(lo) to floor(hi) + 1 of each window [lo, hi] (k,)."""
+    first = np.clip(np.floor(lo).astype(int), 0, count)
+    stop = np.clip(np.floor(hi).astype(int) + 2, 0, count)
+    edge = np.zeros(count + 1, dtype=int)
+    np.add.at(edge, first, 1)
+    np.add.at(edge, stop, -1)
+    return np.cumsum(edge)[:count] > 0
+
+
+def window_reads(paths: SmoothPaths, lo: np.ndarray,
+                 hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(window (r,), u (r,), p (r, 3), unit d (r, 3)) of the reads of every window [lo, hi] (k,): the
+    fine candidates (REPAIR_TURN) in it and reads REPAIR_STEP apart (at most REPAIR_GRID + 1), all
+    windows in one evaluation, sorted by window, then u (a candidate before an even read of the same u)."""
+    # The fine reads of the nodes and intervals the windows touch, not the whole layer's.
+    fu, fp, fd, _ = candidates(paths, REPAIR_TURN, REPAIR_SPLIT, _touched(paths.s.size, lo, hi))
+    a0, b0 = np.searchsorted(fu, lo, "left"), np.searchsorted(fu, hi, "right")
+    n_even = np.minimum(np.ceil((hi - lo) / REPAIR_STEP), REPAIR_GRID).astype(int) + 1
+    win_e = np.repeat(np.arange(lo.size), n_even)
+    at_e = np.arange(win_e.size) - np.repeat(np.cumsum(n_even) - n_even, n_even)
+    steps = np.maximum(n_even - 1, 1)[win_e]
+    even = np.where(at_e == n_even[win_e] - 1, hi[win_e], lo[win_e] + (hi - lo)[win_e] * (at_e / steps))
+    _, _, ep, ed = paths.point(even)
+    n_fine = b0 - a0
+    win_f = np.repeat(np.arange(lo.size), n_fine)
+    at_f = np.repeat(a0, n_fine) + np.arange(win_f.size) - np.repeat(np.cumsum(n_fine) - n_fine, n_fine)
+    window = np.concatenate([win_f, win_e])
+    reads = np.concatenate([fu[at_f], even])
+    sort = np.lexsort((reads, window))  # stable
+    return window[sort], reads[sort], np.vstack([fp[at_f], ep])[sort], np.vstack([fd[at_f], ed])[sort]
+
+
+def _best_read(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray,
+               hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(u of the best read, the reads before and after it) (k,) in each window [lo, hi] (k,) for its
+    eye (k, 3) (window_reads); a tie goes to the first in u."""
+    window, reads, p, d = window_reads(paths, lo, hi)
+    dist = ray_distance(eye[window], p, d)
+    # The first least distance of each window (lexsort on (position, distance, window)).
+    pos = np.arange(reads.size)
+    best = np.lexsort((pos, dist, window))
+    begin = np.concatenate([[0], np.cumsum(np.bincount(window, minlength=lo.size))[:-1]])
+    end = begin + np.bincount(window, minlength=lo.size) - 1
+    j = best[begin]
+    return reads[j], reads[np.maximum(j - 1, begin)], reads[np.minimum(j + 1, end)]
 
 
 def repair(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray,
@@ -251,15 +336,15 @@ def repair(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray
     last = np.concatenate([ch[1:] != ch[:-1], [True]])
     rank = np.arange(order.size) - np.maximum.accumulate(np.where(first, np.arange(order.size), 0))
     out = u.astype(float, copy=True)
-    fu = None
 
     def miss(k, v):
         _, _, p, d = paths.point(v.ravel())
         return ray_distance(np.repeat(eye[k], v.size // k.size, axis=0), p, d).reshape(v.shape)
 
+    _, _, p, d = paths.point(out[order])
+    dist = ray_distance(eye[order], p, d)  # of each sample in chain order, kept as contacts move
     for sweep in range(REPAIR_ROUNDS):
-        _, _, p, d = paths.point(out[order])
-        bad = ray_distance(eye[order], p, d) > tol
+        bad = dist > tol
         if not bad.any():
             break
         if sweep == 0 and np.count_nonzero(bad) > min(REPAIR_MAX_SHARE * bad.size, REPAIR_MAX_SAMPLES):
@@ -270,29 +355,15 @@ def repair(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray
         todo = np.flatnonzero(near & (rank % 2 == sweep % 2))
         if not todo.size:
             continue
-        if fu is None:
-            fu, fp, fd, _ = candidates(paths, REPAIR_TURN, REPAIR_SPLIT)
         k = order[todo]
         lo = np.where(first[todo], out[k], out[order[np.maximum(todo - 1, 0)]])
         hi = np.where(last[todo], out[k], out[order[np.minimum(todo + 1, order.size - 1)]])
-        a0, b0 = np.searchsorted(fu, lo, "left"), np.searchsorted(fu, hi, "right")
-        found, a, b = out[k].copy(), out[k].copy(), out[k].copy()
-        for r in range(k.size):  # windows of any length: one slice of the reads each
-            even = np.linspace(lo[r], hi[r], int(min(np.ceil((hi[r] - lo[r]) / REPAIR_STEP), REPAIR_GRID)) + 1)
-            _, _, ep, ed = paths.point(even)
-            reads = np.concatenate([fu[a0[r]:b0[r]], even])
-            at = np.argsort(reads, kind="stable")
-            reads = reads[at]
-            dist = ray_distance(eye[k[r]][None, :], np.vstack([fp[a0[r]:b0[r]], ep])[at],
-                                np.vstack([fd[a0[r]:b0[r]], ed])[at])
-            j = int(np.argmin(dist))
-            found[r], a[r], b[r] = reads[j], reads[max(j - 1, 0)], reads[min(j + 1, reads.size - 1)]
+        found, a, b = _best_read(paths, eye[k], lo, hi)
         fbest = miss(k, found[:, None])[:, 0]
-        for _ in range(GOLDEN_STEPS):
-            c, e = b - _INV_PHI * (b - a), a + _INV_PHI * (b - a)
-            left_side = miss(k, c[:, None])[:, 0] < miss(k, e[:, None])[:, 0]
-            b, a = np.where(left_side, e, b), np.where(left_side, a, c)
+        a, b = golden(lambda v: miss(k, v[:, None])[:, 0], a, b)
         found = np.where(miss(k, (0.5 * (a + b))[:, None])[:, 0] <= fbest, 0.5 * (a + b), found)
-        better = miss(k, found[:, None])[:, 0] < miss(k, out[k][:, None])[:, 0]
+        got = miss(k, found[:, None])[:, 0]
+        better = got < dist[todo]
         out[k] = np.where(better, found, out[k])
+        dist[todo] = np.where(better, got, dist[todo])
     return out

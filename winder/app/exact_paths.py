@@ -33,16 +33,21 @@ GRID = 32  # even reads of each interval's geodesic (an interval a few per cent 
 RTOL, ATOL = 1e-10, 1e-10  # solve_ivp's tolerances over the scaled interval
 ARRIVE_TOL = 1e-3  # mm: the ODE lands this close to the next planned point
 ARRIVE_TURN = 1e-5  # rad: and this close to its planned direction (an eye 200 mm out: 0.002 mm): a geodesic
+CHUNK = 65_536  # parameters read at once by point
+# Decimals of (station mm, s', theta' /mm, length mm) that make two intervals one class (_classes): a
+# start heading 1e-12 apart is 1e-11 mm apart after 10 mm, far inside RTOL.
+KEY_DECIMALS = (9, 12, 12, 9)
 
 
 class ExactPaths(SmoothPaths):
     """SmoothPaths whose points inside a geodesic interval lie on the exact geodesic (module docstring)."""
 
     @cached_property
-    def _table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    def _table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
         """(use (n - 1,) bool: interval on the geodesic, row (n - 1,) int: its column of y (-1: none),
         y (4, m, GRID + 1) the states at the even reads, f the same shape: their derivatives in the
-        scaled parameter), or None where no interval is."""
+        scaled parameter, shift (n - 1,): theta of each interval less its column's), or None where no
+        interval is."""
         from scipy.integrate import solve_ivp  # noqa: PLC0415
 
         count = self.s.size
@@ -61,21 +66,29 @@ class ExactPaths(SmoothPaths):
         k, a, b, speed, length = (v[(speed > 0.0) & (length > 0.0)] for v in (k, a, b, speed, length))
         if not k.size:
             return None
-        m = k.size
+        y0 = np.stack([self.s[k], self.th[k], a / speed, b / speed])
+        # On a surface of revolution an interval's geodesic is its start's station, heading and length
+        # turned about the axis: the rotated circuits of a layer share one integration (class inv).
+        rep, inv = self._classes(y0, length)
+        m = rep.size
+        length_m = length[rep]
         surface = self.surface
 
         def rhs(_h: float, y: np.ndarray) -> np.ndarray:
-            return (geodesic_rhs(surface, y.reshape(4, m)) * length).reshape(-1)
+            return (geodesic_rhs(surface, y.reshape(4, m)) * length_m).reshape(-1)
 
-        y0 = np.concatenate([self.s[k], self.th[k], a / speed, b / speed])
         grid = np.linspace(0.0, 1.0, GRID + 1)
         with np.errstate(all="ignore"):
-            sol = solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", t_eval=grid, rtol=RTOL, atol=ATOL)
+            sol = solve_ivp(rhs, (0.0, 1.0), y0[:, rep].reshape(-1), method="DOP853", t_eval=grid,
+                            rtol=RTOL, atol=ATOL)
         if not sol.success:
             return None
         y = sol.y.reshape(4, m, GRID + 1)
-        f = (geodesic_rhs(surface, y.reshape(4, -1)) * np.repeat(length, GRID + 1)).reshape(y.shape)
-        end = y[:, :, -1]
+        f = (geodesic_rhs(surface, y.reshape(4, -1)) * np.repeat(length_m, GRID + 1)).reshape(y.shape)
+        shift = np.zeros(count - 1)
+        shift[k] = self.th[k] - y0[1, rep[inv]]
+        end = y[:, inv, -1]
+        end[1] += shift[k]
         arrive = row_norms(surface.points(end[0], end[1]) - surface.points(self.s[k + 1], self.th[k + 1]))
         ev = surface.evaluate(end[0], end[1], order=1)
         got = ev.ps * end[2][:, None] + ev.pt * end[3][:, None]
@@ -85,22 +98,45 @@ class ExactPaths(SmoothPaths):
         use = np.zeros(count - 1, dtype=bool)
         use[k] = np.isfinite(arrive) & (arrive <= ARRIVE_TOL) & np.isfinite(turn) & (turn <= ARRIVE_TURN)
         row = np.full(count - 1, -1)
-        row[k] = np.arange(m)
-        return use, row, y, f
+        row[k] = inv
+        return use, row, y, f, shift
+
+    def _classes(self, y0: np.ndarray, length: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(rep (m,): one interval of each class, inv (k,): each interval's class) of the intervals
+        whose start states y0 (4, k) and lengths (k,) agree but for theta within KEY_DECIMALS (every
+        interval its own class off a surface of revolution)."""
+        if not self.surface.is_revolution:
+            return np.arange(length.size), np.arange(length.size)
+        key = np.column_stack([np.round(v, digits) for v, digits in
+                               zip((y0[0], y0[2], y0[3], length), KEY_DECIMALS)])
+        _, rep, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        return rep, inv.reshape(-1)
 
     def point(self, u: np.ndarray):
         """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,): on the geodesic inside a
-        geodesic interval, else SmoothPaths.point's."""
-        u = np.asarray(u, dtype=float)
-        s, th, p, d = super().point(u)
+        geodesic interval, else SmoothPaths.point's; read CHUNK parameters at a time (the surface's
+        evaluation holds tens of temporaries per point)."""
+        u = np.asarray(u, dtype=float).reshape(-1)
+        if u.size <= CHUNK:
+            return self._point(u)
+        parts = [self._point(u[i:i + CHUNK]) for i in range(0, u.size, CHUNK)]
+        return tuple(np.concatenate([part[j] for part in parts]) for j in range(4))
+
+    def _point(self, u: np.ndarray):
         table = self._table
         if table is None or u.size == 0:
-            return s, th, p, d
-        use, row, y, f = table
+            return super().point(u)
+        use, row, y, f, shift = table
         k, h = self._interval(u)
-        on = np.flatnonzero(use[k] & (h > 0.0) & (h < 1.0))
+        inside = use[k] & (h > 0.0) & (h < 1.0)
+        on = np.flatnonzero(inside)
         if not on.size:
-            return s, th, p, d
+            return super().point(u)
+        # The smooth path only where the geodesic does not stand for it (each is a surface evaluation).
+        s, th, p, d = np.empty(u.size), np.empty(u.size), np.empty((u.size, 3)), np.empty((u.size, 3))
+        off = np.flatnonzero(~inside)
+        if off.size:
+            s[off], th[off], p[off], d[off] = super().point(u[off])
         r = row[k[on]]
         x = h[on] * GRID
         j = np.minimum(np.floor(x).astype(int), GRID - 1)
@@ -111,9 +147,8 @@ class ExactPaths(SmoothPaths):
         t2, t3 = t * t, t * t * t
         state = ((2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * f0
                  + (-2 * t3 + 3 * t2) * y1 + (t3 - t2) * f1)
-        ev = self.surface.evaluate(state[0], state[1], order=1)
+        ev = self.surface.evaluate(state[0], state[1] + shift[k[on]], order=1)
         dd = ev.ps * state[2][:, None] + ev.pt * state[3][:, None]
-        s, th, p, d = s.copy(), th.copy(), p.copy(), d.copy()
-        s[on], th[on], p[on] = state[0], state[1], ev.p
+        s[on], th[on], p[on] = state[0], state[1] + shift[k[on]], ev.p
         d[on] = dd / row_norms(dd)[:, None]
         return s, th, p, d

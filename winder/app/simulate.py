@@ -31,6 +31,7 @@ import io
 import numpy as np
 
 from winder.app.contacts import candidates, forward, monotone_points, ray_distance, refine, repair, widen_ends
+from winder.app.contact_windows import unpin
 from winder.app.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
@@ -208,6 +209,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
         u = forward(refine(paths, all_eye[mine], lo, cu[pick], hi), chain[mine], position[mine])
         # A move's midpoint may bow off the tangents by up to the chord tolerance; more is searched again.
         u = repair(paths, all_eye[mine], u, chain[mine], position[mine], machine.chord_tolerance)
+        u = unpin(paths, all_eye[mine], u, chain[mine], position[mine], machine.chord_tolerance)
         u = widen_ends(paths, all_eye[mine], u, chain[mine], position[mine], where, cand)
         s[mine], th[mine], p[mine], d[mine] = paths.point(u)
         toward = all_eye[mine] - p[mine]
