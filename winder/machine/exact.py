@@ -95,13 +95,12 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
     """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,): SmoothPaths.point's, with
     the points inside a geodesic interval on the exact geodesic (module docstring)."""
     u = np.asarray(u, dtype=float)
-    s, th, p, d = paths.point(u)
     if u.size == 0 or paths.s.size < 2 or not paths.surface.section.is_circle:
-        return s, th, p, d
+        return paths.point(u)
     k, h = paths._interval(u)
     inside = np.flatnonzero((h > 0.0) & (h < 1.0) & ~paths.free[k] & ~paths.free[k + 1])
     if inside.size == 0:
-        return s, th, p, d
+        return paths.point(u)
     surface = paths.surface
     kk = k[inside]
     intervals, back = np.unique(kk, return_inverse=True)
@@ -135,7 +134,7 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
     good = (arrive <= ARRIVE_TOL) & ok_speed & (length > 0.0)
     take = np.flatnonzero(good[back])
     if take.size == 0:
-        return s, th, p, d
+        return paths.point(u)
     # Each point from the step of its interval's run before it, by one step of the rest of the way.
     own = back[take]
     frac = np.clip(_arc_within(paths, intervals, own, u[inside[take]], first[group]) / length[own], 0.0, 1.0) * STEPS
@@ -151,12 +150,17 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
     fine = np.all(np.isfinite(y), axis=0)
     use = take[fine]
     if use.size == 0:
-        return s, th, p, d
+        return paths.point(u)
     ys = y[:, fine]
     rows = inside[use]
     ev = surface.evaluate(ys[0], ys[1], order=1)
     dd = ev.ps * ys[2][:, None] + ev.pt * ys[3][:, None]
-    s, th, p, d = s.copy(), th.copy(), p.copy(), d.copy()
+    # The smooth path's points only where the geodesic does not stand for it.
+    s, th, p, d = np.empty(u.size), np.empty(u.size), np.empty((u.size, 3)), np.empty((u.size, 3))
+    rest = np.ones(u.size, dtype=bool)
+    rest[rows] = False
+    if rest.any():
+        s[rest], th[rest], p[rest], d[rest] = paths.point(u[rest])
     s[rows], th[rows], p[rows] = ys[0], ys[1], ev.p
     d[rows] = dd / row_norms(dd)[:, None]
     return s, th, p, d
