@@ -35,9 +35,9 @@ from winder.machine.batch import pass_where
 from winder.machine.collision import check_collision
 from winder.machine.dynamics import move_times
 from winder.machine.envelope import eye_envelope
-from winder.machine.program import MotionProgram, Segment, approach, as_written, build_program, is_robot
-from winder.winding.budget import PROGRAM_CHUNK_POINTS
-from winder.winding.layer_batches import point_groups
+from winder.machine.program import MotionProgram, Segment, approach, as_written, build_program
+from winder.winding.memory_model import PROGRAM_CHUNK_POINTS
+from winder.winding.layer_batches import point_groups, whole_plan
 from winder.winding.results import FiberPass, WindingPlan
 
 # Planned points of the layers built in one batch (about 4 kB each at the peak on a vessel); the work
@@ -68,8 +68,7 @@ def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int
     """build_program(plan, machine), built a group of layers at a time (module docstring)."""
     groups = layer_groups(plan, most)
     whole = _sense_of(plan.layers)
-    limited = machine.limits.rotation is not None or machine.limits.yaw is not None
-    if len(groups) <= 1 or limited or is_robot(plan, machine) or any(_sense_of(g) != whole for g in groups):
+    if len(groups) <= 1 or whole_plan(machine, plan.surface) or any(_sense_of(g) != whole for g in groups):
         return build_program(plan, machine)
     env = eye_envelope(plan.outer_surface, machine)
     parts: list[tuple] = []  # per group: values, index, fiber, segments (rows numbered in the whole)

@@ -43,6 +43,7 @@ from winder.machine.robot import robot_rows
 from winder.machine.reduce import reduce_many, reduce_points, reduce_table  # noqa: F401 - reduce_points: the one-pass form
 from winder.machine.smooth import SmoothPaths
 from winder.machine.straight import straight_passes
+from winder.winding.layer_batches import robot_poses
 from winder.winding.results import FiberPass, LayerPlan, PassKind, WindingPlan
 from winder.geometry.measure import row_norms
 
@@ -129,7 +130,7 @@ class MotionProgram:
 
 def is_robot(plan: WindingPlan, machine: MachineConfig) -> bool:
     """Whether the program is made of robot poses (bent axis or machine.robot)."""
-    return bool(machine.robot or not plan.surface.curve.is_straight)
+    return robot_poses(machine, plan.surface)
 
 
 def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | None:

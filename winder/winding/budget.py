@@ -26,6 +26,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.layers.helical_open import MAX_CIRCUIT_FACTOR
 from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_refusal
 from winder.winding.layers.hoop import HOOP_STEP_DEG
+from winder.winding.layer_batches import robot_poses, whole_plan
 from winder.winding.memory_model import PROGRAM_CHUNK_POINTS, peak_bytes, solve_bytes_per_point
 from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
@@ -332,22 +333,10 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     points = sum(layer.points for layer in layers)
     solve = max((layer.solve_points for layer in layers), default=0)
     helical = [0 if cfg.type is LayerType.HOOP else layer.passes for cfg, layer in zip(w.layers, layers)]
-    robot = _is_robot(job, surface)
     memory = peak_bytes([layer.points for layer in layers], helical, solve, float(surface.axial_length),
-                        vessel=vessel, robot=robot, whole=robot or _whole_plan(job))
+                        vessel=vessel, robot=robot_poses(job.machine, surface),
+                        whole=whole_plan(job.machine, surface))
     return Budget(tuple(layers), points, memory)
-
-
-def _is_robot(job: JobConfig, surface: SweepSurface) -> bool:
-    """Whether the program is a robot's poses (winder.machine.program.is_robot: machine.robot or a bent axis)."""
-    return bool((job.machine is not None and job.machine.robot) or not surface.curve.is_straight)
-
-
-def _whole_plan(job: JobConfig) -> bool:
-    """Whether the machine stage takes the whole plan in one batch (winder.machine.chunks): rotation or
-    yaw limits are checked on the joined values (a robot's too, _is_robot)."""
-    machine = job.machine
-    return machine is not None and (machine.limits.rotation is not None or machine.limits.yaw is not None)
 
 
 def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
@@ -363,7 +352,8 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
                       f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
     if budget.memory_bytes > MAX_MEMORY_BYTES:
         largest = max(range(len(budget.layers)), key=lambda i: budget.layers[i].solve_points)
-        per_point = solve_bytes_per_point(isinstance(surface.profile, VesselMeridian), _is_robot(job, surface))
+        per_point = solve_bytes_per_point(isinstance(surface.profile, VesselMeridian),
+                                          robot_poses(job.machine, surface))
         solver = budget.layers[largest].solve_points * per_point
         # A hoop's points come from its turns (band width and length), not from winding.points.
         hoop = job.winding.layers[largest].type is LayerType.HOOP
