@@ -25,7 +25,8 @@ from functools import cached_property
 import numpy as np
 
 from winder.geometry.joints import joint_stations
-from winder.geometry.measure import row_norms, tangent_coordinates
+from winder.geometry.measure import grid_groups, row_norms, tangent_coordinates
+from winder.machine.exact import COPY_MM, COPY_TOL
 from winder.machine.smooth import SmoothPaths
 from winder.paths.ode import geodesic_rhs
 
@@ -34,9 +35,6 @@ RTOL, ATOL = 1e-10, 1e-10  # solve_ivp's tolerances over the scaled interval
 ARRIVE_TOL = 1e-3  # mm: the ODE lands this close to the next planned point
 ARRIVE_TURN = 1e-5  # rad: and this close to its planned direction (an eye 200 mm out: 0.002 mm): a geodesic
 CHUNK = 65_536  # parameters read at once by point
-# Decimals of (station mm, s', theta' /mm, length mm) that make two intervals one class (_classes): a
-# start heading 1e-12 apart is 1e-11 mm apart after 10 mm, far inside RTOL.
-KEY_DECIMALS = (9, 12, 12, 9)
 
 
 class ExactPaths(SmoothPaths):
@@ -103,14 +101,13 @@ class ExactPaths(SmoothPaths):
 
     def _classes(self, y0: np.ndarray, length: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(rep (m,): one interval of each class, inv (k,): each interval's class) of the intervals
-        whose start states y0 (4, k) and lengths (k,) agree but for theta within KEY_DECIMALS (every
-        interval its own class off a surface of revolution)."""
+        whose start states y0 (4, k) and lengths (k,) agree but for theta within the machine stage's
+        COPY_MM and COPY_TOL (winder.machine.exact; a start heading 1e-12 apart is 1e-11 mm apart after
+        10 mm, far inside RTOL); every interval its own class off a surface of revolution."""
         if not self.surface.is_revolution:
             return np.arange(length.size), np.arange(length.size)
-        key = np.column_stack([np.round(v, digits) for v, digits in
-                               zip((y0[0], y0[2], y0[3], length), KEY_DECIMALS)])
-        _, rep, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
-        return rep, inv.reshape(-1)
+        return grid_groups(np.column_stack([y0[0], y0[2], y0[3], length]),
+                           np.array([COPY_MM, COPY_TOL, COPY_TOL, COPY_MM]))
 
     def point(self, u: np.ndarray):
         """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,): on the geodesic inside a
