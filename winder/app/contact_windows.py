@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.app.contacts import _monotone_group, ray_distance, window_reads
+from winder.app.contacts import monotone_group, ray_distance, window_reads
 from winder.machine.smooth import SmoothPaths
 
 WINDOW = 1  # samples matched again on either side of one off its ray
@@ -54,7 +54,7 @@ def unpin(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray,
         begin = np.cumsum(count) - count
         jmax = int(count.max())
         index = np.minimum(begin[:, None] + np.arange(jmax), (begin + count - 1)[:, None])
-        pick = _monotone_group(eye, seq, rp[index], rd[index], count)
+        pick = monotone_group(eye, seq, rp[index], rd[index], count)
         new_u = reads[index[np.arange(q.size)[:, None], pick]]
         rows = seq[inner]
         _, _, p1, d1 = paths.point(new_u[inner])

@@ -79,8 +79,8 @@ def _prefix_argmin(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return low, np.maximum.accumulate(np.where(new, np.arange(v.shape[1]), 0), axis=1)
 
 
-def _monotone_group(eye: np.ndarray, seq: np.ndarray, points: np.ndarray, dirs: np.ndarray,
-                    count: np.ndarray) -> np.ndarray:
+def monotone_group(eye: np.ndarray, seq: np.ndarray, points: np.ndarray, dirs: np.ndarray,
+                   count: np.ndarray) -> np.ndarray:
     """The dynamic program for c chains at once: seq (c, l) sample indices (-1 past a chain's end),
     points / dirs (c, j, 3) of each chain's pass, count (c,) its points. The chosen point of each
     entry of seq (c, l)."""
@@ -132,7 +132,7 @@ def monotone_points(eye: np.ndarray, chain: np.ndarray, position: np.ndarray, pa
             seq[inside] = order[(begin[chunk, None] + at[None, :])[inside]]
             jj = np.arange(jmax)
             index = np.minimum(start[of_chain[chunk], None] + jj, start[of_chain[chunk] + 1, None] - 1)
-            pick = _monotone_group(eye, seq, points[index], dirs[index], size[chunk])
+            pick = monotone_group(eye, seq, points[index], dirs[index], size[chunk])
             out[seq[inside]] = index[np.nonzero(inside)[0], pick[inside]]
     return out
 
@@ -361,8 +361,9 @@ def repair(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray
         found, a, b = _best_read(paths, eye[k], lo, hi)
         fbest = miss(k, found[:, None])[:, 0]
         a, b = golden(lambda v: miss(k, v[:, None])[:, 0], a, b)
-        found = np.where(miss(k, (0.5 * (a + b))[:, None])[:, 0] <= fbest, 0.5 * (a + b), found)
-        got = miss(k, found[:, None])[:, 0]
+        mid = 0.5 * (a + b)
+        fmid = miss(k, mid[:, None])[:, 0]
+        found, got = np.where(fmid <= fbest, mid, found), np.minimum(fmid, fbest)
         better = got < dist[todo]
         out[k] = np.where(better, found, out[k])
         dist[todo] = np.where(better, got, dist[todo])
