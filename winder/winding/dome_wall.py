@@ -59,11 +59,11 @@ def dome_walls(plan: WindingPlan) -> tuple[DomeWall, DomeWall] | None:
     if not (isinstance(prof, VesselMeridian) and plan.surface.is_revolution and plan.layers
             and all(layer.laminate is not None for layer in plan.layers)):
         return None
-    out = []
-    for lo, hi in (prof.dome_ranges.dome, prof.dome_ranges.end_dome):
-        ev = prof.evaluate(np.linspace(lo, hi, WALL_SAMPLES))
-        wall = wall_at(plan, np.column_stack([ev.z, ev.r]))
-        k = int(np.argmax(wall))
-        opening = ev.r[0] if lo == 0.0 else ev.r[-1]
-        out.append(DomeWall(float(opening), float(wall[k]), float(ev.r[k])))
-    return out[0], out[1]
+    # Both domes' bare points in one reading of each layer's meridian.
+    ev = prof.evaluate(np.concatenate([np.linspace(*prof.dome_ranges.dome, WALL_SAMPLES),
+                                       np.linspace(*prof.dome_ranges.end_dome, WALL_SAMPLES)]))
+    wall = wall_at(plan, np.column_stack([ev.z, ev.r])).reshape(2, WALL_SAMPLES)
+    r = ev.r.reshape(2, WALL_SAMPLES)
+    first, end = (DomeWall(float(opening), float(w.max()), float(radius[int(np.argmax(w))]))
+                  for opening, w, radius in ((r[0, 0], wall[0], r[0]), (r[1, -1], wall[1], r[1])))
+    return first, end
