@@ -12,7 +12,7 @@ from winder.config.machine import MachineConfig
 from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ExportError
 from winder.export.gcode import gcode_text
-from winder.machine.collision import check_collision, part_distance
+from winder.machine.collision import check_collision, part_distance, sampled_moves
 from winder.machine.envelope import eye_envelope
 
 R, T = 40.0, 300.0
@@ -169,19 +169,26 @@ def test_a_robot_chord_into_the_clearance_is_refused_but_a_join_may_pass(bend):
 
 
 @pytest.mark.parametrize("profile", ["cylinder", "dome"])
-def test_copies_of_points_are_measured_once_and_never_further(profile):
-    """Points repeated with round-off noise (the eye paths of turned circuits) and some exactly: each
-    within CUT_TOL of its own brute-force distance and never above it by more than round-off (the
-    shared measurement takes the 1-Lipschitz bound: it may only come nearer)."""
+def test_copies_of_moves_are_sampled_once_and_never_further(profile):
+    """Moves repeated with round-off noise on their ends (the eye paths of turned circuits), some
+    exactly: each sample within CUT_TOL of its own brute-force distance and never above it by more than
+    round-off (the shared sampling takes the 1-Lipschitz bound: it may only come nearer)."""
     t = np.linspace(0.0, 200.0, 801)
     r = {"cylinder": np.full_like(t, 40.0),
          "dome": np.sqrt(np.maximum(100.0**2 - (t - 100.0) ** 2, 0.0)) * 0.5 + 10.0}[profile]
     env = type("Env", (), {"stations": t, "mandrel_radius": r})()
     rng = np.random.default_rng(11)
-    z0 = rng.uniform(0.0, 200.0, 300)
-    rho0 = np.interp(z0, t, r) + rng.uniform(0.5, 30.0, z0.size)
-    z = np.tile(z0, 40) + rng.uniform(-3e-11, 3e-11, 40 * z0.size) * (rng.random(40 * z0.size) < 0.5)
-    rho = np.tile(rho0, 40) + rng.uniform(-3e-11, 3e-11, z.size)
-    got, want = part_distance(rho, z, env), _brute_distance(rho, z, t, r)
+    # Short moves outside the part (its slope under 0.7 there: a 0.5 mm step rises under 0.35 mm).
+    za = rng.uniform(20.0, 180.0, 300)
+    zb = za + rng.uniform(-0.5, 0.5, za.size)
+    ends = [np.interp(za, t, r) + rng.uniform(5.0, 30.0, za.size), za,
+            np.interp(zb, t, r) + rng.uniform(5.0, 30.0, zb.size), zb]
+    noisy = [np.tile(v, 40) + rng.uniform(-3e-11, 3e-11, 40 * v.size) * (rng.random(40 * v.size) < 0.5)
+             for v in ends]
+    rho0, z0, rho1, z1 = noisy
+    f = np.linspace(0.0, 1.0, 5)
+    got = sampled_moves(z0, rho0, z1, rho1, f, env)
+    rho, z = rho0[:, None] + f * (rho1 - rho0)[:, None], z0[:, None] + f * (z1 - z0)[:, None]
+    want = _brute_distance(rho.ravel(), z.ravel(), t, r).reshape(rho.shape)
     assert got == pytest.approx(want, abs=CUT_TOL)
     assert np.all(got <= want + ROUNDOFF_MM)

@@ -31,40 +31,12 @@ from winder.geometry.measure import grid_groups, row_norms
 SAMPLES_PER_MOVE = 8
 SLAB_SEGMENTS = 16  # segments measured per point; more in its slab: the nearest vertex's two
 SEGMENT_BLOCK = 1 << 20  # point-segment pairs measured at once (memory stays bounded)
-SAME_POINT = 1e-10  # mm: eye points this close are measured once (part_distance)
+SAME_POINT = 1e-10  # mm: moves whose ends agree this closely are sampled once (sampled_moves)
 GAP_TOL = 1e-9  # mm: a move this little inside its clearance counts as keeping it
 
 
 def part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
-    """Distance (mm) of meridian points (rho, z) (m,) from the part (module docstring); < 0 inside.
-
-    Points within SAME_POINT of one another (the circuits of a layer on a surface of revolution are
-    turned copies: their eye paths share (rho, z) to round-off) are measured once: each gets its
-    group's first point's distance less their separation, a bound the distance (1-Lipschitz) cannot
-    fall below."""
-    rho, z = np.asarray(rho, dtype=float), np.asarray(z, dtype=float)
-    first, group = grid_groups(np.column_stack([rho, z]), SAME_POINT)
-    d = _part_distance(rho[first], z[first], env)[group]
-    return d - np.hypot(rho - rho[first][group], z - z[first][group])
-
-
-def sampled_moves(x0: np.ndarray, z0: np.ndarray, x1: np.ndarray, z1: np.ndarray, f: np.ndarray,
-                  env: EyeEnvelope) -> np.ndarray:
-    """part_distance (m, k) of the eye centre at the fractions f (k,) of the straight moves from
-    (x0, z0) to (x1, z1) (m,) each (carriage, cross-feed). Moves whose ends agree within SAME_POINT
-    (a layer's turned circuits) are sampled once: a copy gets its representative's distances less the
-    larger of its two ends' separations, which bounds how much nearer the part its own samples lie."""
-    first, group = grid_groups(np.column_stack([x0, z0, x1, z1]), SAME_POINT)
-    rep = first[group]
-    sep = np.maximum(np.hypot(x0 - x0[rep], z0 - z0[rep]), np.hypot(x1 - x1[rep], z1 - z1[rep]))
-    x = x0[first, None] + f * (x1 - x0)[first, None]
-    z = z0[first, None] + f * (z1 - z0)[first, None]
-    d = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape)
-    return d[group] - sep[:, None]
-
-
-def _part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarray:
-    """part_distance of distinct points."""
+    """Distance (mm) of meridian points (rho, z) (m,) from the part (module docstring); < 0 inside."""
     t, r = without_straight_runs(env.stations, env.mandrel_radius)
     q = np.column_stack([z, rho])
     # The segment over each point's own station bounds its distance d0 from above, so the nearest
@@ -92,6 +64,21 @@ def _part_distance(rho: np.ndarray, z: np.ndarray, env: EyeEnvelope) -> np.ndarr
         best = np.where(on_disc, np.minimum(best, beyond), best)
     inside = (z >= t[0]) & (z <= t[-1]) & (rho < np.interp(z, t, r))
     return np.where(inside, -best, best)
+
+
+def sampled_moves(x0: np.ndarray, z0: np.ndarray, x1: np.ndarray, z1: np.ndarray, f: np.ndarray,
+                  env: EyeEnvelope) -> np.ndarray:
+    """part_distance (m, k) of the eye centre at the fractions f (k,) of the straight moves from
+    (x0, z0) to (x1, z1) (m,) each (carriage, cross-feed). Moves whose ends agree within SAME_POINT
+    (a layer's turned circuits) are sampled once: a copy gets its representative's distances less the
+    larger of its two ends' separations, which bounds how much nearer the part its own samples lie."""
+    first, group = grid_groups(np.column_stack([x0, z0, x1, z1]), SAME_POINT)
+    rep = first[group]
+    sep = np.maximum(np.hypot(x0 - x0[rep], z0 - z0[rep]), np.hypot(x1 - x1[rep], z1 - z1[rep]))
+    x = x0[first, None] + f * (x1 - x0)[first, None]
+    z = z0[first, None] + f * (z1 - z0)[first, None]
+    d = part_distance(np.abs(z).ravel(), x.ravel(), env).reshape(x.shape)
+    return d[group] - sep[:, None]
 
 
 def _near_vertex_distance(q: np.ndarray, t: np.ndarray, r: np.ndarray) -> np.ndarray:
