@@ -155,7 +155,7 @@ def test_failure_while_writing_keeps_links_and_fifos_of_the_folder(tiny, tmp_pat
     reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
     before = kept.read_bytes()
     tiny.write_text(TINY.replace("angle: 45", "angle: 40"))
-    real = _third_write_fails(monkeypatch)
+    _third_write_fails(monkeypatch)
     try:
         assert not run_job(tiny, out).ok
         assert os.read(reader, 1 << 20).startswith(b";")  # the program went into the FIFO

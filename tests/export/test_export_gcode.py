@@ -14,7 +14,7 @@ from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.config.machine import MachineAxes, MachineConfig, MachineLimits
 from winder.errors import ExportError
 from winder.export.gcode import gcode_text, program_moves
-from winder.machine.program import reduce_points
+from winder.machine.reduce import reduce_points
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import PassKind, WindingPlan
 

@@ -9,10 +9,8 @@ import importlib
 import json
 from dataclasses import replace
 
-import numpy as np
 import pytest
 
-import winder.machine.program as program_module
 from conftest import surface_of
 from plans import cylinder_plan
 from winder.app.jobs import render_outputs

@@ -23,7 +23,6 @@ from hypothesis import strategies as st
 from every_job import job_of, planned as planned_once  # each sample planned once per session
 from winder.errors import ConfigError
 from winder.export.summary import summary_dict
-from winder.winding.results import LayerPlan, PassKind
 from winder.report.bands import Crossings, band_counts, covered_fraction
 from winder.report.coverage_map import layer_coverage_map
 from winder.report.html import report_html

@@ -12,7 +12,6 @@ import io
 import sys
 from pathlib import Path
 
-import pytest
 from click.testing import CliRunner
 
 import winder.cli.jobs as cli  # the single job's progress bar lives with the job commands

@@ -51,7 +51,7 @@ def find_self_contact(surface: SweepSurface) -> Contact | None:
     s = np.linspace(0.0, surface.length, count)
     outline = surface.points(np.repeat(s, th.size), np.tile(th, count)).reshape(count, th.size, 3)
     radii = surface.radius(np.repeat(s, th.size), np.tile(th, count)).reshape(count, th.size)
-    r_in, r_out = radii.min(axis=1), radii.max(axis=1)
+    r_out = radii.max(axis=1)
     z = surface.t_of_s(s)
     axis = surface.curve.evaluate(z)
     centre = np.ascontiguousarray(axis.x)

@@ -4,8 +4,8 @@ Straight-axis winder: per kept contact point the four logical axes carriage (mm)
 cumulative over the whole program), cross_feed (mm) and yaw (deg, continuous), from
 winder.machine.kinematics.eye_path, with the feed on every move. Rotation continues from pass to pass
 and layer to layer: to reach a pass that starts elsewhere (a new layer) the mandrel turns on in its
-winding sense, less than a turn for the contact point and never back more than TURN_BACK_DEG for the
-eye; yaw keeps its turn count across passes. Every pass is checked against machine.limits.
+winding sense, less than a turn for the contact point and never back more than
+winder.machine.axis_batch.TURN_BACK_DEG for the eye; yaw keeps its turn count across passes. Every pass is checked against machine.limits.
 
 Robot mode (machine.robot, or a bent mandrel axis): instead of axis values, eye poses in the mandrel
 frame (position, and the unit fiber direction from the eye to its contact point;
@@ -36,11 +36,11 @@ from winder.machine.batch import all_dense, all_leads, all_midpoints, pass_where
 from winder.machine.densify import DENSE_SHARE
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.envelope import eye_envelope
-from winder.machine.axis_batch import TURN_BACK_DEG, straight_axes  # noqa: F401 - TURN_BACK_DEG: docstring
+from winder.machine.axis_batch import straight_axes
 from winder.machine.kinematics import eye_path, make_guide
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.robot import robot_rows
-from winder.machine.reduce import reduce_many, reduce_points, reduce_table  # noqa: F401 - reduce_points: the one-pass form
+from winder.machine.reduce import reduce_table
 from winder.machine.smooth import SmoothPaths
 from winder.machine.straight import straight_passes
 from winder.winding.layer_batches import robot_poses

@@ -24,7 +24,7 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.coverage import layer_coverage
 from winder.winding.layers.helical_open import COVERED_TARGET, open_closure
 from winder.winding.passes import PlanContext
-from winder.winding.pattern import close_open_pattern, close_vessel_pattern, coprime_skips
+from winder.winding.pattern import close_open_pattern, coprime_skips
 from winder.winding.plan import layer_contexts, plan_layer
 from winder.winding.results import LayerPlan, PassKind
 

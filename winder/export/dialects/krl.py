@@ -53,8 +53,8 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     top_e1 = program.machine.dynamics.rotation.speed / 60.0  # deg/s
     src = ["&ACCESS RVP", "&REL 1", f"DEF {name}( )"] + header(program, ";")
     if cell.arm.maker != "KUKA":
-        src.append(f"; the cell's arm is not a KUKA: the poses are the cell's, without S and T (a KUKA arm in its "
-                   f"place chooses its own configuration)")
+        src.append("; the cell's arm is not a KUKA: the poses are the cell's, without S and T (a KUKA arm in its "
+                   "place chooses its own configuration)")
     src += [";FOLD INI", "  BAS(#INITMOV, 0)", ";ENDFOLD",
             f"$TOOL = {_frame_text(c.tool)}  ; the mandrel frame on the flange",
             f"$BASE = {_frame_text(c.ring)}  ; the winding ring, a fixed external TCP",

@@ -93,7 +93,7 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
     surf = ctx.surface
     t_a, t_b, s_a, s_b = ends
     leg_a, leg_b = legs
-    half_a, half_b = leg_a.turn / (4.0 * math.pi), leg_b.turn / (4.0 * math.pi)  # turns of one way in
+    half_b = leg_b.turn / (4.0 * math.pi)  # turns of the far end's way in (the near end's: in pat.advance)
     f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
     layer = index + 1
     solved = []
