@@ -66,15 +66,18 @@ def _turnarounds(surface: SweepSurface, layer: LayerPlan) -> tuple[float, ...]:
 def layer_angles(cells: StationCells, layer: LayerPlan) -> np.ndarray:
     """Mean |winding angle| (deg) of a layer's fiber per cell, weighted by the fiber length there."""
     num, den = np.zeros(cells.centres.size), np.zeros(cells.centres.size)
+    # Circuits on a surface of revolution are turned copies: the same stations, so the same cells
+    # at the same fractional indices (found once per stations).
+    found: dict[bytes, tuple[np.ndarray, np.ndarray, np.ndarray] | None] = {}
     for p in layer.passes:
         if p.kind is PassKind.DWELL or np.ptp(p.s) <= 0.0:
             continue
-        lo, hi = min(p.s[0], p.s[-1]), max(p.s[0], p.s[-1])
-        inside = (cells.centres >= lo) & (cells.centres <= hi)
-        if not np.any(inside):
+        key = p.s.tobytes()
+        if key not in found:
+            found[key] = _cells_crossed(cells, p.s)
+        if found[key] is None:
             continue
-        idx = np.arange(p.s.size, dtype=float)
-        at = index_of(interp_spline(idx, p.s), p.s, cells.centres[inside])
+        inside, idx, at = found[key]
         alpha = np.interp(at, idx, np.abs(p.alpha_deg))  # |alpha|: +90 on a parallel joins either sign
         # the crossing's weight: fiber length per station, 1 / cos(alpha) (capped at a turnaround)
         w = 1.0 / np.maximum(np.cos(np.radians(alpha)), 1e-3)
@@ -82,6 +85,17 @@ def layer_angles(cells: StationCells, layer: LayerPlan) -> np.ndarray:
         den[inside] += w
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(den > 0.0, num / den, np.nan)
+
+
+def _cells_crossed(cells: StationCells, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """(inside (k,) bool: the cells whose centres the stations s (m,) span, idx (m,): the point
+    indices, at: the fractional point index of each such centre), or None where it spans none."""
+    lo, hi = min(s[0], s[-1]), max(s[0], s[-1])
+    inside = (cells.centres >= lo) & (cells.centres <= hi)
+    if not np.any(inside):
+        return None
+    idx = np.arange(s.size, dtype=float)
+    return inside, idx, index_of(interp_spline(idx, s), s, cells.centres[inside])
 
 
 def _fill(angle: np.ndarray, laid: np.ndarray) -> np.ndarray:
