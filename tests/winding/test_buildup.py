@@ -11,7 +11,8 @@ from winder.geometry.sections import arc_map
 from winder.winding.buildup import area_rate, layer_density, station_cells
 from winder.winding.growth import grown, smooth_thickness
 from winder.winding.laminate import Material, clairaut_density, clairaut_zone_volume, helical_mean_thickness
-from winder.winding.layers.helical_vessel import turnaround_stations, vessel_helical_layer
+from winder.winding.layers.helical_vessel import vessel_helical_layer
+from winder.winding.layers.vessel_advance import turnaround_stations
 from winder.winding.passes import PlanContext
 from winder.winding.plan import plan
 

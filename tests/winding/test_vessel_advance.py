@@ -1,4 +1,4 @@
-"""winder.winding.layers.helical_vessel.advances: the geodesic's theta advance over a vessel, against
+"""winder.winding.layers.vessel_advance.advances: the geodesic's theta advance over a vessel, against
 closed forms, and smooth in the Clairaut constant down to round-off (the pattern closing solves
 advance(c) = k / N_c, so any jitter in it moves the whole layer)."""
 
@@ -11,7 +11,7 @@ import pytest
 
 from winder.geometry.domes import Hemisphere
 from winder.geometry.vessel import VesselMeridian
-from winder.winding.layers.helical_vessel import advances, half_advance
+from winder.winding.layers.vessel_advance import advances, half_advance
 
 QUARTER_TOL = 2e-14  # rad: a hemisphere's quarter turn (round-off; past 80 deg r^2 - c^2 is small
 # over the whole dome and the advance itself ill-conditioned: 2e-13 at 88 deg)

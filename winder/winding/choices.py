@@ -17,6 +17,8 @@ import dataclasses
 import math
 from dataclasses import replace
 
+import numpy as np
+
 from winder.config.job import JobConfig
 from winder.config.winding import SLIP_AUTO, LayerConfig, LayerType
 from winder.errors import ConfigError, SolverError
@@ -221,10 +223,10 @@ def _vessel_choices(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: floa
     asked = float(cfg.angle_deg)
     # The advance grows with c: the window's targets k / N + m lie between its values at the window's
     # ends, and each skip closes at the target nearest a0 (close_vessel_pattern), so only those
-    # within the window are planned (an advance costs a profile integral: three of them here).
-    a0 = advance(c0)
-    lo = advance(max(c_min, big_r * math.sin(math.radians(max(asked - within, 0.0)))))
-    hi = advance(min(c_hi, big_r * math.sin(math.radians(min(asked + within, 89.0)))))
+    # within the window are planned (an advance costs a profile integral: three of them at once here).
+    a0, lo, hi = (float(v) for v in advance(np.array([
+        c0, max(c_min, big_r * math.sin(math.radians(max(asked - within, 0.0)))),
+        min(c_hi, big_r * math.sin(math.radians(min(asked + within, 89.0))))])))
     near = []
     for n in counts:
         for k in _skips(n, None):

@@ -77,27 +77,34 @@ def close_open_pattern(circuits: int, natural: float, min_start: float, min_end:
     return OpenPattern(circuits, k, natural, min_start + extra / 2.0, min_end + extra / 2.0)
 
 
-def close_vessel_pattern(advance: Callable[[float], float], c0: float, c_lo: float, c_hi: float,
+def close_vessel_pattern(advance: Callable[[np.ndarray], np.ndarray], c0: float, c_lo: float, c_hi: float,
                          circuits: int, pattern: int | None, key: str) -> tuple[int, float]:
     """Move the turnaround radius c (hence the angle) so that advance(c) = k / N_c (mod 1 turn).
 
-    advance : circuit advance in turns as a function of c, increasing on (c_lo, c_hi).
+    advance : circuit advance in turns as a function of c, increasing on (c_lo, c_hi), taking and
+    giving (n,) arrays (winder.winding.layers.vessel_advance.circuit_advance).
     Returns (k, c) with the least |c - c0|.
     """
-    a_lo, a_hi = advance(c_lo), advance(c_hi)
-    a0 = advance(c0)
+    a_lo, a_hi, a0 = (float(v) for v in advance(np.array([c_lo, c_hi, c0])))
     # Every skip offers the targets just above and below a0; advance(c) is smooth and increasing, so
-    # the few targets nearest a0 hold the least |c - c0|: solve those alone.
+    # the few targets nearest a0 hold the least |c - c0|: solve those alone, together (each step of
+    # the root finder one quadrature of all of them), each bracketed on its side of c0.
     candidates = []
     for k in _check_skip(pattern, circuits, key):
         up = a0 + (k / circuits - a0) % 1.0
         candidates += [(abs(t - a0), k, t) for t in (up, up - 1.0) if a_lo <= t <= a_hi]
-    from scipy.optimize import brentq  # noqa: PLC0415 - a hoop job never closes a pattern
+    nearest = sorted(candidates)[:4]
+    solve = [(k, t) for _, k, t in nearest if abs(t - a0) >= 1e-13]
+    found = [(k, c0) for _, k, t in nearest if abs(t - a0) < 1e-13]
+    if solve:
+        from scipy.optimize.elementwise import find_root  # noqa: PLC0415 - a hoop job never closes a pattern
 
+        target = np.array([t for _, t in solve])
+        res = find_root(lambda x, t: advance(x) - t, (np.where(target > a0, c0, c_lo), np.where(target > a0, c_hi, c0)),
+                        args=(target,), tolerances={"xatol": 1e-13, "xrtol": 1e-14})
+        found += [(k, float(c)) for (k, _), c, ok in zip(solve, res.x, res.success) if ok]
     best = None
-    for _, k, target in sorted(candidates)[:4]:
-        c = c0 if abs(target - a0) < 1e-13 else brentq(lambda x: advance(x) - target, c_lo, c_hi,
-                                                        xtol=1e-13, rtol=1e-14)
+    for k, c in found:
         if best is None or abs(c - c0) < abs(best[1] - c0):
             best = (k, c)
     if best is None:

@@ -24,81 +24,11 @@ from winder.winding.passes import (
     solve_pass,
 )
 from winder.winding.pattern import circuits_for_coverage, close_vessel_pattern
+from winder.winding.layers.vessel_advance import advances, circuit_advance, half_advance, turnaround_stations
 from winder.winding.results import LayerPlan, PassKind
 from winder.geometry.measure import row_norms
 
-QUAD_NODES = 64  # Gauss-Legendre nodes per half dome for the turnaround advance (converged to 1e-14)
-RADIUS_TABLE = 65  # stations tabulated to start the inversion r -> s near the turnaround
-RADIUS_NEWTON = 4  # Newton steps from the table's guess: quadratic, to the last bits
 PIECE_MIN_POINTS = 5  # the least points of a pass's piece (a dome or the cylinder)
-
-
-@functools.cache
-def _gauss() -> tuple[np.ndarray, np.ndarray]:
-    """Gauss-Legendre nodes and weights (computed on first use: 35 ms, a hoop job never needs them)."""
-    return np.polynomial.legendre.leggauss(QUAD_NODES)
-
-
-def turnaround_stations(prof: VesselMeridian, c: float) -> tuple[float, float]:
-    """Stations s where r = c on the first and the end dome."""
-    from scipy.optimize import brentq  # noqa: PLC0415 - vessel helicals only
-
-    e1, e2 = prof.equator_s
-
-    def r_minus_c(s: float) -> float:
-        return float(prof.evaluate(np.array([s])).r[0]) - c
-
-    return brentq(r_minus_c, 0.0, e1, xtol=1e-13), brentq(r_minus_c, e2, prof.length, xtol=1e-13)
-
-
-def advances(prof: VesselMeridian, c: float) -> tuple[float, float, float]:
-    """theta advances (rad) of the geodesic of Clairaut constant c: over the first dome (turnaround
-    to equator), the cylinder, and the end dome (equator to turnaround). The cylinder is exact; each
-    dome is _dome_advance."""
-    s1, s2 = turnaround_stations(prof, c)
-    e1, e2 = prof.equator_s
-    cylinder = c * prof.cylinder_length / (prof.radius * math.sqrt(prof.radius**2 - c * c))
-    return _dome_advance(prof, c, s1, e1), cylinder, _dome_advance(prof, c, s2, e2)
-
-
-def _dome_advance(prof: VesselMeridian, c: float, s_c: float, s_eq: float) -> float:
-    """theta advance (rad) from the turnaround r = c (near station s_c) to the equator s_eq.
-
-    dtheta/ds = c / (r sqrt(r^2 - c^2)). From the turnaround to the dome's middle station s_m it is
-    integrated in v, r = c cosh(v): dtheta = dv / (cosh(v) |dr/ds|), smooth, and r - c is exact,
-    so the result does not hang on r^2 - c^2 near the turnaround, which round-off knows only to
-    ulp(r^2), nor on the turnaround station, known only to ulp(r) / r'. (Integrated in s there, the
-    advance jittered by 5e-11 rad between Clairaut constants 1e-14 mm apart, and the pattern closing
-    amplified that to a few units of the CSV's last digit.) From s_m to the equator, where r > c,
-    in s.
-    """
-    x, w = _gauss()
-    s_m = 0.5 * (s_c + s_eq)
-    v_m = math.acosh(float(prof.evaluate(np.array([s_m])).r[0]) / c)
-    v = 0.5 * v_m * (x + 1.0)
-    s = _stations_of_radius(prof, c * np.cosh(v), s_c, s_m)
-    near = 0.5 * v_m * float(w @ (1.0 / (np.cosh(v) * np.abs(prof.evaluate(s).r1))))
-    r = prof.evaluate(s_m + (s_eq - s_m) * 0.5 * (x + 1.0)).r
-    far = 0.5 * abs(s_eq - s_m) * float(w @ (c / (r * np.sqrt(r * r - c * c))))
-    return near + far
-
-
-def _stations_of_radius(prof: VesselMeridian, radius: np.ndarray, s_a: float, s_b: float) -> np.ndarray:
-    """Stations in [s_a, s_b], a stretch of one dome where r is monotone, at which r = radius (k,)."""
-    table = np.linspace(s_a, s_b, RADIUS_TABLE)
-    r_tab = prof.evaluate(table).r
-    order = np.argsort(r_tab)
-    s = np.interp(radius, r_tab[order], table[order])
-    lo, hi = min(s_a, s_b), max(s_a, s_b)
-    for _ in range(RADIUS_NEWTON):
-        e = prof.evaluate(s)
-        s = np.clip(s - (e.r - radius) / e.r1, lo, hi)
-    return s
-
-
-def half_advance(prof: VesselMeridian, c: float) -> float:
-    """theta advance (rad) from one turnaround to the other."""
-    return float(sum(advances(prof, c)))
 
 
 def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool,
@@ -200,10 +130,7 @@ def vessel_closure(ctx: PlanContext, cfg: LayerConfig, index: int) -> tuple[Call
         # check refuses it on the bare mandrel (winder.winding.budget); here, a laminate's grown one
         raise SolverError(f"{ctx.key(index, 'angle')}: {why}")
 
-    def advance(c: float) -> float:
-        return 2.0 * half_advance(prof, c) / (2.0 * math.pi)
-
-    return (advance, big_r * math.sin(math.radians(cfg.angle_deg)), r_open + 0.5 * w.band_width,
+    return (functools.partial(circuit_advance, prof), big_r * math.sin(math.radians(cfg.angle_deg)), r_open + 0.5 * w.band_width,
             big_r * math.sin(math.radians(89.0)))
 
 
