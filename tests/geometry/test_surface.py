@@ -479,3 +479,17 @@ def test_grid_points_are_points_on_the_meshgrid_bit_for_bit(axis, profile, secti
     th = np.concatenate([np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False), [-1.0, 7.5, np.pi]])
     ss, tt = np.meshgrid(s, th, indexing="ij")
     assert_roundoff(surf.grid_points(s, th), surf.points(ss.ravel(), tt.ravel()))
+
+
+@pytest.mark.parametrize("prof", ["constant", "cone", "table"])
+def test_turned_rows_are_the_surface_read_at_the_turned_angle(prof):
+    """SweepSurface.turned against the surface evaluated at theta + dtheta itself: points about the
+    axis line, directions (Phi_s, Phi_theta) about its tangent."""
+    surface = surface_of("line", "circle", prof)
+    rng = np.random.default_rng(5)
+    s = rng.uniform(0.0, surface.length, 200)
+    theta, turn = rng.uniform(-7.0, 7.0, 200), rng.uniform(-40.0, 40.0, 200)
+    ev, want = surface.evaluate(s, theta, order=1), surface.evaluate(s, theta + turn, order=1)
+    assert_roundoff(surface.turned(ev.p, turn), want.p, err_msg="turned points")
+    for got, exact in ((ev.ps, want.ps), (ev.pt, want.pt)):
+        assert_roundoff(surface.turned(got, turn, point=False), exact, err_msg="turned directions")

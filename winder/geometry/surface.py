@@ -265,6 +265,17 @@ class SweepSurface:
         rn = (radius * q) * (c * e2 + sn * e3)  # (3, b): evaluate's r * n
         return (x[:, :, None] + rn[:, None, :]).reshape(3, -1).T
 
+    def turned(self, v: np.ndarray, dtheta: np.ndarray, point: bool = True) -> np.ndarray:
+        """Rows v (m, 3) turned by dtheta (m,) rad about the straight guide line, as theta + dtheta
+        turns a surface of revolution's point (point True: about the line through its origin) or
+        direction (point False: about its tangent). A turned copy's values without the profile's
+        evaluation, equal to it to round-off."""
+        origin, _, e2, e3 = self._line_frame
+        rel = v - origin[:, 0] if point else v
+        a, b = rel @ e2[:, 0], rel @ e3[:, 0]
+        c, sn = np.cos(dtheta), np.sin(dtheta)
+        return v + np.outer(a * (c - 1.0) - b * sn, e2[:, 0]) + np.outer(a * sn + b * (c - 1.0), e3[:, 0])
+
     def normals(self, s: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """Outward unit normals: (m, 3) float."""
         ev = self.evaluate(s, theta, order=1)
