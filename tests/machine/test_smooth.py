@@ -39,3 +39,25 @@ def test_smooth_path_runs_on_along_unevenly_spaced_points():
     assert np.all(np.diff(p[:, 2]) > 0.0)
     assert np.all(np.diff(s) > 0.0)
     assert np.all(np.einsum("ij,j->i", d, fp.direction[0]) > 0.0)
+
+
+ARC_TOL = 1e-9  # mm: an interval's arc length against the helix's closed form (quadrature and round-off)
+
+
+def test_arc_of_turned_copies_is_the_helix_length():
+    """Turned copies of a helix pass share their arc-length quadrature (SmoothPaths.arc): each copy's
+    every interval is still the helix's closed-form length, delta s / cos(alpha)."""
+    surface = surface_of(LineAxis(400.0), ConstantProfile(R))
+    base = _helix_pass(surface)
+    rng = np.random.default_rng(3)
+    copies = []
+    for turn in rng.uniform(0.0, 40.0, 30):
+        ev = surface.evaluate(base.s, base.theta + turn, order=1)
+        d = ev.ps + ev.pt * (np.tan(np.radians(28.0)) / R)
+        copies.append(make_pass(surface, base.s, base.theta + turn, d, layer=1, circuit=1, number=1,
+                                kind=PassKind.FORWARD))
+    paths = SmoothPaths(surface, copies)
+    want = np.diff(base.s) / np.cos(np.radians(28.0))
+    for j in range(len(copies)):
+        own = paths.offset[j] + np.arange(len(base.s))
+        np.testing.assert_allclose(np.diff(paths.arc[own]), want, rtol=0.0, atol=ARC_TOL)

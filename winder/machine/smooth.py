@@ -12,7 +12,7 @@ from winder.geometry.index_spline import knot_slopes
 from winder.geometry.surface import SweepSurface
 from winder.winding.results import FiberPass, PassKind
 from winder.geometry.joints import joint_stations
-from winder.geometry.measure import row_norms, tangent_coordinates
+from winder.geometry.measure import grid_groups, row_norms, tangent_coordinates
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
 SIDE_STEP = 1e-7  # how far into an interval (of its length) the surface is read for its end slopes
@@ -22,6 +22,11 @@ SIDE_STEP = 1e-7  # how far into an interval (of its length) the surface is read
 # dome: the spline's slope at the junction is the average of both), and the eye, on the tangent, would
 # swing from one side of the part to the other in one move.
 SLOPE_LIMIT = 3.0
+# Intervals whose stations and theta steps agree within ARC_COPY_MM (mm, rad) and end slopes (mm and
+# rad per point index) within ARC_COPY_SLOPE share one arc-length quadrature (SmoothPaths.arc): their
+# lengths then agree within about a picometre.
+ARC_COPY_MM = 1e-9
+ARC_COPY_SLOPE = 1e-12
 
 
 def _along(surface: SweepSurface, s: np.ndarray, th: np.ndarray, direction: np.ndarray, ds: np.ndarray,
@@ -141,12 +146,21 @@ class SmoothPaths:
     @cached_property
     def arc(self) -> np.ndarray:
         """(n,) arc length at the nodes, from each pass's first (Gauss-Legendre per node interval):
-        worked out when first asked for (`winder simulate`), the motion program does not need it."""
+        worked out when first asked for (the exact fiber's points, `winder simulate`).
+
+        On a surface of revolution the speed does not depend on theta: intervals whose Hermite data
+        (end stations, theta step, end slopes) agree within ARC_COPY_MM / ARC_COPY_SLOPE (a helical
+        layer's turned circuits) are integrated once."""
         x, w = np.polynomial.legendre.leggauss(GAUSS_NODES)
         k = np.arange(max(self.s.size - 1, 0))
         inside = ~self._is_last[k]  # no interval across passes
-        u = (k[:, None] + 0.5 * (x + 1.0)).ravel()
-        speed = self.speed(u).reshape(-1, GAUSS_NODES) @ (0.5 * w)
+        first, group = np.arange(k.size), np.arange(k.size)
+        if self.surface.is_revolution and k.size:
+            keys = np.column_stack([self.s[k], self.s[k + 1], self.th[k + 1] - self.th[k], self.ds[k],
+                                    self.ds_in[k + 1], self.dth[k], self.dth_in[k + 1]])
+            first, group = grid_groups(keys, np.array([ARC_COPY_MM] * 3 + [ARC_COPY_SLOPE] * 4))
+        u = (k[first, None] + 0.5 * (x + 1.0)).ravel()
+        speed = (self.speed(u).reshape(-1, GAUSS_NODES) @ (0.5 * w))[group]
         return np.concatenate([[0.0], np.cumsum(np.where(inside, speed, 0.0))])
 
     def _interval(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
