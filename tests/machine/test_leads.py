@@ -21,6 +21,9 @@ SAMPLES = 400  # points along each ray before its lead, all inside the envelope
 # mm of envelope distance: each search stops within ROOT_TOL of the envelope, so two crossings differ
 # by at most twice that over the slope of the distance along the ray.
 LEAD_TOL = 2.0 * leads.ROOT_TOL
+# mm: a turned copy takes its representative's lead, its line up to SAME_LINE (and 3e-11 mm of noise)
+# away; the lead moves by that times its sensitivity to the line (up to ~100 near grazing).
+COPY_LEAD_TOL = 1e-8
 
 
 @pytest.mark.parametrize("config", ["configs/ellipsoid_vessel.yaml", "samples/cone.yaml", "samples/pipe.yaml"])
@@ -93,3 +96,24 @@ def test_level_envelope_leads_are_the_tables_bit_for_bit(monkeypatch):
     lam_table, ok_table = leads.eye_leads(ev.p, d, env)
     assert np.array_equal(ok, ok_table) and not ok.all()
     assert_roundoff(lam, lam_table)
+
+
+def test_turned_copies_take_their_own_leads():
+    """Lines turned about the axis (with round-off noise, as a helical layer's circuits) are solved
+    once (leads.SAME_LINE): each copy's lead is its own, solved alone, within LEAD_TOL."""
+    job = load_config(ROOT / "configs/ellipsoid_vessel.yaml")
+    surface = build_surface(job.mandrel, job.source, job.name)
+    env = eye_envelope(surface, MachineConfig(eye_clearance=20.0, eye_radius=None))
+    rng = np.random.default_rng(7)
+    s, th = rng.uniform(0.0, surface.length, 40), rng.uniform(0.0, 2.0 * np.pi, 40)
+    mix = rng.normal(size=(40, 2))
+    turns = rng.uniform(0.0, 60.0, 25)
+    s, th0 = np.tile(s, turns.size), np.tile(th, turns.size)
+    th = th0 + np.repeat(turns, 40)
+    ev = surface.evaluate(s, th, order=1)
+    d = ev.ps * np.tile(mix[:, :1], (turns.size, 1)) + ev.pt * np.tile(mix[:, 1:], (turns.size, 1))
+    p = ev.p + rng.uniform(-3e-11, 3e-11, ev.p.shape)
+    lam, ok = leads.eye_leads(p, d, env)
+    alone = [leads.eye_leads(p[i:i + 1], d[i:i + 1], env) for i in range(p.shape[0])]
+    np.testing.assert_array_equal(ok, [a[1][0] for a in alone])
+    np.testing.assert_allclose(lam, [a[0][0] for a in alone], rtol=0.0, atol=COPY_LEAD_TOL)

@@ -2,7 +2,9 @@
 envelope (the rule is in winder.machine.kinematics' module docstring). Pointwise, so the leads of a
 whole plan's points are found in one call. Around a straight axis, Newton steps (the envelope is
 piecewise linear, so its slope is exact) start from the crossing of the envelope's cylinder, which is
-mostly within ROOT_TOL already; a scan brackets the lines it fails on. For robot poses, around the
+mostly within ROOT_TOL already; a scan brackets the lines it fails on. The envelope is round about
+the axis, so a contact point and direction turned about it (a helical layer's circuits) have the same
+lead: lines that agree about the axis within SAME_LINE are solved once. For robot poses, around the
 guide curve, the scan's brackets are closed by regula falsi."""
 
 from __future__ import annotations
@@ -11,12 +13,13 @@ import numpy as np
 
 from winder.errors import ExportError
 from winder.machine.envelope import EyeEnvelope
-from winder.geometry.measure import row_norms
+from winder.geometry.measure import grid_groups, row_norms
 
 MAX_LEAD_FACTOR = 10.0  # the free fiber is at most this times the largest envelope radius
 LEAD_SCAN = 32  # samples of the tangent line when bracketing the envelope crossing
 ROOT_ITER = 100  # regula falsi (Illinois) steps on the bracket, at most
 ROOT_TOL = 1e-10  # mm: the eye's distance from its envelope
+SAME_LINE = 1e-10  # mm (radius, station) and unit-vector components: lines solved once (lead_straight)
 
 
 def unit_rows(v: np.ndarray) -> np.ndarray:
@@ -169,7 +172,23 @@ def lead_straight(p: np.ndarray, d: np.ndarray, env: EyeEnvelope,
             lam = _cylinder_lead(p, d, r0, env.constant)
         ok = np.isfinite(lam) & (lam > 0.0) & (lam <= lmax)
         return np.where(ok, lam, lmax), ok
+    # Each line as seen from the axis: radius, station, and the direction's radial, turning and
+    # axial parts (module docstring).
+    safe = np.where(r0 > 0.0, r0, 1.0)
+    radial, turning = (p[:, 0] * d[:, 0] + p[:, 1] * d[:, 1]) / safe, (p[:, 0] * d[:, 1] - p[:, 1] * d[:, 0]) / safe
+    keys = np.column_stack([r0, p[:, 2], radial, turning, d[:, 2]])
+    first, group = grid_groups(np.where(np.isfinite(keys), keys, 0.0), SAME_LINE)
+    if first.size == m:
+        return _lead_on_table(p, d, env, lmax, r0, at_p)
+    lam, ok = _lead_on_table(p[first], d[first], env, lmax, r0[first], at_p[first])
+    return lam[group], ok[group]
 
+
+def _lead_on_table(p: np.ndarray, d: np.ndarray, env: EyeEnvelope, lmax: float, r0: np.ndarray,
+                   at_p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """lead_straight on a tabulated envelope: p, d (m, 3), r0 and at_p (m,) the points' radii and
+    the envelope's radius at their stations."""
+    m = p.shape[0]
     cols = (*p.T, *d.T)  # gathered per column: fancy indexing rows of (m, 3) costs more than the rest of f
     # A level table (a cylinder's clearance) is its one value at every finite station, with slope 0:
     # the same numbers without the table look-ups (finite points and directions keep the stations finite).
