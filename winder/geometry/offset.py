@@ -39,6 +39,7 @@ Growth = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 FOLD_MARGIN = 0.05  # 1 - g k must stay above this: a layer thicker than a concave radius folds
 KNOT_SPACING = 0.25  # mm, the offset dome's knot spacing (plus the base dome's own knots)
 AFFINE_TOL = 1e-12  # mm: a growth this close to affine keeps a one-piece profile (Horner path)
+TRIM_TOL = 1e-13  # mm: where a grown dome is trimmed at its opening plane (brentq on the exact offset)
 
 
 class OffsetError(ValueError):
@@ -77,12 +78,11 @@ class OffsetDome(DomeMeridian):
         H = self._position(base, growth, grid)[0]
         if np.any(H[:-1] > base.depth):
             i = int(np.argmax(H > base.depth))
-            lo, hi = grid[i - 1], grid[i]
-            for _ in range(60):  # bisection on the exact offset
-                mid = 0.5 * (lo + hi)
-                below = self._position(base, growth, np.array([mid]))[0][0] < base.depth
-                lo, hi = (mid, hi) if below else (lo, mid)
-            grid = np.append(grid[:i], 0.5 * (lo + hi))
+            from scipy.optimize import brentq  # noqa: PLC0415 - a grown dome only
+
+            cut = brentq(lambda x: self._position(base, growth, np.array([x]))[0][0] - base.depth,
+                         grid[i - 1], grid[i], xtol=TRIM_TOL)
+            grid = np.append(grid[:i], cut)
         H, R, psi, kap, speed = self._offset(base, growth, grid)
         H[-1] = base.depth
         sig = self._arc_length(base, growth, grid)
