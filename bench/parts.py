@@ -6,8 +6,10 @@ wall time) and peak resident memory (VmHWM, the process's own high-water mark), 
 covered fraction of its layers, the largest lift-off over a concave stretch and the largest slip
 |k_g / k_n| any fiber needs (against the friction the config allows), and on vessels the wall at the
 bosses (each dome's thickest laminate and the bare radius there: the summary's `domes`). `folded_spline.yaml` is a
-config `check` must refuse: its row is the refusal's time. Writes bench/results/parts.md (or -o)
-and prints it. Wall times depend on the machine's load: run it alone.
+config `check` must refuse: its row is the refusal's time. Each part runs --repeat times (default
+3) and the table gives the medians of time, CPU and peak (these machines are noisy: one run's CPU
+time varies by 20 %). Writes bench/results/parts.md (or -o) and prints it. Wall times depend on the
+machine's load: run it alone.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -66,6 +69,16 @@ def run_part(cfg: Path, out: Path) -> dict:
     return row
 
 
+def median_run(cfg: Path, out: Path, repeat: int) -> dict:
+    """run_part `repeat` times: the last run's row with the medians of its time, CPU and peak."""
+    runs = [run_part(cfg, out) for _ in range(max(1, repeat))]
+    row = dict(runs[-1])
+    for key in ("seconds", "cpu_seconds", "peak_bytes"):
+        if key in row:
+            row[key] = statistics.median(r[key] for r in runs)
+    return row
+
+
 def table(rows: list[dict]) -> str:
     lines = ["| part | exit | layers | time (s) | CPU (s) | peak memory (MB) | fiber (m) | least coverage | "
              "max lift-off (mm) | max slip | wall at the bosses (mm) |",
@@ -88,6 +101,7 @@ def table(rows: list[dict]) -> str:
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m bench.parts", description=__doc__.splitlines()[0])
     p.add_argument("-o", "--output", default=str(RESULTS), help="the Markdown file to write")
+    p.add_argument("-r", "--repeat", type=int, default=3, help="runs of each part (the table: their medians)")
     p.add_argument("names", nargs="*", help="parts to run (default: every parts/*.yaml)")
     args = p.parse_args(argv)
     configs = [PARTS / f"{n}.yaml" for n in args.names] or sorted(PARTS.glob("*.yaml"))
@@ -95,9 +109,10 @@ def main(argv: list[str] | None = None) -> int:
     start_load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
         for cfg in configs:
-            rows.append(run_part(cfg, Path(tmp) / cfg.stem))
+            rows.append(median_run(cfg, Path(tmp) / cfg.stem, args.repeat))
             print(f"{cfg.stem}: exit {rows[-1]['exit']}, {rows[-1]['seconds']:.1f} s", file=sys.stderr)
-    load = f"Load average (1 min) at the start {start_load:.2f}, at the end {os.getloadavg()[0]:.2f}.\n\n"
+    load = (f"Medians of {max(1, args.repeat)} runs. Load average (1 min) at the start {start_load:.2f}, "
+            f"at the end {os.getloadavg()[0]:.2f}.\n\n")
     text = "# The realistic parts as whole jobs\n\n" + (__doc__ or "").split("\n\n")[1] + "\n\n" + load + table(rows)
     Path(args.output).write_text(text, encoding="utf-8")
     print(text)
