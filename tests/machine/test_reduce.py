@@ -59,3 +59,35 @@ def test_table_is_the_polylines_one_after_the_other():
     got = reduce_table(np.concatenate(lines), np.array(sizes), tols)
     for q, tol, keep in zip(lines, tols, got):
         assert keep.tolist() == _recursive(q, tol)
+
+
+def _chord_distances(q: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """Each point's distance from the chord between the kept points around it (brute force)."""
+    out = np.zeros(len(q))
+    for a, b in zip(keep[:-1], keep[1:]):
+        seg = q[b] - q[a]
+        for k in range(a + 1, b):
+            u = np.clip((q[k] - q[a]) @ seg / (seg @ seg), 0.0, 1.0) if seg @ seg > 0 else 0.0
+            out[k] = np.linalg.norm(q[k] - q[a] - u * seg)
+    return out
+
+
+def test_translated_copies_are_reduced_once_within_the_tolerance():
+    """Polylines that are translates of one another up to round-off noise (turned circuits: A shifted)
+    share one reduction: each copy keeps the first's points, and each of its dropped points still lies
+    within tol + 4 COPY_TOL of its chord; a copy moved by more than COPY_TOL is reduced on its own."""
+    from winder.machine.reduce import COPY_TOL, reduce_table
+
+    rng = np.random.default_rng(12)
+    base = np.cumsum(rng.normal(size=(300, 4)) * 0.03, axis=0)
+    shifts = rng.uniform(-1e4, 1e4, size=(20, 4)) * np.array([0.0, 0.0, 1.0, 0.0])
+    lines = [base + s + rng.uniform(-1e-12, 1e-12, base.shape) for s in shifts]
+    moved = base.copy()
+    moved[150, 0] += 0.02  # no copy: its own reduction
+    lines.append(moved)
+    tol = 0.05
+    got = reduce_table(np.concatenate(lines), np.full(len(lines), 300), np.full(len(lines), tol))
+    for q, keep in zip(lines[:-1], got[:-1]):
+        assert np.array_equal(keep, got[0])
+        assert np.all(_chord_distances(q, keep) <= tol + 4.0 * COPY_TOL)
+    assert got[-1].tolist() == _recursive(moved, tol)

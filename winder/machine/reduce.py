@@ -6,12 +6,19 @@ half in turn, until every point left out lies within the tolerance of its chord.
 polyline do not depend on one another's order, so all the open chords of all the passes are taken
 at once, one level of the recursion per round: a round costs a few array operations over the points
 still under an open chord, instead of one Python step per kept point.
+
+Polylines that are translates of one another within COPY_TOL (a helical layer's turned circuits: the
+same X, Z and B, A shifted by the turn), with the same tolerance, are reduced once: a copy keeps its
+representative's points, each dropped point then within tol + 4 COPY_TOL of its chord (the program's
+tolerances keep a margin of micrometres for its own rounding, winder.machine.program).
 """
 
 from __future__ import annotations
 
 import numpy as np
 from winder.geometry.measure import row_norms
+
+COPY_TOL = 1e-9  # scaled mm: polylines that are translates within this are reduced once
 
 
 def reduce_points(q: np.ndarray, tol: float) -> np.ndarray:
@@ -32,7 +39,39 @@ def reduce_many(polylines: list[np.ndarray], tols) -> list[np.ndarray]:
 
 def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
     """reduce_many of the polylines stored one after the other in q (sum(sizes), k), polyline i
-    sizes[i] rows long: the kept indices (into each polyline) of each."""
+    sizes[i] rows long: the kept indices (into each polyline) of each; translated copies reduced
+    once (module docstring)."""
+    q = np.asarray(q, dtype=float)
+    sizes = np.asarray(sizes, dtype=int)
+    tols = np.broadcast_to(np.asarray(tols, dtype=float), sizes.shape)
+    width = q.shape[1] if q.ndim == 2 else 1
+    q = q.reshape(-1, width)
+    start = np.cumsum(sizes) - sizes
+    # Each polyline against the representatives of its size and tolerance so far (a few per layer).
+    reps: dict[tuple[int, float], list[tuple[int, np.ndarray]]] = {}
+    rep = np.arange(sizes.size)
+    for i, (a, n) in enumerate(zip(start.tolist(), sizes.tolist())):
+        if n < 3:
+            continue
+        rel = q[a:a + n] - q[a]
+        known = reps.setdefault((n, float(tols[i])), [])
+        same = next((r for r, other in known if np.max(np.abs(rel - other)) <= COPY_TOL), None)
+        if same is None:
+            known.append((i, rel))
+        else:
+            rep[i] = same
+    own = np.flatnonzero(rep == np.arange(sizes.size))
+    if own.size == sizes.size:
+        return _reduce_distinct(q, sizes, tols)
+    rows = np.concatenate([np.arange(start[i], start[i] + sizes[i]) for i in own.tolist()])
+    kept = _reduce_distinct(q[rows], sizes[own], tols[own])
+    at = np.full(sizes.size, -1)
+    at[own] = np.arange(own.size)
+    return [kept[at[r]] for r in rep.tolist()]
+
+
+def _reduce_distinct(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
+    """reduce_table without looking for copies."""
     q = np.asarray(q, dtype=float)
     sizes = np.asarray(sizes, dtype=int)
     if sizes.size == 0:
