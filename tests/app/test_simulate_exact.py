@@ -34,7 +34,7 @@ def job_plan():
 
 def _smooth_eye(monkeypatch) -> None:
     """The program writer's eye from the smooth interpolant (its exact correction taken out)."""
-    def smooth(paths, u):
+    def smooth(paths, u, memo=None):
         return paths.point(np.asarray(u, dtype=float))
 
     for module in (batch, densify, straight):

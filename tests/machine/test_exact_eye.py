@@ -114,3 +114,28 @@ def test_every_eye_on_the_exact_tangent(programmed):
             checked += rows.size
     assert checked > 1000
     assert worst < EYE_TOL, f"{name}: an eye {worst:.4f} mm off the exact tangent ({checked} eyes)"
+
+
+MEMO_TOL = 1e-8  # mm: a copy's point from another representative's run (COPY_MM, COPY_TOL: nanometres)
+
+
+def test_kept_runs_serve_a_later_call():
+    """exact_points with its runs kept from a first call (every midpoint) gives a later call's dense
+    points as a call of its own does."""
+    from winder.machine.exact import exact_points
+    from winder.machine.smooth import SmoothPaths
+
+    plan = plan_job(CASES["vessel_hemi"]())
+    layer = plan.layers[0]
+    paths = SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
+    mids = np.concatenate([paths.offset[j] + np.arange(len(fp.points) - 1) + 0.5 for j, fp in enumerate(layer.passes)
+                           if len(fp.points) >= 2])
+    memo: dict = {}
+    exact_points(paths, mids, memo)
+    assert "runs" in memo
+    dense = np.sort(np.random.default_rng(4).uniform(0.0, paths.s.size - 1.0, 5000))
+    first = memo["runs"]
+    kept, alone = exact_points(paths, dense, memo), exact_points(paths, dense)
+    assert memo["runs"] is first  # served from the kept runs
+    for got, want in zip(kept, alone):
+        np.testing.assert_allclose(got, want, rtol=0.0, atol=MEMO_TOL)

@@ -27,6 +27,8 @@ that is 45,000 intervals and 250,000 points a layer group become a few hundred i
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from winder.geometry.measure import grid_groups, row_norms, tangent_coordinates
@@ -77,34 +79,41 @@ def _run(surface, y0: np.ndarray, length: np.ndarray) -> np.ndarray:
     return out
 
 
-def _arc_within(paths: SmoothPaths, intervals: np.ndarray, own: np.ndarray, u: np.ndarray,
-                like: np.ndarray) -> np.ndarray:
-    """Arc length (m,) of the smooth path from the first node of interval intervals[own] to u (m,): each
-    interval's on its own (a batch of passes gets each pass's figures to round-off), its speed taken
-    from the interval intervals[like[own]] (its representative, module docstring)."""
-    used, back = np.unique(like[own], return_inverse=True)
-    speed = paths.speed((intervals[used][:, None] + _ARC_X).ravel()).reshape(used.size, ARC_NODES)
+def _arc_within(paths: SmoothPaths, k: np.ndarray, like: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Arc length (m,) of the smooth path from the first node of interval k (m,) to u (m,), each
+    interval's speed taken from the interval like (m,) (its representative, module docstring)."""
+    used, back = np.unique(like, return_inverse=True)
+    speed = paths.speed((used[:, None] + _ARC_X).ravel()).reshape(used.size, ARC_NODES)
     coef = (speed @ _ARC_FIT.T / np.arange(1, ARC_NODES + 1))[back]  # the integral's: h^(k+1) / (k+1)
-    h = u - intervals[own]
+    h = u - k
     out = coef[:, -1]
-    for k in range(ARC_NODES - 2, -1, -1):  # Horner's rule: no (m, nodes) powers
-        out = out * h + coef[:, k]
+    for j in range(ARC_NODES - 2, -1, -1):  # Horner's rule: no (m, nodes) powers
+        out = out * h + coef[:, j]
     return out * h
 
 
-def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,): SmoothPaths.point's, with
-    the points inside a geodesic interval on the exact geodesic (module docstring)."""
-    u = np.asarray(u, dtype=float)
-    if u.size == 0 or paths.s.size < 2 or not paths.surface.section.is_circle:
-        return paths.point(u)
-    k, h = paths._interval(u)
-    inside = np.flatnonzero((h > 0.0) & (h < 1.0) & ~paths.free[k] & ~paths.free[k + 1])
-    if inside.size == 0:
-        return paths.point(u)
+@dataclasses.dataclass(frozen=True)
+class IntervalRuns:
+    """The geodesic runs over intervals of a SmoothPaths, kept between the calls of exact_points on
+    the same paths (the program asks for the midpoints, then for the dense points of some passes).
+
+    intervals, length : (k,) the intervals (sorted) and their arc lengths. rep : (k,) each one's
+    representative's column of runs, like : (k,) that representative's interval, turn : (k,) its
+    theta offset from it (module docstring). runs : (STEPS + 1, 4, g) the representatives' states.
+    good : (k,) whether the run arrives as a geodesic (ARRIVE_TOL, ARRIVE_TURN)."""
+
+    intervals: np.ndarray
+    length: np.ndarray
+    rep: np.ndarray
+    like: np.ndarray
+    turn: np.ndarray
+    runs: np.ndarray
+    good: np.ndarray
+
+
+def interval_runs(paths: SmoothPaths, intervals: np.ndarray) -> IntervalRuns:
+    """The IntervalRuns of the sorted intervals (k,) of paths."""
     surface = paths.surface
-    kk = k[inside]
-    intervals, back = np.unique(kk, return_inverse=True)
     arc = paths.arc
     length = arc[intervals + 1] - arc[intervals]
     ev = surface.evaluate(paths.s[intervals], paths.th[intervals], order=1)
@@ -118,9 +127,10 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
                                 np.array([COPY_MM, COPY_TOL, COPY_TOL, COPY_MM]))
                     if surface.is_revolution else (np.arange(intervals.size), np.arange(intervals.size)))
     with np.errstate(all="ignore"):
-        runs = _run(surface, y0[:, first], length[first])[:, :, group]
-    runs[:, 1] += y0[1] - y0[1, first][group]
-    end = runs[-1]
+        runs = _run(surface, y0[:, first], length[first])
+    turn = y0[1] - y0[1, first][group]
+    end = runs[-1][:, group]
+    end[1] += turn
     finite = np.all(np.isfinite(end), axis=0)
     arrive = np.full(intervals.size, np.inf)
     if finite.any():
@@ -133,20 +143,48 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
         cos = np.einsum("ij,ij->i", dir_end, dir_want) / (row_norms(dir_end) * row_norms(dir_want))
         arrive[finite] = np.where(np.arccos(np.clip(cos, -1.0, 1.0)) <= ARRIVE_TURN, arrive[finite], np.inf)
     good = (arrive <= ARRIVE_TOL) & ok_speed & (length > 0.0)
-    take = np.flatnonzero(good[back])
+    return IntervalRuns(intervals, length, group, intervals[first][group], turn, runs, good)
+
+
+def exact_points(paths: SmoothPaths, u: np.ndarray,
+                 memo: dict | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(s, theta, p (n, 3), unit d (n, 3)) at global parameters u (n,): SmoothPaths.point's, with
+    the points inside a geodesic interval on the exact geodesic (module docstring). memo: a dict
+    kept by the caller between calls on the same paths: the runs of the first call's intervals are
+    kept there and serve a later call whose intervals are among them."""
+    u = np.asarray(u, dtype=float)
+    if u.size == 0 or paths.s.size < 2 or not paths.surface.section.is_circle:
+        return paths.point(u)
+    k, h = paths._interval(u)
+    inside = np.flatnonzero((h > 0.0) & (h < 1.0) & ~paths.free[k] & ~paths.free[k + 1])
+    if inside.size == 0:
+        return paths.point(u)
+    surface = paths.surface
+    intervals, back = np.unique(k[inside], return_inverse=True)
+    known = None if memo is None else memo.get("runs")
+    at = None if known is None else np.minimum(np.searchsorted(known.intervals, intervals), known.intervals.size - 1)
+    if at is None or not np.array_equal(known.intervals[at], intervals):
+        known, at = interval_runs(paths, intervals), np.arange(intervals.size)
+        if memo is not None:
+            memo["runs"] = known
+    take = np.flatnonzero(known.good[at][back])
     if take.size == 0:
         return paths.point(u)
     # Each point from the step of its interval's run before it, by one step of the rest of the way.
-    own = back[take]
-    frac = np.clip(_arc_within(paths, intervals, own, u[inside[take]], first[group]) / length[own], 0.0, 1.0) * STEPS
+    own = at[back[take]]  # each point's interval among the runs'
+    length = known.length[own]
+    frac = np.clip(_arc_within(paths, known.intervals[own], known.like[own], u[inside[take]]) / length, 0.0, 1.0)
+    frac *= STEPS
     j = np.minimum(np.floor(frac).astype(np.intp), STEPS - 1)
     h = (frac - j) / STEPS
-    start = runs[j, :, own].T
+    rep = known.rep[own]
+    start = known.runs[j, :, rep].T
+    start[1] += known.turn[own]
     # A point of a copy is its representative's, its theta offset as its interval's.
-    pick, copy = (grid_groups(np.column_stack([group[own], j, h]), np.array([1.0, 1.0, COPY_FRACTION]))
+    pick, copy = (grid_groups(np.column_stack([rep, j, h]), np.array([1.0, 1.0, COPY_FRACTION]))
                   if surface.is_revolution else (np.arange(own.size), np.arange(own.size)))
     with np.errstate(all="ignore"):
-        y_rep = _step(surface, start[:, pick], length[own[pick]], h[pick])
+        y_rep = _step(surface, start[:, pick], length[pick], h[pick])
     turn = start[1] - start[1, pick][copy]  # each copy's theta offset from its representative
     y = y_rep[:, copy]
     y[1] += turn
@@ -158,10 +196,10 @@ def exact_points(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndar
     rows = inside[use]
     # The surface read at the representatives, each copy's point and direction turned from its own.
     rep_ok = np.all(np.isfinite(y_rep), axis=0)
-    at = np.cumsum(rep_ok) - 1  # a finite representative's row among those read
+    at_rep = np.cumsum(rep_ok) - 1  # a finite representative's row among those read
     ev = surface.evaluate(y_rep[0, rep_ok], y_rep[1, rep_ok], order=1)
     dd_rep = ev.ps * y_rep[2, rep_ok][:, None] + ev.pt * y_rep[3, rep_ok][:, None]
-    mine = at[copy[fine]]
+    mine = at_rep[copy[fine]]
     p_rows, dd = ev.p[mine], dd_rep[mine]
     if surface.is_revolution:
         p_rows, dd = surface.turned(p_rows, turn[fine]), surface.turned(dd, turn[fine], point=False)

@@ -84,6 +84,7 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
                    np.concatenate([np.asarray(fp.theta, dtype=float) for fp in passes]), env, sense)
     # The densify check's midpoints, a layer's in one call each (the smooth path of the surface it was wound on).
     smooth: dict[int, SmoothPaths] = {}
+    memos: dict[int, dict] = {}  # per layer: exact_points' runs, shared by its midpoints and dense points
     index_of = {id(fp): k for k, fp in enumerate(passes)}
     two, found = [], []  # (pass, its number in its layer, the layer) of the passes of >= 2 points; their midpoints
     for layer in plan.layers:
@@ -92,7 +93,7 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
             continue
         paths = smooth[layer.index] = SmoothPaths(plan.surface_of(layer.index), list(layer.passes))
         found.append(exact_points(paths, np.concatenate([paths.offset[j] + np.arange(len(fp.points) - 1) + 0.5
-                                                         for j, fp in own]))[1:])
+                                                         for j, fp in own]), memos.setdefault(layer.index, {}))[1:])
         two += [(index_of[id(fp)], j, layer.index) for j, fp in own]
     if not two:
         return _assemble(passes, wheres, machine, (base, None, None), sizes, starts, [None] * len(passes), None)
@@ -124,7 +125,8 @@ def _straight(plan, passes, wheres, env, machine, sense, arc_radius, angle_scale
     extra = None
     if extra_u:
         items = [item for group in extra_u.values() for item in group]
-        th, p, d = (np.concatenate(a) for a in zip(*(exact_points(smooth[layer], np.concatenate([v for _, v in group]))[1:]
+        th, p, d = (np.concatenate(a) for a in zip(*(exact_points(smooth[layer], np.concatenate([v for _, v in group]),
+                                                                   memos[layer])[1:]
                                                       for layer, group in extra_u.items())))
         extra = _points(p, d, th + 0.0, env, sense)
         counts = np.array([v.size for _, v in items])
