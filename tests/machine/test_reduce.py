@@ -75,8 +75,8 @@ def _chord_distances(q: np.ndarray, keep: np.ndarray) -> np.ndarray:
 def test_translated_copies_are_reduced_once_within_the_tolerance():
     """Polylines that are translates of one another up to round-off noise (turned circuits: A shifted)
     share one reduction: each copy keeps the first's points, and each of its dropped points still lies
-    within tol + 4 COPY_TOL of its chord; a copy moved by more than COPY_TOL is reduced on its own."""
-    from winder.machine.reduce import COPY_TOL, reduce_table
+    within tol + 4 TRANSLATE_TOL of its chord; a copy moved by more than TRANSLATE_TOL is reduced on its own."""
+    from winder.machine.reduce import TRANSLATE_TOL, reduce_table
 
     rng = np.random.default_rng(12)
     base = np.cumsum(rng.normal(size=(300, 4)) * 0.03, axis=0)
@@ -89,5 +89,5 @@ def test_translated_copies_are_reduced_once_within_the_tolerance():
     got = reduce_table(np.concatenate(lines), np.full(len(lines), 300), np.full(len(lines), tol))
     for q, keep in zip(lines[:-1], got[:-1]):
         assert np.array_equal(keep, got[0])
-        assert np.all(_chord_distances(q, keep) <= tol + 4.0 * COPY_TOL)
+        assert np.all(_chord_distances(q, keep) <= tol + 4.0 * TRANSLATE_TOL)
     assert got[-1].tolist() == _recursive(moved, tol)

@@ -7,9 +7,9 @@ polyline do not depend on one another's order, so all the open chords of all the
 at once, one level of the recursion per round: a round costs a few array operations over the points
 still under an open chord, instead of one Python step per kept point.
 
-Polylines that are translates of one another within COPY_TOL (a helical layer's turned circuits: the
+Polylines that are translates of one another within TRANSLATE_TOL (a helical layer's turned circuits: the
 same X, Z and B, A shifted by the turn), with the same tolerance, are reduced once: a copy keeps its
-representative's points, each dropped point then within tol + 4 COPY_TOL of its chord (the program's
+representative's points, each dropped point then within tol + 4 TRANSLATE_TOL of its chord (the program's
 tolerances keep a margin of micrometres for its own rounding, winder.machine.program).
 """
 
@@ -18,7 +18,8 @@ from __future__ import annotations
 import numpy as np
 from winder.geometry.measure import row_norms
 
-COPY_TOL = 1e-9  # scaled mm: polylines that are translates within this are reduced once
+TRANSLATE_TOL = 1e-9  # scaled mm: polylines that are translates within this are reduced once
+TRANSLATE_BUCKET = 1e-6  # scaled mm: the grid of the end's offset that sorts candidates before the comparison
 
 
 def reduce_points(q: np.ndarray, tol: float) -> np.ndarray:
@@ -47,15 +48,17 @@ def reduce_table(q: np.ndarray, sizes: np.ndarray, tols) -> list[np.ndarray]:
     width = q.shape[1] if q.ndim == 2 else 1
     q = q.reshape(-1, width)
     start = np.cumsum(sizes) - sizes
-    # Each polyline against the representatives of its size and tolerance so far (a few per layer).
-    reps: dict[tuple[int, float], list[tuple[int, np.ndarray]]] = {}
+    # Each polyline against the representatives so far of its size, tolerance and end offset (on a
+    # coarse grid, so that distinct polylines are rarely compared; a copy split off by a cell
+    # boundary is only reduced on its own).
+    reps: dict[tuple, list[tuple[int, np.ndarray]]] = {}
     rep = np.arange(sizes.size)
     for i, (a, n) in enumerate(zip(start.tolist(), sizes.tolist())):
         if n < 3:
             continue
         rel = q[a:a + n] - q[a]
-        known = reps.setdefault((n, float(tols[i])), [])
-        same = next((r for r, other in known if np.max(np.abs(rel - other)) <= COPY_TOL), None)
+        known = reps.setdefault((n, float(tols[i]), *np.round(rel[-1] / TRANSLATE_BUCKET).tolist()), [])
+        same = next((r for r, other in known if np.max(np.abs(rel - other)) <= TRANSLATE_TOL), None)
         if same is None:
             known.append((i, rel))
         else:
