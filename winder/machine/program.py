@@ -5,7 +5,8 @@ cumulative over the whole program), cross_feed (mm) and yaw (deg, continuous), f
 winder.machine.kinematics.eye_path, with the feed on every move. Rotation continues from pass to pass
 and layer to layer: to reach a pass that starts elsewhere (a new layer) the mandrel turns on in its
 winding sense, less than a turn for the contact point and never back more than
-winder.machine.axis_batch.TURN_BACK_DEG for the eye; yaw keeps its turn count across passes. Every pass is checked against machine.limits.
+winder.machine.axis_batch.TURN_BACK_DEG for the eye; yaw keeps its turn count across passes. Every
+pass is checked against machine.limits.
 
 Robot mode (machine.robot, or a bent mandrel axis): instead of axis values, eye poses in the mandrel
 frame (position, and the unit fiber direction from the eye to its contact point;
@@ -126,11 +127,6 @@ class MotionProgram:
     @property
     def axes(self) -> tuple[str, ...]:
         return POSE_AXES if self.robot else AXES
-
-
-def is_robot(plan: WindingPlan, machine: MachineConfig) -> bool:
-    """Whether the program is made of robot poses (bent axis or machine.robot)."""
-    return robot_poses(machine, plan.surface)
 
 
 def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | None:
@@ -261,7 +257,7 @@ def _kept_clear(q: np.ndarray, sizes: np.ndarray, tols: np.ndarray, laid: tuple,
 def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
     cannot clear the mandrel or an axis would leave its limits."""
-    robot = is_robot(plan, machine)
+    robot = robot_poses(machine, plan.surface)  # a bent axis or machine.robot
     surface = plan.outer_surface  # the eye clears the finished part, laminate included
     env = eye_envelope(surface, machine)
     guide = make_guide(surface, env) if robot else None
