@@ -118,9 +118,34 @@ def test_turnaround_radius_solved_and_pattern_term(dome):
     lam, leg = solve_slip(meridian, s_eq, heading, 35.0)
     assert leg.radius == pytest.approx(35.0, abs=1e-6) and abs(lam) < 0.2
     assert math.copysign(1.0, lam) == (1.0 if dome == 1 else -1.0)  # the sign follows the direction
-    lam0, lam1, closed = close_leg(meridian, s_eq, heading, 35.0, lam, leg.length, leg.advance + 0.01)
-    assert closed.radius == pytest.approx(35.0, abs=1e-6)
-    assert closed.advance == pytest.approx(leg.advance + 0.01, abs=1e-7)
+    for start in (None, leg):  # the solved leg handed over, or traced again
+        lam0, lam1, closed = close_leg(meridian, s_eq, heading, 35.0, lam, leg.length, leg.advance + 0.01, start)
+        assert closed.radius == pytest.approx(35.0, abs=1e-6)
+        assert closed.advance == pytest.approx(leg.advance + 0.01, abs=1e-7)
+
+
+def test_turnaround_solved_on_a_grown_dome_within_the_radius_tolerance():
+    """A laminate with a pile-up near the turnaround (as a helical layer leaves): the traced
+    turnaround is smooth in lambda (its step-to-step noise below half the tolerance the solver stops
+    at), so the solve lands within it."""
+    from winder.geometry.offset import grow_surface  # noqa: PLC0415
+    from winder.paths.dome_paths import RADIUS_TOL as SOLVE_TOL  # noqa: PLC0415
+
+    surf = vessel()
+    prof = surf.profile
+    s = np.linspace(0.0, surf.length, 800)
+    r = prof.evaluate(s).r
+    grown = grow_surface(surf, s, 0.5 + 3.0 * np.exp(-(((r - 45.0) / 12.0) ** 2)))
+    gp = grown.profile
+    meridian = dome_meridian(gp, True)
+    heading = math.radians(14.0)
+    lam, leg = solve_slip(meridian, gp.equator_s[1], heading, 38.0)
+    assert leg.turned and abs(leg.radius - 38.0) < SOLVE_TOL and 0.0 < abs(lam) < 0.3
+    radii = [trace_leg(meridian, gp.equator_s[1], heading, lambda l, x=lam + k * 1e-9: x).radius for k in range(6)]
+    slope = (trace_leg(meridian, gp.equator_s[1], heading, lambda l: lam + 1e-6).radius
+             - trace_leg(meridian, gp.equator_s[1], heading, lambda l: lam - 1e-6).radius) / 2e-6
+    noise = np.diff(radii) - slope * 1e-9
+    assert np.max(np.abs(noise)) < 0.5 * SOLVE_TOL
 
 
 # -- vessel layers through the planner ---------------------------------------------------------------------

@@ -97,7 +97,7 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         for d, (s_eq, heading) in enumerate(domes):
             leg = legs[d]
             lam0, lam1, legs[d] = close_leg(meridians[d], s_eq, heading, leg.radius, slips[d], leg.length,
-                                            leg.advance + 0.25 * delta * 2.0 * math.pi)
+                                            leg.advance + 0.25 * delta * 2.0 * math.pi, start=leg)
             slips[d] = max(abs(lam0 - 0.5 * lam1), abs(lam0 + lam1 * (legs[d].length / leg.length - 0.5)))
     worst = max(abs(x) for x in slips)
     if worst > mu + 1e-12:
