@@ -97,10 +97,11 @@ class OffsetDome(DomeMeridian):
         c, s = np.cos(psi), np.sin(psi)
         hh = _quintic_hermite(sig, H, c, -s * k)
         rr = _quintic_hermite(sig, R, s, c * k)
-        # both pieces share the knots: one coefficient table (6, n, 2), evaluated by Horner with one
-        # search (the planner evaluates domes at single points inside root finders)
-        self._knots = hh.x
-        self._coef = np.stack([hh.c, rr.c], axis=-1)
+        # both pieces share the knots: one piecewise polynomial of (h, r), and its two derivatives
+        from scipy.interpolate import PPoly  # noqa: PLC0415 - only vessels have dome tables
+
+        both = PPoly(np.stack([hh.c, rr.c], axis=-1), hh.x)
+        self._pp = (both, both.derivative(1), both.derivative(2))
         self._tab_sigma, self._tab_h = sig, H
 
     @staticmethod
@@ -144,17 +145,7 @@ class OffsetDome(DomeMeridian):
         return np.concatenate([[0.0], np.cumsum((v * wg).sum(axis=1) * half)])
 
     def _eval2(self, sigma: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, ...]:
-        x = np.asarray(sigma, dtype=float)
-        i = np.clip(np.searchsorted(self._knots, x, side="right") - 1, 0, self._knots.size - 2)
-        d = (x - self._knots[i])[:, None]
-        c = self._coef[:, i]  # (6, m, 2), highest power first
-        v = c[0] * d + c[1]
-        d1 = 5.0 * c[0] * d + 4.0 * c[1]
-        d2 = 20.0 * c[0] * d + 12.0 * c[1]
-        v = ((v * d + c[2]) * d + c[3]) * d + c[4]
-        d1 = ((d1 * d + 3.0 * c[2]) * d + 2.0 * c[3]) * d + c[4]
-        d2 = (d2 * d + 6.0 * c[2]) * d + 2.0 * c[3]
-        v = v * d + c[5]
+        v, d1, d2 = (p(np.asarray(sigma, dtype=float)) for p in self._pp)  # (m, 2) each: h and r
         return (self.depth - v[:, 0], v[:, 0], d1[:, 0], d2[:, 0], v[:, 1], d1[:, 1], d2[:, 1])
 
 
