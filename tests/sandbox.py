@@ -5,7 +5,10 @@
 each under SIGALRM. A case is a list of argument lists (e.g. check, then run, on the same config);
 the result of each command: exit code (or "hang" / "crash"), seconds, peak memory of the worker so
 far (VmHWM: the high-water mark of its own memory since exec; ru_maxrss would also count the test
-process it was spawned from, hundreds of MB late in a suite), stdout, stderr, the uncaught exception if any, and the files left in its -o folder.
+process it was spawned from, hundreds of MB late in a suite; or, where larger, the peak of the PSS
+summed over it and the machine stage's forked workers, sampled every 50 ms while it has any: their
+VmHWM would count the pages they share with it twice), stdout, stderr, the uncaught exception if any,
+and the files left in its -o folder.
 """
 
 from __future__ import annotations
@@ -20,18 +23,42 @@ MEMORY_BYTES = 2 * 1024**3
 SECONDS = 20
 
 _CHILD = r"""
-import json, os, resource, signal, sys, time
+import json, os, resource, signal, sys, threading, time
 limit, seconds = int(sys.argv[1]), int(sys.argv[2])
 resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 from click.testing import CliRunner
 from winder.cli import main
 
+TREE_KB = [0]  # the peak PSS summed with the workers' since the command began
+
+def _pss_kb(pid):
+    try:
+        with open(f"/proc/{pid}/smaps_rollup") as f:
+            return next((int(line.split()[1]) for line in f if line.startswith("Pss:")), 0)
+    except OSError:
+        return 0
+
+def _sample():
+    me = os.getpid()
+    while True:
+        try:
+            kids = [int(c) for t in os.listdir(f"/proc/{me}/task")
+                    for c in open(f"/proc/{me}/task/{t}/children").read().split()]
+        except OSError:
+            kids = []
+        if kids:
+            TREE_KB[0] = max(TREE_KB[0], sum(_pss_kb(pid) for pid in [me, *kids]))
+        time.sleep(0.05)
+
+threading.Thread(target=_sample, daemon=True).start()
+
 def peak_mb():
     try:
         with open("/proc/self/status") as status:
-            return next(int(line.split()[1]) for line in status if line.startswith("VmHWM:")) / 1024
+            own = next(int(line.split()[1]) for line in status if line.startswith("VmHWM:")) / 1024
     except (OSError, StopIteration):
-        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return max(own, TREE_KB[0] / 1024)
 
 class Hang(BaseException):
     pass
@@ -44,6 +71,7 @@ for line in sys.stdin:
     out = []
     for args in json.loads(line):
         started = time.perf_counter()
+        TREE_KB[0] = 0
         signal.alarm(seconds)
         try:
             res = CliRunner().invoke(main, args)

@@ -41,9 +41,9 @@ def test_one_program_for_the_gcode_and_the_summary(monkeypatch):
 
     real = chunks_module.build_program_in_groups
 
-    def counting(*args):
+    def counting(*args, **kwargs):
         calls.append(args)
-        return real(*args)
+        return real(*args, **kwargs)
 
     monkeypatch.setattr(chunks_module, "build_program_in_groups", counting)
     out = render_outputs(_Job(), plan, ["gcode"])

@@ -134,8 +134,10 @@ def motion_program(job, plan):
 
     if getattr(job, "machine", None) is None:
         return None
+    from winder.app.machine_pool import run_groups  # noqa: PLC0415
+
     try:
-        return build_program_in_groups(plan, job.machine)
+        return build_program_in_groups(plan, job.machine, run_groups=run_groups)
     except ExportError as exc:
         return exc
 

@@ -6,7 +6,8 @@ check's midpoints, the dense points around the domes' turnarounds (up to 64 per 
 the point reduction and the clearance of every move, all held at once: about 7 kB per planned point
 on a vessel, where the program keeps a few rows per pass. Here the layers are taken in groups of
 about CHUNK_POINTS planned points; each group's program is built alone, its dense arrays freed
-before the next, and the groups' rows are joined as build_program joins its passes:
+before the next (or, given run_groups, on other processes at the same time: winder.app.machine_pool),
+and the groups' rows are joined as build_program joins its passes:
 
 - A (rotation) and B (yaw) continue over the program. A group's own program starts at its first
   pass's planned angle; build_program's turn count (winder.machine.axis_batch.turn_counts) shifts a
@@ -26,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable, Iterable, Iterator
 
 import numpy as np
 
@@ -64,25 +66,38 @@ def _nonempty(layers) -> list[FiberPass]:
     return [fp for layer in layers for fp in layer.passes if len(fp.points)]
 
 
-def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int = CHUNK_POINTS) -> MotionProgram:
-    """build_program(plan, machine), built a group of layers at a time (module docstring)."""
+GroupResult = tuple  # a group's own rows: values (m, 4), index (m,), fiber (m,), its layers' segments
+GroupRunner = Callable[[Callable[[int], GroupResult], int], Iterable[GroupResult]]
+
+
+def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int = CHUNK_POINTS,
+                            run_groups: GroupRunner | None = None) -> MotionProgram:
+    """build_program(plan, machine), built a group of layers at a time (module docstring).
+
+    run_groups(task, n): task(0), .., task(n - 1) in order (each group's own program); default one
+    after the other. The groups do not depend on one another until they are joined, so a caller may
+    run them on several processes (winder.app.machine_pool)."""
     groups = layer_groups(plan, most)
     whole = _sense_of(plan.layers)
     if len(groups) <= 1 or whole_plan(machine, plan.surface) or any(_sense_of(g) != whole for g in groups):
         return build_program(plan, machine)
     env = eye_envelope(plan.outer_surface, machine)
+    firsts = np.cumsum([0] + [len(g) for g in groups]).tolist()  # each group's first layer
+
+    def task(i: int) -> GroupResult:
+        # The layers before stay, without passes: a layer's number is its place in the plan.
+        done = firsts[i]
+        earlier = tuple(dataclasses.replace(layer, passes=()) for layer in plan.layers[:done])
+        own = build_program(dataclasses.replace(plan, layers=earlier + groups[i]), machine)
+        # its times are recomputed on the joined rows; its dense arrays are gone already
+        return own.values, own.index, own.fiber, own.segments[done:]
+
+    results = (run_groups or _one_by_one)(task, len(groups))
     parts: list[tuple] = []  # per group: values, index, fiber, segments (rows numbered in the whole)
     rows, sense = 0, 1.0
     last: FiberPass | None = None  # the last non-empty pass of the groups so far, and its last row
     end_row: np.ndarray | None = None
-    done = 0  # layers of the groups before
-    for group in groups:
-        # The layers before stay, without passes: a layer's number is its place in the plan.
-        earlier = tuple(dataclasses.replace(layer, passes=()) for layer in plan.layers[:done])
-        own = build_program(dataclasses.replace(plan, layers=earlier + group), machine)
-        values, index, fiber, own_segments = own.values, own.index, own.fiber, own.segments[done:]
-        done += len(group)
-        del own  # its times are recomputed on the joined rows; its dense arrays are gone already
+    for group, (values, index, fiber, own_segments) in zip(groups, results):
         passes = _nonempty(group)
         added = 0
         if end_row is not None and last is not None and passes and values.shape[0]:
@@ -113,6 +128,11 @@ def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int
         index=np.concatenate([p[1] for p in parts]),
         segments=tuple(s for p in parts for s in p[3]), fiber=fiber, times=times,
         mandrel_radius=float(np.max(env.mandrel_radius)), axial_length=float(plan.outer_surface.axial_length))
+
+
+def _one_by_one(task: Callable[[int], GroupResult], n: int) -> Iterator[GroupResult]:
+    """The groups one after the other, each one's dense arrays freed before the next is built."""
+    return (task(i) for i in range(n))
 
 
 def _joined(end_row: np.ndarray, values: np.ndarray, prev: FiberPass, first: FiberPass,
