@@ -1,8 +1,10 @@
 """`python -m bench.parts`: the realistic parts of parts/ as whole jobs (issue 29), one table.
 
 Each part runs `winder run` in its own process (every default output written) and reports its exit
-status, wall time, CPU time (user + system: less sensitive to other load on the machine than the
-wall time) and peak resident memory (VmHWM, the process's own high-water mark), with the summary's fiber length, the least
+status, wall time, CPU time (user + system, the machine stage's workers included: less sensitive to
+other load on the machine than the wall time) and peak memory (the larger of the process's own
+high-water mark, VmHWM, and the peak PSS summed with its workers', bench.tree_memory), with the
+summary's fiber length, the least
 covered fraction of its layers, the largest lift-off over a concave stretch and the largest slip
 |k_g / k_n| any fiber needs (against the friction the config allows), and on vessels the wall at the
 bosses (each dome's thickest laminate and the bare radius there: the summary's `domes`). `folded_spline.yaml` is a
@@ -24,6 +26,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from bench.tree_memory import run_sampled
+
 ROOT = Path(__file__).resolve().parents[1]
 PARTS = ROOT / "parts"
 RESULTS = Path(__file__).resolve().parent / "results" / "parts.md"
@@ -35,11 +39,13 @@ t0 = time.perf_counter()
 from winder.app.jobs import run_job
 report = run_job(sys.argv[1], sys.argv[2])
 usage = resource.getrusage(resource.RUSAGE_SELF)
-# VmHWM: this process's own high-water mark (ru_maxrss of a spawned child also counts its parent's)
+workers = resource.getrusage(resource.RUSAGE_CHILDREN)  # the machine stage's workers, if any
+# VmHWM: this process's own high-water mark (ru_maxrss of a spawned child also counts its parent's); the
+# machine stage's forked workers: bench.tree_memory
 peak_kb = next((int(line.split()[1]) for line in open("/proc/self/status") if line.startswith("VmHWM:")),
                usage.ru_maxrss)
 print(json.dumps({"ok": report.ok, "exit": report.exit_code, "message": report.message,
-                  "seconds": time.perf_counter() - t0, "cpu_seconds": usage.ru_utime + usage.ru_stime,
+                  "seconds": time.perf_counter() - t0, "cpu_seconds": usage.ru_utime + usage.ru_stime + workers.ru_utime + workers.ru_stime,
                   "peak_bytes": peak_kb * 1024}))
 """
 
@@ -53,9 +59,9 @@ def run_part(cfg: Path, out: Path) -> dict:
                               cwd=ROOT, env=env)
         return {"name": cfg.stem, "exit": done.returncode, "seconds": time.perf_counter() - t0, "check": True}
     out.mkdir(parents=True, exist_ok=True)
-    done = subprocess.run([sys.executable, "-c", _CHILD, str(cfg), str(out)], capture_output=True, text=True,
-                          cwd=ROOT, env=env, check=True)
+    done, tree = run_sampled([sys.executable, "-c", _CHILD, str(cfg), str(out)], cwd=ROOT, env=env)
     row = {"name": cfg.stem, **json.loads(done.stdout.strip().splitlines()[-1])}
+    row["peak_bytes"] = max(row["peak_bytes"], tree)
     summaries = list(out.glob("*.summary.json"))
     if row["ok"] and summaries:
         s = json.loads(summaries[0].read_text(encoding="utf-8"))

@@ -3,7 +3,8 @@
 A series of vessels of radius 100 to 400 mm, each the same job scaled (cylinder 2 R, isotensoid domes
 with openings of 0.2 R, a 12 mm band: a helical layer at 13 deg and one at 20 deg, `slip: auto` with
 friction 0.2, two hoops between them), as the issue's large vessel: the fiber length grows as R^2. Each job runs `winder run` in its own process
-(every output written), which reports its wall time and peak resident memory (VmHWM); beside them
+(every output written), which reports its wall time and peak memory (VmHWM, or the summed PSS of it
+and its machine-stage workers where larger: bench.tree_memory); beside them
 the work budget's memory estimate (winder.winding.budget) and the bytes written. The fitted exponents
 say whether memory follows the output (the issue: peak memory grew as R^1.44 against the output's
 R^1.07, 32x the bytes written at R 400). Writes bench/results/vessel_series.md (or -o) and prints it.
@@ -14,12 +15,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from bench.tree_memory import run_sampled
 
 RADII = (100, 200, 300, 400)
 ROOT = Path(__file__).resolve().parents[1]
@@ -36,7 +38,8 @@ _, _, budget = validate(cfg)
 report = run_job(cfg, out)
 seconds = time.perf_counter() - t0
 written = sum(p.stat().st_size for p in Path(out).iterdir())
-# VmHWM: this process's own high-water mark (ru_maxrss of a spawned child also counts its parent's)
+# VmHWM: this process's own high-water mark (ru_maxrss of a spawned child also counts its parent's); the
+# machine stage's forked workers: bench.tree_memory
 peak_kb = next((int(line.split()[1]) for line in open("/proc/self/status") if line.startswith("VmHWM:")),
                resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 print(json.dumps({"status": report.status, "seconds": seconds, "fiber_mm": report.fiber_length_mm,
@@ -62,9 +65,11 @@ def run_one(radius: float, folder: Path) -> dict:
     cfg.write_text(vessel_config(radius), encoding="utf-8")
     out = folder / f"out_r{radius:g}"
     out.mkdir(exist_ok=True)
-    done = subprocess.run([sys.executable, "-c", _CHILD, str(cfg), str(out)], capture_output=True, text=True,
-                          cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}, check=True)
-    return {"radius": radius, **json.loads(done.stdout.strip().splitlines()[-1])}
+    done, tree = run_sampled([sys.executable, "-c", _CHILD, str(cfg), str(out)], cwd=ROOT,
+                             env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    row = {"radius": radius, **json.loads(done.stdout.strip().splitlines()[-1])}
+    row["peak_bytes"] = max(row["peak_bytes"], tree)
+    return row
 
 
 def slope(x: list[float], y: list[float]) -> float:

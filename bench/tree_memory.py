@@ -1,0 +1,47 @@
+"""A job's memory as a whole: the machine stage may run on forked workers (winder.app.machine_pool),
+whose memory a process's own high-water mark (VmHWM) does not count, while their resident sizes
+count again the pages they share with the parent. The peak of the proportional set sizes (PSS: each
+shared page split among the processes sharing it) summed over the process and its children, sampled
+every SAMPLE_S while it runs, counts each page once."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import time
+from pathlib import Path
+
+SAMPLE_S = 0.05
+
+
+def _children(pid: int) -> list[int]:
+    out: list[int] = []
+    try:
+        for task in os.listdir(f"/proc/{pid}/task"):
+            out += [int(c) for c in Path(f"/proc/{pid}/task/{task}/children").read_text().split()]
+    except OSError:
+        pass
+    return out
+
+
+def _pss_kb(pid: int) -> int:
+    try:
+        with open(f"/proc/{pid}/smaps_rollup", encoding="ascii") as f:
+            return next((int(line.split()[1]) for line in f if line.startswith("Pss:")), 0)
+    except OSError:  # gone meanwhile, or not Linux
+        return 0
+
+
+def run_sampled(cmd: list[str], **popen) -> tuple[subprocess.CompletedProcess, int]:
+    """Run cmd (its output captured as text) and return (the completed process, the peak summed PSS
+    of it and its children in bytes; 0 where /proc has none). Raises CalledProcessError as
+    subprocess.run(check=True) does."""
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **popen)
+    peak = 0
+    while proc.poll() is None:
+        peak = max(peak, sum(_pss_kb(pid) for pid in [proc.pid, *_children(proc.pid)]))
+        time.sleep(SAMPLE_S)
+    out, err = proc.communicate()
+    done = subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+    done.check_returncode()
+    return done, peak * 1024
