@@ -97,11 +97,15 @@ class OffsetDome(DomeMeridian):
         c, s = np.cos(psi), np.sin(psi)
         hh = _quintic_hermite(sig, H, c, -s * k)
         rr = _quintic_hermite(sig, R, s, c * k)
-        # both pieces share the knots: one piecewise polynomial of (h, r), and its two derivatives
+        # Both pieces share the knots: one piecewise polynomial of the six columns h, r, h', r', h'', r''
+        # (the derivatives' coefficients padded with leading zeros), read in one call: the planner
+        # evaluates domes inside root finders, a few points at a time, where the calls cost most.
         from scipy.interpolate import PPoly  # noqa: PLC0415 - only vessels have dome tables
 
         both = PPoly(np.stack([hh.c, rr.c], axis=-1), hh.x)
-        self._pp = (both, both.derivative(1), both.derivative(2))
+        tables = [both.c] + [np.concatenate([np.zeros((j,) + both.c.shape[1:]), both.derivative(j).c])
+                             for j in (1, 2)]
+        self._pp = PPoly(np.concatenate(tables, axis=-1), hh.x)
         self._tab_sigma, self._tab_h = sig, H
 
     @staticmethod
@@ -145,8 +149,8 @@ class OffsetDome(DomeMeridian):
         return np.concatenate([[0.0], np.cumsum((v * wg).sum(axis=1) * half)])
 
     def _eval2(self, sigma: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, ...]:
-        v, d1, d2 = (p(np.asarray(sigma, dtype=float)) for p in self._pp)  # (m, 2) each: h and r
-        return (self.depth - v[:, 0], v[:, 0], d1[:, 0], d2[:, 0], v[:, 1], d1[:, 1], d2[:, 1])
+        h, r, h1, r1, h2, r2 = self._pp(np.asarray(sigma, dtype=float)).T
+        return (self.depth - h, h, h1, h2, r, r1, r2)
 
 
 def vessel_growths(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> tuple[float, Growth, Growth]:
