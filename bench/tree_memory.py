@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 import subprocess
-import time
 from pathlib import Path
 
 SAMPLE_S = 0.2  # s: a group's dense arrays live for seconds
@@ -40,12 +39,15 @@ def run_sampled(cmd: list[str], **popen) -> tuple[subprocess.CompletedProcess, i
     subprocess.run(check=True) does."""
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **popen)
     peak = 0
-    while proc.poll() is None:
+    while True:
         workers = _children(proc.pid)
         if workers:  # without them the process's own VmHWM is its peak
             peak = max(peak, sum(_pss_kb(pid) for pid in [proc.pid, *workers]))
-        time.sleep(SAMPLE_S)
-    out, err = proc.communicate()
+        try:  # reading its output meanwhile: a full pipe would stop it
+            out, err = proc.communicate(timeout=SAMPLE_S)
+            break
+        except subprocess.TimeoutExpired:
+            continue
     done = subprocess.CompletedProcess(cmd, proc.returncode, out, err)
     done.check_returncode()
     return done, peak * 1024

@@ -7,7 +7,8 @@ the result of each command: exit code (or "hang" / "crash"), seconds, peak memor
 far (VmHWM: the high-water mark of its own memory since exec; ru_maxrss would also count the test
 process it was spawned from, hundreds of MB late in a suite; or, where larger, the peak of the PSS
 summed over it and the machine stage's forked workers, sampled every 50 ms while it has any: their
-VmHWM would count the pages they share with it twice), stdout, stderr, the uncaught exception if any,
+VmHWM would count the pages they share with it twice; each has the address-space limit of its own),
+stdout, stderr, the uncaught exception if any,
 and the files left in its -o folder.
 """
 

@@ -126,8 +126,8 @@ def test_turnaround_radius_solved_and_pattern_term(dome):
 
 def test_turnaround_solved_on_a_grown_dome_within_the_radius_tolerance():
     """A laminate with a pile-up near the turnaround (as a helical layer leaves): the traced
-    turnaround is smooth in lambda (its step-to-step noise below half the tolerance the solver stops
-    at), so the solve lands within it."""
+    turnaround is smooth in lambda (its step-to-step noise below half the radius tolerance), so the
+    solve lands within that tolerance."""
     from winder.geometry.offset import grow_surface  # noqa: PLC0415
     from winder.paths.dome_paths import RADIUS_TOL as SOLVE_TOL  # noqa: PLC0415
 

@@ -1,27 +1,37 @@
 """The machine stage's layer groups (winder.machine.chunks) on two processes at once.
 
 A large plan's motion program is built a group of layers at a time, and the groups do not depend on
-one another until they are joined, so a job run alone (not inside a batch's worker, which already has
-the cores busy) builds them on up to WORKERS forked processes. Fork, not spawn: a worker inherits the
-plan and the imported modules (no pickling of the plan, no second start-up); only a group's number
-goes to it and only its rows (a few MB) come back. Each worker holds one group's dense arrays, so the
-stage's memory is WORKERS groups' arrays on top of the plan the workers share with the parent.
+one another until they are joined, so a job run alone on Linux (not inside a batch's worker, whose
+siblings already have the cores busy) builds them on up to WORKERS forked processes. Fork, not spawn:
+a worker inherits the plan and the imported modules (no pickling of the plan, no second start-up);
+only a group's number goes to it and only its rows (a few MB) come back.
 
-A worker writes no file: TERM or INT end it at once, and it gets TERM when its parent dies (Linux,
-winder.app.interrupts.worker_init); the parent stops the pool on any way out (an error, the job's time
-limit, an interrupt), so no worker outlives the job.
+The results come back in the groups' order, each as its group is joined, so the job meets the same
+error first that it meets building the groups one by one (a group's own, or a join's), whichever
+worker finished first. A worker writes no file: TERM or INT end it at once, and it gets TERM when its
+parent dies (winder.app.interrupts.worker_init); the workers start with the stop signals held back
+(as a batch's do) and are stopped on any way out: an error, the job's time limit, an interrupt. A
+worker that dies (killed, out of memory) fails the program with an ExportError, never a hang.
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
-from collections.abc import Callable
+import sys
+from collections.abc import Callable, Iterator
 
-from winder.app.interrupts import worker_init
+from winder.app.interrupts import stop_signals_held_back, stop_workers, worker_init
+from winder.errors import ExportError
 from winder.winding.memory_model import MACHINE_WORKERS as WORKERS  # the work budget counts their memory
 
-_TASK: Callable[[int], tuple] | None = None  # the job's group task, inherited by the forked workers
+_TASK: Callable[[int], tuple] | None = None  # in a worker: the job's group task, handed over at the fork
+
+
+def _start(task: Callable[[int], tuple]) -> None:
+    global _TASK  # noqa: PLW0603 - this worker's own copy
+    worker_init()
+    _TASK = task
 
 
 def _run(i: int) -> tuple:
@@ -30,26 +40,39 @@ def _run(i: int) -> tuple:
 
 
 def usable_workers() -> int:
-    """The processes the machine stage may use: 1 inside a worker process (a batch's, or this
-    pool's), where fork is not available, or on one core; else up to WORKERS."""
-    if multiprocessing.parent_process() is not None or "fork" not in multiprocessing.get_all_start_methods():
+    """The processes the machine stage may use: 1 inside another process's worker (a batch's jobs
+    have the cores busy, and a pool's workers are not to start pools), off Linux (a worker would not
+    end with its parent) or on one core; else up to WORKERS."""
+    if multiprocessing.parent_process() is not None or not sys.platform.startswith("linux"):
         return 1
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(WORKERS, cores))
+    return max(1, min(WORKERS, len(os.sched_getaffinity(0))))
 
 
-def run_groups(task: Callable[[int], tuple], n: int) -> list[tuple]:
-    """task(0), .., task(n - 1) in order, on up to usable_workers() forked processes (module docstring)."""
-    global _TASK  # noqa: PLW0603 - handed to the forked workers
+def run_groups(task: Callable[[int], tuple], n: int) -> Iterator[tuple]:
+    """task(0), .., task(n - 1), yielded in order, on up to usable_workers() forked processes
+    (module docstring); one after the other in this process where one is all there is."""
     workers = min(usable_workers(), n)
     if workers < 2:
-        return [task(i) for i in range(n)]
-    _TASK = task
+        yield from (task(i) for i in range(n))
+        return
+    from concurrent.futures import ProcessPoolExecutor  # noqa: PLC0415 - a job of one group never needs it
+    from concurrent.futures.process import BrokenProcessPool  # noqa: PLC0415
+
+    # Fork hands the task (a closure over the plan) to the workers as it is, unpickled.
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+                               initializer=_start, initargs=(task,))
     try:
-        with multiprocessing.get_context("fork").Pool(workers, initializer=worker_init) as pool:
-            return pool.map(_run, range(n), chunksize=1)
-    finally:
-        _TASK = None
+        with stop_signals_held_back():  # the workers and the pool's threads start here
+            futures = [pool.submit(_run, i) for i in range(n)]
+        for i in range(n):
+            try:
+                rows = futures[i].result()
+            except BrokenProcessPool as exc:
+                raise ExportError("a worker process of the machine stage died before its layers were built "
+                                  "(killed, or out of memory)") from exc
+            futures[i] = None  # the rows are the caller's now
+            yield rows
+    except BaseException:  # an error, the time limit, an interrupt, or the caller done early
+        stop_workers(pool)
+        raise
+    pool.shutdown(wait=True)

@@ -74,9 +74,10 @@ def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int
                             run_groups: GroupRunner | None = None) -> MotionProgram:
     """build_program(plan, machine), built a group of layers at a time (module docstring).
 
-    run_groups(task, n): task(0), .., task(n - 1) in order (each group's own program); default one
-    after the other. The groups do not depend on one another until they are joined, so a caller may
-    run them on several processes (winder.app.machine_pool)."""
+    run_groups(task, n): task(0), .., task(n - 1) (each group's own program), yielded in order and
+    each taken as its group is joined; default one after the other. The groups do not depend on one
+    another until they are joined, so a caller may build them on several processes
+    (winder.app.machine_pool); it is closed when the join stops early."""
     groups = layer_groups(plan, most)
     whole = _sense_of(plan.layers)
     if len(groups) <= 1 or whole_plan(machine, plan.surface) or any(_sense_of(g) != whole for g in groups):
@@ -97,27 +98,32 @@ def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int
     rows, sense = 0, 1.0
     last: FiberPass | None = None  # the last non-empty pass of the groups so far, and its last row
     end_row: np.ndarray | None = None
-    for group, (values, index, fiber, own_segments) in zip(groups, results):
-        passes = _nonempty(group)
-        added = 0
-        if end_row is not None and last is not None and passes and values.shape[0]:
-            values, jumped = _joined(end_row, values, last, passes[0], sense)
-            lift = approach(end_row, values[0], env.max_radius) if jumped else None
-            if lift is not None:
-                added = lift.shape[0]
-                values = np.vstack([lift, values])
-                index = np.concatenate([np.full(added, -1.0), index])
-                fiber = np.concatenate([np.zeros(added), fiber])
-                where = pass_where(plan, passes[0])
-                window = as_written(np.vstack([end_row[None, :], values[:added + 1]]), False)  # as written
-                check_collision(window, env, machine, lambda _row: where)
-        parts.append((values, index, fiber, _shifted(own_segments, rows, added)))
-        rows += values.shape[0]
-        if values.shape[0]:
-            end_row = values[-1]
-        if passes:
-            last = passes[-1]
-            sense = _sense_after(passes, sense)
+    try:
+        for i, (values, index, fiber, own_segments) in enumerate(results):  # to the end: the pool shuts down
+            passes = _nonempty(groups[i])
+            added = 0
+            if end_row is not None and last is not None and passes and values.shape[0]:
+                values, jumped = _joined(end_row, values, last, passes[0], sense)
+                lift = approach(end_row, values[0], env.max_radius) if jumped else None
+                if lift is not None:
+                    added = lift.shape[0]
+                    values = np.vstack([lift, values])
+                    index = np.concatenate([np.full(added, -1.0), index])
+                    fiber = np.concatenate([np.zeros(added), fiber])
+                    where = pass_where(plan, passes[0])
+                    window = as_written(np.vstack([end_row[None, :], values[:added + 1]]), False)  # as written
+                    check_collision(window, env, machine, lambda _row: where)
+            parts.append((values, index, fiber, _shifted(own_segments, rows, added)))
+            rows += values.shape[0]
+            if values.shape[0]:
+                end_row = values[-1]
+            if passes:
+                last = passes[-1]
+                sense = _sense_after(passes, sense)
+    finally:  # the workers of groups not yet joined stop when the join fails
+        close = getattr(results, "close", None)
+        if close is not None:
+            close()
     values = np.vstack([p[0] for p in parts])
     fiber = np.concatenate([p[2] for p in parts])
     times = move_times(values, fiber, machine, False)

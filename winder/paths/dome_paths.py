@@ -162,10 +162,12 @@ def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) ->
         return leg.radius - c if leg.turned else -c - 1.0
 
     f_lo, f_0, f_hi = miss(-SLIP_BOUND), miss(0.0), miss(SLIP_BOUND)
+    no_root = SolverError(f"no slippage |k_g / k_n| <= {SLIP_BOUND:g} turns the fiber at r = {c:.4g} mm on this dome")
     if f_lo * f_hi > 0.0:
-        raise SolverError(f"no slippage |k_g / k_n| <= {SLIP_BOUND:g} turns the fiber at r = {c:.4g} mm on this dome")
-    if abs(f_0) < RADIUS_TOL:
-        return 0.0, trace(0.0)
+        raise no_root
+    for lam, f in ((0.0, f_0), (-SLIP_BOUND, f_lo), (SLIP_BOUND, f_hi)):
+        if abs(f) < RADIUS_TOL:
+            return lam, trace(lam)
     from scipy.optimize.elementwise import find_root  # noqa: PLC0415 - slow to import: only vessels
 
     # The half of the bracket whose ends differ in sign (each end's trace is kept by the cache). It
@@ -174,6 +176,9 @@ def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) ->
     res = find_root(np.vectorize(miss, otypes=[float]), bracket,
                     tolerances={"xatol": 1e-12, "xrtol": 1e-12, "fatol": 0.25 * RADIUS_TOL})
     lam = float(res.x)
+    # A bracket closed on a jump (a leg that stops turning) converges too: the leg must turn at c.
+    if not (res.success and math.isfinite(lam) and trace(lam).turned and abs(trace(lam).radius - c) <= RADIUS_TOL):
+        raise no_root
     return lam, trace(lam)
 
 

@@ -8,7 +8,8 @@ per planned point (poses, the whole plan in one batch). Where the machine stage 
 one batch (a robot, rotation or yaw limits), the dense points of every layer beyond its largest group's;
 otherwise those of the next largest groups, which the machine stage's other workers build at the same time.
 Coefficients fitted on the parts of parts/ and the hostile budget vessels (the measured peak: docs/math/14
-14.2), scaled to hold every measured peak from above.
+14.2), scaled to hold every measured peak from above (h2_tank's but by up to 6 %: its budget counts a
+fifth fewer points than it plans).
 """
 
 from __future__ import annotations
@@ -33,7 +34,8 @@ DENSE_BYTES = 450  # per dense point of a batch (vessels built whole: 450 to 500
 # per dense point of the groups another worker holds beside the largest: 160 to 240 B measured on the
 # vessel parts (h2_tank 470: its budget counts a fifth fewer points than it plans). Whether the two
 # workers' peaks meet is a matter of timing (type4_tank: 296 to 328 MiB from run to run), so 300 B:
-# every estimate within 1.5x of every measured peak, h2_tank's 5 % below it at worst
+# every estimate within 1.5x of every measured peak, h2_tank's 6 % below it at worst. Counted wherever
+# the groups are several, also where one process builds them (a batch's job, one core): on the safe side
 WORKER_DENSE_BYTES = 300
 OPEN_BATCH_BYTES_PER_POINT = 600  # per planned point of an open plan built whole, beyond one group
 PROGRAM_CHUNK_POINTS = 16_000  # planned points of the layers the machine stage takes in one batch
