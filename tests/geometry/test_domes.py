@@ -401,3 +401,18 @@ def test_isotensoid_limits_are_inside_netting_theory():
     assert ISOTENSOID_MAX_OPENING < np.sqrt(2.0 / 3.0)
     build(iso(ISOTENSOID_MAX_OPENING * R))  # the limits themselves are accepted
     build(iso(ISOTENSOID_MIN_OPENING * R))
+
+
+
+def test_one_table_of_values_and_derivatives_reads_as_the_pieces_do():
+    """with_derivatives: each piece and its two derivatives, read in one call, against scipy's own
+    derivative of each piece read alone (inside the knots and past both ends)."""
+    from winder.geometry.domes import _quintic_hermite, with_derivatives  # noqa: PLC0415
+
+    x = np.linspace(0.0, 3.0, 13)
+    pieces = [_quintic_hermite(x, np.sin(x), np.cos(x), -np.sin(x)),
+              _quintic_hermite(x, np.exp(-x), -np.exp(-x), np.exp(-x))]
+    table = with_derivatives(pieces)
+    q = np.linspace(-0.5, 3.5, 101)
+    want = np.column_stack([p.derivative(j)(q) if j else p(q) for p in pieces for j in (0, 1, 2)])
+    np.testing.assert_allclose(table(q), want, rtol=0.0, atol=1e-13 * np.abs(want).max())

@@ -87,6 +87,22 @@ def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarra
     return PPoly(c, x)
 
 
+def with_derivatives(pieces: list[PPoly]) -> PPoly:
+    """One piecewise polynomial whose columns are each of `pieces` (sharing their knots, one column
+    each) followed by its first and second derivatives: p0, p0', p0'', p1, ... Read in one call (one
+    search, one Horner loop in C) instead of one call each: the planner evaluates domes a few points
+    at a time inside root finders and ODEs, where the calls cost most (2x on an offset dome). The
+    derivatives' coefficients are padded with leading zeros: the same values, bit for bit."""
+    from scipy.interpolate import PPoly  # noqa: PLC0415 - only vessels have dome tables
+
+    columns = []
+    for p in pieces:
+        for j in (0, 1, 2):
+            c = p.derivative(j).c if j else p.c
+            columns.append(np.concatenate([np.zeros((j,) + c.shape[1:]), c]).reshape(p.c.shape[0], p.c.shape[1], -1))
+    return PPoly(np.concatenate(columns, axis=-1), pieces[0].x)
+
+
 class DomeMeridian:
     """One dome's meridian from its equator (sigma = 0) to its polar opening (sigma = length).
 
@@ -268,7 +284,7 @@ class Ellipsoid(DomeMeridian):
         u = np.concatenate([[0.0], np.cumsum(arcs[::-1])])
         nu = np.concatenate([[0.0], tau_end - tau[-2::-1]])
         self._nu = _quintic_hermite(u, nu, t1[::-1], -t2[::-1])
-        self._pp = [p.derivative(j) if j else p for p in (self._tau, self._nu) for j in (0, 1, 2)]
+        self._tau3, self._nu3 = with_derivatives([self._tau]), with_derivatives([self._nu])
         self.length = float(sig[-1])
         self.depth = d * float(np.sin(tau_end))
         self._tau_end = tau_end
@@ -277,18 +293,17 @@ class Ellipsoid(DomeMeridian):
         self._tab_h = d * np.sin(tau)
 
     def _eval2(self, sigma: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, ...]:
-        tau, tau1, tau2, nu, nu1, nu2 = self._pp
         te = self._tau_end
         far = u * 2.0 >= self.length  # equator half: tau(sigma); opening half: nu(u)
         near = ~far
         t, t1, t2, n = (np.empty_like(sigma) for _ in range(4))
         if np.any(far):
             x = sigma[far]
-            t[far], t1[far], t2[far] = tau(x), tau1(x), tau2(x)
+            t[far], t1[far], t2[far] = self._tau3(x).T
             n[far] = te - t[far]
         if np.any(near):
             x = u[near]
-            n[near], t1[near], t2[near] = nu(x), nu1(x), -nu2(x)
+            n[near], t1[near], t2[near] = self._nu3(x).T * np.array([[1.0], [1.0], [-1.0]])
             t[near] = te - n[near]
         s, c = np.sin(t), np.cos(t)
         R, d = self.radius, self.semi_axis

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.geometry.domes import DomeMeridian, _quintic_hermite
+from winder.geometry.domes import DomeMeridian, _quintic_hermite, with_derivatives
 
 
 class Isotensoid(DomeMeridian):
@@ -123,8 +123,8 @@ class Isotensoid(DomeMeridian):
         sp, cp = np.sin(y_b[2]), np.cos(y_b[2])
         self._eb = _quintic_hermite(u_b * R, y_b[0] * R, sp, cp * kap_b / R)
         self._gb = _quintic_hermite(u_b * R, y_b[1] * R, cp, -sp * kap_b / R)
-        self._pp = [p.derivative(j) if j else p for p in (self._ra, self._ha, self._eb, self._gb)
-                    for j in (0, 1, 2)]
+        self._a = with_derivatives([self._ra, self._ha])  # r, r', r'', h, h', h'' before the inflection
+        self._b = with_derivatives([self._eb, self._gb])  # e, e', e'', g, g', g'' after it, in u
         self.sigma_inflection = float(sig_a[-1] * R)
         self.length = float((sig_a[-1] + u_b[-1]) * R)
         self.depth = float((y_a[1, -1] + y_b[1, -1]) * R)
@@ -168,14 +168,11 @@ class Isotensoid(DomeMeridian):
     def _eval2(self, sigma: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, ...]:
         out = np.empty((7,) + sigma.shape)
         m = sigma < self.sigma_inflection
-        ra, ra1, ra2, ha, ha1, ha2, eb, eb1, eb2, gb, gb1, gb2 = self._pp
         if np.any(m):
-            x = sigma[m]
-            h = ha(x)
-            out[:, m] = (self.depth - h, h, ha1(x), ha2(x), ra(x), ra1(x), ra2(x))
+            ra, ra1, ra2, ha, ha1, ha2 = self._a(sigma[m]).T
+            out[:, m] = (self.depth - ha, ha, ha1, ha2, ra, ra1, ra2)
         m = ~m
         if np.any(m):
-            x = u[m]
-            g = gb(x)
-            out[:, m] = (g, self.depth - g, gb1(x), -gb2(x), self.end_radius + eb(x), -eb1(x), eb2(x))
+            eb, eb1, eb2, gb, gb1, gb2 = self._b(u[m]).T
+            out[:, m] = (gb, self.depth - gb, gb1, -gb2, self.end_radius + eb, -eb1, eb2)
         return tuple(out)

@@ -28,7 +28,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from winder.geometry.domes import DomeMeridian, _quintic_hermite
+from winder.geometry.domes import DomeMeridian, _quintic_hermite, with_derivatives
 from winder.geometry.profiles import AxialProfile, linear
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
@@ -97,15 +97,7 @@ class OffsetDome(DomeMeridian):
         c, s = np.cos(psi), np.sin(psi)
         hh = _quintic_hermite(sig, H, c, -s * k)
         rr = _quintic_hermite(sig, R, s, c * k)
-        # Both pieces share the knots: one piecewise polynomial of the six columns h, r, h', r', h'', r''
-        # (the derivatives' coefficients padded with leading zeros), read in one call: the planner
-        # evaluates domes inside root finders, a few points at a time, where the calls cost most.
-        from scipy.interpolate import PPoly  # noqa: PLC0415 - only vessels have dome tables
-
-        both = PPoly(np.stack([hh.c, rr.c], axis=-1), hh.x)
-        tables = [both.c] + [np.concatenate([np.zeros((j,) + both.c.shape[1:]), both.derivative(j).c])
-                             for j in (1, 2)]
-        self._pp = PPoly(np.concatenate(tables, axis=-1), hh.x)
+        self._pp = with_derivatives([hh, rr])  # h, h', h'', r, r', r'' (both pieces share the knots)
         self._tab_sigma, self._tab_h = sig, H
 
     @staticmethod
@@ -149,7 +141,7 @@ class OffsetDome(DomeMeridian):
         return np.concatenate([[0.0], np.cumsum((v * wg).sum(axis=1) * half)])
 
     def _eval2(self, sigma: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, ...]:
-        h, r, h1, r1, h2, r2 = self._pp(np.asarray(sigma, dtype=float)).T
+        h, h1, h2, r, r1, r2 = self._pp(np.asarray(sigma, dtype=float)).T
         return (self.depth - h, h, h1, h2, r, r1, r2)
 
 
