@@ -303,7 +303,8 @@ class Ellipsoid(DomeMeridian):
             n[far] = te - t[far]
         if np.any(near):
             x = u[near]
-            n[near], t1[near], t2[near] = self._nu3(x).T * np.array([[1.0], [1.0], [-1.0]])
+            nu, nu1, nu2 = self._nu3(x).T
+            n[near], t1[near], t2[near] = nu, nu1, -nu2
             t[near] = te - n[near]
         s, c = np.sin(t), np.cos(t)
         R, d = self.radius, self.semi_axis

@@ -176,10 +176,13 @@ def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) ->
     res = find_root(np.vectorize(miss, otypes=[float]), bracket,
                     tolerances={"xatol": 1e-12, "xrtol": 1e-12, "fatol": 0.25 * RADIUS_TOL})
     lam = float(res.x)
-    # A bracket closed on a jump (a leg that stops turning) converges too: the leg must turn at c.
-    if not (res.success and math.isfinite(lam) and trace(lam).turned and abs(trace(lam).radius - c) <= RADIUS_TOL):
+    if not (res.success and math.isfinite(lam)):
         raise no_root
-    return lam, trace(lam)
+    leg = trace(lam)
+    # A bracket closed on a jump (a leg that stops turning) converges too: the leg must turn at c.
+    if not leg.turned or abs(leg.radius - c) > RADIUS_TOL:
+        raise no_root
+    return lam, leg
 
 
 def _linear(lam0: float, lam1: float, l0: float) -> Callable[[np.ndarray], np.ndarray]:
@@ -193,16 +196,13 @@ def close_leg(meridian: DomeMeridian, s_eq: float, heading: float, c: float, lam
     of the constant lam0 when the caller has traced it."""
     x = np.array([lam0, 0.0])
 
-    def res(v):
-        leg = trace_leg(meridian, s_eq, heading, _linear(v[0], v[1], l0))
-        if not leg.turned:
-            return None, leg
-        return np.array([leg.radius - c, leg.advance - advance]), leg
+    def residual(leg: Leg):
+        return (np.array([leg.radius - c, leg.advance - advance]) if leg.turned else None), leg
 
-    if start is not None and start.turned:
-        f, leg = np.array([start.radius - c, start.advance - advance]), start
-    else:
-        f, leg = res(x)
+    def res(v):
+        return residual(trace_leg(meridian, s_eq, heading, _linear(v[0], v[1], l0)))
+
+    f, leg = res(x) if start is None else residual(start)
     if f is None:
         raise SolverError("a dome leg stopped turning around while the pattern was closed")
     jac = np.empty((2, 2))
