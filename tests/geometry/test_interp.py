@@ -70,3 +70,34 @@ def test_runs_are_each_runs_cubic_spline():
         for order in (0, 1, 2):
             want = ref(q, order)
             assert np.max(np.abs(hermite(x, y, slopes, i, q, order) - want)) <= SAME_AS_SCIPY * (1.0 + np.max(np.abs(want)))
+
+
+def test_a_vector_bspline_as_piecewise_polynomials_reads_as_the_bspline():
+    """piecewise: a quintic B-spline of three columns as one PPoly, against scipy's BSpline read at
+    the same stations (inside the knots, where the repeated end knots' empty pieces are dropped)."""
+    from winder.geometry.interp import piecewise  # noqa: PLC0415
+
+    x = _sites(30, 7)
+    y = np.column_stack([np.sin(x), np.cos(0.3 * x), x**2 / 50.0])
+    spline = interp_spline(x, y, 5)
+    pp = piecewise(spline)
+    assert np.all(np.diff(pp.x) > 0.0)
+    q = np.linspace(x[0], x[-1], 997)
+    for nu in range(4):
+        want = spline(q, nu)
+        np.testing.assert_allclose(pp(q, nu), want, rtol=0.0, atol=SAME_AS_SCIPY * np.abs(want).max())
+
+
+def test_a_jet_stacks_each_piece_with_its_derivatives():
+    """jet: a vector piece with three derivatives and, on the same breakpoints, a scalar one of lower
+    degree alone, read in one call, against scipy's derivative of each read alone (past both ends)."""
+    from winder.geometry.interp import jet, piecewise  # noqa: PLC0415
+
+    x = _sites(20, 3)
+    vector = piecewise(interp_spline(x, np.column_stack([np.sin(x), np.exp(-0.1 * x)]), 5))
+    scalar = piecewise(interp_spline(x, np.cos(x), 5)).derivative(2)  # a cubic
+    table = jet([(vector, 3), (scalar, 0)])
+    q = np.linspace(x[0] - 0.5, x[-1] + 0.5, 301)
+    want = np.column_stack([vector.derivative(j)(q) if j else vector(q) for j in range(4)] + [scalar(q)])
+    assert table(q).shape == (q.size, 9)
+    np.testing.assert_allclose(table(q), want, rtol=0.0, atol=SAME_AS_SCIPY * np.abs(want).max())

@@ -44,6 +44,8 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from winder.geometry.interp import jet
+
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
@@ -89,18 +91,9 @@ def _quintic_hermite(x: np.ndarray, y: np.ndarray, y1: np.ndarray, y2: np.ndarra
 
 def with_derivatives(pieces: list[PPoly]) -> PPoly:
     """One piecewise polynomial whose columns are each of `pieces` (sharing their knots, one column
-    each) followed by its first and second derivatives: p0, p0', p0'', p1, ... Read in one call (one
-    search, one Horner loop in C) instead of one call each: the planner evaluates domes a few points
-    at a time inside root finders and ODEs, where the calls cost most (2x on an offset dome). The
-    derivatives' coefficients are padded with leading zeros: the same values, bit for bit."""
-    from scipy.interpolate import PPoly  # noqa: PLC0415 - only vessels have dome tables
-
-    columns = []
-    for p in pieces:
-        for j in (0, 1, 2):
-            c = p.derivative(j).c if j else p.c
-            columns.append(np.concatenate([np.zeros((j,) + c.shape[1:]), c]).reshape(p.c.shape[0], p.c.shape[1], -1))
-    return PPoly(np.concatenate(columns, axis=-1), pieces[0].x)
+    each) followed by its first and second derivatives: p0, p0', p0'', p1, ... (interp.jet): the
+    planner reads domes a few points at a time inside root finders and ODEs (2x on an offset dome)."""
+    return jet([(p, 2) for p in pieces])
 
 
 class DomeMeridian:

@@ -1,16 +1,17 @@
 """Interpolating splines: scipy's make_interp_spline (the not-a-knot spline of odd degree through a
 pass's samples), and the not-a-knot cubics of many passes at once in Hermite form (knot_slopes_runs,
 hermite: one tridiagonal solve, LAPACK gtsv from scipy.linalg.lapack, for every pass, where one spline
-object per pass would loop in Python)."""
+object per pass would loop in Python), and jets: a function and its derivatives as the columns of one
+piecewise polynomial (jet, piecewise)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 if TYPE_CHECKING:
-    from scipy.interpolate import BSpline
+    from scipy.interpolate import BSpline, PPoly
 
 
 def interp_spline(x: np.ndarray, y: np.ndarray, k: int = 3) -> BSpline:
@@ -83,3 +84,35 @@ def hermite(x: np.ndarray, y: np.ndarray, m: np.ndarray, i: np.ndarray, q: np.nd
     return np.zeros_like(y0)
 
 
+
+
+def piecewise(spline: BSpline) -> PPoly:
+    """A B-spline of values (n,) or (n, c) as scipy's PPoly on its distinct knots (the same
+    polynomials, to round-off; PPoly.from_spline takes one column at a time)."""
+    from scipy.interpolate import BSpline, PPoly  # noqa: PLC0415
+
+    t, c, k = spline.tck
+    columns = np.reshape(c, (c.shape[0], -1))
+    coefs = np.stack([PPoly.from_spline(BSpline(t, columns[:, j], k)).c for j in range(columns.shape[1])], axis=-1)
+    keep = np.diff(t) > 0.0  # the repeated end knots' empty pieces
+    return PPoly(coefs[:, keep].reshape((k + 1, int(keep.sum())) + c.shape[1:]),
+                 np.append(t[:-1][keep], t[-1]))
+
+
+def jet(pieces: Sequence[tuple[PPoly, int]]) -> PPoly:
+    """One piecewise polynomial whose columns are, for each (p, order) of pieces (sharing their
+    breakpoints), p's columns followed by those of its derivatives up to order: p, p', ..., then the
+    next. Read in one call (one search, one Horner loop in C) instead of one call each: the planner
+    evaluates mandrels a few hundred points at a time inside root finders and ODEs, where separate
+    calls cost 2 to 3x more (offset domes, spline guide curves). The derivatives' coefficients are
+    padded with leading zeros: the same values as p.derivative(j)'s, bit for bit."""
+    from scipy.interpolate import PPoly  # noqa: PLC0415
+
+    degree = max(p.c.shape[0] for p, _ in pieces)
+    columns = []
+    for p, order in pieces:
+        for j in range(order + 1):
+            c = p.derivative(j).c if j else p.c
+            pad = degree - c.shape[0]
+            columns.append(np.concatenate([np.zeros((pad,) + c.shape[1:]), c]).reshape(degree, c.shape[1], -1))
+    return PPoly(np.concatenate(columns, axis=-1), pieces[0][0].x)

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 
 from winder.errors import ConfigError
 from winder.geometry.curves import X_AXIS, Y_AXIS, CurveEval
 from winder.geometry.frames import double_reflection, orthonormalize
+from winder.geometry.interp import jet, piecewise
 
 __all__ = ["SPLINE_GRID", "SplineCurve", "spline_curve"]
 
@@ -20,6 +22,10 @@ class SplineCurve:
     The interpolant c(u) (cubic, chord-length u) is sampled finely at equal arc length and fitted by
     a quintic spline in arc length, so x, x', x'', x''' are smooth and |x'| = 1 to ~1e-10. The RMF is
     computed on the same grid by double reflection and interpolated (then re-orthonormalized).
+
+    Both splines are read as one table (interp.jet) of 15 columns, x, x', x'', x''' and e2: the
+    planner evaluates the curve a few hundred stations at a time inside its solvers, where one call
+    instead of five is 3x faster (s_duct: 1.5 s of a 3.9 s plan were the five B-spline calls).
     """
 
     xs: object  # BSpline of x(z), k = 5
@@ -29,17 +35,21 @@ class SplineCurve:
     is_straight: bool = False
     stall_t: float | None = None  # where the interpolant c(u) nearly stops (a cusp), if it does
 
+    @functools.cached_property
+    def _jet(self):
+        return jet([(piecewise(self.xs), 3), (piecewise(self.e2s), 0)])
+
     def evaluate(self, z: np.ndarray) -> CurveEval:
-        z = np.asarray(z, dtype=float)
-        d1 = self.xs(z, 1)
-        e2, e3 = orthonormalize(self.e2s(z), d1 / np.linalg.norm(d1, axis=1)[:, None])
-        return CurveEval(self.xs(z), d1, self.xs(z, 2), self.xs(z, 3), e2, e3)
+        values = self._jet(np.asarray(z, dtype=float).ravel())  # (m, 15)
+        x, d1, d2, d3, e2 = (values[:, i:i + 3] for i in range(0, 15, 3))
+        e2, e3 = orthonormalize(e2, d1 / np.linalg.norm(d1, axis=1)[:, None])
+        return CurveEval(x, d1, d2, d3, e2, e3)
 
     def centerline(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """x, x' and x'' at stations z (m,): evaluate's first three fields (each (m, 3), new arrays)
         without the frame, for closest-point searches that do not need it."""
-        z = np.asarray(z, dtype=float)
-        return self.xs(z), self.xs(z, 1), self.xs(z, 2)
+        values = self._jet(np.asarray(z, dtype=float).ravel())
+        return values[:, 0:3], values[:, 3:6], values[:, 6:9]
 
     def max_curvature(self) -> float:
         return self.kappa_max
