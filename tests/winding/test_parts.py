@@ -3,12 +3,14 @@ its thickness near the boss agrees with the band-spread model of docs/math/08-la
 computed here in closed form (the fiber-count law integrated by scipy's quad, the cubic's system
 solved by numpy), not from the code's cells.
 
-The other parts are planned and run nightly (they take tens of seconds each on two cores):
+The other parts are run nightly, every layer covered and each program read back by `simulate` (a
+minute or less each on two cores):
     WINDER_PARTS=all .venv/bin/python -m pytest tests/winding/test_parts.py
 """
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import subprocess
@@ -26,6 +28,7 @@ PARTS = Path(__file__).resolve().parents[2] / "parts"
 ROOT = PARTS.parent
 BOSS_MODEL_REL = 0.03  # total wall near the boss vs the closed form (cell means of B / 16, pass polylines)
 COVERED = 0.999
+LAID_REL = 1e-4  # simulate's laid fiber (arc length between contacts) against the plan's
 SAMPLES = 4001  # meridian samples of a dome to find a radius
 SPEED_TOL = 1e-3  # |Phi'| - 1 of a grown dome between its knots
 TURN_PER_SAMPLE = 0.01  # rad between samples 1/20000 of a dome apart (a kink would turn at once)
@@ -122,11 +125,24 @@ def _slow_parts() -> list[Path]:
     return sorted(p for p in PARTS.glob("*.yaml") if p.stem not in {"folded_spline", "tank_20"})
 
 
+def _winder(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "winder", *args], cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)},
+                          capture_output=True, text=True, timeout=900)
+
+
 @pytest.mark.parametrize("part", _slow_parts(), ids=lambda p: p.stem)
 def test_part_runs(part, tmp_path):
-    out = subprocess.run([sys.executable, "-m", "winder", "run", str(part), "-o", str(tmp_path)], cwd=ROOT,
-                         env={**os.environ, "PYTHONPATH": str(ROOT)}, capture_output=True, text=True, timeout=900)
+    """Issue 29: the part plans, every layer covered, and its program reads back through simulate,
+    laying the fiber the plan planned."""
+    out = _winder("run", str(part), "-o", str(tmp_path))
     assert out.returncode == 0, out.stderr
+    name = load_config(part).name
+    summary = json.loads((tmp_path / f"{name}.summary.json").read_text())
+    assert min(layer["coverage"]["covered_fraction"] for layer in summary["layers"]) >= COVERED
+    read = _winder("simulate", str(part), str(tmp_path / f"{name}.gcode"), "--json")
+    assert read.returncode == 0, read.stderr
+    laid = json.loads(read.stdout)
+    assert laid["fiber_length_mm"] == pytest.approx(laid["planned_fiber_length_mm"], rel=LAID_REL)
 
 
 def test_tank_20_wall_at_the_bosses_against_the_model(tank_20):
