@@ -177,19 +177,29 @@ def test_flat_faces_read_back_along_the_pass():
     assert sim.time_s == pytest.approx(build_program(plan, job.machine).times.total_s, rel=FLAT_TIME_TOL)
 
 
-FLAT_TIME_TOL = 5e-3  # relative: at corners the program's carriage steps back, the contacts cannot (0.14 mm off)
+FLAT_TIME_TOL = 1e-3  # relative: the contacts at a corner trail the program's by a fraction of a mm (2e-4 seen)
 DENSE = 200  # brute-force samples per point interval of a pass
+SEARCHED_ABOVE = 0.02  # mm: the samples the brute force checks (the farthest off; 1294 of 15641)
+SEARCH_TOL = 1e-3  # mm: above the chord tolerance, a ray this much nearer than the one read is a missed contact
+# mm: below the tolerance a sample is not searched again (README, simulate): its read may be this much
+# farther off than its best contact (0.012 seen: programmed point 2202 reads 0.025, a ray 0.013 lies near)
+UNSEARCHED_TOL = 0.015
 
 
 def test_no_contact_between_the_neighbours_fits_better():
     """On the rounded tube an eye far out (some 200 mm past a flat face) sees a corner's tangent sweep
-    millimetres between two of the search's candidates. Truth by brute force: for every sample read
-    back off its tangent by more than the chord tolerance, no point of the planned pass between its
-    neighbours' contacts (the contacts move forward, so that stretch is open to it) has a ray nearer
-    its eye (the program's point 3140 was put 0.51 mm off, a ray 0.006 mm off lay between them)."""
+    millimetres between two of the search's candidates. Every sample reads within the chord tolerance
+    (the plan's directions and pieces run in the section's arc length: docs/math/12 12.2; in theta the
+    program's eyes stood up to 0.3 mm off the fiber), and the reading is the best there is. Truth by
+    brute force: for every sample read back more than SEARCHED_ABOVE off its tangent, no point of the
+    planned pass between its neighbours' contacts (the contacts move forward, so that stretch is open
+    to it) has a ray nearer its eye (the program's point 3140 was once read 0.51 mm off with a ray
+    0.006 mm off between them), by more than the search's precision."""
     job, plan, sim = _rounded_tube()
+    assert sim.max_deviation_mm <= job.machine.chord_tolerance
     sm = sim.samples
     by_key = {(fp.layer, fp.circuit, fp.number): fp for layer in plan.layers for fp in layer.passes}
+    dense = {}  # a pass's brute-force points: t, p, d
     position = 2 * np.asarray(sm["i"]) - np.asarray(sm["mid"], dtype=int)
     order = np.lexsort((position, sm["pass"], sm["circuit"], sm["layer"]))
     checked = 0
@@ -197,21 +207,23 @@ def test_no_contact_between_the_neighbours_fits_better():
         k, before, after = order[j], order[j - 1], order[j + 1]
         key = (sm["layer"][k], sm["circuit"][k], sm["pass"][k])
         same = all((sm["layer"][x], sm["circuit"][x], sm["pass"][x]) == key for x in (before, after))
-        if not same or sm["kind"][k] not in ("forward", "return") or sm["deviation_mm"][k] <= job.machine.chord_tolerance:
+        if not same or sm["kind"][k] not in ("forward", "return") or not sm["deviation_mm"][k] > SEARCHED_ABOVE:
             continue
-        fp = by_key[tuple(int(v) for v in key)]
-        paths = SmoothPaths(plan.surface_of(fp.layer), [fp])
-        s, _, p, d = paths.point(np.linspace(0.0, len(fp.points) - 1, (len(fp.points) - 1) * DENSE + 1))
-        t = plan.surface_of(fp.layer).t_of_s(s)
+        if key not in dense:
+            fp = by_key[tuple(int(v) for v in key)]
+            s, _, p, d = SmoothPaths(plan.surface_of(fp.layer), [fp]).point(
+                np.linspace(0.0, len(fp.points) - 1, (len(fp.points) - 1) * DENSE + 1))
+            dense[key] = plan.surface_of(fp.layer).t_of_s(s), p, d
+        t, p, d = dense[key]
         lo, hi = sorted((sm["t"][before], sm["t"][after]))
         inside = (t >= lo - 1e-9) & (t <= hi + 1e-9)
         if not inside.any():  # the neighbours at one point: nothing between them to choose
             continue
         best = ray_distance(np.repeat(sm["eye"][k][None, :], inside.sum(), axis=0), p[inside], d[inside]).min()
-        assert best > sm["deviation_mm"][k] - 1e-3, (key, sm["i"][k], best, sm["deviation_mm"][k])
+        slack = SEARCH_TOL if sm["deviation_mm"][k] > job.machine.chord_tolerance else UNSEARCHED_TOL
+        assert best > sm["deviation_mm"][k] - slack, (key, sm["i"][k], best, sm["deviation_mm"][k])
         checked += 1
-    assert checked  # the check ran: some samples remain off (below)
-    assert sim.max_point_deviation_mm < 0.3  # what remains: the program's own carriage steps back (report)
+    assert checked > 100  # the check ran on the farthest-off samples
 
 
 def test_a_program_cut_short_is_refused(plan):

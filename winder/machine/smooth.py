@@ -12,6 +12,7 @@ from winder.geometry.index_spline import knot_slopes
 from winder.geometry.surface import SweepSurface
 from winder.winding.results import FiberPass, PassKind
 from winder.geometry.joints import joint_stations
+from winder.geometry.sections import polar_arcs
 from winder.geometry.measure import grid_groups, row_norms, tangent_coordinates
 
 GAUSS_NODES = 5  # Gauss-Legendre nodes per interval for the arc length
@@ -112,6 +113,12 @@ class SmoothPaths:
         self._is_last[self.last] = True
         if on.size:
             self._limit_slopes(on)
+        # On a non-circular section the pieces run in (s, f), f the perimeter fraction: the tangents of
+        # theta's pieces are up to 0.2 deg off where a flat meets a corner (geometry.sections.polar_arcs).
+        self._arcs = polar_arcs(surface.section)
+        if self._arcs is not None:
+            rate = self._arcs.dtheta_dfrac(self.th)
+            self.f, self.df, self.df_in = self._arcs.fraction(self.th), self.dth / rate, self.dth_in / rate
 
     def _limit_slopes(self, on: np.ndarray) -> None:
         """Shorten (never turn) the end tangents of each interval of the nodes `on` whose component
@@ -170,28 +177,27 @@ class SmoothPaths:
         k = np.maximum(k, 0)
         return k, u - k
 
-    def _hermite(self, at: tuple[np.ndarray, np.ndarray], orders) -> list[tuple[np.ndarray, np.ndarray]]:
-        """(s, theta) of each order asked (0: values, 1: derivatives) in the intervals at = (k, h),
-        the node values looked up once for both."""
+    def _hermite(self, at: tuple[np.ndarray, np.ndarray]) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+        """((s, theta), (s', theta')) in the intervals at = (k, h), the node values looked up once for
+        both; on a non-circular section the pieces run in (s, f) and are read back into theta."""
         k, h = at
-        ends = [(v[k], dv[k], v[k + 1], dv_in[k + 1])
-                for v, dv, dv_in in ((self.s, self.ds, self.ds_in), (self.th, self.dth, self.dth_in))]
-        h2 = h**2
+        arcs = self._arcs
+        second = (self.th, self.dth, self.dth_in) if arcs is None else (self.f, self.df, self.df_in)
+        ends = [(v[k], dv[k], v[k + 1], dv_in[k + 1]) for v, dv, dv_in in ((self.s, self.ds, self.ds_in), second)]
+        h2, h3 = h**2, h**3
         found = []
-        for order in orders:
-            if order == 0:  # the Hermite basis, shared by s and theta
-                h3 = h**3
-                c = (2 * h3 - 3 * h2 + 1, h3 - 2 * h2 + h, -2 * h3 + 3 * h2, h3 - h2)
-            else:
-                c = (6 * h2 - 6 * h, 3 * h2 - 4 * h + 1, -6 * h2 + 6 * h, 3 * h2 - 2 * h)
-            out = [c[0] * v0 + c[1] * d0 + c[2] * v1 + c[3] * d1 for v0, d0, v1, d1 in ends]
-            found.append((out[0], out[1]))
-        return found
+        for c in ((2 * h3 - 3 * h2 + 1, h3 - 2 * h2 + h, -2 * h3 + 3 * h2, h3 - h2),  # values
+                  (6 * h2 - 6 * h, 3 * h2 - 4 * h + 1, -6 * h2 + 6 * h, 3 * h2 - 2 * h)):  # derivatives
+            found.append([c[0] * v0 + c[1] * d0 + c[2] * v1 + c[3] * d1 for v0, d0, v1, d1 in ends])
+        if arcs is not None:
+            found[0][1] = arcs.theta(found[0][1])
+            found[1][1] = found[1][1] * arcs.dtheta_dfrac(found[0][1])
+        return tuple((a, b) for a, b in found)
 
     def speed(self, u: np.ndarray) -> np.ndarray:
         if self.s.size < 2:
             return np.zeros(np.shape(u))
-        (s, th), (ds, dth) = self._hermite(self._interval(u), (0, 1))
+        (s, th), (ds, dth) = self._hermite(self._interval(u))
         ev = self.surface.evaluate(s, th, order=1)
         return row_norms(ev.ps * ds[:, None] + ev.pt * dth[:, None])
 
@@ -201,7 +207,7 @@ class SmoothPaths:
             s, th = self.s[np.zeros(len(u), int)], self.th[np.zeros(len(u), int)]
             return s, th, self.surface.points(s, th), np.zeros((len(u), 3))
         k, h = self._interval(u)
-        (s, th), (ds, dth) = self._hermite((k, h), (0, 1))
+        (s, th), (ds, dth) = self._hermite((k, h))
         ev = self.surface.evaluate(s, th, order=1)
         d = ev.ps * ds[:, None] + ev.pt * dth[:, None]
         free = self.free[k]

@@ -18,7 +18,7 @@ from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
 from winder.geometry.interp import interp_spline
 from winder.winding.advance import is_cylinder
-from winder.geometry.sections import ArcMap
+from winder.geometry.sections import ArcMap, polar_arcs
 from winder.geometry.surface import SurfaceEval, SweepSurface
 from winder.geometry.measure import row_norms
 
@@ -94,7 +94,11 @@ def directions(surface: SweepSurface, s: np.ndarray, theta: np.ndarray, ev: Surf
     i = np.arange(s.shape[0], dtype=float)
     # Quintic: the cubic's end slopes are O(h^3) off, visible next to a turnaround.
     k = min(5, s.shape[0] - 1 - (s.shape[0] % 2 == 1 and s.shape[0] < 7))
-    ds, dth = interp_spline(i, np.column_stack([s, theta]), k)(i, 1).T
+    arcs = polar_arcs(surface.section)  # a flat meeting a corner: the spline against arc length
+    along = theta if arcs is None else arcs.fraction(theta)
+    ds, dth = interp_spline(i, np.column_stack([s, along]), k)(i, 1).T
+    if arcs is not None:
+        dth = dth * arcs.dtheta_dfrac(theta)
     if ev is None:
         ev = surface.evaluate(s, theta, order=1)
     v = ev.ps * ds[:, None] + ev.pt * dth[:, None]
@@ -244,10 +248,14 @@ def _tangents(surface: SweepSurface, paths: list[tuple[np.ndarray, np.ndarray]],
     i = np.arange(m, dtype=float)
     # the degree directions takes
     k = min(5, m - 1 - (m % 2 == 1 and m < 7))
-    rate = interp_spline(i, np.column_stack([a for path in paths for a in path]), k)(i[::every], 1)
+    arcs = polar_arcs(surface.section)  # as directions: against arc length on a non-circular section
+    columns = [a if j == 0 or arcs is None else arcs.fraction(a) for path in paths for j, a in enumerate(path)]
+    rate = interp_spline(i, np.column_stack(columns), k)(i[::every], 1)
     q = rate.shape[0]
     s = np.concatenate([path[0][::every] for path in paths])
     th = np.concatenate([path[1][::every] for path in paths])
+    if arcs is not None:
+        rate[:, 1::2] *= arcs.dtheta_dfrac(th).reshape(len(paths), q).T
     ev = surface.evaluate(s, th, order=1)
     v = ev.ps * rate[:, 0::2].T.reshape(-1)[:, None] + ev.pt * rate[:, 1::2].T.reshape(-1)[:, None]
     v = v / row_norms(v)[:, None]
