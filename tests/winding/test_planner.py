@@ -182,6 +182,24 @@ def test_hoop_on_cone_slips():
                  {"band_width": 10, "friction": 0.05, "layers": [{"type": "hoop"}]}))
 
 
+def test_hoop_on_a_cone_closes_its_band_across_the_slant():
+    """A cone 160 -> 85 over 500 mm (8.5 deg): consecutive turns lie along the slant, sqrt(1 + r'^2)
+    times their axial pitch apart, and the band closes where that spacing across the fiber, dm sin(alpha)
+    with tan(alpha) = 2 pi r / dm, is at most the band: at the wide end (largest r) it is the band
+    itself. Read from the planned pass: the axial pitch is its t advance over one turn of theta."""
+    band, r_a, r_b, length = 10.0, 160.0, 85.0, 500.0
+    hoop = plan(job({"axis": {"type": "line", "length": length},
+                     "profile": {"type": "cone", "start_radius": r_a, "end_radius": r_b}},
+                    {"band_width": band, "friction": 0.25, "layers": [{"type": "hoop", "passes": 2}]})).layers[0]
+    p = hoop.passes[0]
+    pitch = (p.t[-1] - p.t[0]) / ((p.theta[-1] - p.theta[0]) / (2.0 * math.pi))
+    dm = abs(pitch) * math.hypot(1.0, (r_b - r_a) / length)
+    across = [dm * math.sin(math.atan2(2.0 * math.pi * r, dm)) for r in (r_a, r_b)]
+    assert across[0] == pytest.approx(band, rel=1e-6)  # closed at the wide end, no more turns than needed
+    assert across[1] < band
+    assert hoop.coverage.covered_fraction >= COVERED and hoop.coverage.max_gap_mm == 0.0  # 0.9889 at the axial pitch
+
+
 @pytest.mark.parametrize("mandrel, friction", [
     (PIPE, 0.0),  # a hoop on a cylinder is a helix, a geodesic: no friction needed, round-off apart
     ({"axis": {"type": "line", "length": 400},

@@ -2,6 +2,13 @@
 
 A constant-pitch path is a geodesic only where the mandrel is developable along it (straight tubes of
 any section); elsewhere it is held by friction alone, so it is refused where |k_g / k_n| > mu.
+
+The band closes when two turns lie at most a band apart across the fiber: on a section of perimeter
+P, turns dm apart along the surface (across the circumference) do for dm <= b P / sqrt(P^2 - b^2),
+largest P first. A station step dt moves the surface by |Phi_t| across the circumference, 1 on a
+straight tube, sqrt(1 + r'^2) on a cone, 1 + r kappa on a bend's outside: the axial pitch is the
+allowed dm over the largest such stretch, or the turns spread by it (a 160 -> 85 cone over 500 mm:
+0.11 mm bare a turn, 1.1 % of the surface, at the bare pitch).
 """
 
 from __future__ import annotations
@@ -31,6 +38,8 @@ from winder.geometry.measure import row_norms
 HOOP_STEP_DEG = 5.0  # sampling of hoop turns (the machine interpolates A and X linearly)
 # A pitch this much above the band's axial width is a gap, not round-off (the angle is read in degrees).
 PITCH_GAP_REL = 1e-9
+STRETCH_STATIONS, STRETCH_ANGLES = 41, 72  # the region's grid for the largest stretch
+STRETCH_TOL = 1e-12  # a straight tube's stretch is 1 to round-off: its pitch is left exact
 
 
 def _cylinder_region(ctx: PlanContext) -> tuple[float, float]:
@@ -38,6 +47,21 @@ def _cylinder_region(ctx: PlanContext) -> tuple[float, float]:
     if isinstance(prof, VesselMeridian):
         return prof.equator_t
     return winding_region(ctx)
+
+
+def _stretch(ctx: PlanContext, t_a: float, t_b: float) -> float:
+    """The largest surface distance across the circumference per unit station over the region
+    (module docstring): |Phi_t| less its part along Phi_theta, on a grid of stations and angles."""
+    surf = ctx.surface
+    s = surf.s_of_t(np.linspace(t_a, t_b, STRETCH_STATIONS))
+    ss, tt = np.meshgrid(s, np.linspace(0.0, 2.0 * math.pi, STRETCH_ANGLES, endpoint=False), indexing="ij")
+    ev = surf.evaluate(ss.ravel(), tt.ravel(), order=1, with_point=False)
+    along = np.einsum("ij,ij->i", ev.ps, ev.pt) / np.einsum("ij,ij->i", ev.pt, ev.pt)
+    across = row_norms(ev.ps - along[:, None] * ev.pt)
+    if not surf.is_axial_parameter:  # a vessel's s is its meridian's length: per unit of the station t
+        across = across / np.abs(surf.profile.evaluate(ss.ravel()).z1)
+    worst = float(np.max(across))
+    return 1.0 if worst <= 1.0 + STRETCH_TOL else worst
 
 
 def _traverses(ctx: PlanContext, cfg: LayerConfig, index: int, t_a: float, t_b: float) -> list[tuple[float, float]]:
@@ -68,7 +92,7 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         alpha = math.degrees(math.acos(w.band_width / perimeter))
     else:
         alpha = cfg.angle_deg
-    pitch = perimeter / math.tan(math.radians(alpha))  # axial advance per turn
+    pitch = perimeter / math.tan(math.radians(alpha)) / _stretch(ctx, t_a, t_b)  # axial advance per turn
     turns = (t_b - t_a) / pitch
     spans = _traverses(ctx, cfg, index, t_a, t_b)
     passes: list[FiberPass] = []
