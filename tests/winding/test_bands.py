@@ -44,6 +44,20 @@ def test_two_bands_closed_form():
     assert (lo, hi) == (0, 1)
 
 
+@pytest.mark.parametrize("centres, halves, widest", [
+    ([5.0, 3.0, 8.5], [5.0, 1.0, 3.5], 5.0),  # [0, 10], [2, 4], [5, 12]: the third shares [5, 10] with the first
+    (list(np.arange(10) * 10.0 + 5.0), [10.0] * 10, 10.0),  # 10 bands of 20 on 100: twice covered all round
+    ([97.0, 50.0], [5.0, 5.0], 0.0),  # one across the seam, none shared
+    ([98.0, 3.0], [4.0, 4.0], 3.0),  # [94, 102] and [-1, 7]: [-1, 2] shared across the seam
+])
+def test_the_overlap_is_the_widest_stretch_bands_share(centres, halves, widest):
+    """The overlap is what a band shares with others (at most its width), not the longest run covered
+    twice (the whole perimeter in the second case)."""
+    for got in (union_stats(np.array(centres), np.array(halves), 100.0)[2],
+                union_stats_many([np.array(centres)], [np.array(halves)], [100.0])[0][2]):
+        assert got == pytest.approx(widest, abs=EVEN_ABS)
+
+
 def test_a_circle_too_small_to_resolve_is_refused_alike():
     args = ([np.array([1e-8])], [np.array([1e-8])], [1e-7])
     with pytest.raises(ValueError):

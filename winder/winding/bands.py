@@ -1,6 +1,11 @@
-"""Bands on a circle (MATH.md 5): the covered length, longest gap and overlap, least and most bands
+"""Bands on a circle (MATH.md 5): the covered length, longest gap, widest overlap, least and most bands
 over a section of perimeter P, for one set of bands (union_stats) or many sets at once (union_stats_many,
 the same numbers to round-off).
+
+The overlap is a band's: the widest stretch of one band that bands before it along the perimeter also
+cover (at most the band's own width), what a shop reads as bands lapping each other. The longest run
+covered twice is not: where the planner adds circuits to close the gaps a bend spreads open, the
+straight pieces are covered twice all round and that run is the whole perimeter.
 """
 
 from __future__ import annotations
@@ -13,7 +18,7 @@ Stats = tuple[float, float, float, int, int]
 
 
 def union_stats(centres: np.ndarray, halves: np.ndarray, perimeter: float) -> Stats:
-    """Covered length, longest gap, longest overlap, min and max band count on a circle of perimeter P.
+    """Covered length, longest gap, widest overlap, min and max band count on a circle of perimeter P.
 
     centres, halves : (k,) float, band centres and half-widths along the perimeter (mm).
     """
@@ -35,8 +40,19 @@ def union_stats(centres: np.ndarray, halves: np.ndarray, perimeter: float) -> St
     inside = (pos[:-1] >= 0.0) & (pos[1:] <= perimeter) & (seg > EDGE_TOL)
     seg, mid = seg[inside], mid[inside]
     covered = float(np.sum(seg[mid > 0]))
-    return covered, _longest_run(seg, mid == 0, perimeter), _longest_run(seg, mid >= 2, perimeter), \
-        int(mid.min()), int(mid.max())
+    return covered, _longest_run(seg, mid == 0, perimeter), _overlap(lo, hi, perimeter), int(mid.min()), int(mid.max())
+
+
+def _overlap(lo: np.ndarray, hi: np.ndarray, perimeter: float) -> float:
+    """The widest stretch of a band (lo, hi (k,), lo in [0, P)) that the bands starting before it
+    cover (the first band against the last ones' reach a turn on); less than EDGE_TOL is none."""
+    order = np.argsort(lo, kind="stable")
+    lo, hi = lo[order], hi[order]
+    reach = np.maximum.accumulate(hi)
+    shared = np.minimum(reach[:-1], hi[1:]) - lo[1:]
+    wrapped = min(reach[-1] - perimeter, hi[0]) - lo[0]
+    widest = max(float(shared.max()) if shared.size else 0.0, wrapped if lo.size > 1 else 0.0)
+    return widest if widest > EDGE_TOL else 0.0
 
 
 def _longest_run(seg: np.ndarray, flag: np.ndarray, perimeter: float) -> float:
@@ -95,7 +111,8 @@ def union_stats_many(centres: list[np.ndarray], halves: list[np.ndarray], perime
     cuts = np.cumsum(np.bincount(which[mid > 0], minlength=b)).tolist()
     lows, highs = np.minimum.reduceat(mid, first), np.maximum.reduceat(mid, first)
     gaps = _longest_runs(seg, mid == 0, first, n, [perimeters[j] for j in full])
-    overlaps = _longest_runs(seg, mid >= 2, first, n, [perimeters[j] for j in full])
+    bounds = np.cumsum(sizes[full])[:-1]
+    overlaps = [_overlap(a, z, perimeters[j]) for a, z, j in zip(np.split(lo, bounds), np.split(hi, bounds), full.tolist())]
     for i, j in enumerate(full.tolist()):
         covered = float(np.sum(covered_seg[(cuts[i - 1] if i else 0):cuts[i]]))
         out[j] = (covered, gaps[i], overlaps[i], int(lows[i]), int(highs[i]))

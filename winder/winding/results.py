@@ -59,7 +59,9 @@ class Coverage:
 
     stations : (k,) float, the t where it was measured.
     covered_fraction : covered perimeter / perimeter, the least over the stations.
-    max_gap_mm, max_overlap_mm : the widest uncovered and doubly-covered stretch along the perimeter.
+    max_gap_mm : the widest uncovered stretch along the perimeter. max_overlap_mm : the widest stretch
+        of one band that others of the same direction also cover (at most a band's width along the
+        perimeter; winder.winding.bands).
     min_layers, max_layers : band layers over any perimeter point (a +-alpha layer is 2 where even).
     """
 
