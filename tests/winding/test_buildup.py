@@ -153,3 +153,47 @@ def test_coarse_vessel_passes_lay_the_closed_form_mean_on_the_cylinder():
     assert mean == pytest.approx(0.607787, abs=1e-6)  # 2 t_p N_c B / (2 pi R cos alpha), N_c 59, alpha 22.2067
     np.testing.assert_allclose(t[i0 + 2:i1 - 2], mean, rtol=2e-5)
     assert float(np.sum(dens * cells.widths)) == pytest.approx(layer.fiber_length_mm * AREA, rel=1e-12)
+
+
+ISOTENSOID = {"profile": {"type": "vessel", "radius": 80, "cylinder_length": 250,
+                          "dome": {"type": "isotensoid", "polar_opening": 20}}}
+OFFSET_REL = 0.05  # the grown dome's standoff along the bare normal vs the laid thickness (smoothing)
+CLEAR_OF_PILE_UP = 4.0  # band widths outside the turnaround, where the blend with the cone's cap ends
+
+
+def test_an_isotensoid_dome_grows_by_its_laminate():
+    """The shape the next layer winds on stands off each bare isotensoid dome by the thickness laid
+    there (read along the bare dome's normal, away from the equator's blend and from the pile-up,
+    where the blend with the boss cone's cap takes some off). An isotensoid's meridian turns axial at
+    its opening (the boss cone's half angle was 45 deg) while the dome outside is nearly radial: the
+    cone cut the dome, and the shape grew by nothing beyond a band of the equator (docs/math/08 8.7)."""
+    from winder.winding.growth import boss_cones  # noqa: PLC0415
+
+    job = _job(ISOTENSOID, [{"type": "helical", "angle": 20}], material={"ply_thickness": 0.3})
+    pl = plan(job)
+    bare, outer, lam = pl.surface, pl.outer_surface, pl.layers[0].laminate
+    for cone, dome in zip(boss_cones(bare), (bare.profile.dome, bare.profile.end_dome)):
+        ev = dome.evaluate(np.linspace(0.0, dome.length, 2001)[:-1])
+        assert np.all(cone.depth - ev.h - cone.slope * (ev.r - cone.r0) > 0.0)  # above the bare dome
+    t_eq = bare.profile.equator_t[0]
+    c = pl.layers[0].turnaround_radius
+    fine = np.linspace(0.0, outer.length, 200001)
+    g = outer.profile.evaluate(fine)
+    checked = 0
+    for t in np.linspace(5.0, t_eq - 2.0 * BAND, 24):
+        s = float(bare.s_of_t(np.array([t]))[0])
+        ev = bare.profile.evaluate(np.array([s]))
+        r, z, n = ev.r[0], ev.z[0], np.array([-ev.r1[0], ev.z1[0]])  # outward normal (z, r): (-r', z')
+        if r < c + CLEAR_OF_PILE_UP * BAND:
+            continue
+        n = n / np.hypot(*n)
+        # the grown meridian's crossing of the normal line through the bare point
+        side = (g.z - z) * n[1] - (g.r - r) * n[0]
+        k = np.nonzero(np.diff(np.sign(side)) != 0)[0]
+        k = k[np.argmin(np.hypot(g.z[k] - z, g.r[k] - r))]
+        w = side[k] / (side[k] - side[k + 1])
+        gz, gr = g.z[k] + w * (g.z[k + 1] - g.z[k]), g.r[k] + w * (g.r[k + 1] - g.r[k])
+        standoff = float(np.hypot(gz - z, gr - r))
+        assert standoff == pytest.approx(float(np.interp(s, lam.s, lam.thickness)), rel=OFFSET_REL), t
+        checked += 1
+    assert checked >= 5

@@ -30,6 +30,7 @@ from winder.winding.laminate import smooth_density
 
 SOFT_MIN_SHARE = 0.25  # band widths over which the cap and the thickness are blended (no crease)
 BOSS_CONE_SHARE = 0.5  # share of the bare dome's angle to the radial at its opening the boss cone keeps
+CHORD_SAMPLES = 4001  # stations of a bare dome where the boss cone must pass above it
 POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling laminate edge may use
 
 
@@ -48,7 +49,14 @@ class BossCone:
     def of(cls, dome) -> BossCone:
         ev = dome.evaluate(np.array([dome.length]))
         angle = float(np.arctan2(abs(ev.h1[0]), abs(ev.r1[0])))  # the meridian's angle to the radial
-        return cls(float(dome.end_radius), float(dome.depth), float(np.tan(BOSS_CONE_SHARE * angle)))
+        r0, depth = float(dome.end_radius), float(dome.depth)
+        # Above the whole bare dome: an isotensoid turns axial at its opening (angle 90 deg) but is
+        # nearly radial just outside it, where a cone of half that angle would cut it (docs/math 8.7).
+        bare = dome.evaluate(np.linspace(0.0, dome.length, CHORD_SAMPLES)[:-1])
+        apart = bare.r - r0
+        chords = (depth - bare.h[apart > 0.0]) / apart[apart > 0.0]
+        flattest = float(chords.min()) if chords.size else np.inf
+        return cls(r0, depth, min(float(np.tan(BOSS_CONE_SHARE * angle)), BOSS_CONE_SHARE * flattest))
 
     def cap(self, dome, sigma: np.ndarray) -> np.ndarray:
         """The largest growth along the normal at sigma ((m,) float) that keeps the grown point below
