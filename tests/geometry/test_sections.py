@@ -295,3 +295,37 @@ def test_polar_from_cos_sin_is_the_polar_radius_bit_for_bit(name):
                 assert_roundoff(part[k], full[k])
             else:
                 assert part[k] is None
+
+
+ARC_MM = 1e-7  # the arc map's fraction against the closed-form arc length, mm (linear tables: 1.4e-4)
+RATE_RTOL = 1e-9  # its d theta / d f against the closed form (a linear table: 1.5e-3 at a joint)
+ROUND_TRIP_RAD = 1e-10  # theta(fraction(theta)): one Newton step after the linear table (3e-12 seen)
+
+
+def test_rounded_rectangle_arc_map_against_its_closed_form_arc_length():
+    """Arc length from theta = 0 on the first quadrant of a wide section with a small corner: the
+    right face hw tan(theta), the corner rc times its turn, the top face from where it starts; the
+    rate rho^2 / (p . n), n the outward normal. Every joint is a node of the table."""
+    from winder.geometry.sections import arc_map  # noqa: PLC0415
+
+    rr = RoundedRectangle(200.0, 100.0, 10.0)
+    hw, hh, rc = 100.0, 50.0, 10.0
+    cx, cy = hw - rc, hh - rc
+    np.testing.assert_allclose(np.sort(rr.joints()), np.sort(rr_joint_angles(rr)), rtol=0, atol=EXACT_RTOL)
+    arcs = arc_map(rr)
+    assert np.all(np.min(np.abs(arcs.theta_grid[:, None] - rr.joints()[None, :]), axis=0) <= EXACT_RTOL)
+    th = np.linspace(0.0, 0.5 * np.pi, 200_001)[1:-1]
+    c, s = np.cos(th), np.sin(th)
+    side, top = th < np.arctan2(cy, hw), th > np.arctan2(hh, cx)
+    aa, bb = cx * c + cy * s, -cx * s + cy * c
+    rho = np.where(side, hw / c, np.where(top, hh / s, aa + np.sqrt(np.maximum(rc * rc - bb * bb, 0.0))))
+    p = rho[:, None] * np.column_stack([c, s])
+    turn = np.arctan2(p[:, 1] - cy, p[:, 0] - cx)
+    normal = np.where(side[:, None], [1.0, 0.0], np.where(top[:, None], [0.0, 1.0],
+                                                          np.column_stack([np.cos(turn), np.sin(turn)])))
+    sigma = np.where(side, p[:, 1], np.where(top, cy + 0.5 * np.pi * rc + cx - p[:, 0], cy + rc * turn))
+    length = rr.perimeter()
+    np.testing.assert_allclose(arcs.fraction(th) * length, sigma, rtol=0, atol=ARC_MM)
+    rate = rho * rho / np.einsum("ij,ij->i", p, normal)
+    np.testing.assert_allclose(arcs.dtheta_dfrac(th) * rate / length, 1.0, rtol=0, atol=RATE_RTOL)
+    np.testing.assert_allclose(arcs.theta(arcs.fraction(th)), th, rtol=0, atol=ROUND_TRIP_RAD)

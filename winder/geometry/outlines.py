@@ -46,6 +46,9 @@ class Ellipse:
     def perimeter(self) -> float:
         return perimeter_of(self)
 
+    def joints(self) -> np.ndarray:
+        return np.empty(0)  # smooth
+
 
 @dataclasses.dataclass(frozen=True)
 class Superellipse:
@@ -86,6 +89,9 @@ class Superellipse:
 
     def perimeter(self) -> float:
         return perimeter_of(self)
+
+    def joints(self) -> np.ndarray:
+        return np.empty(0)  # smooth
 
 
 @dataclasses.dataclass(frozen=True)
@@ -137,3 +143,10 @@ class RoundedRectangle:
     def perimeter(self) -> float:
         rc = self.corner_radius
         return 2.0 * (self.width + self.height) - 8.0 * rc + 2.0 * np.pi * rc
+
+    def joints(self) -> np.ndarray:
+        """The polar angles where a side meets a corner (the curvature jumps 0 <-> 1 / rc), as in
+        polar_cs, reflected into each quadrant; a zero-length side's two coincide."""
+        hw, hh, rc = 0.5 * self.width, 0.5 * self.height, self.corner_radius
+        quarter = np.array([np.arctan2(hh - rc, hw), np.arctan2(hh, hw - rc)])
+        return np.unique(np.mod(np.concatenate([quarter, np.pi - quarter, np.pi + quarter, -quarter]), 2.0 * np.pi))
