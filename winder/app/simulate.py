@@ -6,7 +6,8 @@ at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
 point p(u) of the planned pass whose tangent ray p + lambda d, lambda > 0, passes closest to E;
 the samples of a pass are matched together, their contacts moving forward along it
-(winder.app.contacts: on a flat face one tangent line fits a whole stretch of points). The pass is
+(winder.app.contacts: on a flat face one tangent line fits a whole stretch of points; a long pass, a
+hoop of many turns, within a band along it: winder.app.contact_bands). The pass is
 the fiber the plan's points stand for: between two planned points of a geodesic the geodesic ODE
 from the first (winder.app.exact_paths, scipy's solve_ivp, independent of the program writer's
 integration), elsewhere the smooth path through them (a cubic spline in (s, theta) over the point
@@ -30,7 +31,8 @@ import io
 
 import numpy as np
 
-from winder.app.contacts import candidates, forward, monotone_points, ray_distance, refine, repair, widen_ends
+from winder.app.contact_bands import TableTooLarge, contact_points
+from winder.app.contacts import candidates, forward, ray_distance, refine, repair, widen_ends
 from winder.app.contact_windows import unpin
 from winder.app.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
@@ -54,8 +56,8 @@ INSIDE_TOL = 1e-6  # of the mandrel's radius: an eye centre this far inside the 
 # a program of many more moves is another job's, or no program of winder's.
 MOVES_PER_POINT = 16
 MOVES_SLACK = 10_000
-# The contact search's table (winder.app.contacts.monotone_points): a pass's samples times its
-# candidates, 4 bytes each (plus its cost rows); past this the program is refused, not allocated.
+# The contact search's table (winder.app.contact_bands): a pass's samples times the candidates each is
+# matched against (a long pass: a band along it), 4 bytes each; past this the program is refused, not allocated.
 MAX_TABLE_ENTRIES = 100_000_000
 
 
@@ -119,20 +121,13 @@ def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, surface: SweepSurf
                       f"{-dist[row]:.3f} mm inside its surface at t = {station:.3f} mm, got {got}")
 
 
-def _refuse_large_table(chain: np.ndarray, size: np.ndarray, parsed: ParsedProgram, source: str) -> None:
-    """Refuse a layer whose contact search would need a table past MAX_TABLE_ENTRIES: a pass read from
-    many more moves than it has candidates (chain (k,) the samples' chain ids, size (k,) the candidates
-    of each sample's pass)."""
-    if not chain.size:
-        return
-    ids, first, length = np.unique(chain, return_index=True, return_counts=True)
-    entries = length.astype(np.int64) * size[first]
-    worst = int(np.argmax(entries))
-    if entries[worst] > MAX_TABLE_ENTRIES:
-        raise ConfigError(f"{source}: a pass read from {int(length[worst]):,} samples against "
-                          f"{int(size[first][worst]):,} points of its plan would need a table of {int(entries[worst]):,} "
-                          f"entries, more than simulate's limit of {MAX_TABLE_ENTRIES:,}: the program is not this "
-                          f"job's ({parsed.values.shape[0]:,} moves)")
+def _refuse_large_table(exc: TableTooLarge, parsed: ParsedProgram, source: str) -> ConfigError:
+    """The refusal of a layer whose contact search would allocate a table past MAX_TABLE_ENTRIES: a pass
+    whose samples keep their contacts within no narrow band along it (winder.app.contact_bands)."""
+    return ConfigError(f"{source}: a pass read from {exc.samples:,} samples, each against a band of up to "
+                       f"{exc.points:,} points of its plan, would need a table of {exc.entries:,} entries, more "
+                       f"than simulate's limit of {MAX_TABLE_ENTRIES:,}: its moves do not follow this job's "
+                       f"passes, the program is not this job's ({parsed.values.shape[0]:,} moves)")
 
 
 def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
@@ -201,8 +196,11 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
         first, last = paths.offset[where], paths.last[where]
         cand = candidates(paths)
         cu, cp, cd, cstart = cand
-        _refuse_large_table(chain[mine], cstart[where + 1] - cstart[where], parsed, source)
-        pick = monotone_points(all_eye[mine], chain[mine], position[mine], where, cp, cd, cstart)
+        try:
+            pick = contact_points(all_eye[mine], chain[mine], position[mine], where, cp, cd, cstart,
+                                  machine.chord_tolerance, MAX_TABLE_ENTRIES)
+        except TableTooLarge as exc:
+            raise _refuse_large_table(exc, parsed, source) from None
         # Between the candidates either side of the one picked, within the pass.
         lo = cu[np.maximum(pick - 1, cstart[where])]
         hi = cu[np.minimum(pick + 1, cstart[where + 1] - 1)]
