@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.app.contacts import _prefix_argmin, _segment_miss, monotone_points
+from winder.app.contacts import prefix_argmin, segment_miss, monotone_points
 
 BAND_ABOVE = 8_000_000  # a pass's full table (samples x candidates) past this is matched in a band
 FIRST_REACH = 64  # candidates searched forward from the last track first (a hoop: about 30 a sample)
@@ -67,11 +67,11 @@ def contact_points(eye: np.ndarray, chain: np.ndarray, position: np.ndarray, pas
 
 
 def _miss(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray, index: np.ndarray) -> np.ndarray:
-    """(k, w) contacts._segment_miss of eyes (k, 3) against the candidates index (k, w + 1) (the last
+    """(k, w) contacts.segment_miss of eyes (k, 3) against the candidates index (k, w + 1) (the last
     column only the next candidate of the one before it)."""
     p = np.moveaxis(points[index], -1, 0)
     d = np.moveaxis(dirs[index], -1, 0)
-    return _segment_miss(eye, p, d)[:, :-1]
+    return segment_miss(eye, p, d)[:, :-1]
 
 
 def track(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray, lo: int, hi: int, tol: float) -> np.ndarray:
@@ -123,7 +123,7 @@ def banded_chain(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray, hi: int,
             index = np.minimum(first[k:k + rows, None] + np.arange(w + 1), hi - 1)
             cost = np.where(cols < width[k:k + rows, None], _miss(eye[k:k + rows], points, dirs, index), np.inf)
         if k:
-            low, arg = _prefix_argmin(total[None])
+            low, arg = prefix_argmin(total[None])
             # Candidate first[k] + c has the previous band's c + shift before it (or all of that band).
             before = np.minimum(cols + (first[k] - first[k - 1]), w - 1)
             back[k] = arg[0, before]

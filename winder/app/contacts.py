@@ -50,7 +50,7 @@ def ray_distance(e: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray:
     return np.where(along > 0.0, off, np.linalg.norm(rel, axis=-1))
 
 
-def _segment_miss(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray) -> np.ndarray:
+def segment_miss(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     """(c, j): how near each eye (c, 3) comes to the rays of candidates j to j + 1 (points / dirs
     (3, c, j): a component each, the arithmetic running along j; the last one repeated): the eye's
     offset from the ray, linear between two candidates (the tangent turns little between them), at
@@ -71,7 +71,7 @@ def _segment_miss(eye: np.ndarray, points: np.ndarray, dirs: np.ndarray) -> np.n
     return np.sqrt(near[0] * near[0] + near[1] * near[1] + near[2] * near[2])
 
 
-def _prefix_argmin(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def prefix_argmin(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(running minimum, index of its first occurrence) along the last axis of v (c, j)."""
     low = np.minimum.accumulate(v, axis=1)
     new = np.ones(v.shape, dtype=bool)
@@ -93,10 +93,10 @@ def monotone_group(eye: np.ndarray, seq: np.ndarray, points: np.ndarray, dirs: n
     total = np.zeros((c, jj))
     for i in range(length):
         on = seq[:, i] >= 0
-        cost = _segment_miss(eye[np.maximum(seq[:, i], 0)], points, dirs)
+        cost = segment_miss(eye[np.maximum(seq[:, i], 0)], points, dirs)
         cost = np.where(valid, np.where(on[:, None], cost, 0.0), np.inf)
         if i:
-            low, back[i] = _prefix_argmin(total)
+            low, back[i] = prefix_argmin(total)
             total = cost + low
         else:
             total = cost
