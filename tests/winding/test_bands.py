@@ -49,6 +49,7 @@ def test_two_bands_closed_form():
     (list(np.arange(10) * 10.0 + 5.0), [10.0] * 10, 10.0),  # 10 bands of 20 on 100: twice covered all round
     ([97.0, 50.0], [5.0, 5.0], 0.0),  # one across the seam, none shared
     ([98.0, 3.0], [4.0, 4.0], 3.0),  # [94, 102] and [-1, 7]: [-1, 2] shared across the seam
+    ([95.0, 1.0, 8.0], [25.0, 1.0, 5.0], 10.0),  # [70, 120] wraps over [3, 13] whole, past the first band
 ])
 def test_the_overlap_is_the_widest_stretch_bands_share(centres, halves, widest):
     """The overlap is what a band shares with others (at most its width), not the longest run covered

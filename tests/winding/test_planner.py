@@ -9,6 +9,7 @@ import pytest
 
 from winder.config.job import parse_config
 from winder.errors import ConfigError, SolverError
+from winder.geometry.sections import arc_map
 from winder.winding.results import PassKind
 from winder.winding.plan import plan
 from roundoff import assert_roundoff
@@ -198,6 +199,32 @@ def test_hoop_on_a_cone_closes_its_band_across_the_slant():
     assert across[0] == pytest.approx(band, rel=1e-6)  # closed at the wide end, no more turns than needed
     assert across[1] < band
     assert hoop.coverage.covered_fraction >= COVERED and hoop.coverage.max_gap_mm == 0.0  # 0.9889 at the axial pitch
+
+
+def test_hoop_closes_its_band_over_a_short_ramp():
+    """A table profile stepping 100 -> 120 mm over 65 mm of a 1 m tube: the stretch there (up to 1.34)
+    sets the pitch, found on a grid a quarter band apart; the band's union measured at stations on
+    the ramp itself (the layer's own stations are 45 mm apart) closes."""
+    from winder.winding.coverage import layer_coverage  # noqa: PLC0415
+
+    points = ([[t, 100] for t in range(0, 481, 60)] + [[500, 101], [512, 110], [524, 119]]
+              + [[t, 120] for t in range(545, 1001, 65)])
+    pl = plan(job({"axis": {"type": "line", "length": 1000}, "profile": {"type": "table", "points": points}},
+                  {"band_width": 10, "friction": 1.0, "layers": [{"type": "hoop"}]}))
+    hoop = pl.layers[0]
+    ramp = layer_coverage(pl.surface, arc_map(pl.surface.section), list(hoop.passes), 10.0,
+                          np.linspace(482.0, 543.0, 62))
+    assert ramp.covered_fraction >= COVERED and ramp.max_gap_mm == 0.0  # 0.83, a 116 mm gap on 41 stations
+
+
+def test_a_spaced_hoop_on_a_cone_says_so():
+    """At 89.4272 deg on the 160 -> 85 mm cone the turns lie 1.005 bands apart across the slant at the
+    wide end: the layer's note says its coverage stays incomplete."""
+    hoop = plan(job({"axis": {"type": "line", "length": 500},
+                     "profile": {"type": "cone", "start_radius": 160, "end_radius": 85}},
+                    {"band_width": 10, "friction": 0.25, "layers": [{"type": "hoop", "angle": 89.4272}]})).layers[0]
+    assert hoop.coverage.covered_fraction < 1.0
+    assert any("coverage stays incomplete" in note for note in hoop.notes)
 
 
 @pytest.mark.parametrize("mandrel, friction", [

@@ -42,7 +42,8 @@ def contact_points(eye: np.ndarray, chain: np.ndarray, position: np.ndarray, pas
                    band_above: int = BAND_ABOVE) -> np.ndarray:
     """contacts.monotone_points for every chain (same arguments), those whose full table is past
     band_above matched in a band (module docstring); tol the chord tolerance. (n,) indices into points.
-    Raises TableTooLarge where a band's table (samples x its widest band) would be past limit."""
+    Raises TableTooLarge where a band's table (samples x its widest band) would be past limit; a
+    chain read whole is at most band_above entries, which the caller keeps below its limit."""
     order = np.lexsort((position, chain))
     _, begin, length = np.unique(chain[order], return_index=True, return_counts=True)
     of_chain = pass_of[order[begin]]

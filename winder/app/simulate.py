@@ -11,7 +11,7 @@ hoop of many turns, within a band along it: winder.app.contact_bands). The pass 
 the fiber the plan's points stand for: between two planned points of a geodesic the geodesic ODE
 from the first (winder.app.exact_paths, scipy's solve_ivp, independent of the program writer's
 integration), elsewhere the smooth path through them (a cubic spline in (s, theta) over the point
-index, MATH.md 2). Its
+index, MATH.md 2; in (s, f), f the perimeter fraction, on a non-circular section: docs/math/12 12.2). Its
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
 lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
 Samples: every programmed point and the midpoint of every move within a pass (the eye the

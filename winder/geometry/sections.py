@@ -158,5 +158,5 @@ def polar_arcs(section: Section) -> ArcMap | None:
     is already proportional to arc length. A straight tube of any section unrolls flat, so a geodesic
     is a straight line in (station, perimeter fraction), which a spline carries; against theta it
     bends where a flat meets a corner, and a spline there misses the tangent by up to 0.2 deg
-    (docs/math/12 12.4)."""
+    (docs/math/12 12.2)."""
     return None if section.is_circle else arc_map(section)

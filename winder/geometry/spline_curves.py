@@ -35,6 +35,10 @@ class SplineCurve:
     is_straight: bool = False
     stall_t: float | None = None  # where the interpolant c(u) nearly stops (a cusp), if it does
 
+    def __getstate__(self) -> dict:
+        # The table is rebuilt where it is read: pickled with it a curve is 3.2 MB, not 263 kB.
+        return {k: v for k, v in self.__dict__.items() if k != "_jet"}
+
     @functools.cached_property
     def _jet(self):
         return jet([(piecewise(self.xs), 3), (piecewise(self.e2s), 0)])
@@ -46,8 +50,8 @@ class SplineCurve:
         return CurveEval(x, d1, d2, d3, e2, e3)
 
     def centerline(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """x, x' and x'' at stations z (m,): evaluate's first three fields (each (m, 3), new arrays)
-        without the frame, for closest-point searches that do not need it."""
+        """x, x' and x'' at stations z (m,): evaluate's first three fields (each (m, 3), views of one
+        new array) without the frame, for closest-point searches that do not need it."""
         values = self._jet(np.asarray(z, dtype=float).ravel())
         return values[:, 0:3], values[:, 3:6], values[:, 6:9]
 

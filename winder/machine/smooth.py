@@ -55,9 +55,10 @@ def _square3(v: np.ndarray) -> np.ndarray:
 class SmoothPaths:
     """The planned passes' smooth paths, concatenated: pass j owns the global parameter range
     [offset_j, offset_j + n_j - 1] (u = the point index). (s, theta) is cubic Hermite between the
-    points, with derivatives along the plan's own fiber directions (FiberPass.direction, the smooth
-    path's tangents, in each interval's own side of the surface), their size that of a cubic spline
-    through the points: the curve passes through every planned point with the planned tangent there
+    points (on a non-circular section (s, f), f the perimeter fraction: docs/math/12 12.2), with
+    derivatives along the plan's own fiber directions (FiberPass.direction, the smooth path's tangents,
+    in each interval's own side of the surface), their size that of a cubic spline through the points:
+    the curve passes through every planned point with the planned tangent there
     (C1 in space, also where the surface's metric jumps at a point), and O(h^4) close to the smooth path.
     A dwell is the cubic spline through its points on the parallel, and its direction (the free
     fiber's, swinging round an end that holds it) is interpolated between its points'."""

@@ -45,13 +45,14 @@ def union_stats(centres: np.ndarray, halves: np.ndarray, perimeter: float) -> St
 
 def _overlap(lo: np.ndarray, hi: np.ndarray, perimeter: float) -> float:
     """The widest stretch of a band (lo, hi (k,), lo in [0, P)) that the bands starting before it
-    cover (the first band against the last ones' reach a turn on); less than EDGE_TOL is none."""
-    order = np.argsort(lo, kind="stable")
-    lo, hi = lo[order], hi[order]
-    reach = np.maximum.accumulate(hi)
-    shared = np.minimum(reach[:-1], hi[1:]) - lo[1:]
-    wrapped = min(reach[-1] - perimeter, hi[0]) - lo[0]
-    widest = max(float(shared.max()) if shared.size else 0.0, wrapped if lo.size > 1 else 0.0)
+    cover, the bands taken twice (and a turn on) so that one wrapping past P covers those after the
+    seam; less than EDGE_TOL is none. A band at most P wide meets its own copy only end to end."""
+    both_lo, both_hi = np.concatenate([lo, lo + perimeter]), np.concatenate([hi, hi + perimeter])
+    order = np.argsort(both_lo, kind="stable")
+    both_lo, both_hi = both_lo[order], both_hi[order]
+    reach = np.maximum.accumulate(both_hi)
+    shared = np.minimum(reach[:-1], both_hi[1:]) - both_lo[1:]
+    widest = float(shared.max()) if shared.size else 0.0
     return widest if widest > EDGE_TOL else 0.0
 
 
@@ -112,7 +113,8 @@ def union_stats_many(centres: list[np.ndarray], halves: list[np.ndarray], perime
     lows, highs = np.minimum.reduceat(mid, first), np.maximum.reduceat(mid, first)
     gaps = _longest_runs(seg, mid == 0, first, n, [perimeters[j] for j in full])
     bounds = np.cumsum(sizes[full])[:-1]
-    overlaps = [_overlap(a, z, perimeters[j]) for a, z, j in zip(np.split(lo, bounds), np.split(hi, bounds), full.tolist())]
+    overlaps = [_overlap(a, z, perimeters[j])
+                for a, z, j in zip(np.split(lo, bounds), np.split(hi, bounds), full.tolist())]
     for i, j in enumerate(full.tolist()):
         covered = float(np.sum(covered_seg[(cuts[i - 1] if i else 0):cuts[i]]))
         out[j] = (covered, gaps[i], overlaps[i], int(lows[i]), int(highs[i]))

@@ -37,7 +37,7 @@ POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling 
 @dataclasses.dataclass(frozen=True)
 class BossCone:
     """The cone through a bare dome's polar opening circle (r0 in its opening plane, H = depth) that
-    every grown dome stays below (docs/math/08-laminate-edges.md 8.3): H <= depth - slope (r - r0).
+    every grown dome stays below (docs/math/08-laminate-edges.md 8.7): H <= depth - slope (r - r0).
 
     Fixed from the bare mandrel, so the limit does not shrink layer by layer."""
 
