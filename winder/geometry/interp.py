@@ -84,8 +84,6 @@ def hermite(x: np.ndarray, y: np.ndarray, m: np.ndarray, i: np.ndarray, q: np.nd
     return np.zeros_like(y0)
 
 
-
-
 def piecewise(spline: BSpline) -> PPoly:
     """A B-spline of values (n,) or (n, c) as scipy's PPoly on its distinct knots (the same
     polynomials, to round-off; PPoly.from_spline takes one column at a time)."""

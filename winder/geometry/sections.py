@@ -137,8 +137,10 @@ def arc_grid(section: Section) -> np.ndarray:
     return np.concatenate(spans + [[turn]])
 
 
+@functools.lru_cache(maxsize=16)
 def arc_map(section: Section) -> ArcMap:
-    """The arc-length map of a section (exact identity for circles)."""
+    """The arc-length map of a section (exact identity for circles), built once per section (sections
+    are frozen, hashable values): the plan, its budget, every pass's splines and the report share it."""
     if section.is_circle:
         return ArcMap(np.array([0.0, 2.0 * np.pi]), np.array([0.0, 1.0]), True)
     th = arc_grid(section)
@@ -151,11 +153,9 @@ def arc_map(section: Section) -> ArcMap:
     return ArcMap(th, cum / cum[-1], False, speed / cum[-1], section, float(cum[-1]))
 
 
-@functools.lru_cache(maxsize=16)
 def polar_arcs(section: Section) -> ArcMap | None:
-    """The arc map that a path's splines run against on a non-circular section, built once per
-    section (every pass asks; sections are frozen, hashable values), or None on a circle, where theta
-    is already proportional to arc length. A straight tube of any section unrolls flat, so a geodesic
+    """The arc map that a path's splines run against on a non-circular section (arc_map's), or None
+    on a circle, where theta is already proportional to arc length. A straight tube of any section unrolls flat, so a geodesic
     is a straight line in (station, perimeter fraction), which a spline carries; against theta it
     bends where a flat meets a corner, and a spline there misses the tangent by up to 0.2 deg
     (docs/math/12 12.2)."""

@@ -41,6 +41,7 @@ PITCH_GAP_REL = 1e-9
 # The grid the largest stretch is sought on: stations a twentieth of a band apart (within these counts;
 # a table profile's 20 mm ramp peaks narrowly: a quarter band missed 3 % of it, a 0.3 mm gap), 72 angles.
 STRETCH_STEP_BANDS, STRETCH_STATIONS, STRETCH_ANGLES = 0.05, (41, 20001), 72
+STRETCH_BLOCK = 50_000  # grid points evaluated at once (a few MB), however long the region
 STRETCH_TOL = 1e-12  # a straight tube's stretch is 1 to round-off: its pitch is left exact
 
 
@@ -53,17 +54,18 @@ def _cylinder_region(ctx: PlanContext) -> tuple[float, float]:
 
 def _stretch(ctx: PlanContext, t_a: float, t_b: float) -> float:
     """The largest surface distance across the circumference per unit station over the region
-    (module docstring): |Phi_t| less its part along Phi_theta, on a grid of stations and angles."""
+    (module docstring): |Phi_t| less its part along Phi_theta, on a grid of stations and angles (one
+    angle on a surface of revolution, where it does not depend on theta). The region is an open
+    mandrel's (s = t) or a vessel's cylinder (s = t there, up to a shift)."""
     surf = ctx.surface
     n = int(np.clip(math.ceil((t_b - t_a) / (STRETCH_STEP_BANDS * ctx.winding.band_width)) + 1, *STRETCH_STATIONS))
-    s = surf.s_of_t(np.linspace(t_a, t_b, n))
-    ss, tt = np.meshgrid(s, np.linspace(0.0, 2.0 * math.pi, STRETCH_ANGLES, endpoint=False), indexing="ij")
-    ev = surf.evaluate(ss.ravel(), tt.ravel(), order=1, with_point=False)
-    along = np.einsum("ij,ij->i", ev.ps, ev.pt) / np.einsum("ij,ij->i", ev.pt, ev.pt)
-    across = row_norms(ev.ps - along[:, None] * ev.pt)
-    if not surf.is_axial_parameter:  # a vessel's s is its meridian's length: per unit of the station t
-        across = across / np.abs(surf.profile.evaluate(ss.ravel()).z1)
-    worst = float(np.max(across))
+    angles = np.linspace(0.0, 2.0 * math.pi, 1 if surf.is_revolution else STRETCH_ANGLES, endpoint=False)
+    ss, tt = (a.ravel() for a in np.meshgrid(surf.s_of_t(np.linspace(t_a, t_b, n)), angles, indexing="ij"))
+    worst = 0.0
+    for k in range(0, ss.size, STRETCH_BLOCK):
+        ev = surf.evaluate(ss[k:k + STRETCH_BLOCK], tt[k:k + STRETCH_BLOCK], order=1, with_point=False)
+        along = np.einsum("ij,ij->i", ev.ps, ev.pt) / np.einsum("ij,ij->i", ev.pt, ev.pt)
+        worst = max(worst, float(np.max(row_norms(ev.ps - along[:, None] * ev.pt))))
     return 1.0 if worst <= 1.0 + STRETCH_TOL else worst
 
 
