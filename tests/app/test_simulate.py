@@ -20,7 +20,7 @@ from plans import cylinder_plan
 from winder.config.machine import MachineConfig
 from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ConfigError
-from winder.app.contacts import ray_distance
+from winder.readback.contacts import ray_distance
 from winder.app.simulate import simulate, simulate_files, simulation_csv
 from winder.export.gcode import gcode_text
 from winder.machine.program import build_program

@@ -1,4 +1,4 @@
-"""winder.app.exact_paths: simulate measures the eye against the fiber the geodesic ODE lays through the
+"""winder.readback.exact_paths: simulate measures the eye against the fiber the geodesic ODE lays through the
 plan's points (scipy's solve_ivp), not against the smooth interpolant the program writer once used, so
 it sees the 0.45 mm miss the interpolant's direction made on samples/vessel_hemi.yaml (`points: 30`)."""
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import yaml
 
-from winder.app.exact_paths import ExactPaths
+from winder.readback.exact_paths import ExactPaths
 from winder.app.simulate import simulate
 from winder.config.job import parse_config
 from winder.export.gcode import gcode_text

@@ -1,4 +1,4 @@
-"""winder.app.simulate on a hoop layer of an elliptic tube (winder.app.contact_bands): one pass of 100
+"""winder.app.simulate on a hoop layer of an elliptic tube (winder.readback.contact_bands): one pass of 100
 turns, a point every few degrees, read back within the tolerances in bounded time and memory (the whole
 pass's table was 2,110 samples x 58,429 candidates on 88 turns, 123 million entries, and the program
 was refused as another job's); the band's contacts are the whole table's; another job's program is
@@ -12,14 +12,14 @@ import time
 import numpy as np
 import pytest
 
-import winder.app.contact_bands as contact_bands
+import winder.readback.contact_bands as contact_bands
 import winder.app.simulate as simulate_module
-from winder.app.contacts import candidates, monotone_points
-from winder.app.exact_paths import ExactPaths
+from winder.readback.contacts import candidates, monotone_points
+from winder.readback.exact_paths import ExactPaths
 from winder.app.simulate import eye_positions, simulate
 from winder.config.job import parse_config
 from winder.errors import ConfigError
-from winder.export.dialects.parse import parse_program
+from winder.readback.gcode import parse_program
 from winder.export.gcode import gcode_text
 from winder.winding.plan import plan as plan_job
 

@@ -1,6 +1,6 @@
 """winder.app.simulate on a multi-layer vessel (issue 29: the big tanks' programs read back): every
 layer's program on its own grown surface, within the tolerances, in bounded time; and the rotated
-circuits' shared geodesic integration (winder.app.exact_paths) against one integration per interval.
+circuits' shared geodesic integration (winder.readback.exact_paths) against one integration per interval.
 
 The big parts (parts/copv_12.yaml, parts/tank_20.yaml) run nightly: WINDER_NIGHTLY=1
 `pytest tests/app/test_simulate_layers.py` (a minute or two each on 2 cores)."""
@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from winder.app.exact_paths import ExactPaths
+from winder.readback.exact_paths import ExactPaths
 from winder.app.simulate import simulate, simulate_files
 from winder.config.job import load_config, parse_config
 from winder.export.gcode import gcode_text

@@ -15,7 +15,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from winder.config.job import load_config
-from winder.export.dialects.parse import parse_program
+from winder.readback.gcode import parse_program
 from winder.export.gcode import program_text
 from winder.machine.chords import move_cuts
 from winder.machine.envelope import eye_envelope

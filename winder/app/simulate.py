@@ -1,15 +1,15 @@
 """`winder simulate CONFIG PROGRAM`: what a winding program lays, read back from its text.
 
-The program (any dialect winder writes, winder.export.dialects.parse) gives the eye at every
+The program (any dialect winder writes, winder.readback.gcode) gives the eye at every
 programmed point through the forward kinematics (SPEC.md: with the mandrel turned by A the eye is
 at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free fiber runs from the
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
 point p(u) of the planned pass whose tangent ray p + lambda d, lambda > 0, passes closest to E;
 the samples of a pass are matched together, their contacts moving forward along it
-(winder.app.contacts: on a flat face one tangent line fits a whole stretch of points; a long pass, a
-hoop of many turns, within a band along it: winder.app.contact_bands). The pass is
+(winder.readback.contacts: on a flat face one tangent line fits a whole stretch of points; a long pass, a
+hoop of many turns, within a band along it: winder.readback.contact_bands). The pass is
 the fiber the plan's points stand for: between two planned points of a geodesic the geodesic ODE
-from the first (winder.app.exact_paths, scipy's solve_ivp, independent of the program writer's
+from the first (winder.readback.exact_paths, scipy's solve_ivp, independent of the program writer's
 integration), elsewhere the smooth path through them (a cubic spline in (s, theta) over the point
 index, MATH.md 2; in (s, f), f the perimeter fraction, on a non-circular section: docs/math/12 12.2). Its
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
@@ -31,14 +31,14 @@ import io
 
 import numpy as np
 
-from winder.app.contact_bands import TableTooLarge, contact_points
-from winder.app.contacts import candidates, forward, ray_distance, refine, repair, widen_ends
-from winder.app.contact_windows import unpin
-from winder.app.exact_paths import ExactPaths
+from winder.readback.contact_bands import TableTooLarge, contact_points
+from winder.readback.contacts import candidates, forward, ray_distance, refine, repair, widen_ends
+from winder.readback.contact_windows import unpin
+from winder.readback.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
-from winder.export.dialects.parse import ParsedProgram, parse_program
-from winder.export.dialects.program_file import ProgramFile
+from winder.readback.gcode import ParsedProgram, parse_program
+from winder.readback.program_file import ProgramFile
 from winder.geometry.surface import SweepSurface
 from winder.machine.collision import move_distances
 from winder.machine.envelope import EyeEnvelope, eye_envelope
@@ -56,7 +56,7 @@ INSIDE_TOL = 1e-6  # of the mandrel's radius: an eye centre this far inside the 
 # a program of many more moves is another job's, or no program of winder's.
 MOVES_PER_POINT = 16
 MOVES_SLACK = 10_000
-# The contact search's table (winder.app.contact_bands): a pass's samples times the candidates each is
+# The contact search's table (winder.readback.contact_bands): a pass's samples times the candidates each is
 # matched against (a long pass: a band along it), 4 bytes each; past this the program is refused, not allocated.
 MAX_TABLE_ENTRIES = 100_000_000
 
@@ -123,7 +123,7 @@ def _refuse_entering(parsed: ParsedProgram, env: EyeEnvelope, surface: SweepSurf
 
 def _refuse_large_table(exc: TableTooLarge, parsed: ParsedProgram, source: str) -> ConfigError:
     """The refusal of a layer whose contact search would allocate a table past MAX_TABLE_ENTRIES: a pass
-    whose samples keep their contacts within no narrow band along it (winder.app.contact_bands)."""
+    whose samples keep their contacts within no narrow band along it (winder.readback.contact_bands)."""
     return ConfigError(f"{source}: a pass read from {exc.samples:,} samples, each against a band of up to "
                        f"{exc.points:,} points of its plan, would need a table of {exc.entries:,} entries, more "
                        f"than simulate's limit of {MAX_TABLE_ENTRIES:,}: its moves do not follow this job's "
@@ -176,7 +176,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
     _refuse_entering(parsed, eye_envelope(plan.surface, machine), plan.surface, source)
     all_pass = np.concatenate([pass_of, pass_of[mid_rows]])
     # The samples of each pass in the order the machine lays them (a move's midpoint between its rows):
-    # their contacts move forward along the pass together (winder.app.contacts).
+    # their contacts move forward along the pass together (winder.readback.contacts).
     chain = np.cumsum(~same)
     chain = np.concatenate([chain, chain[mid_rows]])
     position = np.concatenate([2 * np.arange(m), 2 * mid_rows - 1])

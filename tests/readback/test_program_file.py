@@ -1,4 +1,4 @@
-"""A program file read line by line (winder.export.dialects.program_file): the same lines and the same
+"""A program file read line by line (winder.readback.program_file): the same lines and the same
 dialect as the whole text gives, no line read whole past its limit, a refusal before any work."""
 
 from __future__ import annotations
@@ -8,10 +8,10 @@ from pathlib import Path
 import pytest
 
 from winder.errors import ConfigError
-from winder.export.dialects import program_file
-from winder.export.dialects.cell_parse import detect_cell
-from winder.export.dialects.parse import detect
-from winder.export.dialects.program_file import ProgramFile
+from winder.readback import program_file
+from winder.readback.cells import detect_cell
+from winder.readback.gcode import detect
+from winder.readback.program_file import ProgramFile
 
 ROOT = Path(__file__).resolve().parents[2]
 NO_LIMIT = 10**9

@@ -1,5 +1,5 @@
 """The contacts of a long pass read from many samples (winder.app.simulate): the dynamic program of
-winder.app.contacts in a band along the pass.
+winder.readback.contacts in a band along the pass.
 
 A hoop pass is one pass of many turns: on an elliptic tube (a point every few degrees, 88 turns) 2,110
 samples against 58,429 candidates, a table of 123 million entries for the whole pass; on a 2.5 m tube
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.app.contacts import prefix_argmin, segment_miss, monotone_points
+from winder.readback.contacts import prefix_argmin, segment_miss, monotone_points
 
 BAND_ABOVE = 8_000_000  # a pass's full table (samples x candidates) past this is matched in a band
 FIRST_REACH = 64  # candidates searched forward from the last track first (a hoop: about 30 a sample)

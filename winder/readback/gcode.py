@@ -19,8 +19,8 @@ import re
 import numpy as np
 
 from winder.config.machine import MachineConfig
-from winder.export.dialects.parsed import ParsedProgram
-from winder.export.dialects.program_file import GCODE_LINES, ProgramFile
+from winder.readback.parsed import ParsedProgram
+from winder.readback.program_file import GCODE_LINES, ProgramFile
 from winder.errors import ConfigError
 from winder.export.dialects import marlin
 from winder.export.dialects import robot as poses
@@ -46,7 +46,7 @@ MAX_WORD_VALUE = 1e12
 # of a whole job, with room for a program's approach and turnaround rows.
 MAX_MOVES = 3_000_000
 BLOCK_ROWS = 65_536
-# A robot cell's program is read whole (winder.export.dialects.program_file): at most this per move (a
+# A robot cell's program is read whole (winder.readback.program_file): at most this per move (a
 # KRL move is a LIN line and a DECL E6POS of about 200 bytes; RAPID's robtarget about 250).
 CELL_BYTES_PER_MOVE = 1_000
 CELL_BYTES_SLACK = 1_000_000
@@ -72,11 +72,11 @@ def _code(line: str) -> str:
 
 def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str = "program",
                   max_moves: int = MAX_MOVES) -> ParsedProgram:
-    """Read a program (its text, or its file read line by line: winder.export.dialects.program_file)
+    """Read a program (its text, or its file read line by line: winder.readback.program_file)
     written for `machine`, its dialect detected from the text; refused past max_moves moves, as soon
     as the line past them is read (or at once when the text has more than twice as many lines: a
     winder program has a comment line per pass, not per move). Memory: the rows read, in numpy blocks."""
-    from winder.export.dialects.cell_parse import detect_cell, parse_cell  # noqa: PLC0415
+    from winder.readback.cells import detect_cell, parse_cell  # noqa: PLC0415
 
     if isinstance(text, ProgramFile):
         cell, dialect, lines_in_text = text.survey(2 * max_moves + 10_000)

@@ -14,7 +14,7 @@ An interval is geodesic only where the ODE over its length lands on the planned 
 ARRIVE_TOL and on its planned direction within ARRIVE_TURN (a friction-held path on a bend may land
 within ARRIVE_TOL over a short interval, its direction 0.007 rad off): a friction-held path, a dwell's free fiber, a
 turnaround held by the mandrel's end arrive elsewhere and keep the smooth path. So do, as a whole,
-non-circular sections (flats and corners: the contact search, winder.app.contacts, is tuned to the
+non-circular sections (flats and corners: the contact search, winder.readback.contacts, is tuned to the
 smooth path there) and guides with joints (a line meeting an arc: the elbow).
 """
 

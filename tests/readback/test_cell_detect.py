@@ -1,4 +1,4 @@
-"""A robot cell's program told apart in a whole text (winder.export.dialects.cell_parse.detect_cell):
+"""A robot cell's program told apart in a whole text (winder.readback.cells.detect_cell):
 in time linear in the text, whatever blank lines it holds."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from winder.export.dialects.cell_parse import detect_cell
+from winder.readback.cells import detect_cell
 
 BLANK_LINES = 200_000
 LINEAR_S = 5.0  # a search of a few megabytes; one quadratic in the blank lines takes hours here

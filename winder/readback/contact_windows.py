@@ -7,9 +7,9 @@ fit at u = 196.15..196.31), so the contacts of three samples pile up on one poin
 stretch fits within the chord tolerance in order. repair moves one sample at a time between its
 neighbours and keeps a move only where that sample does better, so it cannot undo such a pile-up.
 Here each sample still off by more than the tolerance is matched again together with WINDOW samples on
-either side: the dynamic program of winder.app.contacts over fine reads of the stretch the samples just
+either side: the dynamic program of winder.readback.contacts over fine reads of the stretch the samples just
 outside leave (REPAIR_TURN apart, and REPAIR_STEP), the least total ray distance in order, each read
-picked then refined between its neighbouring reads (winder.app.contacts.refine); the new contacts are
+picked then refined between its neighbouring reads (winder.readback.contacts.refine); the new contacts are
 kept where the stretch's largest distance drops.
 """
 
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.app.contacts import monotone_group, ray_distance, refine, window_reads
+from winder.readback.contacts import monotone_group, ray_distance, refine, window_reads
 from winder.machine.smooth import SmoothPaths
 
 WINDOW = 1  # samples matched again on either side of one off its ray
@@ -28,7 +28,7 @@ MAX_STRETCHES = 2_000  # more samples off than this: the program is reported as 
 def unpin(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray, position: np.ndarray,
           tol: float) -> np.ndarray:
     """u (n,) with the stretches around samples off their rays by more than tol matched again
-    (module docstring); eye (n, 3), chain and position (n,) as in winder.app.contacts.repair."""
+    (module docstring); eye (n, 3), chain and position (n,) as in winder.readback.contacts.repair."""
     order = np.lexsort((position, chain))
     ch = chain[order]
     out = u.astype(float, copy=True)

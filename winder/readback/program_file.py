@@ -1,7 +1,7 @@
-"""A winding program on disk, read line by line (simulate's input; winder.export.dialects.parse).
+"""A winding program on disk, read line by line (simulate's input; winder.readback.gcode).
 
 Nothing but the line being read is held: its dialect is found by one streaming pass (the same tests
-as winder.export.dialects.parse.detect and cell_parse.detect_cell, line by line), which also counts
+as winder.readback.gcode.detect and cells.detect_cell, line by line), which also counts
 the lines, and its moves by a second pass. A line longer than MAX_LINE_BYTES (a winder program's are
 under 200 bytes) is refused naming it, so no line is read whole whatever the file holds. A robot
 cell's program (KRL, RAPID, URScript) is read whole, within a size its caller bounds by its budget:
@@ -24,7 +24,7 @@ _MARLIN_FIRST = marlin.HEADER.strip().upper()  # a marlin program's first text
 
 MAX_LINE_BYTES = 1_000_000
 # The line only a dialect writes, in the order the dialects are told apart. Multi-line: the same
-# pattern matches a line (survey) and searches a whole text (cell_parse.detect_cell).
+# pattern matches a line (survey) and searches a whole text (cells.detect_cell).
 # The leading blanks never cross a newline ([^\S\n]*, the same matches as \s*: with \s*, a text's
 # search runs from every line start over all the blank lines after it, 76 s for 60,000 of them).
 # A robot cell's program (URScript's def ends with a colon, KRL's DEF does not):
@@ -76,7 +76,7 @@ class ProgramFile:
 
     def survey(self, max_lines: int) -> tuple[str | None, str, int]:
         """(cell dialect or None, G-code dialect, lines): one streaming pass, the dialect decided as
-        parse.detect and cell_parse.detect_cell decide it over the whole text (module docstring); it
+        gcode.detect and cells.detect_cell decide it over the whole text (module docstring); it
         stops past max_lines lines (the caller refuses the program: its dialect is then moot)."""
         found: set[str] = set()
         count, first = 0, None

@@ -1,4 +1,4 @@
-"""winder.app.contact_windows: a stretch matched again keeps each sample's contact where its ray fits,
+"""winder.readback.contact_windows: a stretch matched again keeps each sample's contact where its ray fits,
 not merely at the nearest of the search's reads.
 
 parts/tank_20.yaml's third layer (a 17.5 deg helical), one circuit: near the first dome's polar
@@ -15,11 +15,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from winder.app.contacts import TIE, ray_distance
-from winder.app.exact_paths import ExactPaths
+from winder.readback.contacts import TIE, ray_distance
+from winder.readback.exact_paths import ExactPaths
 from winder.app.simulate import eye_positions, simulate
 from winder.config.job import load_config
-from winder.export.dialects.parse import ParsedProgram
+from winder.readback.gcode import ParsedProgram
 from winder.export.gcode import gcode_text
 from winder.machine.program import as_written, build_program
 from winder.winding.plan import plan as plan_job
@@ -51,7 +51,7 @@ def test_programmed_points_read_on_the_rays_they_were_written_for(one_circuit):
     farther off than it (within TIE, the rounding of the printed values), and every sample, move
     midpoints too, lies within the chord tolerance. (The bound is loose in places, 0.016 mm: the
     program writer places a point inside an interval by the smooth path's arc length, ExactPaths by
-    the point index, winder.machine.exact and winder.app.exact_paths.)"""
+    the point index, winder.machine.exact and winder.readback.exact_paths.)"""
     job, plan, program, sim = one_circuit
     layer = plan.layers[LAYER - 1]
     paths = ExactPaths(plan.surface_of(LAYER), list(layer.passes))

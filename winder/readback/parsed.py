@@ -1,4 +1,4 @@
-"""A winding program read back (winder.export.dialects.parse for G-code, cell_parse for robot languages)."""
+"""A winding program read back (winder.readback.gcode for G-code, cells for robot languages)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ class ParsedProgram:
     line: np.ndarray | None = None
     job: str | None = None
     job_line: int | None = None  # the line number of the `; job:` line
-    mids: np.ndarray | None = None  # (m, 3) a robot cell's eye halfway along each move (winder.export.dialects.cell_parse)
+    mids: np.ndarray | None = None  # (m, 3) a robot cell's eye halfway along each move (winder.readback.cells)
     move_s: np.ndarray | None = None  # (m,) a robot cell's move times, as its program states them
 
     @property

@@ -15,8 +15,8 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
-from winder.export.dialects.parsed import ParsedProgram
-from winder.export.dialects.program_file import CELL_LINES
+from winder.readback.parsed import ParsedProgram
+from winder.readback.program_file import CELL_LINES
 from winder.machine.cell import eye_of, mandrel_in_base
 
 _PASS = re.compile(r"^\s*(?:;|!|#)\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
@@ -32,7 +32,7 @@ QUATERNION_TOL = 1e-6  # |q| - 1 of a written quaternion
 
 def detect_cell(text: str) -> str | None:
     """krl, rapid or urscript when the text is one of those programs, else None (the lines
-    winder.export.dialects.program_file's survey looks for, line by line, in a file)."""
+    winder.readback.program_file's survey looks for, line by line, in a file)."""
     return next((name for name, line in CELL_LINES if line.search(text)), None)
 
 
@@ -235,7 +235,7 @@ def _midpoints(frames: np.ndarray, external: np.ndarray) -> np.ndarray:
 
 
 def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str):
-    """The ParsedProgram (winder.export.dialects.parse) of a robot cell's program."""
+    """The ParsedProgram (winder.readback.gcode) of a robot cell's program."""
 
     if machine.cell is None:
         raise ConfigError(f"{source}: a {dialect} program needs the robot cell it was written for: the config's "
