@@ -34,6 +34,20 @@ class LayerType(Enum):
     HOOP = "hoop"
 
 
+def layer_label(index: int, kind: str | None = None, angle_deg: float | None = None) -> str:
+    """How every message and output names layer `index` (0-based): from 1, with its type and angle.
+
+    Examples
+    --------
+    >>> layer_label(4, "helical", 16.0)
+    'layer 5 (helical 16 deg)'
+    >>> layer_label(1, "hoop")
+    'layer 2 (hoop)'
+    """
+    words = " ".join(w for w in (kind, f"{angle_deg:g} deg" if angle_deg is not None else None) if w)
+    return f"layer {index + 1} ({words})" if words else f"layer {index + 1}"
+
+
 @dataclasses.dataclass(frozen=True)
 class LayerConfig:
     """One layer of the plan (YAML: an entry of `winding.layers`).
@@ -70,6 +84,10 @@ class LayerConfig:
     circuits: int | None = None
     taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
     step_back: float = 0.0  # helical on vessels: mm its turnarounds move toward the equator (math 8.8)
+
+    def label(self, index: int) -> str:
+        """`layer 5 (helical 16 deg)`: layer_label of this layer at 0-based position `index`."""
+        return layer_label(index, self.type.value, self.angle_deg)
 
 
 @dataclasses.dataclass(frozen=True)
