@@ -118,7 +118,12 @@ def _passes(ctx: PlanContext, index: int, legs: list[Leg], domes, theta0: float,
     surf = ctx.surface
     prof = surf.profile
     e1, e2 = prof.equator_s
-    m_cyl = max(8, int(math.ceil((ctx.winding.points or 200) * 0.5)))
+    # The cylinder's samples are spaced no closer than the legs': a cylinder of no length (or of a
+    # micrometre) joins the legs at the equator without repeating a point or crowding points closer
+    # than any derivative of the pass can be read from (every spline of the pass is in t or s).
+    spacing = min(leg.length for leg in legs) / (LEG_POINTS - 1)
+    fiber = math.hypot(e2 - e1, prof.radius * cyl)  # the helix on the cylinder
+    m_cyl = min(max(8, int(math.ceil((ctx.winding.points or 200) * 0.5))), 1 + int(math.ceil(fiber / spacing)))
     s_cyl = np.linspace(e1, e2, m_cyl)
 
     def one(forward: bool, th_start: float):
