@@ -22,7 +22,7 @@ from winder.app.wall_clock import TimeUp, time_limit
 from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
-from winder.progress import Progress, part
+from winder.progress import Progress, doing, part
 
 if TYPE_CHECKING:
     from concurrent.futures import Future
@@ -146,7 +146,8 @@ def _plan(job, progress: Progress | None = None):
     from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
 
-    validate_job(job)  # the checks of `check`, so that `run` refuses nothing `check` accepted
+    with doing(f"checking {shown_path(job.source)} as `check` does (values, surface, work budget)"):
+        validate_job(job)  # the checks of `check`, so that `run` refuses nothing `check` accepted
     try:
         return plan(job, progress)
     except ConfigError as exc:
@@ -182,7 +183,8 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
         with time_limit(seconds):
             formats = tuple(formats)
             output_names("x", formats, summary)  # refuses an unknown format before any work
-            job = load_config(config)
+            with doing(f"reading {shown_path(config)}"):
+                job = load_config(config)
             if source is not None:
                 job = dataclasses.replace(job, source=source)
                 shown = source
@@ -212,8 +214,7 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             progress(1.0, "written")
     except TimeUp as up:
         raise_if_interrupted(up)  # a stop signal came first: the job ends as interrupted
-        exc = WinderError(f"the job did not finish within its time limit of {seconds:g} s (--time-limit); "
-                          "its solvers do not converge on this mandrel in reasonable time")
+        exc = WinderError(time_up_message(seconds, up.activity))
         return JobReport(config, name, False, 1, error_message(exc, shown), (), _fiber_length(plan),
                          _layer_count(plan), time.perf_counter() - started)
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback
@@ -222,6 +223,21 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                          (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
     return JobReport(config, name, True, 0, "", tuple(outputs), _fiber_length(plan), _layer_count(plan),
                      time.perf_counter() - started)
+
+
+def time_up_message(seconds: float | None, activity: str | None) -> str:
+    """The message of a job stopped by its time limit, naming what it was doing (winder.progress.doing);
+    past the reading and the checks, a job's time goes to its solvers."""
+    head = f"the job did not finish within its time limit of {seconds:g} s (--time-limit)"
+    if activity is None:
+        return f"{head}; its solvers do not converge on this mandrel in reasonable time"
+    return f"{head}: stopped while {activity}"
+
+
+def shown_path(path: str) -> str:
+    from winder.export.paths import shown  # noqa: PLC0415
+
+    return shown(path)
 
 
 def _named(progress: Progress, name: str) -> Progress:

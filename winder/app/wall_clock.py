@@ -14,11 +14,18 @@ __all__ = ["TimeUp", "time_limit"]
 
 class TimeUp(BaseException):
     """A job's wall-clock limit ran out (time_limit). A BaseException, so that it unwinds through
-    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1)."""
+    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1).
+    activity: what the job was doing then (winder.progress.doing), None if it did not say."""
+
+    def __init__(self, activity: str | None = None) -> None:
+        super().__init__(activity)
+        self.activity = activity
 
 
 def _time_up(signum: int, frame) -> None:
-    raise TimeUp()
+    from winder.progress import activity  # noqa: PLC0415
+
+    raise TimeUp(activity())
 
 
 @contextmanager
