@@ -6,6 +6,7 @@ test_fiberpath_files.py reads them where the bench folder is present)."""
 from __future__ import annotations
 
 import copy
+import math
 import json
 from pathlib import Path
 
@@ -120,3 +121,33 @@ def test_a_bad_wind_file_is_one_error_line_exit_2(tmp_path, name, data, expected
         assert expected in lines[0]
     assert not (tmp_path / "x.yaml").exists()
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
+
+
+# -- read in time linear in its size (issue 45: the duplicate-key check was quadratic) ---------------
+def _keys(n: int) -> str:
+    return json.dumps({f"{i:x}": 1 for i in range(n)}, separators=(",", ":"))
+
+
+def test_duplicate_keys_are_found_in_time_linear_in_the_keys(tmp_path: Path) -> None:
+    """10,000 keys took 2.1 s, 40,000 36 s and 190,000 (1.8 MB) more than 130 s; a linear check reads
+    19x the keys in about 19x the time (a quadratic one in 361x)."""
+    import time  # noqa: PLC0415
+
+    from winder.config.wind_file import _load  # noqa: PLC0415
+
+    def seconds(path: Path) -> float:
+        best = math.inf
+        for _ in range(2):
+            start = time.perf_counter()
+            _load(path, path.name)
+            best = min(best, time.perf_counter() - start)
+        return best
+
+    small, large = write(tmp_path, _keys(10_000), "small.wind"), write(tmp_path, _keys(190_000), "large.wind")
+    assert large.stat().st_size < 2_000_000
+    ratio = seconds(large) / seconds(small)
+    assert ratio < 80.0, ratio  # 19 for linear, with room for a busy machine
+    text = _keys(190_000)
+    dup = write(tmp_path, text[:-1] + ',"0":2}', "dup.wind")
+    with pytest.raises(ConfigError, match="invalid JSON: duplicate key '0'"):
+        load_config(dup)

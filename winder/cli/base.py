@@ -24,6 +24,7 @@ METHODS = ("newton", "lbfgs")  # winder.paths.geodesic.Method's values
 DEFAULT_POINTS = 200  # winder.config.winding.DEFAULT_POINTS
 MAX_POINTS = 100_000  # winder.config.winding.MAX_POINTS: the command line holds the config's limit
 DEFAULT_TIME_LIMIT = 600.0  # s per job: the largest job the work budget allows plans in about a minute
+CHECK_TIME_LIMIT = 60.0  # s per config of `check`: the slowest config within the limits checks in ~10 s
 MAX_ROUNDS = 1000  # --rounds and the turns of --start / --end: a 1000-round helix needs 48,000 points
 
 

@@ -1,0 +1,42 @@
+"""`check` under a time limit of its own (issue 45): past it, exit 1 with a message naming what the check
+was doing (reading the file, building the surface, the work budget), never "solvers do not converge"."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import winder.app.validate as validate
+from tests.configs import tiny_pipe
+from winder.cli import main
+from winder.errors import WinderError
+
+
+def test_a_check_past_its_limit_names_the_stage_it_was_in(tmp_path: Path, monkeypatch) -> None:
+    config = tmp_path / "tiny.yaml"
+    config.write_text(tiny_pipe(), encoding="utf-8")
+    real = validate.build_surface
+
+    def slow(*args):
+        time.sleep(5.0)
+        return real(*args)
+
+    monkeypatch.setattr(validate, "build_surface", slow)
+    with pytest.raises(WinderError) as info:
+        validate.validate_within(config, 0.3)
+    assert info.value.exit_code == 1
+    assert str(info.value).startswith(f"{config}: the check did not finish within its time limit of 0.3 s "
+                                      f"(check --time-limit): stopped while building the mandrel's surface")
+    result = CliRunner().invoke(main, ["check", str(config), "--time-limit", "0.3"])
+    assert result.exit_code == 1 and "stopped while building the mandrel's surface" in result.stderr
+    assert "converge" not in result.stderr
+
+
+def test_check_within_its_limit_is_unchanged(tmp_path: Path) -> None:
+    config = tmp_path / "tiny.yaml"
+    config.write_text(tiny_pipe(), encoding="utf-8")
+    result = CliRunner().invoke(main, ["check", str(config)])
+    assert result.exit_code == 0 and result.stdout.startswith("ok: ")
