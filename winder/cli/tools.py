@@ -38,7 +38,8 @@ def patterns_cmd(config: str, layer: int | None, angle: float | None, within: fl
 
 @main.command("convert", short_help="Write a fiberpath .wind job as a winder config (YAML).")
 @click.argument("wind", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="The YAML config to write.")
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False, allow_dash=True),
+              help="The YAML config to write; - for standard output (./- for a file of that name).")
 @_guard
 def convert_cmd(wind: str, output: str) -> None:
     """WIND's job as the winder config `run WIND` winds, commented. Exit status: 0, 2 invalid, 1 not written."""
