@@ -196,6 +196,9 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                 from winder.export.layup import require_material  # noqa: PLC0415
 
                 require_material(job)
+            from winder.export.robot_programs import require_cell  # noqa: PLC0415
+
+            require_cell(job, formats)  # likewise: a robot language needs a cell, an arm and a module name
             if "abaqus" in formats:  # likewise: the ply data and the load case (SPEC "Structural analysis")
                 from winder.export.abaqus import require_analysis  # noqa: PLC0415
 

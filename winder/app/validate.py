@@ -35,7 +35,10 @@ def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
 
     check_analysis(job)
     if job.machine is not None and job.machine.cell is not None:  # a ring out of the arm's reach
+        from winder.export.robot_programs import require_cell  # noqa: PLC0415
         from winder.machine.cell_check import check_cell_reach  # noqa: PLC0415
+
+        require_cell(job, (job.machine.dialect,))  # the language `run` writes by default
 
         check_cell_reach(job.machine.cell, surface, job.source)
     # The planner's modules load after the geometry's refusals (a folded mandrel is refused at once).

@@ -101,10 +101,27 @@ class WinderGroup(click.Group):
         sys.exit(rv if isinstance(rv, int) else 0)
 
 
-class FiniteRange(click.FloatRange):
-    """click's FloatRange, refusing nan too: its range checks are comparisons, all false for nan."""
+def _plain_number(kind: click.ParamType, value, param, ctx) -> None:
+    """Refuse what Python's int() and float() read but a user does not mean: digit separators (`1_0` is
+    10 to Python) and digits of other scripts (`١٠` is 10 too), as YAML and the program readers do."""
+    if isinstance(value, str) and ("_" in value or not value.isascii()):
+        kind.fail(f"{value!r} is not a plain number (ASCII digits, no _).", param, ctx)
+
+
+class WholeRange(click.IntRange):
+    """click's IntRange on plain numbers only (_plain_number)."""
 
     def convert(self, value, param, ctx):  # type: ignore[no-untyped-def] - click's signature
+        _plain_number(self, value, param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class FiniteRange(click.FloatRange):
+    """click's FloatRange on plain numbers only (_plain_number), refusing nan too: its range checks are
+    comparisons, all false for nan."""
+
+    def convert(self, value, param, ctx):  # type: ignore[no-untyped-def] - click's signature
+        _plain_number(self, value, param, ctx)
         number = super().convert(value, param, ctx)
         if number != number:
             self.fail(f"{value!r} is not a number.", param, ctx)

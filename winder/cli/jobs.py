@@ -8,7 +8,7 @@ import time
 
 import click
 
-from winder.cli.base import _TIME_LIMIT, CHECK_TIME_LIMIT, FiniteRange, _echo, _error, _guard, main
+from winder.cli.base import _TIME_LIMIT, CHECK_TIME_LIMIT, FiniteRange, WholeRange, _echo, _error, _guard, main
 
 
 @main.command("check", short_help="Validate configs as `run` would, without computing paths.")
@@ -129,7 +129,7 @@ def _needs_plot_extra() -> None:
 
 _OUT_DIR = click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default=".",
                         show_default=True, help="Folder for the output files (created if missing).")
-_JOBS = click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
+_JOBS = click.option("-j", "--jobs", type=WholeRange(min=0), default=1, show_default=True,
                      help="Worker processes for a batch; 0: one per CPU. The outputs do not depend on it.")
 
 

@@ -6,7 +6,7 @@ import sys
 
 import click
 
-from winder.cli.base import DEFAULT_TIME_LIMIT, FiniteRange, _echo, _guard, main
+from winder.cli.base import DEFAULT_TIME_LIMIT, FiniteRange, WholeRange, _echo, _guard, main
 from winder.cli.jobs import _progress
 
 
@@ -23,7 +23,7 @@ def design_cmd(config: str, as_json: bool) -> None:
 # -- patterns and fiberpath files (issue 33) -------------------------------------------------------
 @main.command("patterns", short_help="The feasible patterns of helical layers, side by side.")
 @click.argument("config", type=click.Path(dir_okay=False))
-@click.option("--layer", type=click.IntRange(min=1), help="The layer (1-based); default: every helical one.")
+@click.option("--layer", type=WholeRange(min=1), help="The layer (1-based); default: every helical one.")
 @click.option("--angle", type=FiniteRange(0, 90, True, True), metavar="DEG", help="Ask this angle instead.")
 @click.option("--within", type=FiniteRange(0, 45), default=2.0, show_default=True, metavar="DEG",
               help="Vessels: the choices whose closed angle lies this near the angle asked.")
@@ -66,7 +66,7 @@ def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -
 @main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")
 @click.argument("directory", type=click.Path(file_okay=False))
 @click.option("--update", is_flag=True, help="Rewrite the references with the current outputs.")
-@click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
+@click.option("-j", "--jobs", type=WholeRange(min=0), default=1, show_default=True,
               help="Worker processes; 0: one per CPU.")
 @_guard
 def regress_cmd(directory: str, update: bool, jobs: int) -> None:

@@ -371,7 +371,7 @@ def station_option(text: str, option: str) -> tuple[float, float]:
     """A command-line point `T,DEG` as (t mm, theta rad); ConfigError naming the option otherwise."""
     parts = text.split(",")
     try:
-        if len(parts) != 2 or "_" in text:  # Python's float reads 1_0 as 10; YAML and a user do not
+        if len(parts) != 2 or "_" in text or not text.isascii():  # float() reads 1_0 and ١٠ as 10; a user does not
             raise ValueError
         t, deg = float(parts[0]), float(parts[1])
     except ValueError as exc:

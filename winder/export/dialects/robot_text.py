@@ -40,7 +40,7 @@ def header(program: MotionProgram, mark: str) -> list[str]:
     """The comment lines every robot program starts with."""
     cell = cell_of(program)
     c = cell.cell
-    clean = {";": krl_comment, "!": rapid_comment, "#": urscript_comment}[mark]
+    clean = {";": krl_comment, "!": rapid_comment, "#": urscript_comment}[mark.strip()]
     lines = ["winder filament-winding program", f"{JOB_LINE[2:]} {clean(program.name)}",
              f"source: {clean(program.source)}",
              f"cell: {cell.arm.maker} {cell.arm.name} holds the mandrel (tool: its frame on the flange); the payout "
