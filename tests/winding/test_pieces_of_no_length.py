@@ -49,3 +49,16 @@ def test_a_vessel_without_a_cylinder_is_the_limit_of_short_cylinders(tmp_path, d
             assert steps.min() > 0.0, f"pass {p.number} is not strictly monotone in t"
     assert [len(x.passes) for x in bare.layers] == [len(x.passes) for x in short.layers]
     assert bare.total_fiber_length_mm == pytest.approx(short.total_fiber_length_mm, rel=FIBER_RTOL)
+
+
+@pytest.mark.parametrize("cyl", [0, 1e-3])
+def test_a_slip_with_no_leg_to_act_on_is_a_refusal_not_an_internal_error(tmp_path, cyl) -> None:
+    """slip 0.2 at 89.99 deg: the fiber turns at the equator, its dome legs of no length; closing the
+    pattern by their slip had a singular Jacobian (internal LinAlgError): now the solver's refusal."""
+    from winder.errors import SolverError  # noqa: PLC0415
+
+    path = tmp_path / "slip.yaml"
+    path.write_text(VESSEL.format(cyl=cyl, dome="hemisphere", angle=89.99, radius=50).replace(
+        "turnaround_radius: 50", "slip: 0.2"), encoding="utf-8")
+    with pytest.raises(SolverError, match="on the first dome: .* lower the angle, or give turnaround_radius"):
+        plan(load_config(path))

@@ -96,8 +96,13 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         # Each dome is laid twice per circuit (in and out): a quarter of the change each.
         for d, (s_eq, heading) in enumerate(domes):
             leg = legs[d]
-            lam0, lam1, legs[d] = close_leg(meridians[d], s_eq, heading, leg.radius, slips[d], leg.length,
-                                            leg.advance + 0.25 * delta * 2.0 * math.pi, start=leg)
+            try:
+                lam0, lam1, legs[d] = close_leg(meridians[d], s_eq, heading, leg.radius, slips[d], leg.length,
+                                                leg.advance + 0.25 * delta * 2.0 * math.pi, start=leg)
+            except SolverError as exc:
+                raise SolverError(f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome: {exc} (the leg "
+                                  f"turns at r = {leg.radius:.3f} mm of {big_r:g}; a leg this short leaves the slip no "
+                                  "hold on the advance: lower the angle, or give turnaround_radius)") from exc
             slips[d] = max(abs(lam0 - 0.5 * lam1), abs(lam0 + lam1 * (legs[d].length / leg.length - 0.5)))
     worst = max(abs(x) for x in slips)
     if worst > mu + 1e-12:
