@@ -40,3 +40,22 @@ def test_check_within_its_limit_is_unchanged(tmp_path: Path) -> None:
     config.write_text(tiny_pipe(), encoding="utf-8")
     result = CliRunner().invoke(main, ["check", str(config)])
     assert result.exit_code == 0 and result.stdout.startswith("ok: ")
+
+
+def test_run_past_its_limit_while_reading_says_so(tmp_path: Path, monkeypatch) -> None:
+    """A `.wind` of 190,000 keys was stopped by `run --time-limit 10` as 'solvers do not converge'."""
+    import winder.config.job as job_module  # noqa: PLC0415
+    from winder.app.jobs import run_job  # noqa: PLC0415
+
+    config = tmp_path / "tiny.yaml"
+    config.write_text(tiny_pipe(), encoding="utf-8")
+    real = job_module.load_config
+
+    def slow(path):
+        time.sleep(5.0)
+        return real(path)
+
+    monkeypatch.setattr(job_module, "load_config", slow)
+    report = run_job(config, tmp_path / "out", seconds=0.3)
+    assert report.exit_code == 1 and f"stopped while reading {config}" in report.message, report.message
+    assert "converge" not in report.message
