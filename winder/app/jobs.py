@@ -18,10 +18,11 @@ import dataclasses
 from typing import TYPE_CHECKING
 
 from winder.app.interrupts import in_worker, raise_if_interrupted, stop_signals_held_back, stop_workers, worker_init
-from winder.app.wall_clock import TimeUp, time_limit
+from winder.app.wall_clock import TimeUp, time_limit, time_up_message
 from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
+from winder.export.paths import shown as shown_path
 from winder.progress import Progress, doing, part
 
 if TYPE_CHECKING:
@@ -226,17 +227,9 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             cell_dialect = job.machine.dialect if job.machine is not None and job.machine.cell is not None else None
             if formats == tuple(ALL_FORMATS) and cell_dialect in FORMATS:  # a robot cell's language by default
                 formats += (cell_dialect,)
-            if "layup" in formats:  # a request refused from the config alone, before any planning
-                from winder.export.layup import require_material  # noqa: PLC0415
+            from winder.app.validate import refuse_formats  # noqa: PLC0415 - beside the geometry it loads
 
-                require_material(job)
-            from winder.export.robot_programs import require_cell  # noqa: PLC0415
-
-            require_cell(job, formats)  # likewise: a robot language needs a cell, an arm and a module name
-            if "abaqus" in formats:  # likewise: the ply data and the load case (SPEC "Structural analysis")
-                from winder.export.abaqus import require_analysis  # noqa: PLC0415
-
-                require_analysis(job)
+            refuse_formats(job, formats)  # what the config alone refuses, before any planning
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
@@ -263,21 +256,6 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                          (), _fiber_length(plan), _layer_count(plan), time.perf_counter() - started)
     return JobReport(config, name, True, 0, "", tuple(outputs), _fiber_length(plan), _layer_count(plan),
                      time.perf_counter() - started)
-
-
-def time_up_message(seconds: float | None, activity: str | None) -> str:
-    """The message of a job stopped by its time limit, naming what it was doing (winder.progress.doing);
-    past the reading and the checks, a job's time goes to its solvers."""
-    head = f"the job did not finish within its time limit of {seconds:g} s (--time-limit)"
-    if activity is None:
-        return f"{head}; its solvers do not converge on this mandrel in reasonable time"
-    return f"{head}: stopped while {activity}"
-
-
-def shown_path(path: str) -> str:
-    from winder.export.paths import shown  # noqa: PLC0415
-
-    return shown(path)
 
 
 def _named(progress: Progress, name: str) -> Progress:

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from winder.geometry.surface import SweepSurface
     from winder.winding.budget import Budget
 
-__all__ = ["validate", "validate_job"]
+__all__ = ["refuse_formats", "validate", "validate_job", "validate_within"]
 
 
 def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
@@ -70,3 +70,20 @@ def validate_within(path: str | os.PathLike, seconds: float | None) -> tuple[Job
         doing = f": stopped while {up.activity}" if up.activity else ""
         raise WinderError(f"the check did not finish within its time limit of {seconds:g} s (check --time-limit)"
                           f"{doing}", file=os.fspath(path)) from None
+
+
+def refuse_formats(job: JobConfig, formats) -> None:
+    """Refuse the outputs the config alone cannot give (ConfigError, exit 2), before any planning: the
+    layup without a material, a robot language without its cell, arm or module name, the Abaqus deck
+    without its ply data and load case (SPEC "Structural analysis")."""
+    if "layup" in formats:
+        from winder.export.layup import require_material  # noqa: PLC0415
+
+        require_material(job)
+    from winder.export.robot_programs import require_cell  # noqa: PLC0415
+
+    require_cell(job, formats)
+    if "abaqus" in formats:
+        from winder.export.abaqus import require_analysis  # noqa: PLC0415
+
+        require_analysis(job)
