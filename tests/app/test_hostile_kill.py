@@ -147,4 +147,5 @@ def test_run_killed_at_random_instants_never_leaves_a_mix_or_litter(tmp_path: Pa
         assert mine in sets, f"trial {trial}: a mixed set after the next run"
         outcomes["old" if mine == sets[0] else "new"] += 1
         assert _litter(out) == [], f"trial {trial}: litter left: {_litter(out)}"
+    print(f"kill -9 experiment, {TRIALS} trials: {outcomes}")  # shown with pytest -rP
     assert outcomes["killed"] >= 1, outcomes
