@@ -63,6 +63,9 @@ REFUSED = {
     "spline_rounds_31": (2, 2, "winding.points: must be at least 77 for a pass of about 32.24 rounds"),
     # issue 45: no cylinder, 89.99 deg turning just under the radius (an internal error: duplicate abscissae)
     "cyl0_iso_turn_under_radius": (0, 0, None),
+    # issue 45: lists past what a mandrel's guide holds, aliased or not
+    "path_aliased_segments": (2, 2, "mandrel.axis.segments: must have at most 1,000 segments"),
+    "spline_2000_points": (2, 2, "mandrel.axis.points: must have at most 1,000 points"),
 }
 
 
