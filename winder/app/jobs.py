@@ -240,8 +240,9 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                     raise program  # the cell's reach check refuses before any file, whatever is written
                 return proved(job, plan, program)
 
-            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0),
-                                      make_program=checked_program)
+            with doing(f"building the motion program and the outputs of {name} (its layers planned)"):
+                rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0),
+                                          make_program=checked_program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")
