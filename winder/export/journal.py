@@ -204,15 +204,31 @@ def roll_back(folder: Path, entries: list[Entry], record: Path | None) -> None:
     drop_backups(entries)
 
 
-def _read_record(folder: Path, record: Path) -> list[Entry] | None:
+def _read_record(folder: Path, record: Path, writer: str) -> list[Entry] | None:
+    """The entries of a record, or None for a file that is not a record winder wrote (left alone)."""
     try:
         if record.stat().st_size > _RECORD_MAX_BYTES:
             return None
         files = json.loads(record.read_text(encoding="utf-8"))["files"]
-        return [(_path(folder, t), _path(folder, f), None if b is None else _path(folder, b), bool(old))
-                for t, f, b, old in files]
-    except (OSError, ValueError, KeyError, TypeError):  # not a record of winder's: left alone
+        entries = [(_path(folder, t), _path(folder, f), None if b is None else _path(folder, b), bool(old))
+                   for t, f, b, old in files]
+    except (OSError, ValueError, KeyError, TypeError, RecursionError):  # RecursionError: JSON nested deep
         return None
+    return entries if all(_written_by(entry, folder, writer) for entry in entries) else None
+
+
+def _written_by(entry: Entry, folder: Path, writer: str) -> bool:
+    """Whether an entry is one the record's writer could have made: its temporary file and old-file link
+    named by that writer (temporary_name) beside the output, and an output outside the folder (a link's
+    target) one that existed. A record planted to rename or remove other files names none of them."""
+    tmp, final, backup, had_old = entry
+    for path, kind in ((tmp, "tmp"), (backup, "old")):
+        if path is None:
+            continue
+        match = LEFTOVER.match(path.name)
+        if match is None or match.group(1) != writer or not path.name.endswith(kind) or path.parent != final.parent:
+            return False
+    return final.parent == folder or had_old
 
 
 def recover(folder: Path, locked: bool = True) -> None:
@@ -232,7 +248,7 @@ def recover(folder: Path, locked: bool = True) -> None:
         writer = name[len(".winder-"):].split("-", 1)[0]
         if not locked and (not writer.isdigit() or alive(int(writer))):
             continue
-        entries = _read_record(folder, record)
+        entries = _read_record(folder, record, writer)
         if entries is None:
             continue
         try:
