@@ -291,6 +291,6 @@ def test_a_run_waiting_for_a_locked_folder_names_the_lock_and_its_holder(tmp_pat
         res = subprocess.run([sys.executable, "-c", child, str(out)], env=dict(os.environ, PYTHONPATH=str(ROOT)),
                              capture_output=True, text=True, timeout=120)
     assert res.stdout.strip() == (f"the job did not finish within its time limit of 1 s (--time-limit): stopped while "
-                                  f"waiting for the output folder {out}: winder process {os.getpid()} is writing there "
-                                  "and holds its lock"), res.stdout + res.stderr
+                                  f"waiting for the output folder {out}, whose lock process {os.getpid()} holds (a "
+                                  "winder writing there, or a reader taking it)"), res.stdout + res.stderr
     assert list(out.iterdir()) == []

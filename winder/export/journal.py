@@ -99,8 +99,9 @@ def _lock(fcntl, fd: int, folder: Path, wait: bool) -> bool:
     except OSError:
         return False
     holder = lock_holder(fd)
-    who = f"winder process {holder}" if holder is not None else "another winder process"
-    with doing(f"waiting for the output folder {folder}: {who} is writing there and holds its lock"):
+    who = f"process {holder}" if holder is not None else "another process"
+    with doing(f"waiting for the output folder {folder}, whose lock {who} holds (a winder writing there, or a "
+               "reader taking it)"):
         try:
             fcntl.flock(fd, fcntl.LOCK_EX)  # a time limit or an interrupt raises out of here (PEP 475)
         except OSError:
