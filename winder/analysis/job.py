@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from winder.analysis.loads import LoadCase
-from winder.analysis.materials import Lamina, lamina_of
+from winder.analysis.materials import Lamina, NettingAllowable, lamina_of
 from winder.errors import ConfigError
 
 
@@ -49,7 +49,12 @@ def load_case(job) -> LoadCase:
     return LoadCase(a.pressure, a.axial_force, a.torque, a.ends == "closed")
 
 
-def netting_stress(job, index: int, ply: Lamina) -> float:
-    """The netting allowable of layer `index` (0-based): its fiber strength on the job's V_f (9.2)."""
+def netting_allowable(job, index: int, ply: Lamina) -> NettingAllowable:
+    """The netting allowables of layer `index` (0-based) at its material's V_f (docs/math/09 9.2)."""
     cfg = job.winding.material_of(index)
-    return ply.netting_stress(None if cfg is None else cfg.fiber_volume_fraction)
+    return ply.netting_allowable(None if cfg is None else cfg.fiber_volume_fraction)
+
+
+def netting_stress(job, index: int, ply: Lamina) -> float:
+    """The netting allowable of layer `index` (0-based) on the composite thickness (MPa)."""
+    return netting_allowable(job, index, ply).composite
