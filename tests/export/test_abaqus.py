@@ -29,7 +29,7 @@ SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 CCX = shutil.which("ccx") or next((shutil.which(f"ccx_2.{k}") for k in range(30, 10, -1) if shutil.which(f"ccx_2.{k}")),
                                   None)
 STRAIN_AGREEMENT = 0.02  # the 2 %: a thin shell (h / R = 0.012) against membrane CLT
-VESSEL_AGREEMENT = 0.03  # its wall is 1.8 mm on R 100 (h / R = 0.018): the thin-shell error doubles
+VESSEL_AGREEMENT = 0.02  # the 2 % (measured +1.5 % hoop at the inner face, -0.7 % axial)
 SOLVE_SECONDS = 60.0
 CSV_DECIMALS = 1e-6  # the layup CSV's and the deck's 6 decimals
 PLY_AVERAGE = 0.01  # an element's area mean of its layer's cells: the deck's trapezoids on 4 points a cell
