@@ -31,13 +31,12 @@ class MeridianResults:
     tsai_wu: np.ndarray
     max_stress: np.ndarray
 
-    def by_layer(self, values: np.ndarray, layer: int, pick=np.nanmax) -> np.ndarray:
-        """(m,) a layer's value over its plies (default the largest; nan where it is absent)."""
+    def by_layer(self, values: np.ndarray, layer: int) -> np.ndarray:
+        """(m,) a layer's largest value over its plies (nan where it is absent)."""
         mine = self.ply_layer == layer
-        v = np.where(self.present[:, mine], values[:, mine], np.nan)
-        with np.errstate(all="ignore"):
-            out = pick(v, axis=1) if v.shape[1] else np.full(v.shape[0], np.nan)
-        return np.where(np.any(self.present[:, mine], axis=1), out, np.nan)
+        laid = self.present[:, mine]
+        out = np.where(laid, values[:, mine], -np.inf).max(axis=1, initial=-np.inf)
+        return np.where(laid.any(axis=1), out, np.nan)
 
 
 def integration_points(dat: str, kind: str) -> tuple[np.ndarray, np.ndarray]:

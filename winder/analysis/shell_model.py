@@ -34,7 +34,7 @@ class ShellModel:
     ply_thickness : (E, P) (thickness 0: the slot is empty there). fiber, across : (E, P, 3) each ply's fiber
     direction and the in-plane normal to it. loads : (N, 3) nodal forces (the ends' thrust, axial force
     and torque). fixed_axial : node indices held along the axis (the ring nearest mid-length, where
-    the ends' loads have spread out); fixed_x, fixed_y : that ring's nodes at 90 and 270 deg held in x, at 0
+    the ends' loads have spread out, on a surface of revolution; the start ring otherwise); fixed_x, fixed_y : that ring's nodes at 90 and 270 deg held in x, at 0
     and 180 deg in y (their tangents): no rigid-body
     motion left, and what the twist of an unbalanced wall puts on them is a couple, not a side force
     that would bend the tube (two nodes alone bent it 0.06 mm at mid-length under 10 MPa).
@@ -135,7 +135,9 @@ def build_model(surface, rows: tuple[LayerRows, ...], band_width: float, pressur
     mid = int(np.argmin(np.abs(s[::2][:-1] - middle))) * 2
     rings = np.stack([number[mid][::2], number[mid + 2][::2]])
     q = ntheta // 2
-    held = number[mid]  # the supports on the ring nearest mid-length: far from the ends' load introduction
+    # the supports: on a straight axis the ring nearest mid-length, far from the ends' loads; on a bent or
+    # non-circular tube the start ring, whose plane is normal to the global z they hold (the path's start)
+    held = number[mid] if surface.is_revolution else number[0]
     return ShellModel(nodes=nodes, elements=elements, t=t_c, theta=th_c, ply_layer=slots, ply_angle_deg=ply_angle,
                       ply_thickness=ply_t, fiber=fiber, across=across, loads=loads, fixed_axial=held[held >= 0],
                       fixed_x=held[[q, 3 * q]], fixed_y=held[[0, 2 * q]], rings=rings,
