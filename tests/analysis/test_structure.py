@@ -84,3 +84,53 @@ def test_report_shows_the_structure(planned):
     assert "Will it hold?" in page and 'id="winder-structure"' in page
     assert f"{block['burst_pressure_netting_mpa']} MPa" in page
     assert f"{block['first_ply_failure_pressure_mpa']} MPa" in page
+
+
+PIPE = """name: gauge_pipe
+mandrel:
+  axis: {{type: line, length: 400}}
+  profile: {{type: constant, radius: 80}}
+winding:
+  band_width: 10
+  points: 30
+  material: {{name: eglass_epoxy, ply_thickness: 0.4, fiber_volume_fraction: 0.55}}
+  layers:
+    - {{type: helical, angle: 30}}
+    - {{type: hoop, passes: 2, taper: 40}}
+analysis: {{pressure: 2, ends: closed{gauge}}}
+"""
+
+
+@pytest.fixture(scope="module")
+def pipe(tmp_path_factory):
+    path = tmp_path_factory.mktemp("gauge") / "gauge_pipe.yaml"
+    path.write_text(PIPE.format(gauge=""), encoding="utf-8")
+    job = load_config(path)
+    return path, job, plan(job)
+
+
+def test_an_open_mandrels_headline_is_its_trimmed_part(pipe):
+    """The hoops' taper steps their reversals in: the headline figures come from where every layer is laid at
+    its full thickness (the `wound` gauge), the tapered ends apart in end_zones, where they are lower."""
+    path, job, planned = pipe
+    block = summary_dict(planned, None, job=job)["analysis"]
+    hoop = planned.layers[1].laminate
+    laid = hoop.t[hoop.thickness > 0.0]
+    t0, t1 = block["gauge_t_mm"]
+    assert block["gauge"] == "wound" and laid.min() < t0 < t1 < laid.max()
+    assert block["burst_netting_t"] is not None and t0 <= block["burst_netting_t"] <= t1
+    ends = block["end_zones"]
+    assert ends["burst_pressure_netting_mpa"] < block["burst_pressure_netting_mpa"]
+    # the +-30 + hoop wall is determinate; the ends' weakest station has fewer hoops
+    assert block["burst_netting_wall"] == "determinate"
+    assert not t0 <= ends["burst_netting_t"] <= t1
+    mid = int(np.argmin(np.abs(hoop.t - 0.5 * (t0 + t1))))
+    assert np.interp(ends["burst_netting_t"], hoop.t, hoop.thickness) < 0.9 * hoop.thickness[mid]
+    # gauge: all takes every station: the least of both
+    whole = path.with_name("all.yaml")
+    whole.write_text(PIPE.format(gauge=", gauge: all"), encoding="utf-8")
+    job_all = load_config(whole)
+    every = summary_dict(planned, None, job=job_all)["analysis"]
+    assert every["gauge_t_mm"] is None and every["end_zones"] is None
+    assert every["burst_pressure_netting_mpa"] == min(block["burst_pressure_netting_mpa"],
+                                                      ends["burst_pressure_netting_mpa"])

@@ -1,11 +1,13 @@
 """Where the headline figures come from (SPEC.md "Will it hold (additions)", `analysis.gauge`;
 docs/math/09-structure.md 9.6): the gauge section of the part, its end zones apart.
 
-- `cylinder`: a vessel's cylinder where the laminate is the one of mid-cylinder (every layer laid there,
-  and no other), a band width in from where that changes; on an open mandrel the same as `wound`.
+- `cylinder`: a vessel's cylinder where the laminate is the one of mid-cylinder (every layer laid there at
+  its thickness there, within SPREAD), a band width in from where that changes; on an open mandrel the
+  same as `wound`.
 - `wound`: a vessel's wall outside the bosses' turnaround zones (r >= the largest turnaround radius plus
-  a band width); an open mandrel's trimmed part: the winding region where every layer lays fiber, a band
-  width in from each end of it (the turnarounds, the pins, the layers' edges and step-backs lie outside).
+  a band width); an open mandrel's trimmed part: where every layer laid at the reference section is laid at
+  its thickness there (within SPREAD), a band width in from each end of it (the turnarounds, the pins, the
+  layers' edges, tapers and step-backs lie outside).
 - `all`: every station.
 """
 
@@ -19,6 +21,9 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.wall import reference_station
 
 EVERYWHERE = (-math.inf, math.inf)
+# A layer's wall belongs to the gauge while its thickness stays within this share of its value at the
+# reference station: a hoop taper's step-back, a helical's pile-up toward its turnaround fall outside.
+SPREAD = 0.25
 
 
 def is_vessel(surface) -> bool:
@@ -29,13 +34,15 @@ def default_gauge(plan) -> str:
     return "cylinder" if is_vessel(plan.surface) else "wound"
 
 
-def _run_around(t: np.ndarray, laid: np.ndarray, at: float) -> tuple[float, float] | None:
-    """The stations' contiguous run of laid cells around station `at` (None: not laid there)."""
+def _run_around(t: np.ndarray, thickness: np.ndarray, at: float) -> tuple[float, float] | None:
+    """The contiguous run of cells around station `at` whose thickness is within SPREAD of the thickness
+    there (None: not laid there)."""
     if t.size == 0:
         return None
     k = int(np.clip(np.searchsorted(t, at), 0, t.size - 1))
-    if not laid[k]:
+    if not thickness[k] > 0.0:
         return None
+    laid = np.abs(thickness - thickness[k]) <= SPREAD * thickness[k]
     gaps = np.nonzero(~laid)[0]
     lo = gaps[gaps < k].max() + 1 if np.any(gaps < k) else 0
     hi = gaps[gaps > k].min() - 1 if np.any(gaps > k) else t.size - 1
@@ -43,15 +50,16 @@ def _run_around(t: np.ndarray, laid: np.ndarray, at: float) -> tuple[float, floa
 
 
 def full_laminate(plan, at: float) -> tuple[float, float] | None:
-    """The span around station `at` where every layer laid at `at` is laid (contiguously), a band width in
-    from each end where the span is longer than four band widths; None where no layer is laid at `at`."""
+    """The span around station `at` where every layer laid at `at` is laid (contiguously) at its thickness
+    there (within SPREAD), a band width in from each end where the span is longer than four band widths;
+    None where no layer is laid at `at`."""
     lo, hi = -math.inf, math.inf
     found = False
     for layer in plan.layers:
         lam = layer.laminate
         if lam is None:
             continue
-        run = _run_around(lam.t, lam.thickness > 0.0, at)
+        run = _run_around(lam.t, lam.thickness, at)
         if run is None:
             continue
         found = True
