@@ -155,6 +155,9 @@ def allowable_notes(ply: Lamina, allowable: NettingAllowable) -> list[str]:
     if allowable.source == "strand_strength" and allowable.above_ply:
         notes.append(f"{ply.name}: strand_strength {allowable.fiber:g} MPa is above the ply's Xt / V_f = "
                      f"{allowable.ply_fiber:.1f} MPa: netting on the strand figure, first-ply failure on Xt")
+    if allowable.source == "strand_strength" and ply.fiber_strength is not None:
+        notes.append(f"{ply.name}: fiber_strength {ply.fiber_strength:g} MPa (a dry filament's) is not used: netting "
+                     f"on strand_strength {allowable.fiber:g} MPa")
     if allowable.source != "strand_strength" and ply.fiber_strength is not None:
         notes.append(f"{ply.name}: fiber_strength {ply.fiber_strength:g} MPa is the dry filament's, never reached "
                      f"in a laminate: netting on Xt / V_f = {allowable.ply_fiber:.1f} MPa (give strand_strength, the "

@@ -21,7 +21,8 @@ DECIMALS = {"pressure_mpa": PRESSURE_DECIMALS, "burst_pressure_netting_mpa": PRE
             "burst_ratio": RATIO_DECIMALS, "burst_ratio_required": RATIO_DECIMALS, "achieved": RATIO_DECIMALS,
             "required": RATIO_DECIMALS, "burst_pressure_required_mpa": PRESSURE_DECIMALS,
             "fiber_allowable_mpa": 1, "fiber_compression_allowable_mpa": 1, "ply_xt_over_vf_mpa": 1,
-            "fiber_volume_fraction": 4, "fiber_stress_mpa": 1}
+            "fiber_volume_fraction": 4, "fiber_stress_mpa": 1,
+            "fiber_stress_at_burst_pressure_mpa": 1}
 END_ZONES = ("outside the gauge section: the domes' turnaround bands and bosses, layer edges and step-backs, "
              "an open mandrel's trimmed ends")
 
@@ -83,7 +84,8 @@ def _per_layer(st, mask: np.ndarray) -> list[dict]:
 
 def stress_ratios(structure, mask: np.ndarray, job) -> list[dict]:
     """Per fiber material: the achieved stress ratio (the fibers' allowable over their netting stress at the
-    working pressure, the most loaded family of that material in the gauge) against the required."""
+    working pressure, the most loaded family of that material in the gauge) against the required; that
+    family's fiber stress at the working pressure and, with analysis.burst_pressure, at the minimum burst."""
     st = structure.stations
     if structure.pressure <= 0.0:
         return []
@@ -99,7 +101,12 @@ def stress_ratios(structure, mask: np.ndarray, job) -> list[dict]:
         i, f = np.unravel_index(int(np.argmin(ratio)), ratio.shape) if ratio.size else (0, 0)
         achieved = float(ratio[i, f]) if ratio.size else math.inf
         required = job.analysis.required_ratio(name)
+        burst = job.analysis.burst_pressure
+        at_burst = (st.netting.stress(burst)[i, f] / structure.allowables[layer[f]].fraction
+                    if burst is not None and math.isfinite(achieved) else math.nan)
         out.append({"material": name, "layers": [int(st.layers[k]) for k in sorted(set(layer[mine]))],
+                    "fiber_stress_at_burst_pressure_mpa": _round(at_burst, 1),
+                    "fiber_allowable_mpa": _round(structure.allowables[layer[f]].fiber, 1) if ratio.size else None,
                     "achieved": _round(achieved, RATIO_DECIMALS), "required": required,
                     "fiber_stress_mpa": _round(stress[i, f] / structure.allowables[layer[f]].fraction, 1)
                     if math.isfinite(achieved) else None,
