@@ -49,23 +49,25 @@ def nearest(stations: np.ndarray, t: np.ndarray) -> np.ndarray:
 
 
 def compare(results, structure, model, refine: float, seconds: float) -> Comparison:
-    """The FE meridian results beside the station analysis (structure.stations) at the same stations."""
+    """The FE meridian results beside the station analysis (structure.stations) at the same stations; where
+    there is none (a bent or non-circular tube: no membrane closed form), the FE alone (CLT values nan)."""
     from winder.analysis.failure import tsai_wu_index  # noqa: PLC0415
 
     st = structure.stations
-    k = nearest(st.geometry.t, results.t)
     layers = []
-    for pos, layer in enumerate(st.layers):
-        mine = st.ply_layer == pos
-        clt_s = st.ply_stress[k][:, mine]
-        present = st.thickness[k, pos] > 0.0
-        ply = structure.plies[pos]
-        strengths = (ply.Xt, ply.Xc, ply.Yt, ply.Yc, ply.S)
-        with np.errstate(all="ignore"):
+    for layer in sorted(set(int(k) for k in results.ply_layer)):
+        clt_stress = clt_index = np.full(results.t.size, np.nan)
+        if st is not None:
+            pos = int(np.nonzero(st.layers == layer)[0][0])
+            k = nearest(st.geometry.t, results.t)
+            clt_s = st.ply_stress[k][:, st.ply_layer == pos]
+            present = st.thickness[k, pos] > 0.0
+            ply = structure.plies[pos]
+            strengths = (ply.Xt, ply.Xc, ply.Yt, ply.Yc, ply.S)
             clt_stress = np.where(present, clt_s[..., 0].max(axis=1), np.nan)
             clt_index = np.where(present, tsai_wu_index(clt_s, strengths).max(axis=1), np.nan)
-        layers.append(LayerAlong(layer=int(layer), fe_stress=results.by_layer(results.stress[..., 0], int(layer)),
-                                 clt_stress=clt_stress, fe_index=results.by_layer(results.tsai_wu, int(layer)),
+        layers.append(LayerAlong(layer=layer, fe_stress=results.by_layer(results.stress[..., 0], layer),
+                                 clt_stress=clt_stress, fe_index=results.by_layer(results.tsai_wu, layer),
                                  clt_index=clt_index))
     return Comparison(t=results.t, layers=tuple(layers), in_gauge=in_span(results.t, structure.gauge_span),
                       elements=int(model.elements.shape[0]), rows=int(model.meridian.size), ntheta=model.ntheta,
