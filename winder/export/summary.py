@@ -28,9 +28,13 @@ no program can be built (an axis limit). estimated_time_s / time_s stay the fibe
 And axis_travel: each logical axis's [least, largest] value over the program as written (carriage,
 rotation, cross_feed, yaw; for robot poses x, y, z, i, j, k), to set against the machine's travel;
 null when no program can be built, and then program_error: why (the axis, the value and the limit).
-With an `analysis:` section, the `analysis` block (winder.analysis.structure.summary_block): the load
-case, burst_pressure_netting_mpa (and where), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and
-t, first_ply_failure_max_stress_mpa, netting_optimum_angle_deg, and per layer.
+With an `analysis:` section, the `analysis` block (winder.analysis.verdict.summary_block): the load
+case, the gauge section the headline figures come from (gauge, gauge_t_mm), burst_pressure_netting_mpa
+(and where, which layer, how), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and t,
+first_ply_failure_max_stress_mpa, burst_ratio and first_ply_failure_ratio (safety_factor: the same, its
+older name), the targets' burst_ratio_required and burst_pass, stress_ratio per fiber material,
+netting_allowables and notes, netting_optimum_angle_deg, per layer, and end_zones (the same figures
+outside the gauge, labelled). `winder analyze` adds the `fe` block (winder.analysis.fe_compare).
 """
 
 from __future__ import annotations
