@@ -60,15 +60,14 @@ def graded_stations(surface, rows: tuple[LayerRows, ...], s_a: float, s_b: float
     density = 1.0 / length
     cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(s))])
     total = cumulative[-1]
-    step = max(1.0, total / (MAX_ROWS * refine), total / MIN_ROWS if total < MIN_ROWS else 1.0)
-    step = min(step, total / MIN_ROWS)
+    unit = min(max(1.0, total / (MAX_ROWS * refine)), total / MIN_ROWS)  # a row a unit of density, within bounds
     half = float(np.interp(0.5 * (s_a + s_b), s, cumulative))
-    # rows of one step of the density from each end to the middle, the middle row taking what is left: an
+    # rows of one unit of the density from each end to the middle, the middle row taking what is left: an
     # end's rows depend on the wall between it and the middle only, so a part mirrored there is meshed alike
     # at both ends whatever differs elsewhere
-    first = np.arange(0.0, half, step)
-    second = total - np.arange(0.0, total - half, step)[::-1]
-    if second[0] - first[-1] < 0.5 * step:
+    first = np.arange(0.0, half, unit)
+    second = total - np.arange(0.0, total - half, unit)[::-1]
+    if second[0] - first[-1] < 0.5 * unit:
         first = first[:-1]
     return np.interp(np.concatenate([first, second]), cumulative, s)
 
