@@ -83,4 +83,5 @@ def test_pipe_mass_per_metre_is_its_rings_of_composite(tmp_path):
     assert 30.0 < t0 < t1 < 370.0 and abs(trimmed["length_mm"] - (t1 - t0)) < 1e-3
     # a uniform pipe: the trimmed mass is the mass per metre over its length, within the wall's ripple
     assert abs(trimmed["mass_kg"] / (summary["mass_per_metre_kg"] * (t1 - t0) / 1000.0) - 1.0) < 0.02
+    assert abs(trimmed["mass_per_metre_kg"] - trimmed["mass_kg"] / (t1 - t0) * 1000.0) < 1e-5
     assert "volume_l" not in summary

@@ -17,7 +17,7 @@ With a material (a laminate), each layer also has thickness_mm (mean, at the ref
 max_thickness_mm, ply_thickness_mm, volume_mm3, fiber_mass_kg, resin_mass_kg, material_length_mm
 and outer_radius_mm (after the layer), and the job fiber_mass_kg, resin_mass_kg, mass_kg and
 outer_radius_mm; without one these keys are absent. On an open mandrel with densities, mass_per_metre_kg
-(the laminate at the reference section) and trimmed {t_mm, length_mm, mass_kg}: the part between the
+(the laminate at the reference section) and trimmed {t_mm, length_mm, mass_kg, mass_per_metre_kg}: the part between the
 turnaround zones where every layer is laid (winder.analysis.gauge's `wound`). On a vessel, volume_l: the
 volume its mandrel encloses, closed at the polar openings' planes. On a vessel with a material, domes: the first and
 the end dome's wall at the bosses (docs/math/08-laminate-edges.md 8.11): opening_radius_mm,
@@ -193,10 +193,11 @@ def _shop_figures(plan: WindingPlan, job) -> dict[str, Any]:
         return {}
     ref = reference_station(plan.surface, region or (0.0, plan.surface.axial_length), plan.band_width)
     per_m = float(quantities.mass_per_length(plan, np.array([ref]))[0]) * 1000.0
+    mass = quantities.trimmed_mass(plan, span)
     return {"mass_per_metre_kg": _num(per_m, MASS_DECIMALS),
             "trimmed": {"t_mm": [_num(span[0], LENGTH_DECIMALS), _num(span[1], LENGTH_DECIMALS)],
-                        "length_mm": _num(span[1] - span[0], LENGTH_DECIMALS),
-                        "mass_kg": _num(quantities.trimmed_mass(plan, span), MASS_DECIMALS)}}
+                        "length_mm": _num(span[1] - span[0], LENGTH_DECIMALS), "mass_kg": _num(mass, MASS_DECIMALS),
+                        "mass_per_metre_kg": _num(mass / (span[1] - span[0]) * 1000.0, MASS_DECIMALS)}}
 
 
 def _winding_times(plan: WindingPlan, machine, program: MotionProgram | Exception | None = None
