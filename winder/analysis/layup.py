@@ -14,13 +14,21 @@ LAYUP_ANGLES = 24  # rows around each station, 15 deg apart
 
 
 def station_rows(s: np.ndarray, thickness: np.ndarray, band_width: float, every_cell: bool = False) -> np.ndarray:
-    """Indices of a layer's laminate cells the layup writes: every LAYUP_STEP_BANDS band widths (every cell:
-    the shell model's, empty cells included), only where it lays fiber. s, thickness : (k,) the layer's cells (LayerLaminate.s,
-    .thickness)."""
+    """Indices of a layer's laminate cells the layup writes: every LAYUP_STEP_BANDS band widths over the span
+    where it lays fiber, placed symmetrically about that span's middle (so the two ends of a mirrored part
+    are sampled alike), only cells where it lays fiber; with every_cell each cell, empty ones included (the
+    shell model's). s, thickness : (k,) the layer's cells (LayerLaminate.s, .thickness)."""
     if every_cell:  # the empty cells too: each laid cell then keeps its own edges
         return np.arange(s.size)
+    laid = np.nonzero(thickness > 0.0)[0]
+    if laid.size == 0:
+        return laid
     step = max(1, int(round(LAYUP_STEP_BANDS * band_width / max(np.median(np.diff(s)), 1e-12))))
-    pick = np.arange(0, s.size, step)
+    lo, hi = int(laid[0]), int(laid[-1])
+    middle = 0.5 * (lo + hi)
+    offsets = np.arange(0.0, 0.5 * (hi - lo) + 1.0, step)
+    pick = np.unique(np.concatenate([np.floor(middle + offsets), np.ceil(middle - offsets)]).astype(int))
+    pick = pick[(pick >= lo) & (pick <= hi)]
     return pick[thickness[pick] > 0.0]
 
 
