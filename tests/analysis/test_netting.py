@@ -146,3 +146,15 @@ def test_sphere_membrane_loads_and_its_netting():
     wall = Wall(angle=np.full((7, 1), math.radians(45.0)), thickness=np.full((7, 1), 1.2), helical=np.array([True]),
                 modulus=np.ones(1), tension=np.full(1, SIGMA), compression=np.full(1, SIGMA_C))
     assert np.allclose(limits(wall, per_p, held).burst, SIGMA * 1.2 / R, rtol=CLOSED_FORM, atol=0)
+
+
+def test_the_issues_pipe():
+    """Issue 44's +-30 + hoop pipe (R 50, its allowable 1897.5 MPa; the thicknesses its direction-wise 34.955
+    MPa implies): the determinate families burst at 33.36 MPa, and at 29.69 with a torque of 3e6 N mm."""
+    radius, sigma, a = 50.0, 1897.5, math.radians(30.0)
+    t_h, t_c = 0.7543, 0.7325
+    old = min(2 * sigma * t_h * math.cos(a) ** 2 / radius, sigma * (t_h * math.sin(a) ** 2 + t_c) / radius)
+    assert old == pytest.approx(34.955, abs=2e-3)
+    wall = cylinder_wall(t_h, a, t_c, tension=sigma, compression=SIGMA_C)
+    assert limits(wall, *cylinder_loads(radius)).pressure == pytest.approx(33.36, abs=2e-3)
+    assert limits(wall, *cylinder_loads(radius, torque=3.0e6)).pressure == pytest.approx(29.69, abs=2e-2)
