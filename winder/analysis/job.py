@@ -35,6 +35,7 @@ def check_analysis(job) -> tuple[Lamina | None, ...]:
         raise ConfigError("needs winding.material (the ply thickness and its stiffness and strength: a name from "
                           "winder's table or E1, E2, G12, nu12, Xt, Xc, Yt, Yc, S)", file=job.source,
                           key_path="analysis")
+    _check_ratios(job, plies)
     for i, ply in enumerate(plies):
         if ply is None:
             raise ConfigError("the structural analysis needs the ply's stiffness and strength: a name from "
@@ -42,6 +43,18 @@ def check_analysis(job) -> tuple[Lamina | None, ...]:
                               key_path="winding.material" if job.winding.layers[i].material is None
                               else f"winding.layers[{i}].material")
     return plies
+
+
+def _check_ratios(job, plies: tuple[Lamina | None, ...]) -> None:
+    """A stress_ratio given per material names materials the job's layers use (a typo is never ignored)."""
+    ratios = job.analysis.stress_ratio
+    if not isinstance(ratios, tuple):
+        return
+    names = sorted({p.name for p in plies if p is not None})
+    for name, _ in ratios:
+        if name not in names:
+            raise ConfigError(f"no layer's material is named {name!r} (the job's: {', '.join(names) or 'none'})",
+                              file=job.source, key_path=f"analysis.stress_ratio.{name}")
 
 
 def load_case(job) -> LoadCase:
