@@ -107,30 +107,10 @@ def build_model(surface, rows: tuple[LayerRows, ...], band_width: float, pressur
     rad = np.radians(ply_angle)[..., None]
     fiber = np.cos(rad) * e_m[:, None, :] + np.sin(rad) * e_h[:, None, :]
     across = -np.sin(rad) * e_m[:, None, :] + np.cos(rad) * e_h[:, None, :]
-    loads = np.zeros_like(nodes)
     area = np.linalg.norm(np.cross(ev.ps, ev.pt), axis=1) * (s[i + 2] - s[i]) * (th[2] - th[0])
-    pressed = np.ones(elements.shape[0], bool)
-    rigid, extra = [], []
-    # each end's zone: the element rows whose centres lie within a band width of it (at least one; the same
-    # count at both ends, so that a mirrored part is loaded alike)
-    count = max(1, int(np.count_nonzero(edges[:-1] + 0.5 * np.diff(edges) <= edges[0] + band_width)))
-    row_of = np.repeat(np.arange(n_s), ntheta)
-    for end, row, zone in ((-1.0, 0, row_of < count), (1.0, s.size - 1, row_of >= n_s - count)):
-        along = surface.evaluate(np.full(th.size, s[row]), th, order=1).ps.mean(axis=0)
-        centre, axis = _end_axis(grid[row], along, end)
-        if not bosses:
-            thrust = (pressure * _enclosed(grid[row], axis) if closed else 0.0) + axial_force
-            _traction(loads, nodes, elements, zone, area, centre, axis, thrust, torque)
-            continue
-        # a boss: rigid, the laminate over its flange (the zone) bonded to it, the pressure inside the
-        # flange's rim (the zone's far ring) its own, pushing it out along the axis
-        rim = grid[row - int(end) * 2 * count]
-        pressed &= ~zone
-        ref = nodes.shape[0] + len(extra)
-        extra += [centre, centre]
-        rigid.append((np.unique(elements[zone]), ref, ref + 1))
-        loads = np.vstack([loads, axis * (pressure * _enclosed(rim, axis) + axial_force), axis * torque])
-    nodes = np.vstack([nodes] + [np.array(extra)] if extra else [nodes])
+    ends = _Ends(surface=surface, grid=grid, s=s, th=th, elements=elements, area=area, band_width=band_width,
+                 ntheta=ntheta)
+    nodes, loads, pressed, rigid = ends.load(nodes, pressure, closed, axial_force, torque, bosses)
     middle = 0.5 * (s[0] + s[-1])
     mid = int(np.argmin(np.abs(s[::2][:-1] - middle))) * 2
     rings = np.stack([number[mid][::2], number[mid + 2][::2]])
@@ -142,7 +122,51 @@ def build_model(surface, rows: tuple[LayerRows, ...], band_width: float, pressur
                       ply_thickness=ply_t, fiber=fiber, across=across, loads=loads, fixed_axial=held[held >= 0],
                       fixed_x=held[[q, 3 * q]], fixed_y=held[[0, 2 * q]], rings=rings,
                       ring_t=surface.t_of_s(np.array([s[mid], s[mid + 2]])), meridian=np.arange(n_s) * ntheta,
-                      pressed=pressed, rigid=tuple(rigid), ntheta=ntheta)
+                      pressed=pressed, rigid=rigid, ntheta=ntheta)
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class _Ends:
+    """What the ends' loads need of a mesh: the surface, the node grid (stations s x angles th, 3), the
+    elements and their areas, the band width and the elements around."""
+
+    surface: object
+    grid: np.ndarray
+    s: np.ndarray
+    th: np.ndarray
+    elements: np.ndarray
+    area: np.ndarray
+    band_width: float
+    ntheta: int
+
+    def load(self, nodes: np.ndarray, pressure: float, closed: bool, axial_force: float, torque: float,
+             bosses: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple]:
+        """(nodes with a boss's two extra nodes each, nodal loads, the pressed elements, the rigid bosses)."""
+        n_s = self.elements.shape[0] // self.ntheta
+        edges = self.s[::2]
+        # each end's zone: the element rows whose centres lie within a band width of it (at least one; the
+        # same count at both ends, so that a mirrored part is loaded alike)
+        count = max(1, int(np.count_nonzero(edges[:-1] + 0.5 * np.diff(edges) <= edges[0] + self.band_width)))
+        row_of = np.repeat(np.arange(n_s), self.ntheta)
+        loads = np.zeros_like(nodes)
+        pressed = np.ones(self.elements.shape[0], bool)
+        rigid, extra = [], []
+        for end, row, zone in ((-1.0, 0, row_of < count), (1.0, self.s.size - 1, row_of >= n_s - count)):
+            along = self.surface.evaluate(np.full(self.th.size, self.s[row]), self.th, order=1).ps.mean(axis=0)
+            centre, axis = _end_axis(self.grid[row], along, end)
+            if not bosses:
+                thrust = (pressure * _enclosed(self.grid[row], axis) if closed else 0.0) + axial_force
+                _traction(loads, nodes, self.elements, zone, self.area, centre, axis, thrust, torque)
+                continue
+            # a boss: rigid, the laminate over its flange (the zone) bonded to it, the pressure inside the
+            # flange's rim (the zone's far ring) its own, pushing it out along the axis
+            rim = self.grid[row - int(end) * 2 * count]
+            pressed &= ~zone
+            ref = nodes.shape[0] + len(extra)
+            extra += [centre, centre]
+            rigid.append((np.unique(self.elements[zone]), ref, ref + 1))
+            loads = np.vstack([loads, axis * (pressure * _enclosed(rim, axis) + axial_force), axis * torque])
+        return (np.vstack([nodes, np.array(extra)]) if extra else nodes), loads, pressed, tuple(rigid)
 
 
 def _end_axis(ring: np.ndarray, along: np.ndarray, end: float) -> tuple[np.ndarray, np.ndarray]:
