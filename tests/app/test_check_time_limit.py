@@ -59,3 +59,21 @@ def test_run_past_its_limit_while_reading_says_so(tmp_path: Path, monkeypatch) -
     report = run_job(config, tmp_path / "out", seconds=0.3)
     assert report.exit_code == 1 and f"stopped while reading {config}" in report.message, report.message
     assert "converge" not in report.message
+
+
+def test_simulate_past_its_limit_names_its_stage(monkeypatch) -> None:
+    import winder.winding.plan as plan_module  # noqa: PLC0415
+    from winder.app.simulate import simulate_files  # noqa: PLC0415
+    from winder.errors import SolverError  # noqa: PLC0415
+
+    root = Path(__file__).resolve().parents[2]
+    real = plan_module.plan
+
+    def slow(job, *rest):
+        time.sleep(5.0)
+        return real(job, *rest)
+
+    monkeypatch.setattr(plan_module, "plan", slow)
+    with pytest.raises(SolverError, match=r"within its time limit of 0.5 s \(--time-limit\): stopped while planning"):
+        simulate_files(str(root / "samples" / "pipe.yaml"), str(root / "samples" / "reference" / "pipe" / "pipe.gcode"),
+                       seconds=0.5)
