@@ -66,3 +66,16 @@ def test_leftovers_of_a_live_writer_stay(tmp_path: Path) -> None:
     user.write_text("mine")
     journal.recover(tmp_path)
     assert mine.exists() and user.exists() and not dead.exists()
+
+
+def test_what_earlier_versions_left_beside_a_jobs_outputs_goes(tmp_path: Path) -> None:
+    """Issue 45: killed writers of the second round left `.pipe.csv.<pid>.old` and `.pipe.ply.<hex>.tmp`
+    that no later run removed; the next run of that job now does (a live pid's stay)."""
+    from winder.app.writes import write_outputs  # noqa: PLC0415
+
+    left = [".a.csv.999999997.old", f".a.ply.{'7f' * 8}.tmp", ".a.gcode.999999998.old"]
+    kept = [f".a.csv.{os.getpid()}.old", ".notes.999999997.old", f".other.csv.{'7f' * 8}.tmp"]
+    for name in left + kept:
+        (tmp_path / name).write_text("x")
+    write_outputs(tmp_path, {"a.csv": b"1", "a.gcode": b"3", "a.ply": b"2", "a.summary.json": b"{}"})
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(kept + ["a.csv", "a.gcode", "a.ply", "a.summary.json"])

@@ -53,6 +53,7 @@ def write_outputs(out_dir: str | os.PathLike, rendered: dict[str, bytes]) -> lis
     streams, files = _destinations(folder, rendered)
     with journal.folder_lock(folder) as locked:
         journal.recover(folder, locked)
+        journal.settle_earlier(folder, [target.name for target, _ in files if target.parent == folder], locked)
         entries: list[journal.Entry] = []
         record = None
         try:

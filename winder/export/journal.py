@@ -34,7 +34,7 @@ from pathlib import Path
 
 from winder.progress import doing
 
-__all__ = ["Entry", "commit", "drop_backups", "folder_lock", "forward", "keep_old", "recover", "roll_back", "settle"]
+__all__ = ["Entry", "commit", "drop_backups", "folder_lock", "forward", "keep_old", "recover", "roll_back", "settle", "settle_earlier"]
 
 # (temporary file, output file, link kept to the old file or None, whether there was an old file: on a
 # file system without hard links an old file cannot be kept, and a rollback leaves the new one there)
@@ -289,3 +289,23 @@ def keep_old(final: Path) -> tuple[Path | None, bool]:
     except OSError:
         return None, True
     return backup, True
+
+
+def settle_earlier(folder: Path, names, locked: bool) -> None:
+    """Remove what writers of winder's earlier versions left beside these outputs: `.<name>.<pid>.old`
+    of a dead pid, and, under the folder's lock (those writers held it too), `.<name>.<16 hex>.tmp`."""
+    wanted = set(names)
+    for entry in os.listdir(folder):
+        match = _EARLIER.match(entry)
+        if match is None or match.group(1) not in wanted:
+            continue
+        pid = match.group(2)
+        if (pid is not None and alive(int(pid))) or (pid is None and not locked):
+            continue
+        try:
+            (folder / entry).unlink()
+        except OSError:
+            pass
+
+
+_EARLIER = re.compile(r"^\.(.+?)\.(?:(\d+)\.old|[0-9a-f]{16}\.tmp)\Z", re.DOTALL)
