@@ -21,8 +21,9 @@ the bench (the ranges as shops wind them, within a few seconds of CPU each).
 
 Outcomes (outcome()): `planned` (exit 0, every invariant proved), `physical` (a refusal naming what is
 physically in the way and the key to change), `numerical` (no convergence, an integral that did not
-settle, an iteration limit, an internal error: a defect of winder), `other` (a refusal of neither
-kind: a defect too, until its words say what is in the way).
+settle, an iteration limit, an internal error: a defect of winder), `invariant` (a plan or program that
+broke an invariant it proves before it writes: a defect too), `other` (a refusal of none of these
+kinds: a defect until its words say what is in the way).
 """
 
 from __future__ import annotations
@@ -51,8 +52,12 @@ class Size:
 SUITE = Size(layers=3, circuits=24, length=1500.0, points=30, radius=200.0)
 NIGHTLY = Size(layers=12, circuits=80, length=12000.0, points=50, radius=600.0)
 
-ROUND_POINTS = 4  # points a round of the mandrel a pass takes at least (winder asks for 3)
+ROUND_POINTS = 6  # points a round of the mandrel a pass takes at least (winder asks for 3)
 MOST_POINTS = 4000  # a pass's points, at most: past it the layer is refused for its points (physical enough)
+# A job refused by the invariants it proves before it writes (winder.machine.invariants): the plan or
+# the program of winder did not keep its promise, a defect like a numerical refusal.
+INVARIANT = re.compile(r"does not lay the planned path|of the part as wound so far|is written .* outside machine\.limits|"
+                       r"of its surface \(the widest gap")
 NUMERICAL = re.compile(r"converge|did not settle|iteration|internal error|not finite|nan\b|singular", re.I)
 PHYSICAL = re.compile(r"friction|bridg|lift-off|slip|clear|reach|fold|thick|band|angle|cover|limit|opening|"
                       r"bend|radius|turn", re.I)
@@ -80,11 +85,13 @@ def parts(count: int, seed: int = 0, size: Size = SUITE) -> list[tuple[str, int,
 
 
 def outcome(ok: bool, message: str) -> str:
-    """planned | physical | numerical | other (module docstring) of a job's result."""
+    """planned | physical | numerical | invariant | other (module docstring) of a job's result."""
     if ok:
         return "planned"
     if NUMERICAL.search(message):
         return "numerical"
+    if INVARIANT.search(message):
+        return "invariant"
     return "physical" if PHYSICAL.search(message) and KEY.search(message) else "other"
 
 

@@ -183,9 +183,10 @@ def _golden(e: np.ndarray, at, lo: np.ndarray, hi: np.ndarray, steps: int) -> tu
     return np.where(better, c, d_), np.where(better, fc, fd)
 
 
-def layer_deviations(paths: SmoothPaths, eyes: np.ndarray, midway: np.ndarray, u: np.ndarray, move: np.ndarray,
-                     tol: float) -> tuple[np.ndarray, np.ndarray]:
-    """(point (m,), midpoint (m,)) deviations of one layer's fiber rows: eyes (m, 3) written, midway
+def layer_deviations(paths: SmoothPaths, planned: np.ndarray, eyes: np.ndarray, midway: np.ndarray, u: np.ndarray,
+                     move: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """(point (m,), midpoint (m,)) deviations of one layer's fiber rows: planned (n, 3) the layer's planned
+    points (the paths' nodes), eyes (m, 3) written, midway
     (m, 3) the eye halfway along the move to each row, u (m,) their global parameters on the layer's
     paths, move (m,) bool: the move to the row lays fiber from the row before (the midpoint's NaN
     elsewhere); tol the chord tolerance (module docstring)."""
@@ -204,6 +205,10 @@ def layer_deviations(paths: SmoothPaths, eyes: np.ndarray, midway: np.ndarray, u
     # Every interval's geodesic run at once, kept in the memo for the searches below (each reads a few).
     exact(np.arange(paths.s.size - 1) + 0.5)
     p, d = exact(u)
+    # A planned point's contact is the plan's own point and direction (where a joint of the guide
+    # falls on it, the smooth path's side of the joint is not the plan's).
+    node = np.flatnonzero(u == np.floor(u))
+    p[node], d[node] = planned[u[node].astype(np.int64)], paths.d[u[node].astype(np.int64)]
     point = ray_distance(eyes, p, d)
     mid = np.full(u.size, np.nan)
     k = np.flatnonzero(move)
@@ -272,7 +277,8 @@ def program_deviations(plan: WindingPlan, program, tol: float) -> Deviations:
         offsets = [paths.offset[j] for j, seg in enumerate(segments) if seg.stop > seg.start + seg.approach]
         r = np.concatenate(rows)
         u = np.concatenate([o + x for o, x in zip(offsets, us)])
-        point[r], mid[r] = layer_deviations(paths, eyes[r], _midway(values, program.robot, r), u,
+        planned = np.concatenate([np.asarray(fp.points, dtype=float).reshape(-1, 3) for fp in layer.passes])
+        point[r], mid[r] = layer_deviations(paths, planned, eyes[r], _midway(values, program.robot, r), u,
                                             np.concatenate(moves), tol)
     return Deviations(point, mid)
 
