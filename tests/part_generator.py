@@ -47,10 +47,11 @@ class Size:
     length: float
     points: int
     radius: float
+    bent: float  # the largest tube radius of a bent axis (elbows, ducts: their programs are robot poses)
 
 
-SUITE = Size(layers=3, circuits=24, length=1500.0, points=30, radius=200.0)
-NIGHTLY = Size(layers=12, circuits=80, length=12000.0, points=50, radius=600.0)
+SUITE = Size(layers=3, circuits=24, length=1500.0, points=30, radius=200.0, bent=60.0)
+NIGHTLY = Size(layers=12, circuits=80, length=12000.0, points=50, radius=600.0, bent=300.0)
 
 ROUND_POINTS = 6  # points a round of the mandrel a pass takes at least (winder asks for 3)
 MOST_POINTS = 4000  # a pass's points, at most: past it the layer is refused for its points (physical enough)
@@ -228,7 +229,7 @@ def _tube(rng, size: Size) -> dict:
 
 
 def _elbow(rng, size: Size) -> dict:
-    diameter = _round(_log_uniform(rng, 50.0, min(600.0, 2.0 * size.radius)), 5.0)
+    diameter = _round(_log_uniform(rng, 50.0, min(600.0, 2.0 * size.bent)), 5.0)
     bend = _round(rng.uniform(1.0, 5.0) * diameter, 5.0)
     angle = _round(rng.uniform(30.0, 90.0), 5.0)
     legs = [_round(rng.uniform(0.3, 1.5) * diameter, 5.0) for _ in range(2)]
@@ -245,8 +246,8 @@ def _elbow(rng, size: Size) -> dict:
 
 
 def _duct(rng, size: Size) -> dict:
-    radius = _round(_log_uniform(rng, 20.0, min(150.0, size.radius)), 0.5)
-    count = int(rng.integers(4, 7))
+    radius = _round(_log_uniform(rng, 20.0, min(150.0, size.bent)), 0.5)
+    count = int(rng.integers(4, 7 if size.bent > 100.0 else 5))
     step = _round(rng.uniform(3.0, 6.0) * radius, 5.0)
     drift = np.cumsum(rng.uniform(-0.25, 0.25, size=(count, 2)) * step, axis=0)
     drift[0] = 0.0

@@ -137,7 +137,7 @@ def _prove_clearance(plan: WindingPlan, job, program: MotionProgram) -> float:
         if program.robot:  # a robot's pass-to-pass joins need only keep off the part
             firsts = np.array([seg.start - lo for seg in segments if seg.stop > seg.start and seg.approach == 0])
             dist_need = np.full(dist.size, need)
-            dist_need[firsts[firsts > 0]] = 0.0
+            dist_need[firsts] = 0.0  # a layer's first move too: from the last layer's last pose
         else:
             dist_need = np.full(dist.size, need)
         bad = np.flatnonzero(dist < dist_need - 1e-9)
