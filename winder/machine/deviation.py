@@ -39,8 +39,9 @@ REFINE_PER_POINT = 8  # ... and of the exact path a planned interval, where the 
 REFINE_MOST = 1024  # samples of a move, at most
 REPORT_TOP = 64  # a layer's largest midpoint bounds sought again too, a round at a time
 REPORT_ROUNDS = 8
-FALSI_STEPS = 30  # regula falsi steps closing a bracket of the tangent plane through the eye
-GOLDEN_STEPS = 20  # golden-section steps around the least sample (its bracket shrinks 0.618^20 ~ 7e-5)
+BRACKET_REACH, BRACKET_MM = 4.0, 5.0  # a bracket is closed where it starts within this of the least sample
+FALSI_STEPS = 14  # regula falsi steps closing a bracket of the tangent plane through the eye
+GOLDEN_STEPS = 16  # golden-section steps around the least sample (its bracket shrinks 0.618^16 ~ 5e-4)
 REFINE_SHARE = 1.0  # of the chord tolerance: a midpoint whose bound is past this is sought again on the path
 
 
@@ -130,6 +131,10 @@ def _refined(e: np.ndarray, plane, u0: np.ndarray, u1: np.ndarray) -> np.ndarray
         lo[sub], hi[sub] = u[rows, k_min] - step, u[rows, k_min] + step
         best[sub] = dist[rows, k_min]
         i, j = np.nonzero(np.signbit(h[:, :-1]) != np.signbit(h[:, 1:]))
+        # Only brackets whose nearer end lies within BRACKET_REACH of the move's least sample: the eye
+        # is on a tangent plane there, but far off its ray a step away is far off it at the root too.
+        near = np.minimum(dist[i, j], dist[i, j + 1]) <= BRACKET_REACH * dist[i, k_min[i]] + BRACKET_MM
+        i, j = i[near], j[near]
         roots.append((sub[i], u[i, j], u[i, j + 1], h[i, j], h[i, j + 1]))
     lo, hi = np.maximum(lo, np.minimum(u0, u1)), np.minimum(hi, np.maximum(u0, u1))
     best = np.minimum(best, _golden(e, at, lo, hi, GOLDEN_STEPS)[1])

@@ -19,6 +19,7 @@ import numpy as np
 
 from winder.config.winding import LayerConfig
 from winder.winding.coverage import layer_coverage
+from winder.winding.layers.hoop_joints import traverse
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import SolverError
 from winder.winding.slip import check_slip
@@ -85,27 +86,6 @@ def _traverses(ctx: PlanContext, cfg: LayerConfig, index: int, t_a: float, t_b: 
     return spans
 
 
-def _with_joints(surf, lam: np.ndarray, t_a: float, t_b: float) -> np.ndarray:
-    """The traverse's fractions lam (m,) of its span t_a -> t_b with the guide curve's joints inside
-    it among them: where a line meets an arc the surface's metric jumps, the fiber's direction in
-    (s, theta) with it, and a smooth path between two planned points across the joint bends there
-    (the eye 0.19 mm off the fiber round a DN350 elbow's joint); through a planned point it does not."""
-    from winder.geometry.joints import joint_stations  # noqa: PLC0415 - bent axes only
-
-    joints = surf.t_of_s(joint_stations(surf))
-    inside = (joints - t_a) / (t_b - t_a)
-    inside = inside[(inside > 0.0) & (inside < 1.0)]
-    if inside.size == 0 or lam.size < 3:
-        return lam
-    # The nearest inner point moves onto the joint (half a step at most): an extra point beside one
-    # would leave an interval a hundredth of the others, and the smooth path's slopes overshoot there.
-    out = lam.copy()
-    near = np.clip(np.searchsorted(lam, inside), 1, lam.size - 2)
-    near = np.where(np.abs(lam[near - 1] - inside) < np.abs(lam[near] - inside), np.maximum(near - 1, 1), near)
-    out[near] = inside
-    return out if np.all(np.diff(out) > 0.0) else lam
-
-
 def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
     surf, w = ctx.surface, ctx.winding
     t_a, t_b = _cylinder_region(ctx)
@@ -129,20 +109,29 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         f0 = float(ctx.arcs.fraction(np.array([theta_start]))[0])
         turns_k = abs(spans[k][1] - spans[k][0]) / pitch
         m = max(3, int(math.ceil(turns_k * 360.0 / HOOP_STEP_DEG)) + 1)
-        lam = _with_joints(surf, np.linspace(0.0, 1.0, m), *spans[k])
-        frac = f0 + lam * turns_k
         forward = k % 2 == 0
-        t = spans[k][0] + lam * (spans[k][1] - spans[k][0])
+        over = traverse(surf, ctx.arcs, *spans[k], f0, pitch * stretch, HOOP_STEP_DEG)  # a bent axis's joints
+        if over is None:
+            frac = f0 + np.linspace(0.0, turns_k, m)
+            t = np.linspace(spans[k][0], spans[k][1], m)
+        else:
+            t, frac, rates = over
         s = surf.s_of_t(t)
         th = ctx.arcs.theta(frac)
         th[0] = theta_start
         ev = surf.evaluate(s, th, order=1)
-        # Exact tangent of the constant-pitch path: d/d lam Phi(s(t), theta(f)), both linear in lam
-        # (s = t on the cylindrical region).
-        vel = ev.ps * (spans[k][1] - spans[k][0]) + ev.pt * (ctx.arcs.dtheta_dfrac(th) * turns_k)[:, None]
-        speed = row_norms(vel)
+        if over is None:
+            # Exact tangent of the constant-pitch path: d/dk Phi(s(t), theta(f)), both linear in k
+            # (s = t on the cylindrical region).
+            vel = ev.ps * (t[1] - t[0]) + ev.pt * (ctx.arcs.dtheta_dfrac(th) * (frac[1] - frac[0]))[:, None]
+            speed = row_norms(vel)
+            length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
+        else:  # per unit |t|, each piece at its own pitch (winder.winding.layers.hoop_joints)
+            sign = 1.0 if spans[k][1] > spans[k][0] else -1.0
+            vel = ev.ps * sign + ev.pt * (ctx.arcs.dtheta_dfrac(th) * rates)[:, None]
+            speed = row_norms(vel)
+            length = float(np.sum(0.5 * (speed[1:] + speed[:-1]) * np.abs(np.diff(t))))
         direction = vel / speed[:, None]
-        length = float(np.sum(0.5 * (speed[1:] + speed[:-1]) * np.diff(lam)))
         passes.append(make_pass(surf, index + 1, k + 1, len(passes) + 1, PassKind.HOOP, s, th, direction, length,
                                 ev))
         theta_start = float(th[-1])
