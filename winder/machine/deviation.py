@@ -13,12 +13,13 @@ row as the program writes it (its decimals), by the forward kinematics of the ma
 
 Between two rows the controller moves the axes linearly, and the eye at the move's midpoint lays the
 fiber from a contact between the rows' two: its deviation is the least distance from the rays of the
-contacts u in [u0, u1]. That is sought on the chord of the two rows' own contacts (p and d linear in
-the move, MIDPOINT_SAMPLES points and a parabola through the least three of the squared distance,
+contacts u in [u0, u1]. That is sought on the cubic Hermite of the two rows' own contacts and
+directions (MIDPOINT_SAMPLES points and a parabola through the least three of the squared distance,
 which is smooth in u), then read on the exact path at the contact found: an upper bound of the least
 distance. Where that bound is past REFINE_SHARE of the tolerance the search is repeated on the exact
-path itself (REFINE_PER_POINT points a planned interval, then the parabola), so a coarse chord never
-condemns a good move: a move over a flat of a rectangular tube's section runs many planned intervals
+path itself (nine points, then REFINE_PER_POINT a planned interval with golden-section steps and the
+tangent plane's sign changes: docs/math/15-invariants.md), so a coarse model never condemns a good
+move: a move over a flat of a rectangular tube's section runs many planned intervals
 (the eye hardly moves while the contact runs along the flat, whose tangent rays are one line), and its
 midpoint's contact lies near one end.
 """
@@ -35,7 +36,7 @@ from winder.machine.smooth import SmoothPaths
 from winder.winding.results import WindingPlan
 
 MIDPOINT_SAMPLES = 9  # points of a move's chord of contacts where the midpoint's contact is sought
-REFINE_PER_POINT = 8  # ... and of the exact path a planned interval, where the chord's answer is in doubt
+REFINE_PER_POINT = 3  # ... and of the exact path a planned interval, where the chord's answer is in doubt
 REFINE_MOST = 1024  # samples of a move, at most
 REPORT_TOP = 64  # a layer's largest midpoint bounds sought again too, a round at a time
 REPORT_ROUNDS = 8
@@ -222,14 +223,19 @@ def layer_deviations(paths: SmoothPaths, planned: np.ndarray, eyes: np.ndarray, 
     e_mid = midway[k]
     p0, p1, d0, d1 = p[k - 1], p[k], d[k - 1], d[k]
 
+    span = row_norms(p1 - p0)[:, None]  # the cubic's end tangents: the contacts' directions, the chord long
+
     def chord(at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        # at: each move's parameters in a run (as _least_on asks them), the contacts linear between its rows'
+        # at: each move's parameters in a run (as _least_on asks them); the contact on the cubic Hermite
+        # of the rows' two contacts and directions, its direction the cubic's tangent
         reps = at.size // k.size
         lo, hi = np.repeat(u[k - 1], reps), np.repeat(u[k], reps)
         g = ((at - lo) / np.where(hi != lo, hi - lo, 1.0))[:, None]
-        pp = np.repeat(p0, reps, axis=0) * (1.0 - g) + np.repeat(p1, reps, axis=0) * g
-        dd = np.repeat(d0, reps, axis=0) * (1.0 - g) + np.repeat(d1, reps, axis=0) * g
-        return pp, dd / row_norms(dd)[:, None]
+        a0, a1, m0, m1 = (np.repeat(x, reps, axis=0) for x in (p0, p1, span * d0, span * d1))
+        g2, g3 = g * g, g * g * g
+        pp = (2 * g3 - 3 * g2 + 1) * a0 + (g3 - 2 * g2 + g) * m0 + (3 * g2 - 2 * g3) * a1 + (g3 - g2) * m1
+        dd = (6 * g2 - 6 * g) * a0 + (3 * g2 - 4 * g + 1) * m0 + (6 * g - 6 * g2) * a1 + (3 * g2 - 2 * g) * m1
+        return pp, dd / np.maximum(row_norms(dd), 1e-300)[:, None]
 
     found, _ = _least_on(e_mid, chord, u[k - 1], u[k], MIDPOINT_SAMPLES)
     p_f, d_f = exact(found)
