@@ -50,7 +50,7 @@ class Size:
     bent: float  # the largest tube radius of a bent axis (elbows, ducts: their programs are robot poses)
 
 
-SUITE = Size(layers=3, circuits=24, length=1500.0, points=30, radius=200.0, bent=60.0)
+SUITE = Size(layers=2, circuits=16, length=1000.0, points=30, radius=150.0, bent=35.0)
 NIGHTLY = Size(layers=12, circuits=80, length=12000.0, points=50, radius=600.0, bent=300.0)
 
 ROUND_POINTS = 6  # points a round of the mandrel a pass takes at least (winder asks for 3)

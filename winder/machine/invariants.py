@@ -146,7 +146,8 @@ def _prove_clearance(plan: WindingPlan, job, program: MotionProgram) -> float:
             raise SolverError(f"{_where(plan, job, program, lo + k)}: the payout eye's body comes within "
                               f"{dist[k]:.3f} mm of the part as wound so far (layers 1 to {i + 1}), closer than "
                               f"machine.eye.clearance allows ({max(dist_need[k], 0.0):.3f} mm)")
-        least = min(least, float(dist.min()))
+        kept = dist[dist_need > 0.0] if np.any(dist_need > 0.0) else dist  # a robot's joins need only keep off
+        least = min(least, float(kept.min())) if kept.size else least
     return float(least) if np.isfinite(least) else None
 
 
