@@ -245,12 +245,14 @@ def layer_deviations(paths: SmoothPaths, planned: np.ndarray, eyes: np.ndarray, 
     # REPORT_ROUNDS rounds.
     bound, done = mid[k], np.zeros(k.size, dtype=bool)
     doubt = np.flatnonzero(bound > REFINE_SHARE * tol)
-    for _ in range(REPORT_ROUNDS):
+    for round_ in range(REPORT_ROUNDS):
         if doubt.size:
             bound[doubt] = np.minimum(bound[doubt], _least_on(e_mid[doubt], exact, u[k - 1][doubt], u[k][doubt],
                                                               MIDPOINT_SAMPLES)[1])
             done[doubt] = True
-            still = doubt[bound[doubt] > REFINE_SHARE * tol]
+            # The largest are reported: sought to the end whatever their bound (the figure then holds
+            # from run to run, not one search's bound).
+            still = doubt[bound[doubt] > REFINE_SHARE * tol] if round_ == 0 else doubt
             if still.size:
                 bound[still] = np.minimum(bound[still], _refined(e_mid[still], plane, u[k - 1][still], u[k][still]))
         top = np.argsort(bound)[-REPORT_TOP:]

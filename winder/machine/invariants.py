@@ -31,6 +31,7 @@ from winder.machine.collision import move_distances
 from winder.machine.deviation import program_deviations
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.limits import ROLE_UNITS, as_written
+from winder.machine.mend import MEND_ROUNDS, mend
 from winder.machine.program import AXES, MotionProgram
 from winder.winding.results import WindingPlan
 
@@ -53,17 +54,30 @@ def prove(plan: WindingPlan, job, program: MotionProgram | Exception | None) -> 
     """Check every invariant of a planned job and its program (module docstring); SolverError naming
     the first one broken. A program that could not be built (an Exception) is not checked here: the
     outputs that need it say why."""
+    return mended_and_proved(plan, job, program, mending=False)[1]
+
+
+def mended_and_proved(plan: WindingPlan, job, program: MotionProgram | Exception | None,
+                      mending: bool = True) -> tuple[MotionProgram | Exception | None, Invariants]:
+    """(the program, its invariants): prove's, the moves whose midpoints stray cut finer first
+    (winder.machine.mend) where mending."""
     covered = prove_coverage(plan, job)
     if not isinstance(program, MotionProgram) or program.values.shape[0] == 0:
-        return Invariants(covered)
+        return program, Invariants(covered)
     machine = program.machine
     tol = float(machine.chord_tolerance)
     dev = program_deviations(plan, program, tol)
+    for _ in range(MEND_ROUNDS if mending else 0):
+        stray = np.flatnonzero(dev.midpoint > tol + DEVIATION_SLACK)
+        if stray.size == 0 or program.cell is not None:
+            break
+        program = mend(plan, program, stray)
+        dev = program_deviations(plan, program, tol)
     _refuse_deviation(plan, job, program, dev.point, tol, "programmed point")
     _refuse_deviation(plan, job, program, dev.midpoint, tol, "midpoint of the move to")
     clearance = _prove_clearance(plan, job, program)
     _prove_limits(plan, job, program)
-    return Invariants(covered, _largest(dev.point), _largest(dev.midpoint), clearance)
+    return program, Invariants(covered, _largest(dev.point), _largest(dev.midpoint), clearance)
 
 
 def _largest(values: np.ndarray) -> float | None:
