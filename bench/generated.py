@@ -1,7 +1,8 @@
 """`python -m bench --parts N`: N generated parts (tests/part_generator.py, its NIGHTLY size) run as
 whole jobs, each in a fresh interpreter (bench.parts.run_part: exit status, CPU time with the machine
 stage's workers, peak memory), tabled per class: how many planned, refused for a physical reason,
-refused numerically (a defect), refused by an invariant (a defect), refused otherwise; the invariant
+refused numerically (a defect), refused by an invariant (a defect), refused otherwise, killed past
+CPU_LIMIT_S of CPU (slow); the invariant
 margins of the planned ones (least covered fraction, largest point and midpoint deviation, least
 clearance margin: the eye body's least distance less the clearance); the median and 95th percentile
 of CPU seconds and peak memory. Writes bench/results/generated.md and generated.json (or -o)."""
@@ -19,11 +20,32 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from bench.parts import run_part
+from bench.parts import _CHILD
+from bench.tree_memory import run_sampled
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = Path(__file__).resolve().parent / "results"
-KINDS = ("planned", "physical", "numerical", "invariant", "other")
+KINDS = ("planned", "physical", "numerical", "invariant", "other", "slow")
+CPU_LIMIT_S = 300  # a part killed past this much CPU is `slow` (these machines are shared: no wall limit)
+# The job in a fresh interpreter (bench.parts' child), its CPU time limited.
+CHILD = f"import resource\nresource.setrlimit(resource.RLIMIT_CPU, ({CPU_LIMIT_S}, {CPU_LIMIT_S + 10}))\n" + _CHILD
+
+
+def run_part(cfg: Path, out: Path) -> dict:
+    """One part in a fresh interpreter, as bench.parts.run_part, or a `slow` row where it was killed
+    past CPU_LIMIT_S."""
+    import subprocess  # noqa: PLC0415
+
+    out.mkdir(parents=True, exist_ok=True)
+    env = {"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}
+    try:
+        done, tree = run_sampled([sys.executable, "-c", CHILD, str(cfg), str(out)], cwd=ROOT, env=env)
+    except subprocess.CalledProcessError as exc:
+        return {"ok": False, "slow": True, "message": f"killed past {CPU_LIMIT_S} s of CPU ({exc.returncode})",
+                "cpu_seconds": float(CPU_LIMIT_S), "peak_bytes": 0, "seconds": float("nan")}
+    row = json.loads(done.stdout.strip().splitlines()[-1])
+    row["peak_bytes"] = max(row["peak_bytes"], tree)
+    return row
 
 
 def _generator():
@@ -44,7 +66,7 @@ def run(count: int, seed: int = 0, log=sys.stderr) -> list[dict]:
             path = folder / f"{config['name']}.yaml"
             path.write_text(yaml.safe_dump(config, sort_keys=False), encoding="utf-8")
             row = run_part(path, folder / "out")
-            kind = gen.outcome(bool(row["ok"]), row.get("message", ""))
+            kind = "slow" if row.get("slow") else gen.outcome(bool(row["ok"]), row.get("message", ""))
             out = {"class": cls, "seed": s, "outcome": kind, "message": row.get("message", ""),
                    "cpu_seconds": row["cpu_seconds"], "peak_bytes": row["peak_bytes"], "seconds": row["seconds"]}
             summary = folder / "out" / f"{config['name']}.summary.json"
@@ -65,10 +87,10 @@ def _pct(values: list[float], q: float) -> float:
 
 def table(rows: list[dict]) -> str:
     """The per-class table (module docstring), Markdown."""
-    head = ("| class | parts | planned | physical | numerical | invariant | other | least covered | "
+    head = ("| class | parts | planned | physical | numerical | invariant | other | slow | least covered | "
             "max point dev (mm) | max midpoint dev (mm) | least clearance margin (mm) | CPU s median | CPU s p95 | "
             "peak MB median | peak MB p95 |")
-    lines = [head, "|---|" + "---:|" * 14]
+    lines = [head, "|---|" + "---:|" * 15]
     classes = sorted({r["class"] for r in rows}, key=lambda c: _generator().CLASSES.index(c)) + ["all"]
     for cls in classes:
         mine = [r for r in rows if cls in ("all", r["class"])]
@@ -91,7 +113,7 @@ def table(rows: list[dict]) -> str:
 
 def defects(rows: list[dict]) -> str:
     """The parts refused numerically, by an invariant or otherwise: class, seed and message."""
-    bad = [r for r in rows if r["outcome"] in ("numerical", "invariant", "other")]
+    bad = [r for r in rows if r["outcome"] in ("numerical", "invariant", "other", "slow")]
     return "".join(f"- {r['class']} seed {r['seed']} ({r['outcome']}): {r['message']}\n" for r in bad)
 
 
