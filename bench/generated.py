@@ -55,8 +55,10 @@ def _generator():
     return part_generator
 
 
-def run(count: int, seed: int = 0, log=sys.stderr) -> list[dict]:
-    """The rows (one per part: class, seed, outcome, message, figures) of `count` generated parts."""
+def run(count: int, seed: int = 0, log=sys.stderr, partial: Path | None = None) -> list[dict]:
+    """The rows (one per part: class, seed, outcome, message, figures) of `count` generated parts;
+    partial: a JSON file rewritten with the rows so far after each part (a long run stopped early
+    keeps them)."""
     gen = _generator()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -77,6 +79,8 @@ def run(count: int, seed: int = 0, log=sys.stderr) -> list[dict]:
                 if block.get("min_clearance_mm") is not None:
                     out["clearance_margin_mm"] = block["min_clearance_mm"] - clearance
             rows.append(out)
+            if partial is not None:
+                partial.write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
             print(f"{cls}_{s}: {kind} {row['cpu_seconds']:.1f} s CPU {row['peak_bytes'] / 1e6:.0f} MB", file=log, flush=True)
     return rows
 
@@ -119,7 +123,8 @@ def defects(rows: list[dict]) -> str:
 
 def main(count: int, seed: int = 0, output: Path = RESULTS) -> int:
     start, load = time.time(), os.getloadavg()[0]
-    rows = run(count, seed)
+    output.mkdir(parents=True, exist_ok=True)
+    rows = run(count, seed, partial=output / "generated.partial.json")
     text = (f"# Generated parts\n\n{(__doc__ or '').split(chr(10) + chr(10))[0]}\n\n{count} parts from seed {seed}, "
             f"{time.time() - start:.0f} s, load average (1 min) {load:.1f} at the start, {os.getloadavg()[0]:.1f} at "
             f"the end.\n\n" + table(rows) + "\n## Defects\n\n" + (defects(rows) or "none\n"))
