@@ -28,7 +28,6 @@ KNOWN = {
     ("tube", 1): "numerical: a pass on a rounded rectangle did not converge (issue 41 item 4)",
     ("tube", 6): "numerical: the Newton step fell below its tolerance on a superellipse (issue 41 item 4)",
     ("duct", 4): "the eye at a dwell round a spline duct's end cuts 2.6 mm into the mandrel (eye planning)",
-    ("vessel", 6): "the eye's crossing of its envelope jumps 55 mm near a cylinder's end at 51 deg (eye planning)",
 }
 NIGHTLY_RUN = os.environ.get("WINDER_NIGHTLY") == "1"
 COUNT = int(os.environ.get("WINDER_GENERATED", "1000")) if NIGHTLY_RUN else SUITE_COUNT
