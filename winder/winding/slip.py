@@ -47,6 +47,14 @@ def check_slip(ctx: PlanContext, index: int, p: FiberPass, turns: float) -> None
     idx = np.arange(p.s.size, dtype=float)
     s, th = np.interp(i, idx, p.s), np.interp(i, idx, p.theta)
     ratio = slip_ratio(surf, s, th)
+    from winder.geometry.joints import joint_stations  # noqa: PLC0415 - one-piece guides have none
+
+    joints = joint_stations(surf)
+    if joints.size:  # the differences straddling a joint of the guide read its metric's jump, not the fiber
+        near = np.searchsorted(joints, s)
+        gap = np.minimum(np.abs(s - joints[np.clip(near - 1, 0, joints.size - 1)]),
+                         np.abs(s - joints[np.clip(near, 0, joints.size - 1)]))
+        ratio = np.where(gap <= 2.0 * np.max(np.abs(np.diff(s))), 0.0, ratio)
     worst = int(np.argmax(ratio))
     if ratio[worst] > ctx.winding.friction + SLIP_MARGIN:  # a round-off slip is no slip, even at mu = 0
         t = float(surf.t_of_s(s[worst:worst + 1])[0])
