@@ -16,6 +16,7 @@ if TYPE_CHECKING:
 
 from winder.config.material import MaterialConfig, parse_materials
 from winder.config.reader import LENGTH_SLACK
+from winder.config.tension import TensionConfig, check_tensions, parse_tension
 
 DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
@@ -84,6 +85,7 @@ class LayerConfig:
     circuits: int | None = None
     taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
     step_back: float = 0.0  # helical on vessels: mm its turnarounds move toward the equator (math 8.8)
+    tension: TensionConfig | None = None  # N per band, this layer's own (winder.config.tension)
 
     def label(self, index: int) -> str:
         """`layer 5 (helical 16 deg)`: layer_label of this layer at 0-based position `index`."""
@@ -119,6 +121,11 @@ class WindingConfig:
     layers: tuple[LayerConfig, ...] = ()
     material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
     bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
+    tension: TensionConfig | None = None  # N per band (winder.config.tension); None: none programmed
+
+    def tension_of(self, index: int) -> TensionConfig | None:
+        """The tension of layer `index` (0-based): its own, else the job's."""
+        return self.layers[index].tension or self.tension
 
     @property
     def has_laminate(self) -> bool:
@@ -132,10 +139,10 @@ class WindingConfig:
 
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material",
-                 "bridging_tolerance")
+                 "bridging_tolerance", "tension")
 _LAYER_KINDS = {
-    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back")),
-    "hoop": ((), ("angle", "passes", "material", "taper")),
+    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back", "tension")),
+    "hoop": ((), ("angle", "passes", "material", "taper", "tension")),
 }
 
 
@@ -187,8 +194,10 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
             raise rd.error(rd.at(path, "bridging_tolerance"), "must be >= 0 (mm of lift-off a fiber may stand "
                            "off the mandrel over a concave stretch)", m["bridging_tolerance"])
     _check_tapers(rd, items, layers, rd.at(path, "layers"), region)
+    tension = parse_tension(rd, m["tension"], rd.at(path, "tension"), job=True) if "tension" in m else None
+    check_tensions(rd, items, layers, tension, rd.at(path, "layers"))
     return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
-                         bridging)
+                         bridging, tension)
 
 
 def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path: str,
@@ -272,6 +281,13 @@ def _parse_circuits(rd: Reader, m: dict, path: str, pattern: int | None) -> int 
 
 
 def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
+    layer = _parse_layer_kind(rd, value, path, friction, vessel)
+    if isinstance(value, dict) and "tension" in value:
+        layer = dataclasses.replace(layer, tension=parse_tension(rd, value["tension"], rd.at(path, "tension"), job=False))
+    return layer
+
+
+def _parse_layer_kind(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
     kind, m = rd.typed(value, path, "layer", _LAYER_KINDS)
     angle_path = rd.at(path, "angle")
     if kind == "helical":

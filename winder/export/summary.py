@@ -25,6 +25,8 @@ no program can be built (an axis limit). estimated_time_s / time_s stay the fibe
 And axis_travel: each logical axis's [least, largest] value over the program as written (carriage,
 rotation, cross_feed, yaw; for robot poses x, y, z, i, j, k), to set against the machine's travel;
 null when no program can be built, and then program_error: why (the axis, the value and the limit).
+With a programmed tension (winding.tension, a layer's own), each layer has tension_n (N per band, its
+first pass's) and tension_range_n [least, largest] over its passes, as the program writes them.
 With an `analysis:` section, the `analysis` block (winder.analysis.structure.summary_block): the load
 case, burst_pressure_netting_mpa (and where), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and
 t, first_ply_failure_max_stress_mpa, netting_optimum_angle_deg, and per layer.
@@ -54,6 +56,7 @@ CURVATURE_DECIMALS = 8  # 1/mm
 TIME_DECIMALS = 2
 MASS_DECIMALS = 6  # kg: to the milligram
 THICKNESS_DECIMALS = LENGTH_DECIMALS + 1  # a wall grows by tenths of a millimetre a layer
+TENSION_DECIMALS = 3  # N per band
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
 # at (one unit in the last place). Keys written otherwise are named in DECIMALS_BY_NAME (a looser
 # unit would let a real change pass, a tighter one fail on round-off); axis_travel is written at
@@ -63,7 +66,8 @@ DECIMALS_BY_SUFFIX = (("_mm", LENGTH_DECIMALS), ("_deg", ANGLE_DECIMALS), ("_fra
 DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm": CURVATURE_DECIMALS,
                     "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
                     "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS,
-                    "max_wall_mm": THICKNESS_DECIMALS}
+                    "max_wall_mm": THICKNESS_DECIMALS, "tension_n": TENSION_DECIMALS,
+                    "tension_range_n": TENSION_DECIMALS}
 _DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
 DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.structure)
 
@@ -164,16 +168,10 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
     return out
 
 
-def _winding_times(plan: WindingPlan, machine, program: MotionProgram | Exception | None = None
+def _program_times(plan: WindingPlan, program: MotionProgram | Exception
                    ) -> tuple[float | None, list[float | None], dict | None, str | None]:
     """(total, per layer) machine time from the dynamics, the axis travel and None; None, None and
-    why where no program can be built. program: the job's program (or its build's error), built
-    here when not given."""
-    if program is None:
-        try:
-            program = build_program(plan, machine)
-        except ExportError as exc:
-            program = exc
+    why where no program could be built (program: the build's ExportError)."""
     if isinstance(program, ExportError):
         return None, [None] * len(plan.layers), None, str(program)
     if isinstance(program, Exception):
@@ -212,8 +210,16 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
         "layers": [_layer(layer) for layer in plan.layers],
         **_totals(plan),
     }
+    if machine is not None and program is None:
+        from winder.machine.tension import job_program  # noqa: PLC0415
+
+        try:
+            program = job_program(plan, job) if job is not None else build_program(plan, machine)
+        except ExportError as exc:
+            program = exc
+    _tensions(out["layers"], plan, program, job)
     if machine is not None:
-        total, layers, travel, why = _winding_times(plan, machine, program)
+        total, layers, travel, why = _program_times(plan, program)
         out["winding_time_s"] = _num(total, TIME_DECIMALS)
         out["axis_travel"] = travel
         if why is not None:
@@ -225,6 +231,24 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
 
         out["analysis"] = summary_block(analyze(plan, job), job)
     return out
+
+
+def _tensions(entries: list[dict], plan: WindingPlan, program, job) -> None:
+    """tension_n (the layer's first pass's, N per band) and tension_range_n [least, largest] of each
+    layer with a programmed tension: the program's, else the job's (no program built)."""
+    if isinstance(program, MotionProgram):
+        found = program.layer_tensions
+    elif job is not None and getattr(job, "winding", None) is not None:
+        from winder.machine.tension import pass_tensions  # noqa: PLC0415
+
+        per_pass = pass_tensions(job, plan) or ()
+        found = tuple((v[0], min(v), max(v)) if v else None for v in per_pass)
+    else:
+        return
+    for entry, tension in zip(entries, found):
+        if tension is not None:
+            entry["tension_n"] = _num(tension[0], TENSION_DECIMALS)
+            entry["tension_range_n"] = [_num(tension[1], TENSION_DECIMALS), _num(tension[2], TENSION_DECIMALS)]
 
 
 def summary_text(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,

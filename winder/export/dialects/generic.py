@@ -2,13 +2,14 @@
 
 `G1` moves of the four axes, letters from machine.axes, in the order carriage, rotation, cross-feed,
 yaw, with the feed F (mm/min) on every move; values with 3 decimals (mm, deg); the preamble G21 G90
-G94 and M2 at the end. The axis values are the motion program's (winder.machine.program), whose
+G94 and M2 at the end (its description, winder/config/posts/generic.post.yaml, and a post file's
+changes to it: winder.config.controllers). The axis values are the motion program's (winder.machine.program), whose
 docstring and winder.machine.kinematics define them.
 """
 
 from __future__ import annotations
 
-from winder.export.dialects.text import DECIMALS, BaseDialect
+from winder.export.dialects.text import BaseDialect
 from winder.machine.program import MotionProgram
 
 PREFIX = "G1"
@@ -24,7 +25,8 @@ class GenericGcode(BaseDialect):
         return (ax.carriage, ax.rotation, ax.cross_feed, ax.yaw)
 
     def decimals(self, program: MotionProgram) -> tuple[int, ...]:
-        return (DECIMALS,) * 4
+        c = self.controller
+        return (c.linear, c.angular, c.linear, c.angular)
 
     def describe(self, program: MotionProgram) -> list[str]:
         ax = program.machine.axes
@@ -45,4 +47,4 @@ class GenericGcode(BaseDialect):
 
 def make(program: MotionProgram, band_width: float = 0.0) -> GenericGcode:
     """The dialect registry's entry (winder.config.dialects)."""
-    return GenericGcode()
+    return GenericGcode(program.machine.controller)

@@ -8,13 +8,15 @@ rapid `G0`; then `G93`: every `G1` carries F = 60 / t, t the move's planned time
 machine.dynamics (axis speeds and accelerations: the trapezoidal profile), so the controller runs
 each move in its planned time whatever mix of linear and rotary axes it has (at G94 a rotary-heavy
 move would run at the wrong surface speed), and the moves' times add up to winding_time_s. The end:
-`G94`, `M2`, `%`. The rotary axis must not be configured as wrapped (A is cumulative).
+`G94`, `M2`, `%`. The rotary axis must not be configured as wrapped (A is cumulative, unless a post
+file resets it: G92). The lines around the moves are its description's
+(winder/config/posts/linuxcnc.post.yaml); a post file extending it (Sinumerik, Fanuc) changes them.
 """
 
 from __future__ import annotations
 
 from winder.export.dialects.generic import GenericGcode
-from winder.export.dialects.text import fmt, fmt_significant
+from winder.export.dialects.text import fmt_significant
 from winder.machine.program import MotionProgram
 
 MIN_MOVE_S = 1e-4  # s: a move is never asked to be faster than this
@@ -27,15 +29,6 @@ class LinuxcncGcode(GenericGcode):
         return super().describe(program) + [
             "; feed: G93 inverse time, F = 60 / (the move's time in s), from the machine dynamics (acceleration included)"]
 
-    def first_lines(self, program: MotionProgram) -> list[str]:
-        return ["%"]
-
-    def preamble(self, program: MotionProgram) -> list[str]:
-        return ["G21 G90 G94 G17 G40 G49 G80 G54", f"G64 P{fmt(program.machine.chord_tolerance)}"]
-
-    def end(self, program: MotionProgram) -> list[str]:
-        return ["G94", "M2", "%"]
-
     def move_lines(self, program: MotionProgram, row: int, words: str,
                    prev: tuple[float, ...] | None, cur: tuple[float, ...]) -> list[str]:
         seconds = self.elapsed(program, row)
@@ -47,4 +40,4 @@ class LinuxcncGcode(GenericGcode):
 
 def make(program: MotionProgram, band_width: float = 0.0) -> LinuxcncGcode:
     """The dialect registry's entry (winder.config.dialects)."""
-    return LinuxcncGcode()
+    return LinuxcncGcode(program.machine.controller)

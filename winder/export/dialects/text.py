@@ -13,7 +13,9 @@ from typing import Protocol
 
 import numpy as np
 
+from winder.config.controllers import Controller
 from winder.errors import ExportError
+from winder.export.dialects.post_text import check_digits, render, reset_line, template_lines
 from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
@@ -49,6 +51,7 @@ class Dialect(Protocol):
     """How one controller spells a program."""
 
     prefix: str  # the word starting a move line
+    controller: Controller  # its description: header, preamble, footer, decimals, comments, tension
 
     def describe(self, program: MotionProgram) -> list[str]: ...  # machine comment lines
 
@@ -69,19 +72,24 @@ class Dialect(Protocol):
 
 
 class BaseDialect:
-    """What a dialect does unless it says otherwise: the generic G-code's preamble, end, columns
-    and `PREFIX words F<feed>` move lines."""
+    """What a dialect does unless it says otherwise: its controller's header, preamble and footer
+    (winder.config.controllers), the program's columns and `PREFIX words F<feed>` move lines."""
 
     prefix = "G1"
 
+    def __init__(self, controller: Controller) -> None:
+        self.controller = controller
+
     def first_lines(self, program: MotionProgram) -> list[str]:
-        return []
+        return _lines(self.controller.header, program)
 
     def preamble(self, program: MotionProgram) -> list[str]:
-        return list(PREAMBLE)
+        return _lines(self.controller.preamble, program)
 
     def end(self, program: MotionProgram) -> list[str]:
-        return [END]
+        rotary = self.controller.rotary
+        cancel = [rotary.cancel] if rotary.mode.startswith("reset") and rotary.cancel else []
+        return cancel + _lines(self.controller.footer, program)
 
     def columns(self, program: MotionProgram) -> np.ndarray:
         return program.values
@@ -108,6 +116,10 @@ class BaseDialect:
         seconds = float(clock[1][row] - clock[1][clock[2]]) if row > clock[2] else 0.0
         clock[2] = row
         return seconds
+
+
+def _lines(templates: tuple[str, ...], program: MotionProgram) -> list[str]:
+    return template_lines(templates, program)
 
 
 def _refuse_zero_feed(program: MotionProgram, feeds: list[str]) -> None:
@@ -211,21 +223,32 @@ def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
 
 def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> tuple[list[str], list[Move]]:
     """The program's lines (without newlines) and the moves they write, in order (moves=False: the
-    lines alone, the moves list left empty)."""
+    lines alone, the moves list left empty), in the form of the dialect's controller (its rotary
+    axis, tension command, comments and block numbers: winder.export.dialects.post_text)."""
+    from winder.machine.rotary import rotary_shifts, split_turns  # noqa: PLC0415
+
+    controller = dialect.controller
+    if controller.rotary.mode == "wrap":
+        program = split_turns(program)
     letters, decimals = dialect.letters(program), dialect.decimals(program)
     columns = dialect.columns(program)
-    # Every row's words as written, all at once; the values as written read back.
-    written = fixed_rows([(columns[:, j], n) for j, n in enumerate(decimals)], list(letters)) if len(columns) else []
-    if written is None:  # a value that is not finite: one number at a time
-        texts = [fmt_column(columns[:, j], n) for j, n in enumerate(decimals)]
-        written = list(map(" ".join, zip(*[[c + t for t in col] for c, col in zip(letters, texts)])))
-        values = np.array(texts, dtype=float).T.tolist()
+    turns, resets = rotary_shifts(columns[:, 1] if columns.ndim == 2 and columns.shape[1] > 1 else np.zeros(0),
+                                  program, controller.rotary.mode, decimals[1] if len(decimals) > 1 else 3)
+    written, values = _words(columns, letters, decimals)
+    shown = written
+    if resets or np.any(turns):  # the words as written, rotation less its whole turns; moves compared as made
+        kept = columns.copy()
+        kept[:, 1] -= turns
+        shown, _ = _words(kept, letters, decimals)
+        check_digits(kept, letters, decimals, controller)
     else:
-        values = np.column_stack([printed(columns[:, j], n) for j, n in enumerate(decimals)]).tolist()
-    lines = dialect.first_lines(program) + _header(program, dialect) + dialect.preamble(program)
+        check_digits(columns, letters, decimals, controller)
+    first = dialect.first_lines(program)
+    lines = first + _header(program, dialect) + dialect.preamble(program)
     found: list[Move] = []
     last_words: str | None = None
     last: tuple[float, ...] | None = None
+    tension = None
     for layer, segments in zip(program.layers, program.segments):
         lines += wrapped(f"; {layer_line(layer)}")
         circuit = None
@@ -235,6 +258,11 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
                 lines.append(f"; layer {layer.index} circuit {circuit}")
             head = f"; layer {layer.index} circuit {circuit} pass {seg.number}"
             lines.append(f"{head} {APPROACH if seg.approach else seg.kind.value}")
+            if seg.tension is not None and controller.tension and (said := controller.tension_line(seg.tension)) != tension:
+                lines.append(said)  # one line per change of the tension as written
+                tension = said
+            if seg.start in resets:
+                lines.append(reset_line(controller, letters[1], resets[seg.start]))
             if seg.capped:
                 lines.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is "
                              f"held at the largest lead, {fmt(seg.max_lead)} mm, off the envelope")
@@ -246,19 +274,30 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
                     continue
                 last_words = words
                 cur = tuple(values[row])
-                lines += dialect.move_lines(program, row, words, last, cur)
+                lines += dialect.move_lines(program, row, shown[row], last, cur)
                 last = cur
                 if moves:
                     u = float(program.index[row])
                     found.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(round(u)), cur, u))
     lines += dialect.end(program)
-    _refuse_long(lines)
+    lines = render(lines, controller, len(first))
+    _refuse_long(lines, controller.max_line_length)
     return lines, found
 
 
-def _refuse_long(lines: list[str]) -> None:
-    """ExportError for a line past MAX_LINE (a move's words: a value past any machine's travel)."""
+def _words(columns: np.ndarray, letters: tuple[str, ...], decimals: tuple[int, ...]) -> tuple[list[str], list]:
+    """Every row's words as written, all at once, and the values as written read back."""
+    written = fixed_rows([(columns[:, j], n) for j, n in enumerate(decimals)], list(letters)) if len(columns) else []
+    if written is None:  # a value that is not finite: one number at a time
+        texts = [fmt_column(columns[:, j], n) for j, n in enumerate(decimals)]
+        written = list(map(" ".join, zip(*[[c + t for t in col] for c, col in zip(letters, texts)])))
+        return written, np.array(texts, dtype=float).T.tolist()
+    return written, np.column_stack([printed(columns[:, j], n) for j, n in enumerate(decimals)]).tolist()
+
+
+def _refuse_long(lines: list[str], longest: int = MAX_LINE) -> None:
+    """ExportError for a line past `longest` (a move's words: a value past any machine's travel)."""
     for number, line in enumerate(lines, 1):
-        if len(line) > MAX_LINE // 4 and len(line.encode("utf-8")) > MAX_LINE:  # 4 bytes a character at most
+        if len(line) > longest // 4 and len(line.encode("utf-8")) > longest:  # 4 bytes a character at most
             raise ExportError(f"line {number} of the program would have {len(line.encode('utf-8'))} characters, "
-                              f"past a controller's {MAX_LINE}: {line[:60]!r}")
+                              f"past a controller's {longest}: {line[:60]!r}")
