@@ -1,0 +1,67 @@
+"""The fiber tension in the robot cells' languages (SPEC.md "Tension and controllers as data"): an
+analog output, as each controller's description says (KRL $ANOUT[1] a share of the output's full
+scale, RAPID SetAO in N, URScript set_standard_analog_out a share), one command per change as
+written, and simulate reading it back per layer."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import pytest
+
+from winder.app.simulate import simulate
+from winder.config.job import parse_config
+from winder.config.reader import load_yaml
+from winder.config.robot import Pose, RobotCell
+from winder.export.dialects import krl, rapid, urscript
+from winder.machine.program import build_program
+from winder.machine.tension import pass_tensions, with_tension
+from winder.winding.plan import plan as plan_job
+
+WRITTEN_TOL = 0.05 + 1e-9  # N: one decimal of N, or a share of 200 N to four decimals (0.01 N)
+ELBOW = """
+name: tension_elbow
+mandrel:
+  axis:
+    type: path
+    segments: [{line: 60}, {arc: {radius: 150, angle: 90, toward: 0}}, {line: 60}]
+  profile: {type: constant, radius: 40}
+winding:
+  band_width: 25
+  friction: 0.3
+  tension: {start: 50, end: 35}     # over the layer's passes
+  layers:
+    - {type: helical, angle: 45, slip: auto}
+machine:
+  eye: {clearance: 25}
+  robot: {arm: kuka_kr16}
+"""
+CELLS = {"krl": ("kuka_kr16", krl, r"\$ANOUT\[1\] = (0\.\d{4})", 200.0),
+         "rapid": ("abb_irb4600", rapid, r"SetAO aoTension, (\d+\.\d);", 1.0),
+         "urscript": ("ur10e", urscript, r"set_standard_analog_out\(0, (0\.\d{4})\)", 200.0)}
+RING = {"kuka_kr16": Pose(x=1000, z=800, ry=-90, rz=-90), "abb_irb4600": Pose(x=1000, z=800, ry=-90, rz=-90),
+        "ur10e": Pose(x=800, z=500, ry=-90, rz=-90)}
+
+
+@pytest.fixture(scope="module")
+def job_plan():
+    job = parse_config(load_yaml(ELBOW), "tension_elbow.yaml")
+    return job, plan_job(job)
+
+
+@pytest.mark.parametrize("language", sorted(CELLS))
+def test_each_language_sets_and_reads_back_the_tension(job_plan, language):
+    job, plan = job_plan
+    arm, module, pattern, scale = CELLS[language]
+    machine = dataclasses.replace(job.machine, cell=RobotCell(arm, ring=RING[arm]), dialect=language)
+    program = with_tension(build_program(plan, machine), pass_tensions(job, plan))
+    texts = module.serialize(program)
+    text = "".join(texts[k] for k in sorted(texts, key=lambda s: s != ".src"))
+    written = [float(v) * scale for v in re.findall(pattern, text, re.M)]
+    assert written[0] == pytest.approx(50.0, abs=WRITTEN_TOL) and written[-1] == pytest.approx(35.0, abs=WRITTEN_TOL)
+    assert all(a > b for a, b in zip(written, written[1:]))  # one command per change as written, falling
+    sim = simulate(machine, plan, text, f"program.{language}")
+    (layer,) = sim.tensions
+    assert layer["tension_n"] == pytest.approx(50.0, abs=WRITTEN_TOL)
+    assert layer["tension_range_n"] == pytest.approx([35.0, 50.0], abs=WRITTEN_TOL)
