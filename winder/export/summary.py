@@ -30,6 +30,8 @@ first pass's) and tension_range_n [least, largest] over its passes, as the progr
 With an `analysis:` section, the `analysis` block (winder.analysis.structure.summary_block): the load
 case, burst_pressure_netting_mpa (and where), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and
 t, first_ply_failure_max_stress_mpa, netting_optimum_angle_deg, and per layer.
+With prices in the materials (fiber_price_per_kg, resin_price_per_kg), material_cost {fiber, resin,
+total}: the layers' masses at their materials' prices.
 """
 
 from __future__ import annotations
@@ -57,6 +59,7 @@ TIME_DECIMALS = 2
 MASS_DECIMALS = 6  # kg: to the milligram
 THICKNESS_DECIMALS = LENGTH_DECIMALS + 1  # a wall grows by tenths of a millimetre a layer
 TENSION_DECIMALS = 3  # N per band
+COST_DECIMALS = 2  # the config's currency
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
 # at (one unit in the last place). Keys written otherwise are named in DECIMALS_BY_NAME (a looser
 # unit would let a real change pass, a tighter one fail on round-off); axis_travel is written at
@@ -226,6 +229,9 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
             out["program_error"] = why
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
+    cost = material_cost(out["layers"], job)
+    if cost is not None:
+        out["material_cost"] = cost
     if job is not None and getattr(job, "analysis", None) is not None:
         from winder.analysis.structure import analyze, summary_block  # noqa: PLC0415
 
@@ -249,6 +255,23 @@ def _tensions(entries: list[dict], plan: WindingPlan, program, job) -> None:
         if tension is not None:
             entry["tension_n"] = _num(tension[0], TENSION_DECIMALS)
             entry["tension_range_n"] = [_num(tension[1], TENSION_DECIMALS), _num(tension[2], TENSION_DECIMALS)]
+
+
+def material_cost(entries: list[dict], job) -> dict[str, float] | None:
+    """{fiber, resin, total}: each layer's fiber and resin mass at its material's price per kg (in the
+    config's currency; a mass or price not given counts nothing); None when no material has a price."""
+    winding = getattr(job, "winding", None)
+    materials = [winding.material_of(i) for i in range(len(winding.layers))] if winding is not None else []
+    if not any(m is not None and (m.fiber_price_per_kg is not None or m.resin_price_per_kg is not None)
+               for m in materials):
+        return None
+    sums = {"fiber": 0.0, "resin": 0.0}
+    for entry, m in zip(entries, materials):
+        for part in sums:
+            mass, price = entry.get(f"{part}_mass_kg"), getattr(m, f"{part}_price_per_kg", None) if m else None
+            if mass is not None and price is not None:
+                sums[part] += mass * price
+    return {**{k: _num(v, COST_DECIMALS) for k, v in sums.items()}, "total": _num(sum(sums.values()), COST_DECIMALS)}
 
 
 def summary_text(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,
