@@ -115,13 +115,33 @@ def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
     """Every requested output of a planned job, in memory: file name -> bytes (writing order);
     program: the job's motion program when the caller has built it already."""
     chosen = registry.chosen(formats, always=summary)
-    if program is None and any(f.program for f in chosen):
-        program = motion_program(job, plan)
-    rendered = {}
+    builds = program is None and getattr(job, "machine", None) is not None and any(f.program for f in chosen)
+    free = [f for f in chosen if not f.program] if builds else []
+    from winder.app.machine_pool import aside  # noqa: PLC0415
+
+    # The outputs that need no program are rendered on a forked process while it is built.
+    with aside(lambda: _render_each(job, plan, free, None, None)) as rendered_aside:
+        if program is None and any(f.program for f in chosen):
+            program = motion_program(job, plan)
+        rendered = _render_each(job, plan, [f for f in chosen if f not in free], program, progress)
+        rendered.update(rendered_aside())
+    first_error = next((rendered[job.name + f.suffix] for f in chosen
+                        if isinstance(rendered[job.name + f.suffix], Exception)), None)
+    if first_error is not None:  # the error of the first format in writing order, as one by one
+        raise first_error
+    return {job.name + f.suffix: rendered[job.name + f.suffix] for f in chosen}
+
+
+def _render_each(job, plan, chosen: list, program, progress: Progress | None) -> dict[str, bytes | Exception]:
+    """file name -> bytes of each format, or the error that kept it from being rendered."""
+    rendered: dict[str, bytes | Exception] = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
             progress(i / len(chosen), f"rendering the {fmt.name}")
-        rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
+        try:
+            rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
+        except WinderError as exc:  # raised by render_outputs in writing order
+            rendered[job.name + fmt.suffix] = exc
     return rendered
 
 
