@@ -94,3 +94,14 @@ def _with(program, job):
     from dataclasses import replace  # noqa: PLC0415
 
     return replace(program, machine=job.machine)
+
+
+def test_a_value_past_the_controllers_digits_is_refused_naming_the_remedy(program):
+    from winder.errors import ExportError  # noqa: PLC0415
+
+    job = _job("posts/six_digits.post.yaml")
+    turned = np.abs(np.round(program.values[:, 1], AXIS_DECIMALS)).max()
+    digits = len(str(int(turned))) + AXIS_DECIMALS
+    with pytest.raises(ExportError, match=rf"has {digits} digits, past the 6 the six_digits controller takes "
+                                          r"\(max_digits\); keep the rotary axis with rotary: \{mode: wrap\}"):
+        program_text(_with(program, job))

@@ -78,7 +78,7 @@ def check_digits(columns: np.ndarray, letters: tuple[str, ...], decimals: tuple[
         value = float(columns[k, j])
         digits = len(str(int(abs(round(value, d))))) + d
         if digits > controller.max_digits:
-            hint = (" : keep the rotary axis with rotary: {mode: wrap} (a modulo axis) or {mode: reset_per_layer} in "
+            hint = ("; keep the rotary axis with rotary: {mode: wrap} (a modulo axis) or {mode: reset_per_layer} in "
                     "a post file" if j == 1 else "")
             raise ExportError(f"{letter}{value:.{d}f} has {digits} digits, past the {controller.max_digits} the "
                               f"{controller.name} controller takes (max_digits){hint}")
