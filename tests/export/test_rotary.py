@@ -105,3 +105,26 @@ def test_a_value_past_the_controllers_digits_is_refused_naming_the_remedy(progra
     with pytest.raises(ExportError, match=rf"has {digits} digits, past the 6 the six_digits controller takes "
                                           r"\(max_digits\); keep the rotary axis with rotary: \{mode: wrap\}"):
         program_text(_with(program, job))
+
+
+@pytest.mark.skipif(RS274 is None, reason="rs274 not installed (Debian package linuxcnc-uspace)")
+def test_a_wrapped_program_read_by_rs274_unwinds_to_the_cumulative_moves(planned, program, tmp_path):
+    """rs274 reads A as written (modulo 360); every move within a third of a turn, so turning each the
+    shortest way (what a modulo axis does) gives back the cumulative program, cut into pieces."""
+    from winder.machine.rotary import split_turns  # noqa: PLC0415
+
+    job = _job("posts/wrap.post.yaml")
+    text = program_text(_with(program, job))
+    feeds = [float(numbers.split(",")[3]) for name, numbers in _NUMBERS.findall(run_rs274(tmp_path / "w.ngc", text))
+             if name == "STRAIGHT_FEED"]
+    assert min(feeds) >= 0.0 and max(feeds) < 360.0
+    cut = split_turns(program).values
+    shown = np.round(cut, AXIS_DECIMALS)
+    rows = np.flatnonzero(np.concatenate([[True], np.any(shown[1:] != shown[:-1], axis=1)]))[1:]
+    first = float(np.round(cut[0, 1], AXIS_DECIMALS))  # the G0 to the start, as written: first mod 360
+    turns = 360.0 * np.floor(first / 360.0)  # the whole turns a modulo axis does not show
+    unwound = np.unwrap(np.concatenate([[first - turns], feeds]), period=360.0)[1:] + turns
+    assert len(feeds) == rows.size
+    assert np.abs(unwound - cut[rows, 1]).max() < POSITION_TOL + 1e-9
+    sim, ref = simulate(job.machine, planned, text), simulate(_job().machine, planned, program_text(_with(program, _job())))
+    assert sim.fiber_length_mm == pytest.approx(ref.fiber_length_mm, rel=SAME_FIBER)
