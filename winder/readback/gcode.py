@@ -115,8 +115,8 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
     tension, turns = np.nan, 0.0  # the tension set so far (N); whole turns a reset took off the rotation
     for number, raw in enumerate(text.lines() if isinstance(text, ProgramFile) else text.splitlines(), start=1):
         line = raw.strip()
-        if not line.startswith(("G1 ", "G0 ")):
-            bare = syntax.bare(line)
+        bare = syntax.bare(line)
+        if not bare.startswith(("G1 ", "G0 ")):  # a move's line is read as before: the rest may be the controller's
             if (read := syntax.tension(bare)) is not None:
                 tension = read
                 continue
