@@ -165,6 +165,15 @@ def motion_program(job, plan):
         return exc
 
 
+def proved(job, plan, program):
+    """The program (or its build's error, or None) once the job's invariants hold, with their margins
+    (winder.machine.invariants); SolverError naming the first one broken: nothing is written then."""
+    from winder.machine.invariants import prove  # noqa: PLC0415
+
+    found = prove(plan, job, program)
+    return dataclasses.replace(program, invariants=found) if hasattr(program, "invariants") else program
+
+
 def _plan(job, progress: Progress | None = None):
     from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
@@ -224,11 +233,10 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
-            program = None
-            if cell_dialect is not None:  # the cell's reach check refuses before any file, whatever is written
-                program = motion_program(job, plan)
-                if isinstance(program, Exception):
-                    raise program
+            program = motion_program(job, plan)
+            if cell_dialect is not None and isinstance(program, Exception):
+                raise program  # the cell's reach check refuses before any file, whatever is written
+            program = proved(job, plan, program)
             rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0), program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
