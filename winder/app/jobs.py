@@ -110,19 +110,24 @@ def output_names(name: str, formats: Iterable[str], summary: bool = True) -> lis
     return [name + f.suffix for f in registry.chosen(formats, always=summary)]
 
 
-def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
-                   progress: Progress | None = None, program=None) -> dict[str, bytes]:
-    """Every requested output of a planned job, in memory: file name -> bytes (writing order);
-    program: the job's motion program when the caller has built it already."""
+def render_outputs(job, plan, formats: Iterable[str], summary: bool = True, progress: Progress | None = None,
+                   program=None, make_program: Callable[[], object] | None = None) -> dict[str, bytes]:
+    """Every requested output of a planned job, in memory: file name -> bytes (writing order).
+
+    program: the job's motion program when the caller has built it already; else make_program()
+    builds it (run_job's builds and proves it, raising where an invariant fails), or
+    motion_program where an output needs it.
+    """
     chosen = registry.chosen(formats, always=summary)
-    builds = program is None and getattr(job, "machine", None) is not None and any(f.program for f in chosen)
+    needed = make_program is not None or any(f.program for f in chosen)
+    builds = program is None and needed and getattr(job, "machine", None) is not None
     free = [f for f in chosen if not f.program] if builds else []
     from winder.app.machine_pool import aside  # noqa: PLC0415
 
     # The outputs that need no program are rendered on a forked process while it is built.
     with aside(lambda: _render_each(job, plan, free, None, None)) as rendered_aside:
-        if program is None and any(f.program for f in chosen):
-            program = motion_program(job, plan)
+        if program is None and needed:
+            program = make_program() if make_program is not None else motion_program(job, plan)
         rendered = _render_each(job, plan, [f for f in chosen if f not in free], program, progress)
         rendered.update(rendered_aside())
     first_error = next((rendered[job.name + f.suffix] for f in chosen
@@ -233,11 +238,15 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
-            program = motion_program(job, plan)
-            if cell_dialect is not None and isinstance(program, Exception):
-                raise program  # the cell's reach check refuses before any file, whatever is written
-            program = proved(job, plan, program)
-            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0), program)
+
+            def checked_program():
+                program = motion_program(job, plan)
+                if cell_dialect is not None and isinstance(program, Exception):
+                    raise program  # the cell's reach check refuses before any file, whatever is written
+                return proved(job, plan, program)
+
+            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0),
+                                      make_program=checked_program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")
