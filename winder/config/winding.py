@@ -307,7 +307,8 @@ def _parse_circuits(rd: Reader, m: dict, path: str, pattern: int | None) -> int 
 def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
     layer = _parse_layer_kind(rd, value, path, friction, vessel)
     if isinstance(value, dict) and "tension" in value:
-        layer = dataclasses.replace(layer, tension=parse_tension(rd, value["tension"], rd.at(path, "tension"), job=False))
+        own = parse_tension(rd, value["tension"], rd.at(path, "tension"), job=False)
+        layer = dataclasses.replace(layer, tension=own)
     return layer
 
 

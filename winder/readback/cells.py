@@ -55,7 +55,8 @@ class _Rows:
     def __init__(self, source: str, machine: MachineConfig | None = None) -> None:
         self.source = source
         controller = machine.controller if machine is not None else None
-        self._tension = read_pattern(controller.tension) if controller is not None and controller.tension else None
+        tension = controller.tension if controller is not None else None
+        self._tension = read_pattern(tension) if tension else None
         self._controller, self.tension, self.tensions = controller, np.nan, []
         self.key, self.kind, self.job = (0, 0, 0), "", None
         self.keys: list[tuple[int, int, int]] = []

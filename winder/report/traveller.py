@@ -59,7 +59,9 @@ def _tension(layer: dict[str, Any]) -> str:
     if "tension_n" not in layer:
         return "–"
     low, high = layer.get("tension_range_n") or (layer["tension_n"],) * 2
-    return _num(low, 1) if low == high else f"{_num(layer['tension_n'], 1)} <span class=dim>({_num(low, 1)}–{_num(high, 1)})</span>"
+    if low == high:
+        return _num(low, 1)
+    return f"{_num(layer['tension_n'], 1)} <span class=dim>({_num(low, 1)}–{_num(high, 1)})</span>"
 
 
 def _rows(summary: dict[str, Any], job) -> str:

@@ -23,8 +23,6 @@ from winder.winding.results import LayerPlan, PassKind
 
 JOB_LINE = "; job:"  # the header line naming the job (simulate reads it back)
 DECIMALS = AXIS_DECIMALS  # mm and deg: the limits hold for the values as written
-PREAMBLE = ("G21", "G90", "G94")
-END = "M2"
 MAX_LINE = 255  # characters (bytes as UTF-8) of a program line: LinuxCNC's limit, comments included
 ELLIPSIS = "..."
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
@@ -81,15 +79,15 @@ class BaseDialect:
         self.controller = controller
 
     def first_lines(self, program: MotionProgram) -> list[str]:
-        return _lines(self.controller.header, program)
+        return template_lines(self.controller.header, program)
 
     def preamble(self, program: MotionProgram) -> list[str]:
-        return _lines(self.controller.preamble, program)
+        return template_lines(self.controller.preamble, program)
 
     def end(self, program: MotionProgram) -> list[str]:
         rotary = self.controller.rotary
         cancel = [rotary.cancel] if rotary.mode.startswith("reset") and rotary.cancel else []
-        return cancel + _lines(self.controller.footer, program)
+        return cancel + template_lines(self.controller.footer, program)
 
     def columns(self, program: MotionProgram) -> np.ndarray:
         return program.values
@@ -116,10 +114,6 @@ class BaseDialect:
         seconds = float(clock[1][row] - clock[1][clock[2]]) if row > clock[2] else 0.0
         clock[2] = row
         return seconds
-
-
-def _lines(templates: tuple[str, ...], program: MotionProgram) -> list[str]:
-    return template_lines(templates, program)
 
 
 def _refuse_zero_feed(program: MotionProgram, feeds: list[str]) -> None:
@@ -225,30 +219,14 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
     """The program's lines (without newlines) and the moves they write, in order (moves=False: the
     lines alone, the moves list left empty), in the form of the dialect's controller (its rotary
     axis, tension command, comments and block numbers: winder.export.dialects.post_text)."""
-    from winder.machine.rotary import rotary_shifts, split_turns  # noqa: PLC0415
-
     controller = dialect.controller
-    if controller.rotary.mode == "wrap":
-        program = split_turns(program)
-    letters, decimals = dialect.letters(program), dialect.decimals(program)
-    columns = dialect.columns(program)
-    turns, resets = rotary_shifts(columns[:, 1] if columns.ndim == 2 and columns.shape[1] > 1 else np.zeros(0),
-                                  program, controller.rotary.mode, decimals[1] if len(decimals) > 1 else 3)
-    written, values = _words(columns, letters, decimals)
-    shown = written
-    if resets or np.any(turns):  # the words as written, rotation less its whole turns; moves compared as made
-        kept = columns.copy()
-        kept[:, 1] -= turns
-        shown, _ = _words(kept, letters, decimals)
-        check_digits(kept, letters, decimals, controller)
-    else:
-        check_digits(columns, letters, decimals, controller)
+    program, written, values, shown, resets = _rows_as_written(program, dialect)
     first = dialect.first_lines(program)
     lines = first + _header(program, dialect) + dialect.preamble(program)
     found: list[Move] = []
     last_words: str | None = None
     last: tuple[float, ...] | None = None
-    tension = None
+    tension: list[str | None] = [None]
     for layer, segments in zip(program.layers, program.segments):
         lines += wrapped(f"; {layer_line(layer)}")
         circuit = None
@@ -257,15 +235,7 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
                 circuit = seg.circuit
                 lines.append(f"; layer {layer.index} circuit {circuit}")
             head = f"; layer {layer.index} circuit {circuit} pass {seg.number}"
-            lines.append(f"{head} {APPROACH if seg.approach else seg.kind.value}")
-            if seg.tension is not None and controller.tension and (said := controller.tension_line(seg.tension)) != tension:
-                lines.append(said)  # one line per change of the tension as written
-                tension = said
-            if seg.start in resets:
-                lines.append(reset_line(controller, letters[1], resets[seg.start]))
-            if seg.capped:
-                lines.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is "
-                             f"held at the largest lead, {fmt(seg.max_lead)} mm, off the envelope")
+            lines += _pass_start(head, seg, controller, dialect.letters(program)[1], resets, tension)
             for row in range(seg.start, seg.stop):
                 if seg.approach and row == seg.start + seg.approach:
                     lines.append(f"{head} {seg.kind.value}")
@@ -283,6 +253,48 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
     lines = render(lines, controller, len(first))
     _refuse_long(lines, controller.max_line_length)
     return lines, found
+
+
+def _rows_as_written(program: MotionProgram, dialect: Dialect) -> tuple:
+    """(the program, cut at half turns where the controller wraps its rotary axis; every row's words
+    as the moves are made (rows repeating them are left out); their values read back; the words as
+    written, the rotation less the whole turns a wrap or reset takes off; resets: row -> the position
+    the axis is set to before it). ExportError for a value past the controller's digits."""
+    from winder.machine.rotary import rotary_shifts, split_turns  # noqa: PLC0415
+
+    controller = dialect.controller
+    if controller.rotary.mode == "wrap":
+        program = split_turns(program)
+    letters, decimals = dialect.letters(program), dialect.decimals(program)
+    columns = dialect.columns(program)
+    rotation = columns[:, 1] if columns.ndim == 2 and columns.shape[1] > 1 else np.zeros(0)
+    turns, resets = rotary_shifts(rotation, program, controller.rotary.mode, decimals[1] if len(decimals) > 1 else 3)
+    written, values = _words(columns, letters, decimals)
+    shown = written
+    if resets or np.any(turns):
+        columns = columns.copy()
+        columns[:, 1] -= turns
+        shown, _ = _words(columns, letters, decimals)
+    check_digits(columns, letters, decimals, controller)
+    return program, written, values, shown, resets
+
+
+def _pass_start(head: str, seg, controller: Controller, rotary_letter: str, resets: dict[int, float],
+                tension: list[str | None]) -> list[str]:
+    """The lines before a pass's moves: its comment, the tension command where the tension as written
+    changes (tension[0]: the last written), the rotary axis' reset, a note of capped points."""
+    out = [f"{head} {APPROACH if seg.approach else seg.kind.value}"]
+    if seg.tension is not None and controller.tension:
+        said = controller.tension_line(seg.tension)
+        if said != tension[0]:
+            out.append(said)
+            tension[0] = said
+    if seg.start in resets:
+        out.append(reset_line(controller, rotary_letter, resets[seg.start]))
+    if seg.capped:
+        out.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is held at the "
+                   f"largest lead, {fmt(seg.max_lead)} mm, off the envelope")
+    return out
 
 
 def _words(columns: np.ndarray, letters: tuple[str, ...], decimals: tuple[int, ...]) -> tuple[list[str], list]:
