@@ -68,6 +68,9 @@ def test_a_post_file_in_the_tests_alone_writes_the_hand_written_program(planned,
     first = lines.index("N100 G21 G90 G94 G17 G40 G49 G80 G54")
     assert _matches(PREAMBLE, lines[first:first + len(PREAMBLE)])
     assert _matches(END, lines[-3:])
+    # The header says what the controller must be set up for (docs/guide/machine-setup.md).
+    assert "(controller: shop [a shop's own LinuxCNC cell])" in lines
+    assert "(tension: N per band, set where it changes by M67 E1 Q<N>)" in lines
     code = [line for line in lines if not line.startswith("(") and line != "%"]
     numbers = [int(re.match(r"N(\d+) ", line)[1]) for line in code]
     assert numbers == list(range(100, 100 + 5 * len(code), 5))
@@ -113,6 +116,7 @@ def test_fanuc_program_follows_its_manual(planned):
     lines = text.splitlines()
     assert lines[0] == "%" and re.fullmatch(r"O\d{4} \([A-Z0-9_]+\)", lines[1]) and lines[-1] == "%"
     assert re.fullmatch(r"N\d{1,5} M30", lines[-2])
+    assert "(ROTARY AXIS: MODULO 360 [A ROLL-OVER AXIS TAKING THE SHORTEST WAY], NO MOVE HALF A TURN)" in lines
     assert not re.search(r"[a-z;]", text)  # upper case (lower case is ignored on input), no `;` comments
     body = lines[2:-1]
     comments = [line for line in body if line.startswith("(")]

@@ -28,6 +28,27 @@ def template_lines(lines: tuple[str, ...], program: MotionProgram) -> list[str]:
     return [line.format(**fields) for line in lines]
 
 
+def controller_lines(program: MotionProgram, controller: Controller) -> list[str]:
+    """The header's comments on what the controller must be set up for, where the program asks more
+    than the generic dialects do: the controller described, the tension command, the rotary axis kept
+    (docs/guide/machine-setup.md). None for a program of the built-in dialects without tension."""
+    out = []
+    if controller.name not in ("generic", "linuxcnc", "marlin", "robot"):
+        out.append(f"; controller: {controller.name}" + (f" ({controller.about})" if controller.about else ""))
+    if controller.tension and any(seg.tension is not None for segs in program.segments for seg in segs):
+        shown = re.sub(r"\{newtons[^}]*\}", "<N>", controller.tension)
+        shown = re.sub(r"\{fraction[^}]*\}", f"<N / {controller.tension_full_scale or 0:g} N>", shown)
+        out.append(f"; tension: N per band, set where it changes by {shown}")
+    rotary = controller.rotary
+    if rotary.mode == "wrap" and not program.robot:
+        out.append("; rotary axis: modulo 360 (a roll-over axis taking the shortest way), no move half a turn")
+    elif rotary.mode.startswith("reset") and not program.robot:
+        where = "layer" if rotary.mode == "reset_per_layer" else "pass"
+        out.append(f"; rotary axis: cumulative within a {where}, set to its value modulo 360 at each {where}'s "
+                   f"first move ({rotary.reset})" + (f", {rotary.cancel} at the end" if rotary.cancel else ""))
+    return out
+
+
 def reset_line(controller: Controller, letter: str, value: float) -> str:
     """The line that sets the rotary axis `letter` to `value` (deg) (Rotary.reset)."""
     return controller.rotary.reset.format(axis=letter, value=f"{value + 0.0:.{controller.angular}f}")

@@ -15,7 +15,7 @@ import numpy as np
 
 from winder.config.controllers import Controller
 from winder.errors import ExportError
-from winder.export.dialects.post_text import check_digits, render, reset_line, template_lines
+from winder.export.dialects.post_text import check_digits, controller_lines, render, reset_line, template_lines
 from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
@@ -203,7 +203,8 @@ def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
     room = MAX_LINE - len(JOB_LINE) - 1
     lines = ["; winder filament-winding program", f"{JOB_LINE} {shortened(clean(program.name), room)}",
              f"; source: {shortened(clean(program.source), MAX_LINE - len('; source: '), keep_end=True)}"]
-    lines += [part for line in dialect.describe(program) for part in wrapped(line)]
+    lines += [part for line in dialect.describe(program) + controller_lines(program, dialect.controller)
+              for part in wrapped(line)]
     if program.envelope_radius is not None:
         lines.append(f"; eye envelope: radius {fmt(program.envelope_radius)} mm around the axis")
     else:
