@@ -135,3 +135,17 @@ def test_fanuc_program_follows_its_manual(planned):
     assert sim.fiber_length_mm == pytest.approx(plain.fiber_length_mm, rel=SAME_FIBER)
     assert sim.max_point_deviation_mm < job.machine.chord_tolerance
     assert sim.time_s == pytest.approx(plain.time_s, rel=1e-3)
+
+
+def test_a_program_without_an_end_code_reads_back_whole_and_cut_short_refused(planned):
+    """A post whose footer has no end code writes none; simulate reads its programs as whole, and
+    still refuses one cut short (the last move does not end the plan)."""
+    from winder.errors import ConfigError  # noqa: PLC0415
+
+    job = _job("posts/no_end.post.yaml")
+    text = _text(job, planned)
+    assert text.splitlines()[-1] == "; end of the winding program" and "\nM2\n" not in text
+    assert simulate(job.machine, planned, text).max_point_deviation_mm < job.machine.chord_tolerance
+    cut = "\n".join(text.splitlines()[:-200]) + "\n"
+    with pytest.raises(ConfigError, match="stops before the end of the plan"):
+        simulate(job.machine, planned, cut)

@@ -164,7 +164,7 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
         kinds.append(kind)
     if not rows.count:  # an empty file, or comments only: there is no last move to name a line by
         raise ConfigError(f"{source}: the program has no moves")
-    if end is None and dialect != "marlin":
+    if end is None and dialect != "marlin" and syntax.needs_end:
         last = rows.last_line
         raise ConfigError(f"{source}: line {last}: the program stops without its end "
                           f"({syntax.end or 'M2'}): cut short? got {rows.count} moves, the last on line {last}")

@@ -28,7 +28,10 @@ class Syntax:
         self._reset = read_pattern(reset) if reset else None
         self.wrap = controller.rotary.mode == "wrap"
         end = controller.end_code()
-        self.end = code(end) if end else None
+        self.end = (code(end) or None) if end else None  # a footer of comments alone ends nothing
+        # A controller whose footer has no end code writes none: its programs are whole without one
+        # (simulate still checks that the last move ends the plan, as for marlin).
+        self.needs_end = self.end is not None
         lines = (*controller.header, *controller.preamble, *controller.footer)
         if controller.rotary.cancel:
             lines += (controller.rotary.cancel,)
