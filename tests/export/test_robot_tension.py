@@ -65,3 +65,20 @@ def test_each_language_sets_and_reads_back_the_tension(job_plan, language):
     (layer,) = sim.tensions
     assert layer["tension_n"] == pytest.approx(50.0, abs=WRITTEN_TOL)
     assert layer["tension_range_n"] == pytest.approx([35.0, 50.0], abs=WRITTEN_TOL)
+
+
+def test_the_pose_listing_sets_the_tension_and_rs274_reads_it(job_plan, tmp_path):
+    """The robot pose listing (`<name>.gcode` of a robot cell) is G-code: M68 E0 Q<N> per change, read by
+    LinuxCNC's interpreter in order."""
+    from rs274_run import RS274, run_rs274  # noqa: PLC0415
+    from winder.export.gcode import program_text  # noqa: PLC0415
+
+    job, plan = job_plan
+    program = with_tension(build_program(plan, job.machine), pass_tensions(job, plan))
+    text = program_text(program)
+    written = [float(line.split("Q")[1]) for line in text.splitlines() if line.startswith("M68 E0 Q")]
+    assert written[0] == 50.0 and written[-1] == 35.0 and all(a > b for a, b in zip(written, written[1:]))
+    if RS274 is None:
+        pytest.skip("rs274 not installed (Debian package linuxcnc-uspace)")
+    read = [float(v) for v in re.findall(r"SET_AUX_OUTPUT_VALUE\(0,\s*([-0-9.]+)\)", run_rs274(tmp_path / "p.ngc", text))]
+    assert read == pytest.approx(written, abs=1e-9)
