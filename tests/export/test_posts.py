@@ -25,7 +25,8 @@ from winder.winding.plan import plan as plan_job
 HERE = Path(__file__).resolve().parent
 SAME_FIBER = 1e-6  # relative: the fiber read back from a program and from the same moves written otherwise
 N4 = r"-?\d+\.\d{4}"  # a value with the shop post's four decimals
-JOB = {"name": "shop", "mandrel": {"axis": {"type": "line", "length": 300}, "profile": {"type": "constant", "radius": 40}},
+JOB = {"name": "shop", "mandrel": {"axis": {"type": "line", "length": 300},
+                                   "profile": {"type": "constant", "radius": 40}},
        "winding": {"band_width": 10, "region": {"start": 20, "end": 280}, "points": 40, "tension": 40,
                    "layers": [{"type": "helical", "angle": 50, "tension": {"start": 60, "end": 45}},
                               {"type": "hoop", "passes": 2}]},

@@ -80,5 +80,6 @@ def test_the_pose_listing_sets_the_tension_and_rs274_reads_it(job_plan, tmp_path
     assert written[0] == 50.0 and written[-1] == 35.0 and all(a > b for a, b in zip(written, written[1:]))
     if RS274 is None:
         pytest.skip("rs274 not installed (Debian package linuxcnc-uspace)")
-    read = [float(v) for v in re.findall(r"SET_AUX_OUTPUT_VALUE\(0,\s*([-0-9.]+)\)", run_rs274(tmp_path / "p.ngc", text))]
+    canon = run_rs274(tmp_path / "p.ngc", text)
+    read = [float(v) for v in re.findall(r"SET_AUX_OUTPUT_VALUE\(0,\s*([-0-9.]+)\)", canon)]
     assert read == pytest.approx(written, abs=1e-9)

@@ -26,7 +26,8 @@ POSITION_TOL = 0.6 * 10.0**-AXIS_DECIMALS  # deg: a value as written against the
 WRITTEN_TOL = 1.1 * 10.0**-AXIS_DECIMALS  # deg: the same row written less whole turns, rounded again
 SAME_FIBER = 1e-6  # relative
 _NUMBERS = re.compile(r"(STRAIGHT_FEED|SET_G92_OFFSET)\(([^)]*)\)")
-JOB = {"name": "turns", "mandrel": {"axis": {"type": "line", "length": 400}, "profile": {"type": "constant", "radius": 60}},
+JOB = {"name": "turns", "mandrel": {"axis": {"type": "line", "length": 400},
+                                    "profile": {"type": "constant", "radius": 60}},
        "winding": {"band_width": 12, "region": {"start": 20, "end": 380}, "points": 30,
                    "layers": [{"type": "helical", "angle": 30}, {"type": "hoop", "passes": 2},
                               {"type": "helical", "angle": 60}]},
@@ -126,5 +127,6 @@ def test_a_wrapped_program_read_by_rs274_unwinds_to_the_cumulative_moves(planned
     unwound = np.unwrap(np.concatenate([[first - turns], feeds]), period=360.0)[1:] + turns
     assert len(feeds) == rows.size
     assert np.abs(unwound - cut[rows, 1]).max() < POSITION_TOL + 1e-9
-    sim, ref = simulate(job.machine, planned, text), simulate(_job().machine, planned, program_text(_with(program, _job())))
+    continuous = program_text(_with(program, _job()))
+    sim, ref = simulate(job.machine, planned, text), simulate(_job().machine, planned, continuous)
     assert sim.fiber_length_mm == pytest.approx(ref.fiber_length_mm, rel=SAME_FIBER)
