@@ -226,6 +226,9 @@ def parse_post(rd: Reader, value: Any, base: Controller | None, name: str) -> Co
         out["max_digits"] = None if m["max_digits"] is None else rd.integer(m["max_digits"], "max_digits", 5, 15)
     if "rotary" in m:
         out["rotary"] = _rotary(rd, m["rotary"], "rotary", base.rotary)
+        if out["rotary"].mode != "continuous" and base.engine in ("marlin", "robot"):
+            raise rd.error("rotary.mode", f"a {base.engine} program keeps its rotation continuous (fiberpath's "
+                           "machines and robot poses have no modulo axis to keep)", out["rotary"].mode)
     if "uppercase" in m:
         out["uppercase"] = rd.boolean(m["uppercase"], "uppercase")
     post = dataclasses.replace(base, **out)
