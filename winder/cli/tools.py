@@ -20,6 +20,28 @@ def design_cmd(config: str, as_json: bool) -> None:
     _echo(design_output(config, as_json))
 
 
+@main.command("analyze", short_help="Solve CONFIG's shell model with CalculiX and set it beside the laminate analysis.")
+@click.argument("config", type=click.Path(dir_okay=False))
+@click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default=".", show_default=True,
+              help="Folder for the output files (created if missing).")
+@click.option("--json", "as_json", is_flag=True, help="Print the summary's `fe` block as one JSON object.")
+@click.option("--refine", type=FiniteRange(0.25, 8.0), default=1.0, show_default=True, metavar="FACTOR",
+              help="Element rows along the mandrel, times the default grading (2: the mesh doubled).")
+@click.option("--around", type=click.IntRange(12, 192), default=48, show_default=True, metavar="N",
+              help="Elements around the mandrel (a multiple of 4).")
+@_guard
+def analyze_cmd(config: str, out_dir: str, as_json: bool, refine: float, around: int) -> None:
+    """Plan CONFIG, write its shell model (<name>.inp), solve it with CalculiX `ccx`, read the fiber stress and
+    failure index along the meridian back, and write them beside the laminate analysis into <name>.summary.json
+    (`fe`) and <name>.html (with the plot extra). Exit status: 0, 2 an invalid config or no ccx installed,
+    1 a job or a solve that failed."""
+    from winder.app.analyze import analyze_files  # noqa: PLC0415
+    if around % 4:
+        raise click.BadParameter(f"must be a multiple of 4 (the supports lie 90 deg apart), got {around}",
+                                 param_hint="--around")
+    _echo(analyze_files(config, out_dir, as_json, refine, around))
+
+
 # -- patterns and fiberpath files (issue 33) -------------------------------------------------------
 @main.command("patterns", short_help="The feasible patterns of helical layers, side by side.")
 @click.argument("config", type=click.Path(dir_okay=False))
