@@ -158,5 +158,16 @@ def traveller_html(summary: dict[str, Any], job, program_name: str = "") -> str:
             "<table class=layers style='margin-top:8px'><thead><tr>"
             + "".join(f"<th>{h}</th>" for h in head) + f"</tr></thead><tbody>{_rows(summary, job)}</tbody></table>"
             f"<h3>Materials</h3>{_totals(summary, job)}"
-            f"<p>Total winding time {duration(summary.get('winding_time_s') or summary.get('estimated_time_s'))}; "
-            f"laminate mass {_num(summary.get('mass_kg'), 3)} kg.</p></section>")
+            f"<p>{_job_figures(summary)}</p></section>")
+
+
+def _job_figures(summary: dict[str, Any]) -> str:
+    """The job's totals under the tables: winding time, laminate mass, and what the summary gives of a
+    vessel's volume or a pipe's mass per metre."""
+    out = [f"Total winding time {duration(summary.get('winding_time_s') or summary.get('estimated_time_s'))}",
+           f"laminate mass {_num(summary.get('mass_kg'), 3)} kg"]
+    if summary.get("volume_l") is not None:
+        out.append(f"enclosed volume {_num(summary['volume_l'], 2)} L")
+    if summary.get("mass_per_metre_kg") is not None:
+        out.append(f"{_num(summary['mass_per_metre_kg'], 3)} kg per metre")
+    return "; ".join(out) + "."
