@@ -26,7 +26,8 @@ if TYPE_CHECKING:
 
 POSTS = Path(__file__).with_name("posts")
 SUFFIX = ".post.yaml"
-ENGINES = ("generic", "linuxcnc", "marlin", "robot", "krl", "rapid", "urscript")
+ENGINES = ("generic", "marlin", "robot", "krl", "rapid", "urscript")
+FEEDS = ("fiber", "inverse_time")  # F the fiber's feed (mm/min), or 60 / the move's planned time (G93)
 CELL_ENGINES = ("krl", "rapid", "urscript")  # a robot cell's own language, written as its own files
 ROTARY_MODES = ("continuous", "wrap", "reset_per_layer", "reset_per_pass")
 COMMENT_STARTS = ";(#!'"  # a comment line starts with one of these, never with a word's letter
@@ -34,7 +35,7 @@ _TEMPLATE_FIELDS = {"comment": ("text",), "tension": ("newtons", "fraction"), "r
                     "lines": ("name", "chord_tolerance")}
 _NUMBER_SPEC = re.compile(r"^(\.\d{1,2}f)?$")  # a number's format: fixed decimals (the reader reads them)
 _G_CODE_KEYS = ("decimals", "block_numbers", "comment", "header", "preamble", "footer", "max_line_length",
-                "max_digits", "rotary", "uppercase")
+                "max_digits", "rotary", "uppercase", "feed")
 _KEYS = ("name", "extends", "engine", "about", "sources", "tension", "tension_full_scale", *_G_CODE_KEYS)
 
 
@@ -71,6 +72,7 @@ class Controller:
     max_digits: int | None = None
     rotary: Rotary = Rotary()
     uppercase: bool = False
+    feed: str = "fiber"  # FEEDS: how F is written (the generic engine's)
     source: str = ""
     dialect: str = ""  # the built-in dialect this is or extends (its name in machine.dialect)
 
@@ -231,6 +233,11 @@ def parse_post(rd: Reader, value: Any, base: Controller | None, name: str) -> Co
                            "machines and robot poses have no modulo axis to keep)", out["rotary"].mode)
     if "uppercase" in m:
         out["uppercase"] = rd.boolean(m["uppercase"], "uppercase")
+    if "feed" in m:
+        if base.engine != "generic" or m["feed"] not in FEEDS:
+            allowed = f"one of {', '.join(FEEDS)}" if base.engine == "generic" else "its engine's own (leave it out)"
+            raise rd.error("feed", f"must be {allowed} for a {base.engine} program", m["feed"])
+        out["feed"] = m["feed"]
     post = dataclasses.replace(base, **out)
     if post.tension is not None and "{fraction" in post.tension and not post.tension_full_scale:
         raise rd.error("tension_full_scale", "required with {fraction} in tension: the tension (N) at the "
