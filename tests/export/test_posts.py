@@ -150,3 +150,14 @@ def test_a_program_without_an_end_code_reads_back_whole_and_cut_short_refused(pl
     cut = "\n".join(text.splitlines()[:-200]) + "\n"
     with pytest.raises(ConfigError, match="stops before the end of the plan"):
         simulate(job.machine, planned, cut)
+
+
+def test_inverse_time_is_a_key_of_the_description(planned):
+    """A post extending generic with feed: inverse_time writes LinuxCNC's moves (G0 to the start, G93,
+    F = 60 / the move's time) under the generic program's own lines, and reads back the same."""
+    job, plain = _job("posts/generic_inverse.post.yaml"), _job(dialect="linuxcnc")
+    moves = [line for line in _text(job, planned).splitlines() if line.startswith(("G0 ", "G1 ", "G93"))]
+    assert moves == [line for line in _text(plain, planned).splitlines() if line.startswith(("G0 ", "G1 ", "G93"))]
+    assert moves[0].startswith("G0 ") and moves[1] == "G93"
+    sim = simulate(job.machine, planned, _text(job, planned))
+    assert sim.time_s == pytest.approx(simulate(plain.machine, planned, _text(plain, planned)).time_s, rel=1e-9)
