@@ -115,10 +115,13 @@ def read_pattern(template: str, code=lambda text: text) -> re.Pattern:
             literal.append(mark)
     shown = code("".join(literal))
     pattern = re.escape(shown)
+    named: set[str] = set()
     for mark, field in marks.items():
         number = field in ("newtons", "fraction", "value", "chord_tolerance")
         group = r"[-+]?(?:\d+\.?\d*|\.\d+)" if number else (r"[A-Z]" if field == "axis" else r".*?")
-        pattern = pattern.replace(re.escape(mark), f"(?P<{field}>{group})", 1)
+        head = "?:" if field in named else f"?P<{field}>"  # a field written twice is read once
+        named.add(field)
+        pattern = pattern.replace(re.escape(mark), f"({head}{group})", 1)
     return re.compile(f"^{pattern}$", re.I)
 
 
@@ -133,12 +136,14 @@ def _template(rd: Reader, value: Any, path: str, kind: str, required: tuple[str,
         if field not in allowed:
             raise rd.error(path, f"unknown field {{{field}}}; allowed: {', '.join('{' + a + '}' for a in allowed)}",
                            value)
-        if field == "value" and spec:
-            raise rd.error(path, "{value} is written with the angular decimals: give it without a format", value)
+        if field in ("value", "text", "name", "axis") and spec:
+            raise rd.error(path, f"{{{field}}} takes no format (it is written as winder gives it)", value)
         if field not in ("text", "name", "axis", "value") and not _NUMBER_SPEC.match(spec or ""):
             raise rd.error(path, f"{{{field}}} takes a fixed number of decimals, {{{field}:.1f}} to "
                            f"{{{field}:.99f}}, got {{{field}:{spec}}}", value)
     named = {g for g, _ in fields}
+    if kind in ("tension", "reset") and re.match(r"\s*(N\d+\s*)?G0*[01](?!\d)", text, re.I):
+        raise rd.error(path, "must not be a move (G0, G1): a program's moves are winder's", value)
     if (required and not named & set(required)) or "\n" in text or "\r" in text:
         raise rd.error(path, f"must be one line with {' or '.join('{' + r + '}' for r in required)}", value)
     return text
