@@ -14,6 +14,7 @@ import pytest
 from winder.app.simulate import simulate
 from winder.readback.gcode import parse_program
 from winder.readback.parsed import layer_tensions
+from winder.config.controllers import builtin
 from winder.config.job import parse_config
 from winder.config.reader import load_yaml
 from winder.config.robot import Pose, RobotCell
@@ -89,3 +90,12 @@ def test_the_pose_listing_sets_the_tension_and_rs274_reads_it(job_plan, tmp_path
     canon = run_rs274(tmp_path / "p.ngc", text)
     read = [float(v) for v in re.findall(r"SET_AUX_OUTPUT_VALUE\(0,\s*([-0-9.]+)\)", canon)]
     assert read == pytest.approx(written, abs=1e-9)
+
+
+def test_a_tension_past_the_outputs_full_scale_is_refused():
+    from winder.errors import ExportError  # noqa: PLC0415
+
+    krl_post = builtin("krl")
+    assert krl_post.tension_line(200.0) == "$ANOUT[1] = 1.0000"
+    with pytest.raises(ExportError, match=r"a tension of 250 N is past the krl controller's analog output, 200 N"):
+        krl_post.tension_line(250.0)

@@ -87,7 +87,15 @@ class Controller:
                 and self.max_line_length >= 255)
 
     def tension_line(self, newtons: float) -> str:
+        """The command that sets the tension to `newtons` (N per band); ExportError past the output's
+        full scale where the command writes its share."""
         fraction = newtons / self.tension_full_scale if self.tension_full_scale else float("nan")
+        if "{fraction" in self.tension and fraction > 1.0:
+            from winder.errors import ExportError  # noqa: PLC0415
+
+            raise ExportError(f"a tension of {newtons:g} N is past the {self.name} controller's analog output, "
+                              f"{self.tension_full_scale:g} N at full scale (tension_full_scale): give the "
+                              f"tensioner's full scale in a post file, or lower winding.tension")
         return self.tension.format(newtons=newtons, fraction=fraction)
 
     def newtons(self, read: dict[str, str]) -> float:
