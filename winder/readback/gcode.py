@@ -133,8 +133,8 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
                 turns = (rows.last_rotation - position) if rows.count else 0.0
                 continue
         code = _code(line)
-        if not code or code in _SKIP or code.startswith("G64 P") or (
-                not code.startswith(("G1 ", "G0 ")) and syntax.skip(code)):  # a move is no line of the controller's
+        if not code or code in _SKIP or (code.startswith("G64 P") and dialect == "linuxcnc") or (
+                not code.startswith(("G1 ", "G0 ")) and syntax.skip(code)):  # linuxcnc's, or the controller's own
             continue
         if (code in _END or code == syntax.end) and dialect != "marlin":
             end = number

@@ -13,6 +13,7 @@ import numpy as np
 
 from winder.config.controllers import Controller
 from winder.errors import ExportError
+from winder.escape import gcode_comment
 from winder.machine.program import MotionProgram
 
 _IDENTIFIER = re.compile(r"[^A-Za-z0-9_]")
@@ -57,7 +58,7 @@ def reset_line(controller: Controller, letter: str, value: float) -> str:
 def comment_text(controller: Controller, text: str) -> str:
     """A comment's text as the controller's form takes it: no character that would end it early."""
     if "(" in controller.comment:  # ISO-style controls read `;` as an end of block (Fanuc's EOB notation)
-        text = text.replace("(", "[").replace(")", "]").replace(";", ",")
+        text = gcode_comment(text).replace(";", ",")
     return text.upper() if controller.uppercase else text
 
 
