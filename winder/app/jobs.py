@@ -162,8 +162,11 @@ def motion_program(job, plan):
         return None
     from winder.app.machine_pool import run_groups  # noqa: PLC0415
 
+    from winder.machine.tension import pass_tensions, with_tension  # noqa: PLC0415
+
+    tensions = pass_tensions(job, plan)
     try:
-        return build_program_in_groups(plan, job.machine, run_groups=run_groups)
+        return with_tension(build_program_in_groups(plan, job.machine, run_groups=run_groups), tensions)
     except ExportError as exc:
         return exc
 

@@ -38,6 +38,7 @@ from winder.readback.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.readback.gcode import ParsedProgram, parse_program
+from winder.readback.parsed import layer_tensions
 from winder.readback.program_file import ProgramFile
 from winder.geometry.surface import SweepSurface
 from winder.machine.collision import move_distances
@@ -83,13 +84,15 @@ class Simulation:
     max_deviation_mm: float
     max_point_deviation_mm: float
     samples: dict
+    tensions: tuple = ()  # per layer the tension read back (winder.readback.parsed.layer_tensions)
 
     def summary(self) -> dict:
         return {"dialect": self.dialect, "moves": self.moves, "transitions": self.transitions,
                 "time_s": round(self.time_s, 2), "fiber_length_mm": round(self.fiber_length_mm, 3),
                 "planned_fiber_length_mm": round(self.planned_fiber_length_mm, 3),
                 "max_deviation_mm": round(self.max_deviation_mm, 6),
-                "max_point_deviation_mm": round(self.max_point_deviation_mm, 6)}
+                "max_point_deviation_mm": round(self.max_point_deviation_mm, 6),
+                **({"layers": list(self.tensions)} if self.tensions else {})}
 
 
 def eye_positions(parsed: ParsedProgram) -> np.ndarray:
@@ -140,7 +143,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
     order = {key: j for j, key in enumerate(by_key)}
     passes = list(by_key.values())
     m = parsed.values.shape[0]
-    other = parsed.job is not None and parsed.job != plan.name
+    other = parsed.job is not None and (parsed.job.upper() != plan.name.upper() if parsed.case_blind
+                                        else parsed.job != plan.name)
     unknown = next((r for r, k in enumerate(parsed.keys) if tuple(k) not in order), None)
     if unknown is not None:
         layer, circuit, number = (int(v) for v in parsed.keys[unknown])
@@ -247,7 +251,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
                       fiber_length_mm=float(np.sum(fiber)),
                       planned_fiber_length_mm=plan.total_fiber_length_mm,
                       max_deviation_mm=float(np.nanmax(dev)), max_point_deviation_mm=float(np.nanmax(dev[:m])),
-                      samples=samples)
+                      samples=samples, tensions=layer_tensions(parsed))
 
 
 def simulation_csv(sim: Simulation) -> str:

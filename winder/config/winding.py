@@ -16,6 +16,7 @@ if TYPE_CHECKING:
 
 from winder.config.material import MaterialConfig, parse_materials
 from winder.config.reader import LENGTH_SLACK
+from winder.config.tension import TensionConfig, check_tensions, parse_tension
 
 DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
@@ -86,6 +87,7 @@ class LayerConfig:
     taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
     step_back: float = 0.0  # helical on vessels: mm its turnarounds move toward the equator (math 8.8)
     min_coverage: float | None = None  # the covered fraction it proves (None: winding.min_coverage)
+    tension: TensionConfig | None = None  # N per band, this layer's own (winder.config.tension)
 
     def label(self, index: int) -> str:
         """`layer 5 (helical 16 deg)`: layer_label of this layer at 0-based position `index`."""
@@ -122,11 +124,16 @@ class WindingConfig:
     material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
     bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
     min_coverage: float = MIN_COVERAGE  # the covered fraction every layer proves unless it asks another
+    tension: TensionConfig | None = None  # N per band (winder.config.tension); None: none programmed
 
     def min_coverage_of(self, index: int) -> float:
         """The covered fraction layer `index` (0-based) must prove: its own, else the job's."""
         own = self.layers[index].min_coverage
         return self.min_coverage if own is None else own
+
+    def tension_of(self, index: int) -> TensionConfig | None:
+        """The tension of layer `index` (0-based): its own, else the job's."""
+        return self.layers[index].tension or self.tension
 
     @property
     def has_laminate(self) -> bool:
@@ -140,11 +147,11 @@ class WindingConfig:
 
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material",
-                 "bridging_tolerance", "min_coverage")
+                 "bridging_tolerance", "min_coverage", "tension")
 _LAYER_KINDS = {
     "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back",
-                             "min_coverage")),
-    "hoop": ((), ("angle", "passes", "material", "taper", "min_coverage")),
+                             "min_coverage", "tension")),
+    "hoop": ((), ("angle", "passes", "material", "taper", "min_coverage", "tension")),
 }
 
 
@@ -201,8 +208,10 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
                                                                              "min_coverage", None))
                    if isinstance(item, dict) and "min_coverage" in item else layer
                    for i, (layer, item) in enumerate(zip(layers, items)))
+    tension = parse_tension(rd, m["tension"], rd.at(path, "tension"), job=True) if "tension" in m else None
+    check_tensions(rd, items, layers, tension, rd.at(path, "layers"))
     return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
-                         bridging, least)
+                         bridging, least, tension)
 
 
 def _parse_fraction(rd: Reader, m: dict, path: str, key: str, default: float | None) -> float | None:
@@ -296,6 +305,14 @@ def _parse_circuits(rd: Reader, m: dict, path: str, pattern: int | None) -> int 
 
 
 def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
+    layer = _parse_layer_kind(rd, value, path, friction, vessel)
+    if isinstance(value, dict) and "tension" in value:
+        own = parse_tension(rd, value["tension"], rd.at(path, "tension"), job=False)
+        layer = dataclasses.replace(layer, tension=own)
+    return layer
+
+
+def _parse_layer_kind(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
     kind, m = rd.typed(value, path, "layer", _LAYER_KINDS)
     angle_path = rd.at(path, "angle")
     if kind == "helical":

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib
 
+from winder.config.controllers import builtin
 from winder.config.dialects import entry, robot_dialects
 from winder.config.machine import MachineConfig
 from winder.export.dialects.text import Dialect, Move, serialize
@@ -21,6 +22,9 @@ def dialect_for(program: MotionProgram, band_width: float = 0.0) -> Dialect:
     found = entry(program.machine.dialect)
     if found.cell or (program.robot and not found.robot):  # a cell's language is written beside, as its own files
         found = entry(robot_dialects()[0])
+        dialect = importlib.import_module(found.module).make(program, band_width)
+        dialect.controller = builtin(found.name)
+        return dialect
     return importlib.import_module(found.module).make(program, band_width)
 
 

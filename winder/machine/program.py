@@ -81,6 +81,7 @@ class Segment:
     capped: int = 0
     max_lead: float = 0.0
     approach: int = 0  # leading rows that bring the eye from another pass clear of the part (no fiber)
+    tension: float | None = None  # N per band while this pass is wound (winder.machine.tension); None: none set
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -129,6 +130,15 @@ class MotionProgram:
     @property
     def axes(self) -> tuple[str, ...]:
         return POSE_AXES if self.robot else AXES
+
+    @property
+    def layer_tensions(self) -> tuple[tuple[float, float, float] | None, ...]:
+        """Per layer (its first pass's, least, largest) tension (N), None where none is programmed."""
+        out = []
+        for segs in self.segments:
+            values = [seg.tension for seg in segs if seg.tension is not None]
+            out.append((values[0], min(values), max(values)) if values else None)
+        return tuple(out)
 
 
 def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | None:

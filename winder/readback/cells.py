@@ -13,6 +13,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from winder.config.controllers import read_pattern
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.readback.parsed import ParsedProgram
@@ -51,8 +52,12 @@ def _frames(xyz: np.ndarray, rot: np.ndarray) -> np.ndarray:
 class _Rows:
     """The rows a reader collects: (frame fields, external axes, time, pass key, kind, line)."""
 
-    def __init__(self, source: str) -> None:
+    def __init__(self, source: str, machine: MachineConfig | None = None) -> None:
         self.source = source
+        controller = machine.controller if machine is not None else None
+        tension = controller.tension if controller is not None else None
+        self._tension = read_pattern(tension) if tension else None
+        self._controller, self.tension, self.tensions = controller, np.nan, []
         self.key, self.kind, self.job = (0, 0, 0), "", None
         self.keys: list[tuple[int, int, int]] = []
         self.kinds: list[str] = []
@@ -60,6 +65,11 @@ class _Rows:
         self.times: list[float] = []
 
     def comment(self, line: str) -> bool:
+        """Whether the line is a comment or the tension command (read as they pass)."""
+        set_to = self._tension.match(line) if self._tension is not None else None
+        if set_to:
+            self.tension = self._controller.newtons(set_to.groupdict())
+            return True
         hit = _PASS.match(line)
         if hit:
             self.key, self.kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
@@ -88,6 +98,7 @@ class _Rows:
         self.kinds.append(self.kind)
         self.lines.append(number)
         self.times.append(seconds)
+        self.tensions.append(self.tension)
 
 
 def _fields(body: str, number: int, source: str) -> dict[str, float]:
@@ -115,7 +126,7 @@ def _krl(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np.ndar
         hit = _E6POS.match(line)
         if hit:
             points[hit[1].upper()] = _fields(hit[2], k, source)
-    rows = _Rows(source)
+    rows = _Rows(source, machine)
     names: list[str] = []
     speed, share, mode = np.nan, 100.0, "cp"
     code = [(n, raw) for n, raw in enumerate(src.splitlines(), start=1)]
@@ -159,11 +170,11 @@ def _krl(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np.ndar
     return rows, frames, table[:, 6:9]
 
 
-def _rapid(text: str, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
+def _rapid(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
     from scipy.spatial.transform import Rotation  # noqa: PLC0415
 
     targets: dict[str, list[float]] = {}
-    rows = _Rows(source)
+    rows = _Rows(source, machine)
     names: list[str] = []
     for number, line, raw in rows.code_lines(text, "ENDMODULE", "the module does not end with ENDMODULE"):
         hit = _ROBTARGET.match(line)
@@ -193,7 +204,7 @@ def _rapid(text: str, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
 def _urscript(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
     from scipy.spatial.transform import Rotation  # noqa: PLC0415
 
-    rows = _Rows(source)
+    rows = _Rows(source, machine)
     poses, ring = [], None
     external = []
     for number, line, raw in rows.code_lines(text, "end", "the script does not end with its function's end"):
@@ -243,7 +254,7 @@ def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str):
     if dialect == "krl":
         rows, frames, external = _krl(text, machine, source)
     elif dialect == "rapid":
-        rows, frames, external = _rapid(text, source)
+        rows, frames, external = _rapid(text, machine, source)
     else:
         rows, frames, external = _urscript(text, machine, source)
     if not rows.keys:
@@ -252,4 +263,5 @@ def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str):
     values = np.column_stack([eye, np.zeros_like(eye)])
     return ParsedProgram(dialect, values, np.array(rows.keys, dtype=int).reshape(-1, 3), tuple(rows.kinds),
                          np.full(len(rows.keys), np.nan), np.array(rows.lines, dtype=int), rows.job,
-                         mids=_midpoints(frames, external), move_s=np.array(rows.times))
+                         mids=_midpoints(frames, external), move_s=np.array(rows.times),
+                         tension=np.array(rows.tensions, dtype=float))

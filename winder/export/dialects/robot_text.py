@@ -61,6 +61,12 @@ def _pose_text(pose) -> str:
 def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
     """(a pass comment to write before the row, or None; the row) of every row worth a move: the first,
     and every later one that takes time (a row the program repeats is no move)."""
+    for head, row, _ in _rows_and_tensions(program):
+        yield head, row
+
+
+def _rows_and_tensions(program: MotionProgram) -> Iterator[tuple[str | None, int, float | None]]:
+    """rows(program) with each row's pass's tension (N, None: none programmed)."""
     cell = cell_of(program)
     time = cell.times.time_s
     first = True
@@ -71,7 +77,7 @@ def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
             for row in range(seg.start, seg.stop):
                 if not first and time[row] <= 0.0:
                     continue
-                yield (None if told else head), row
+                yield (None if told else head), row, seg.tension
                 told, first = True, False
 
 
@@ -85,10 +91,17 @@ def cell_start(program: MotionProgram, language: str, longest: int):
 
 def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Iterator[tuple[int, int]]:
     """(n, row) of every row of rows(program), n counted from 1; each pass comment is appended to
-    comments, as `mark head`, before its row is given."""
-    for n, (head, row) in enumerate(rows(program), start=1):
+    comments, as `mark head`, before its row is given, and after it the controller's tension command
+    (an analog output: its description's `tension`) where the tension as written changes."""
+    controller = program.machine.controller
+    indent = mark[:len(mark) - len(mark.lstrip())]
+    said = None
+    for n, (head, row, tension) in enumerate(_rows_and_tensions(program), start=1):
         if head is not None:
             comments.append(f"{mark} {head}")
+            if tension is not None and controller.tension and (line := controller.tension_line(tension)) != said:
+                comments.append(indent + line)
+                said = line
         yield n, row
 
 
