@@ -8,7 +8,7 @@ A command has its own module by what it is for (`geodesic`, `jobs`, `tools`), re
 
 from __future__ import annotations
 
-from winder.cli import geodesic, jobs, tools  # noqa: F401 - each registers its commands on main
+from winder.cli import geodesic, jobs, schema, tools  # noqa: F401 - each registers its commands on main
 from winder.cli.base import DEFAULT_POINTS, MAX_POINTS, METHODS, main
 
 __all__ = ["DEFAULT_POINTS", "MAX_POINTS", "METHODS", "main"]
