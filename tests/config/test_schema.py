@@ -31,6 +31,7 @@ VALIDATOR = jsonschema.Draft202012Validator(SCHEMA)
 # The fiberpath examples' hand-written configs, where the environment names their folder (.ci/run does).
 _EXAMPLES = os.environ.get("WINDER_FIBERPATH_EXAMPLES")
 SHIPPED = sorted([*ROOT.glob("configs/*.yaml"), *ROOT.glob("samples/*.yaml"), *ROOT.glob("parts/*.yaml"),
+                  *ROOT.glob("docs/tutorial/*.yaml"),
                   *(Path(_EXAMPLES).glob("*.yaml") if _EXAMPLES else [])])
 TEST_YAML = sorted(p for p in (ROOT / "tests").rglob("*.yaml") if "post" not in p.name)
 # Keys a reader allows only to refuse them with a reason (an ellipsoid's depth on another dome says why

@@ -1,7 +1,7 @@
 """A whole job file (YAML) -> one validated, frozen JobConfig.
 
 Reads the file, refuses bad YAML, and hands each section to its parser (winder.config.mandrel,
-.winding, .machine); every problem is a ConfigError naming the file and the key path (SPEC.md).
+.winding, .machine); every problem is a ConfigError naming the file and the key path (docs/guide/commands.md).
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ class JobConfig:
     mandrel: MandrelConfig
     winding: WindingConfig | None = None
     machine: MachineConfig | None = field(default_factory=MachineConfig)
-    analysis: AnalysisConfig | None = None  # the load case (SPEC.md "Structural analysis")
+    analysis: AnalysisConfig | None = None  # the load case (docs/guide/will-it-hold.md)
 
 
 def load_config(path: str | Path) -> JobConfig:

@@ -1,6 +1,6 @@
 """Atomic file writes: a temporary file in the target folder, then a rename.
 
-A job that fails leaves no output file of its own behind, not even a partial one (SPEC.md). An
+A job that fails leaves no output file of its own behind, not even a partial one (docs/guide/outputs.md). An
 output path that names a device, a FIFO or a socket (`-o /dev/null`, `-o /dev/stdout`) is written
 straight into it: a rename would put a regular file in the device's place. A symbolic link to a
 file in the link's own folder (or below it) stays a link: the file it names is replaced. A link out of

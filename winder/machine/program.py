@@ -1,4 +1,4 @@
-"""One motion program on logical axes: what the machine does to lay a winding plan (MATH.md 6).
+"""One motion program on logical axes: what the machine does to lay a winding plan (docs/math/06-machine.md).
 
 Straight-axis winder: per kept contact point the four logical axes carriage (mm), rotation (deg,
 cumulative over the whole program), cross_feed (mm) and yaw (deg, continuous), from

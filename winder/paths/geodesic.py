@@ -1,4 +1,4 @@
-"""Geodesic fiber paths by the variational method (paper Eq. 14; MATH.md 2-3).
+"""Geodesic fiber paths by the variational method (paper Eq. 14; docs/math/02-energy.md, docs/math/03-newton.md).
 
 A path is a polyline of n interior points u_i = (s_i, theta_i) on the surface between two fixed
 end points; it minimizes E = sum |y_{i+1} - y_i|^2 with y_i = Phi(u_i). Minimizers are equally

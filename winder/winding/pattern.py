@@ -1,4 +1,4 @@
-"""The circuit pattern of a helical layer (MATH.md 5): how many circuits, which skip, how it closes.
+"""The circuit pattern of a helical layer (docs/math/05-winding.md): how many circuits, which skip, how it closes.
 
 A circuit is a forward and a return pass; the mandrel turns one way throughout. With N_c circuits
 and a circuit advance of k / N_c of a turn (gcd(k, N_c) = 1), circuit j starts in slot j k mod N_c

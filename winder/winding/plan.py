@@ -1,4 +1,4 @@
-"""The winding planner: `plan(job) -> WindingPlan` (MATH.md 5; paper 6.1).
+"""The winding planner: `plan(job) -> WindingPlan` (docs/math/05-winding.md; paper 6.1).
 
 Each layer is planned by its own module: helical layers on open mandrels (helical.py), on domed
 vessels (vessel.py), and hoop layers (hoop.py); passes.py holds what they share.
