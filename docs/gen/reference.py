@@ -166,7 +166,41 @@ def config_reference() -> str:
     return "\n".join(out)
 
 
-PAGES = {"reference/commands.md": command_reference, "reference/config.md": config_reference}
+# The public API of the main stages, in pipeline order: what a script calling winder as a library uses.
+API = (("winder.config.job", "load_config"), ("winder.config.job", "parse_config"),
+       ("winder.config.schema", "job_schema"), ("winder.geometry.build", "build_surface"),
+       ("winder.paths.geodesic", "geodesic"), ("winder.winding.plan", "plan"),
+       ("winder.machine.program", "build_program"), ("winder.export.registry", "chosen"),
+       ("winder.export.registry", "Format.render"))
+
+
+def api_reference() -> str:
+    """The library's entry points, stage by stage: each signature and its numpydoc docstring.
+
+    Returns
+    -------
+    str
+        A Markdown page; the docstrings' examples are the doctests tests/test_doctests.py runs.
+    """
+    import importlib  # noqa: PLC0415
+    import inspect  # noqa: PLC0415
+
+    out = ["# Library reference", "",
+           "winder's stages called from Python, in pipeline order: config, geometry, paths, winding, machine, "
+           "export. Generated from the docstrings; their examples run as tests. How the stages fit: "
+           "[Architecture](../architecture.md).", ""]
+    for module_name, qualname in API:
+        obj = importlib.import_module(module_name)
+        for part in qualname.split("."):
+            obj = getattr(obj, part)
+        signature = str(inspect.signature(obj)).replace("'", "")
+        out += [f"## `{module_name}.{qualname}`", "", "```python", f"{qualname.split('.')[-1]}{signature}", "```", "",
+                "```text", inspect.cleandoc(obj.__doc__ or ""), "```", ""]
+    return "\n".join(out)
+
+
+PAGES = {"reference/commands.md": command_reference, "reference/config.md": config_reference,
+         "reference/api.md": api_reference}
 
 
 if __name__ == "__main__":
