@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-SCANNED = ("winder", "tests", "bench", "docs")
+SCANNED = ("winder", "tests", "bench", "docs", "configs", "samples", "parts")
 SUFFIXES = {".py", ".md", ".yaml", ".yml", ".txt", ".toml", ".cfg"}
 # Files outside the repository that the code once cited, and the ways a path leaves it. Written in
 # pieces so that this file does not match itself.
