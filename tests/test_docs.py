@@ -39,6 +39,11 @@ def _chapters() -> dict[str, Path]:
     return {p.name[:2]: p for p in MATH.glob("[0-9][0-9]-*.md")}
 
 
+def test_each_chapter_has_a_number_of_its_own():
+    numbers = sorted(p.name[:2] for p in MATH.glob("[0-9][0-9]-*.md"))
+    assert len(numbers) == len(set(numbers)), f"two chapters share a number: {numbers}"
+
+
 def test_each_math_chapter_is_headed_with_its_number():
     chapters = _chapters()
     assert set(chapters) >= {f"{k:02d}" for k in range(1, 15)}, sorted(chapters)
