@@ -144,7 +144,7 @@ def test_every_command_help_says_what_its_exit_status_means(command):
 def test_run_help_and_readme_name_every_format_run_accepts():
     from winder.export.registry import SELECTABLE  # noqa: PLC0415
 
-    shown = "|".join(SELECTABLE)  # csv|gcode|ply|layup|report: --format layup is docs/guide/outputs.md's
+    shown = "|".join(SELECTABLE)  # csv|gcode|ply|layup|report: --format layup is docs/guide/conventions.md's
     assert f"--format {shown}" in invoke("run", "--help").stdout
     assert f"[--format {shown} ...]" in (ROOT / "docs" / "guide" / "commands.md").read_text(encoding="utf-8")
 

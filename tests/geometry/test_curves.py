@@ -1,6 +1,6 @@
 """Guide curves and their rotation-minimizing frames (winder/curves.py, winder/frames.py).
 
-Independent truths: the start conventions of docs/guide/outputs.md; closed-form arc geometry (centre of curvature,
+Independent truths: the start conventions of docs/guide/conventions.md; closed-form arc geometry (centre of curvature,
 end points, end frames); the RMF condition e2' . e3 = 0 by finite differences; the closed-form RMF
 of a helix (Frenet frame turned by minus the integrated torsion) for double reflection on a
 non-planar curve; a spline through samples of a circle against the circle itself.

@@ -1,6 +1,6 @@
 """The sweep surface (winder/surface.py): conventions, derivatives, normals, scaling, regularity.
 
-Independent truths: docs/guide/outputs.md's straight-axis formula Phi = (r cos theta, r sin theta, t); the torus
+Independent truths: docs/guide/conventions.md's straight-axis formula Phi = (r cos theta, r sin theta, t); the torus
 equation for a circular tube on an arc; central finite differences of p for ps, pt and of ps, pt for
 pss, pst, ptt; the section scaled by profile(t) / profile(0); the bend-radius rule for self-intersection.
 """

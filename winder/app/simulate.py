@@ -1,7 +1,7 @@
 """`winder simulate CONFIG PROGRAM`: what a winding program lays, read back from its text.
 
 The program (any dialect winder writes, winder.readback.gcode) gives the eye at every
-programmed point through the forward kinematics (docs/guide/outputs.md: with the mandrel turned by A the eye is
+programmed point through the forward kinematics (docs/guide/conventions.md: with the mandrel turned by A the eye is
 at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free fiber runs from the
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
 point p(u) of the planned pass whose tangent ray p + lambda d, lambda > 0, passes closest to E;
@@ -93,7 +93,7 @@ class Simulation:
 
 
 def eye_positions(parsed: ParsedProgram) -> np.ndarray:
-    """The eye in the mandrel frame for each row (docs/guide/outputs.md forward kinematics; robot: the position)."""
+    """The eye in the mandrel frame for each row (docs/guide/conventions.md forward kinematics; robot: the position)."""
     v = parsed.values
     if parsed.robot:
         return v[:, :3].copy()
@@ -276,6 +276,8 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     from winder.config.job import load_config  # noqa: PLC0415
     from winder.errors import SolverError  # noqa: PLC0415
     from winder.export.atomic import check_output_file, write_atomic  # noqa: PLC0415
+    from winder.export.paths import shown  # noqa: PLC0415
+    from winder.progress import doing  # noqa: PLC0415
     from winder.winding.plan import plan as plan_job  # noqa: PLC0415
 
     if output is not None:
@@ -289,10 +291,14 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     validate_job(job)  # run's work budget: a job `check` refuses is not planned here either
     try:
         with time_limit(seconds):  # and run's time limit, over the plan and the reading
-            sim = simulate(job.machine, plan_job(job), source, program)
+            with doing(f"planning the job of {shown(config)}, as run does"):
+                plan = plan_job(job)
+            with doing(f"reading {shown(program)} back and matching it to the plan"):
+                sim = simulate(job.machine, plan, source, program)
     except TimeUp as exc:
+        where = f": stopped while {exc.activity}" if exc.activity else ""
         raise SolverError(f"{config}: the simulation did not finish within its time limit of {seconds:g} s "
-                          "(--time-limit)") from exc
+                          f"(--time-limit){where}") from exc
     if output is not None:
         write_atomic(output, simulation_csv(sim))
     if as_json:

@@ -21,6 +21,7 @@ from winder.analysis.layup import layer_rows
 from winder.analysis.materials import Lamina
 from winder.analysis.shell_model import NTHETA, ShellModel, build_model
 from winder.errors import ConfigError, ExportError
+from winder.escape import abaqus_text
 
 NUM = "%.9g"  # node coordinates and loads: single-precision solvers read 9 digits without loss
 
@@ -47,7 +48,7 @@ def _rows(buf: io.StringIO, first: np.ndarray, table: np.ndarray, fmt: str) -> N
 def deck_text(model: ShellModel, plies: dict[int, Lamina], pressure: float, title: str) -> str:
     """The deck of a shell model; plies: each layer's (1-based) Lamina."""
     buf = io.StringIO()
-    buf.write(f"*HEADING\n{title}\n** winder: shell model of the wound laminate (docs/math/09-structure.md 9.5)\n")
+    buf.write(f"*HEADING\n{abaqus_text(title)}\n** winder: shell model of the wound laminate (docs/math/09-structure.md 9.5)\n")
     n, e = model.nodes.shape[0], model.elements.shape[0]
     buf.write("*NODE, NSET=NALL\n")
     _rows(buf, np.arange(1, n + 1), model.nodes, "%d, " + ", ".join([NUM] * 3))

@@ -1,4 +1,4 @@
-"""The job summary `<name>.summary.json` (docs/guide/outputs.md).
+"""The job summary `<name>.summary.json` (docs/guide/conventions.md).
 
 One JSON object, keys sorted, indent 2, newline-terminated. Floats are rounded to fixed decimals
 (LENGTH_DECIMALS for mm, ANGLE_DECIMALS for degrees, FRACTION_DECIMALS for fractions, TIME_DECIMALS

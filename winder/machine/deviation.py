@@ -1,4 +1,4 @@
-"""How far the written program's eye lies from the fiber it lays (docs/guide/outputs.md,
+"""How far the written program's eye lies from the fiber it lays (docs/guide/conventions.md,
 what a job proves): every programmed point and every move's midpoint against the exact tangent ray of
 the planned path at its contact.
 

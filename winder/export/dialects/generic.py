@@ -1,4 +1,4 @@
-"""The generic G-code dialect of a straight-axis winder (docs/guide/outputs.md).
+"""The generic G-code dialect of a straight-axis winder (docs/guide/conventions.md).
 
 `G1` moves of the four axes, letters from machine.axes, in the order carriage, rotation, cross-feed,
 yaw, with the feed F (mm/min) on every move; values with 3 decimals (mm, deg); the preamble G21 G90
