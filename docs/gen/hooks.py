@@ -86,13 +86,16 @@ def on_page_markdown(markdown: str, page, config, files: Files) -> str:
     return _LINK.sub(point, markdown)
 
 
-# Sections of the nav that take every page of a docs folder: a page a colleague adds to docs/guide/ or
-# docs/math/ joins its section without an edit here (listed pages keep their place and title).
+# Sections of the nav that take every page of a docs folder: a page added to docs/guide/ or docs/math/
+# joins its section without an edit of mkdocs.yml (listed pages keep their place and title), and one added
+# to docs/ itself joins the end of the nav.
 SECTION_FOLDERS = {"Guide": "guide", "Math": "math"}
 
 
 def on_config(config):
     docs = Path(config["docs_dir"])
+    listed_anywhere = {_page(entry) for entry in _entries(config["nav"] or [])}
+    config["nav"] += [p.name for p in sorted(docs.glob("*.md")) if p.name not in listed_anywhere]  # top-level pages
     for entry in config["nav"] or []:
         if not isinstance(entry, dict):
             continue
@@ -104,3 +107,17 @@ def on_config(config):
             children += [f"{folder}/{p.name}" for p in sorted((docs / folder).glob("*.md"))
                          if f"{folder}/{p.name}" not in listed]
     return config
+
+
+def _entries(nav: list):
+    """Every page entry of the nav, sections opened."""
+    for entry in nav:
+        value = next(iter(entry.values())) if isinstance(entry, dict) else entry
+        if isinstance(value, list):
+            yield from _entries(value)
+        else:
+            yield entry
+
+
+def _page(entry) -> str:
+    return next(iter(entry.values())) if isinstance(entry, dict) else entry
