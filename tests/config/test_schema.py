@@ -251,3 +251,49 @@ def test_every_key_says_what_it_is():
             assert prop.get("description"), key
             if prop.get("type") in ("number", "integer"):
                 assert re.search(r"(>|<|in [\[(]|any finite)", prop["description"]), (key, prop["description"])
+
+
+def _at(path: str) -> dict:
+    """The schema of the key at a dotted path (kind variants by `path@kind`)."""
+    node = SCHEMA
+    for part in path.split("."):
+        name, _, kind = part.partition("@")
+        node = node["properties"][name]
+        node = node.get("items", node) if node.get("type") == "array" else node
+        if kind:
+            node = next(v for v in node["oneOf"] if v["properties"]["type"]["const"] == kind)
+    return node
+
+
+def test_the_defaults_the_schema_shows_are_the_configs():
+    """Each default an editor shows is the one the config's dataclasses take when the key is left out."""
+    from winder.config.analysis import AnalysisConfig  # noqa: PLC0415
+    from winder.config.machine import MachineConfig, MachineDynamics  # noqa: PLC0415
+    from winder.config.robot import RobotCell  # noqa: PLC0415
+    from winder.config.winding import LayerConfig, WindingConfig  # noqa: PLC0415
+
+    machine, dynamics, cell = MachineConfig(), MachineDynamics(), RobotCell("kuka_kr16")
+    expected = {
+        "winding.points": WindingConfig(1.0).points, "winding.friction": WindingConfig(1.0).friction,
+        "winding.layers@hoop.passes": LayerConfig(None).passes, "winding.layers@hoop.taper": LayerConfig(None).taper,
+        "winding.layers@helical.step_back": LayerConfig(None).step_back,
+        "machine.feed": machine.feed, "machine.chord_tolerance": machine.chord_tolerance,
+        "machine.eye.clearance": machine.eye_clearance, "machine.eye.size": machine.eye_size,
+        **{f"machine.axes.{role}": getattr(machine.axes, role) for role in ("carriage", "rotation", "cross_feed", "yaw")},
+        **{f"machine.dynamics.{role}.speed": dynamics.get(role).speed for role in ("carriage", "rotation", "yaw")},
+        **{f"machine.dynamics.{role}.acceleration": dynamics.get(role).acceleration
+           for role in ("carriage", "rotation", "yaw")},
+        "machine.robot.positioner.axes": cell.axes, "machine.robot.max_joint_step": cell.max_joint_step,
+        "machine.robot.singularity_margin": cell.singularity_margin,
+        "analysis.pressure": AnalysisConfig().pressure, "analysis.ends": AnalysisConfig().ends,
+    }
+    for path, value in expected.items():
+        node = _robot_at(path) if path.startswith("machine.robot.") else _at(path)
+        assert node.get("default") == value, f"{path}: the schema shows {node.get('default')!r}, the config takes {value!r}"
+
+
+def _robot_at(path: str) -> dict:
+    node = next(b for b in _at("machine.robot")["anyOf"] if b.get("type") == "object")
+    for part in path.split(".")[2:]:
+        node = node["properties"][part]
+    return node
