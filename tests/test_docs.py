@@ -71,6 +71,9 @@ def test_every_cited_docs_page_and_math_section_exists():
                 missing.append(f"{p.relative_to(ROOT)}: docs/math/{number} {section}")
         missing += [f"{p.relative_to(ROOT)}: docs/math/{n}" for n in re.findall(r"\bdocs/math/(\d\d)\b", text)
                     if n not in sections]
+        for number, section in re.findall(r"\bchapter (\d+), (\d+\.\d+)\b", text):  # the chapters' own prose
+            if section not in sections.get(f"{int(number):02d}", ()):
+                missing.append(f"{p.relative_to(ROOT)}: chapter {number}, {section}")
     assert missing == [], "\n".join(missing)
 
 
