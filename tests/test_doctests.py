@@ -4,6 +4,7 @@ docstrings show `>>>` examples, found from the source, so that an example added 
 from __future__ import annotations
 
 import doctest
+import inspect
 import importlib
 from pathlib import Path
 
@@ -27,3 +28,30 @@ def test_examples(name):
                              verbose=False, report=True)
     assert result.attempted > 0
     assert result.failed == 0, f"{name}: {result.failed} of {result.attempted} examples failed (printed above)"
+
+
+# The entry points whose docstrings carry numpydoc's Parameters, Returns and Examples sections.
+ENTRY_POINTS = ("winder.config.job.load_config", "winder.config.job.parse_config", "winder.config.schema.job_schema",
+                "winder.geometry.build.build_surface", "winder.paths.geodesic.geodesic", "winder.winding.plan.plan",
+                "winder.machine.program.build_program", "winder.export.registry.chosen")
+
+
+def _sections(doc: str) -> dict[str, str]:
+    """numpydoc sections of a docstring: heading -> body (a heading is a line over a line of dashes)."""
+    lines = inspect.cleandoc(doc).splitlines()
+    heads = [i for i in range(len(lines) - 1) if lines[i].strip() and set(lines[i + 1].strip()) == {"-"}]
+    return {lines[i].strip(): "\n".join(lines[i + 2:j - 1 if j < len(lines) else j])
+            for i, j in zip(heads, [*heads[1:], len(lines) + 1])}
+
+
+@pytest.mark.parametrize("dotted", ENTRY_POINTS)
+def test_entry_points_document_every_parameter(dotted):
+    module, name = dotted.rsplit(".", 1)
+    function = getattr(importlib.import_module(module), name)
+    sections = _sections(function.__doc__ or "")
+    assert {"Returns", "Examples"} <= set(sections), f"{dotted}: sections {sorted(sections)}"
+    params = [p for p in inspect.signature(function).parameters if p not in ("self",)]
+    if params:
+        documented = {n.strip() for line in sections.get("Parameters", "").splitlines()
+                      if line and not line[0].isspace() for n in line.split(":")[0].split(",")}
+        assert set(params) <= documented, f"{dotted}: undocumented {sorted(set(params) - documented)}"
