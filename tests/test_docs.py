@@ -96,6 +96,14 @@ def test_the_command_reference_has_every_command_and_option():
                     assert f"`{opt}" in page or f" {opt}" in page, (name, opt)
 
 
+def test_the_config_reference_names_classes_that_exist():
+    import importlib  # noqa: PLC0415
+
+    for target in _reference().READ_INTO.values():
+        module, name = target.rsplit(".", 1)
+        assert hasattr(importlib.import_module(f"winder.config.{module}"), name), target
+
+
 def test_the_config_reference_has_every_key_of_the_schema():
     from winder.config.schema import job_schema  # noqa: PLC0415
 

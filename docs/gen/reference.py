@@ -96,6 +96,27 @@ def _children(node: dict[str, Any]) -> list[dict[str, Any]]:
     return found
 
 
+# The frozen dataclass each mapping (or kind) is read into, for a script using winder as a library.
+READ_INTO = {"": "job.JobConfig", "mandrel": "mandrel.MandrelConfig", "mandrel.axis@line": "line.LineAxis",
+             "mandrel.axis@arc": "axes.ArcAxis", "mandrel.axis@path": "axes.PathAxis",
+             "mandrel.axis@spline": "axes.SplineAxis", "mandrel.profile@constant": "mandrel.ConstantProfile",
+             "mandrel.profile@cone": "profiles.ConeProfile", "mandrel.profile@table": "profiles.TableProfile",
+             "mandrel.profile@vessel": "vessel.VesselProfile", "mandrel.profile.dome": "vessel.Dome",
+             "mandrel.section@circle": "mandrel.CircleSection", "mandrel.section@ellipse": "sections.EllipseSection",
+             "mandrel.section@rounded_rectangle": "sections.RoundedRectangleSection",
+             "mandrel.section@superellipse": "sections.SuperellipseSection", "winding": "winding.WindingConfig",
+             "winding.layers[]": "winding.LayerConfig", "winding.material": "material.MaterialConfig",
+             "machine": "machine.MachineConfig", "machine.axes": "machine.MachineAxes",
+             "machine.limits": "machine.MachineLimits", "machine.dynamics": "machine.MachineDynamics",
+             "machine.robot": "robot.RobotCell", "machine.robot.base": "robot.Pose", "analysis": "analysis.AnalysisConfig"}
+
+
+def _read_into(path: str, kind: str | None) -> str:
+    """`Read into winder.config.x.Y.` for the mapping at path (of a kind), or ''."""
+    target = READ_INTO.get(f"{path}@{kind}") or READ_INTO.get(path)
+    return f" Read into `winder.config.{target}`." if target else ""
+
+
 def _shape(node: dict[str, Any]) -> str:
     """node without its descriptions: two keys of one shape (dome, end_dome) are described once."""
     import json  # noqa: PLC0415
@@ -126,6 +147,7 @@ def _section(path: str, node: dict[str, Any], out: list[str], seen: dict[str, st
         elif i:
             title += " (or)"
         intro = variant.get("description", "") if tagged or "properties" in node else node.get("description", "")
+        intro += _read_into(path, variant["properties"]["type"]["const"] if tagged else None)
         required = set(variant.get("required", ()))
         out += [f"## {title}", "", escaped(intro), "", "| key | type | what |", "|---|---|---|"]
         for key, prop in variant["properties"].items():

@@ -85,7 +85,7 @@ def tagged(what: str, kinds: Mapping[str, tuple[str, Mapping[str, Schema], Seque
     variants = []
     for name, (meaning, properties, required) in kinds.items():
         keys = {tag: {"const": name, "description": meaning}, **properties}
-        variants.append(closed(f"{name}: {meaning}", keys, (tag, *required)))
+        variants.append(closed(f"{name}: {meaning}.", keys, (tag, *required)))
     return {"type": "object", "description": f"{what} ({tag}: {', '.join(kinds)}).", "oneOf": variants}
 
 
