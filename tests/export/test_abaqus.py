@@ -1,4 +1,4 @@
-"""`--format abaqus` (SPEC.md "Structural analysis"; docs/math/09-structure.md 9.5): CalculiX solves winder's
+"""`--format abaqus` (docs/guide/will-it-hold.md; docs/math/09-structure.md 9.5): CalculiX solves winder's
 deck of a closed cylinder and its mid-length strains match CLT; a vessel's deck carries the layup CSV's plies.
 
 CalculiX (`ccx`, Debian's calculix-ccx) is the reader: the solve test is skipped, with the reason printed,

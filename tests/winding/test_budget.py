@@ -1,6 +1,6 @@
 """winder.winding.budget: the work of a job, from the config and the surface, before any path.
 
-Truths: the closed-form circuit count N_c = ceil(P cos(alpha) / B) with P = 2 pi r (MATH.md 5), the
+Truths: the closed-form circuit count N_c = ceil(P cos(alpha) / B) with P = 2 pi r (docs/math/05-winding.md), the
 hoop's turns (region length / pitch, one band width of advance per turn) and the planner's own
 result on the same job (the budget holds it from above).
 """

@@ -143,7 +143,7 @@ def test_vessel_volume_against_the_clairaut_law_integrated(vessel):
 def test_coarse_vessel_passes_lay_the_closed_form_mean_on_the_cylinder():
     # 30 points per pass (the vessel_laminate sample): the polyline's chords fall short on the domes
     # (0.08 % of the pass), and scaling them to the pass's length as a whole put that shortfall on the
-    # cylinder: 0.6083 mm where MATH.md 8 gives 0.60779. The smooth curve's own lengths do not.
+    # cylinder: 0.6083 mm where docs/math/08-laminate-edges.md gives 0.60779. The smooth curve's own lengths do not.
     job = _job(VESSEL, [{"type": "helical", "angle": 22}], points=30)
     pl = plan(job)
     surf, layer = pl.surface, pl.layers[0]

@@ -1,6 +1,6 @@
 """The friction-held pieces of planning (bend_paths, dome_paths, slip) against independent truths.
 
-Truths: the torus closed forms of MATH.md 7 (constant angle, its lambda), the cylinder's
+Truths: the torus closed forms of docs/math/07-friction.md (constant angle, its lambda), the cylinder's
 sin(alpha(z)) closed form, the general friction ODE on the 3D surface (winder.paths.friction) for the
 surface-of-revolution legs, and curvatures measured from the points with the exact normal.
 """
@@ -223,7 +223,7 @@ def test_bend_at_the_end_of_the_region_reports_its_angle():
 
 def test_circuits_above_the_closed_form_are_explained():
     """Through a bend the bands part on its outside, so the planner winds more circuits than the straight
-    tube's N_c = ceil(2 pi a cos(alpha) / B) (MATH.md 5); the notes say so with both counts."""
+    tube's N_c = ceil(2 pi a cos(alpha) / B) (docs/math/05-winding.md); the notes say so with both counts."""
     from winder.winding.plan import plan  # noqa: PLC0415
 
     axis = {"type": "path", "segments": [{"line": 150}, {"arc": {"radius": 300, "angle": 90}}, {"line": 150}]}

@@ -1,4 +1,4 @@
-"""Circuit pattern arithmetic (MATH.md 5): counts, skips, closure, slots."""
+"""Circuit pattern arithmetic (docs/math/05-winding.md): counts, skips, closure, slots."""
 
 from __future__ import annotations
 

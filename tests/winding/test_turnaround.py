@@ -1,4 +1,4 @@
-"""winder.winding.turnaround: the fiber past the winding region of an open mandrel, against MATH.md 7's
+"""winder.winding.turnaround: the fiber past the winding region of an open mandrel, against docs/math/07-friction.md's
 closed form on a cylinder, sin(alpha(z)) = sin(alpha0) / (1 - lambda z sin(alpha0) / R), and the plans
 that use it: continuous fiber and directions from pass to pass, friction within mu."""
 

@@ -3,7 +3,7 @@
 A job: load the config -> plan every layer -> render every requested output in memory -> only then
 write them all, each atomically. If anything fails, the files this call already renamed into place
 are removed again (and earlier outputs they replaced are put back), so a failed job leaves no file
-of its own behind, not even a partial one (SPEC.md). Timings go into the JobReport (the console), never into the files, so a job's outputs
+of its own behind, not even a partial one (docs/guide/conventions.md). Timings go into the JobReport (the console), never into the files, so a job's outputs
 are byte-identical from run to run and whatever the number of worker processes.
 
 No click here: the CLI (winder.cli) and the regression runner (winder.app.regress) both build on this.

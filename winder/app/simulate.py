@@ -1,7 +1,7 @@
 """`winder simulate CONFIG PROGRAM`: what a winding program lays, read back from its text.
 
 The program (any dialect winder writes, winder.readback.gcode) gives the eye at every
-programmed point through the forward kinematics (SPEC.md: with the mandrel turned by A the eye is
+programmed point through the forward kinematics (docs/guide/conventions.md: with the mandrel turned by A the eye is
 at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free fiber runs from the
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
 point p(u) of the planned pass whose tangent ray p + lambda d, lambda > 0, passes closest to E;
@@ -11,7 +11,7 @@ hoop of many turns, within a band along it: winder.readback.contact_bands). The 
 the fiber the plan's points stand for: between two planned points of a geodesic the geodesic ODE
 from the first (winder.readback.exact_paths, scipy's solve_ivp, independent of the program writer's
 integration), elsewhere the smooth path through them (a cubic spline in (s, theta) over the point
-index, MATH.md 2; in (s, f), f the perimeter fraction, on a non-circular section: docs/math/12 12.2). Its
+index, docs/math/02-energy.md; in (s, f), f the perimeter fraction, on a non-circular section: docs/math/12 12.2). Its
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
 lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
 Samples: every programmed point and the midpoint of every move within a pass (the eye the
@@ -96,7 +96,7 @@ class Simulation:
 
 
 def eye_positions(parsed: ParsedProgram) -> np.ndarray:
-    """The eye in the mandrel frame for each row (SPEC.md forward kinematics; robot: the position)."""
+    """The eye in the mandrel frame for each row (docs/guide/conventions.md forward kinematics; robot: the position)."""
     v = parsed.values
     if parsed.robot:
         return v[:, :3].copy()

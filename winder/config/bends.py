@@ -1,4 +1,4 @@
-"""The closed-form refusal of a helical angle no friction can hold on a bend (MATH.md 7), checked with
+"""The closed-form refusal of a helical angle no friction can hold on a bend (docs/math/07-friction.md), checked with
 the config, before any computation.
 
 At the inside of a bend (phi = 0) a circular tube of radius a on bend radius R_b has

@@ -1,4 +1,4 @@
-"""Controllers described as data (SPEC.md "Tension and controllers as data"): a post file.
+"""Controllers described as data (docs/guide/controllers.md): a post file.
 
 One `Controller` says everything winder needs to write a program for a controller and to read one
 back: its engine (which writer, winder.export.dialects.<engine>, and which reader; the motion itself is

@@ -28,7 +28,7 @@ MAX_EYE_CLEARANCE = 2000.0
 
 MACHINE_ROLES = ("carriage", "rotation", "cross_feed", "yaw")
 DIALECTS = tuple(DIALECT_REGISTRY)  # the dialect registry's names (winder.config.dialects)
-# A shop winder's axes (speed in mm/min or deg/min, acceleration in mm/s^2 or deg/s^2): SPEC.md's example.
+# A shop winder's axes (speed in mm/min or deg/min, acceleration in mm/s^2 or deg/s^2): the example of docs/guide/config.md.
 DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0),
                     "cross_feed": (10000.0, 1000.0), "yaw": (20000.0, 3000.0)}
 # Axis words of G-code (ISO 6983 / RS-274); any other letter (F, G, M, N, ...) would change the

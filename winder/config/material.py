@@ -1,4 +1,4 @@
-"""The `material:` of a winding plan (SPEC.md "Laminate"): per job, and per layer as an override.
+"""The `material:` of a winding plan (docs/math/08-laminate-edges.md): per job, and per layer as an override.
 
     material: {fiber_tex: 800, tows: 4, fiber_density: 1.78, resin_density: 1.15,
                fiber_volume_fraction: 0.6}
@@ -42,7 +42,7 @@ class MaterialConfig:
     resin_density: float | None = None
     fiber_volume_fraction: float | None = None
     ply_thickness: float | None = None
-    lamina: LaminaConfig | None = None  # ply stiffness and strength (SPEC.md "Structural analysis")
+    lamina: LaminaConfig | None = None  # ply stiffness and strength (docs/guide/will-it-hold.md)
     fiber_price_per_kg: float | None = None  # the fiber's price per kg, in the shop's currency (the traveller's costs)
     resin_price_per_kg: float | None = None  # the resin's
 

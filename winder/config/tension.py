@@ -1,4 +1,4 @@
-"""Fiber tension in a job file (SPEC.md "Tension and controllers as data"): N per band.
+"""Fiber tension in a job file (docs/guide/tension.md): N per band.
 
     winding:
       tension: 40                                   # every layer, every pass

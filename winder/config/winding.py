@@ -271,7 +271,7 @@ def _parse_dwell(rd: Reader, value: Any, path: str) -> tuple[float, float]:
 
 
 def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -> tuple[float | str, float | None]:
-    """The helical layer's slip and turnaround_radius (SPEC.md "Winding with friction")."""
+    """The helical layer's slip and turnaround_radius (docs/guide/config.md)."""
     slip: float | str = 0.0
     if "slip" in m and m["slip"] != SLIP_AUTO:
         slip = rd.number(m["slip"], rd.at(path, "slip"))

@@ -1,4 +1,4 @@
-"""The winding program `<name>.gcode` (SPEC.md "Output files", MATH.md 6): the motion program of
+"""The winding program `<name>.gcode` (docs/guide/conventions.md, docs/math/06-machine.md): the motion program of
 winder.machine.program, serialized by the dialect machine.dialect names in the dialect registry
 (winder.config.dialects; the serializers in winder.export.dialects): generic G-code, marlin,
 linuxcnc, or robot poses (always for a robot). The program is built once per job by the caller

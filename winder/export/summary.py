@@ -1,4 +1,4 @@
-"""The job summary `<name>.summary.json` (SPEC.md "Output files").
+"""The job summary `<name>.summary.json` (docs/guide/conventions.md).
 
 One JSON object, keys sorted, indent 2, newline-terminated. Floats are rounded to fixed decimals
 (LENGTH_DECIMALS for mm, ANGLE_DECIMALS for degrees, FRACTION_DECIMALS for fractions, TIME_DECIMALS
@@ -147,7 +147,7 @@ def _lift_off(layer: LayerPlan) -> dict[str, Any]:
 
 
 def _laminate(layer: LayerPlan) -> dict[str, Any]:
-    """A layer's wall keys (SPEC.md "Laminate"); none without a material, so such summaries stay as
+    """A layer's wall keys (docs/math/08-laminate-edges.md); none without a material, so such summaries stay as
     they were."""
     lam = layer.laminate
     if lam is None:

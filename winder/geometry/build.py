@@ -211,7 +211,40 @@ def _refuse_spline_fold(mandrel: MandrelConfig, section: Section, source: str) -
 
 
 def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
-    """The sweep surface of a validated mandrel config; geometric refusals raise ConfigError."""
+    """The sweep surface of a validated mandrel config (docs/math/01-surface.md).
+
+    Parameters
+    ----------
+    mandrel : MandrelConfig
+        The config's mandrel (winder.config.job.JobConfig.mandrel).
+    source : str
+        The config file's name, for messages.
+    name : str
+        The job's name, kept on the surface.
+
+    Returns
+    -------
+    SweepSurface
+        Phi(s, theta) with exact first and second derivatives; `length` the internal station range,
+        `axial_length` the axis length T (mm).
+
+    Raises
+    ------
+    ConfigError
+        What only the geometry shows, with its key path: a fold (a section reaching the centre of a
+        bend), parts of the mandrel inside each other, a table profile dipping to r <= 0, dome fits.
+
+    Examples
+    --------
+    >>> from winder.config.job import parse_config
+    >>> job = parse_config({"name": "pipe", "mandrel": {"axis": {"type": "line", "length": 500},
+    ...                                                 "profile": {"type": "constant", "radius": 50}}}, "pipe.yaml")
+    >>> surface = build_surface(job.mandrel, job.source)
+    >>> surface.axial_length
+    500.0
+    >>> surface.points([100.0], [0.0])  # (t, theta) -> xyz: (r cos theta, r sin theta, t) on a straight axis
+    array([[ 50.,   0., 100.]])
+    """
     section = make_section(mandrel.section)
     axis_cfg = mandrel.axis
     _refuse_spline_fold(mandrel, section, source)

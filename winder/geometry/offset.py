@@ -1,6 +1,6 @@
 """The grown mandrel: a sweep surface offset along its normal by a laminate thickness h(s).
 
-The next layer is planned on the mandrel grown by the layers below (MATH.md 8), so the grown mandrel
+The next layer is planned on the mandrel grown by the layers below (docs/math/08-laminate-edges.md), so the grown mandrel
 must be a sweep surface of the same kind, with exact, consistent derivatives:
 
 - Axial profiles (constant, cone, table; s = t): the radius grows by g(t) = h(t) sqrt(1 + r'(t)^2),

@@ -5,7 +5,7 @@ z(s) the axial station of the internal station s (z = s except on vessels, see p
 R(s, theta) = p(s) q(theta): the profile radius times the section shape. One code path serves the
 paper's three radius cases; a case only changes which derivatives vanish.
 
-Derivatives (MATH.md 1), with T = x', K = x'', K' = x''' at z and m = dn/dtheta:
+Derivatives (docs/math/01-surface.md), with T = x', K = x'', K' = x''' at z and m = dn/dtheta:
   n_z = -(K.n) T,   m_z = -(K.m) T,   n_zz = -(K'.n) T - (K.n) K
   Phi_s   = z1 T + R_s n + R z1 n_z
   Phi_th  = R_th n + R m

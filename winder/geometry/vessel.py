@@ -3,7 +3,7 @@
 Vessel: VesselMeridian implements the Profile protocol of winder.geometry.profiles. Its internal station s is
 the meridian arc length from the first polar opening: the first dome reversed, then the cylinder, then
 the end dome. The axial station t = z(s) is 0 in the plane of the first dome's polar opening
-(SPEC.md), so T = depth(dome) + cylinder_length + depth(end_dome).
+(docs/guide/conventions.md), so T = depth(dome) + cylinder_length + depth(end_dome).
 """
 
 from __future__ import annotations

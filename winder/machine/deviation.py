@@ -1,5 +1,5 @@
-"""How far the written program's eye lies from the fiber it lays (SPEC.md "Invariants every job proves
-before it writes"): every programmed point and every move's midpoint against the exact tangent ray of
+"""How far the written program's eye lies from the fiber it lays (docs/guide/conventions.md,
+what a job proves): every programmed point and every move's midpoint against the exact tangent ray of
 the planned path at its contact.
 
 The free fiber runs from its contact point p on the mandrel along the path's unit tangent d to the

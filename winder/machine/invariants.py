@@ -1,4 +1,4 @@
-"""What every job proves before it writes (SPEC.md "Invariants every job proves before it writes").
+"""What every job proves before it writes (docs/guide/conventions.md).
 
 A job's plan and its program are checked against truths of their own, not against the numbers that
 built them, so that a defect anywhere upstream (a spline, a contact, a clearance model) is caught

@@ -1,4 +1,4 @@
-"""The smooth path of planned passes between their points (MATH.md 2): positions, tangents and arc
+"""The smooth path of planned passes between their points (docs/math/02-energy.md): positions, tangents and arc
 length at any fractional point index, for all passes of a plan in one batch. The motion program
 densifies along it; `winder simulate` finds contact points on it."""
 

@@ -1,4 +1,4 @@
-"""Friction-held turnarounds on vessel domes (MATH.md 7): the turnaround radius a geodesic cannot reach.
+"""Friction-held turnarounds on vessel domes (docs/math/07-friction.md): the turnaround radius a geodesic cannot reach.
 
 On a surface of revolution, with s the meridian arc length, r(s), z(s), and alpha the heading from
 the meridian (toward increasing theta), a fiber of slippage lambda obeys, per unit fiber length l,
@@ -6,7 +6,7 @@ the meridian (toward increasing theta), a fiber of slippage lambda obeys, per un
     ds/dl = cos(alpha),  dtheta/dl = sin(alpha) / r,  dalpha/dl = lambda k_n - r' sin(alpha) / r,
     k_n = kappa_m cos^2(alpha) + z' sin^2(alpha) / r,  kappa_m = r' z'' - z' r'' (convex: > 0),
 
-(MATH.md 7's d(alpha)/dz per unit length; lambda = 0 keeps r sin(alpha), Clairaut). It is regular
+(docs/math/07-friction.md's d(alpha)/dz per unit length; lambda = 0 keeps r sin(alpha), Clairaut). It is regular
 at the turnaround (cos(alpha) = 0), where it stops. The profile alone is evaluated, never the 3D
 surface, so a leg costs a few milliseconds. A leg runs from an equator toward the pole; the pass
 leaves the turnaround along its mirror image (the dome is symmetric about the turnaround meridian,

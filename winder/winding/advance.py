@@ -2,7 +2,7 @@
 
 On two kinds of open mandrel the metric is diagonal, E ds^2 + G dtheta^2, with E and G each a function
 of one variable, and the geodesic's theta at a station is one integral, evaluated in a few vectorized
-surface evaluations instead of thousands of single-point ones (MATH.md 4):
+surface evaluations instead of thousands of single-point ones (docs/math/04-checks.md):
 
 - a surface of revolution (straight axis, circular section, any profile r(s)): Clairaut, sqrt(G) sin(alpha)
   = c along the path, so dtheta/ds = c sqrt(E) / (sqrt(G) sqrt(G - c^2)); composite Gauss-Legendre,

@@ -1,7 +1,7 @@
 """The work a job will do, decided from the config and the built surface before any path is solved.
 
 The planner's sizes follow from a few numbers: the circuits of a helical layer N_c = ceil(P cos(alpha)
-/ B) (MATH.md 5, P the perimeter, so the surface is needed), the turns of a hoop layer (region length
+/ B) (docs/math/05-winding.md, P the perimeter, so the surface is needed), the turns of a hoop layer (region length
 over pitch, HOOP_STEP_DEG per point), the dwells (DWELL_STEP_DEG per point) and the points per pass.
 From them: circuits, passes, points per pass, points in total and a memory estimate
 (winder.winding.memory_model: docs/math/14-work-estimates.md 14.2), each held against a limit. A job

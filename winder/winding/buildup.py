@@ -1,4 +1,4 @@
-"""A layer's thickness from the bands actually laid, and the mandrel grown by it (MATH.md 8).
+"""A layer's thickness from the bands actually laid, and the mandrel grown by it (docs/math/08-laminate-edges.md).
 
 The station range is cut into cells (uniform within each smooth piece: a vessel's first dome,
 cylinder and end dome, so no cell straddles an equator). Each pass puts the composite volume of its
@@ -173,7 +173,7 @@ def share_around(surface: SweepSurface, passes: tuple[FiberPass, ...], band_widt
     weighted), so that thickness(s, theta) = mean thickness(s) x share. 1 where no band crosses.
 
     A pass crossing a station covers B / sin(beta) of the section (beta between fiber and section
-    curve), B / (2 sin(beta) |Phi_theta|) of angle on either side of its crossing (MATH.md 5).
+    curve), B / (2 sin(beta) |Phi_theta|) of angle on either side of its crossing (docs/math/05-winding.md).
     """
     s, theta = np.asarray(s, float), np.asarray(theta, float)
     count = np.zeros((s.size, theta.size))

@@ -129,7 +129,7 @@ def _geodesic_kind(ctx: PlanContext, cfg: LayerConfig) -> str:
         return "vessel" if geodesic else "other"
     if slip == 0.0 or (slip == SLIP_AUTO and surf.curve.is_straight):
         # a surface of revolution, or a straight tube of one section (no profile): unrolled, its passes
-        # are the same lines moved along the section (docs/math/11-pattern-choices.md 10.2)
+        # are the same lines moved along the section (docs/math/11-pattern-choices.md 11.2)
         cylinder = surf.curve.is_straight and surf.profile is None
         return "open" if surf.is_revolution or cylinder else "other"
     return "other"

@@ -194,7 +194,7 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
 
 def unrolled_line(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: int) -> tuple[np.ndarray, np.ndarray]:
     """The geodesic from a to b ((t, theta) each) on a general cylinder, n interior points: unrolled,
-    a straight line, so the section's arc-length fraction runs linearly with the station (MATH.md 4;
+    a straight line, so the section's arc-length fraction runs linearly with the station (docs/math/04-checks.md;
     winder.winding.advance). A start path the solver only polishes: from the straight (s, theta)
     segment a long pass over a rounded rectangle's corners (five turns over 1900 mm) did not converge."""
     s0, s1 = (float(v) for v in ctx.surface.s_of_t(np.array([a[0], b[0]])))

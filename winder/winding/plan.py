@@ -1,4 +1,4 @@
-"""The winding planner: `plan(job) -> WindingPlan` (MATH.md 5; paper 6.1).
+"""The winding planner: `plan(job) -> WindingPlan` (docs/math/05-winding.md; paper 6.1).
 
 Each layer is planned by its own module: helical layers on open mandrels (helical.py), on domed
 vessels (vessel.py), and hoop layers (hoop.py); passes.py holds what they share.
@@ -26,10 +26,48 @@ from winder.geometry.build import build_surface
 
 def plan(job: JobConfig, progress: Progress | None = None,
          contexts: list[tuple[PlanContext, float]] | None = None) -> WindingPlan:
-    """Plan every layer of a job; raises ConfigError for what the config cannot do, SolverError for
-    what cannot be computed (infeasible winding, no convergence). progress, if given, is told the
-    fraction of the job done, per layer and per circuit (winder.progress); contexts, if given, gets
-    each layer's context and start angle (rad) as the layer is planned in them."""
+    """Plan every layer of a job: circuits, patterns, passes, coverage (docs/math/05-winding.md).
+
+    Parameters
+    ----------
+    job : JobConfig
+        A validated config with a `winding:` section (winder.config.job.load_config).
+    progress : callable, optional
+        Told the fraction of the job done, per layer and per circuit (winder.progress).
+    contexts : list, optional
+        Gets each layer's context and start angle (rad) as the layer is planned in them.
+
+    Returns
+    -------
+    WindingPlan
+        The layers in winding order, each with its passes (FiberPass: t, s, theta, points,
+        directions), circuits, pattern, angle laid, coverage and laminate; the surface it was planned on.
+
+    Raises
+    ------
+    ConfigError
+        What the config cannot do (no winding section, a layer the mandrel does not allow).
+    SolverError
+        What cannot be computed: an infeasible winding (a fiber that would slip or bridge), no
+        convergence.
+
+    Examples
+    --------
+    A 55 deg layer on a pipe of radius 50 with 10 mm bands: ceil(2 pi 50 cos(55 deg) / 10) = 19
+    circuits close evenly with a skip coprime with 19.
+
+    >>> from winder.config.job import parse_config
+    >>> job = parse_config({"name": "pipe",
+    ...                     "mandrel": {"axis": {"type": "line", "length": 500},
+    ...                                 "profile": {"type": "constant", "radius": 50}},
+    ...                     "winding": {"band_width": 10, "points": 30, "region": {"start": 20, "end": 480},
+    ...                                 "layers": [{"type": "helical", "angle": 55}]}}, "pipe.yaml")
+    >>> layer = plan(job).layers[0]
+    >>> layer.circuits, layer.pattern, layer.angle_deg
+    (19, 13, 55.0)
+    >>> round(float(layer.coverage.covered_fraction), 9)
+    1.0
+    """
     if job.winding is None:
         raise ConfigError(f"{job.source}: winding: missing; `winder run` needs the winding plan (band_width, "
                           f"layers)")

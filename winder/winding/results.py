@@ -55,7 +55,7 @@ class FiberPass:
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Coverage:
-    """Coverage of a layer at stations along its winding region (MATH.md 5).
+    """Coverage of a layer at stations along its winding region (docs/math/05-winding.md).
 
     stations : (k,) float, the t where it was measured.
     covered_fraction : covered perimeter / perimeter, the least over the stations.

@@ -1,4 +1,4 @@
-"""The slip check: friction holds a fiber where |k_g / k_n| <= mu and it presses, k_n > 0 (MATH.md 7).
+"""The slip check: friction holds a fiber where |k_g / k_n| <= mu and it presses, k_n > 0 (docs/math/07-friction.md).
 
 check_slip: a hoop path, densely resampled. measure / check: every laid pass of a layer, whatever
 planned it (geodesic, friction-held, hoop), from the pass's own points with the exact surface normal
@@ -30,7 +30,7 @@ SLIP_MARGIN = 1e-3  # measured slip may exceed mu by this (the polyline measurem
 
 def slip_ratio(surface: SweepSurface, s: np.ndarray, th: np.ndarray) -> np.ndarray:
     """|k_g / k_n| at the points (s, theta) (m,) of a densely sampled path: friction mu holds the fiber
-    where this is <= mu (MATH.md 7). The samples' index is the parameter (np.gradient derivatives).
+    where this is <= mu (docs/math/07-friction.md). The samples' index is the parameter (np.gradient derivatives).
     Where the path runs on a flat face (k_n below PRESS_FLOOR of its largest) friction is not what
     holds it, and the ratio of two round-off values would say nothing: 0 there, as in `measure`."""
     ds, dth = np.gradient(s), np.gradient(th)

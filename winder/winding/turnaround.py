@@ -1,10 +1,10 @@
 """Turnarounds at the ends of an open mandrel: the fiber laid while the carriage reverses and the
-mandrel keeps turning (SPEC.md "Machine dynamics and dialects").
+mandrel keeps turning (docs/math/06-machine.md 6.4).
 
 A pass ends at the end of the winding region at heading h (from the meridian toward +theta; every
 plan turns the mandrel toward +theta, so 0 < h < 180). Past the region the fiber runs on into the
 mandrel's end zone held by friction, lambda = k_g / k_n = TURN_SLIP_SHARE * mu turning it toward the
-parallel (MATH.md 7; on a cylinder sin(alpha(z)) = sin(alpha0) / (1 - lambda z sin(alpha0) / R)):
+parallel (docs/math/07-friction.md; on a cylinder sin(alpha(z)) = sin(alpha0) / (1 - lambda z sin(alpha0) / R)):
 - where it reaches the parallel (heading 90 deg) before the mandrel ends, it has turned around within
   friction: the way back is the mirror image of the way in (the mandrel is a surface of revolution),
   and a dwell there (mandrel turning, carriage still) only where the config asks for one;

@@ -1,4 +1,4 @@
-"""The laminate wall of a job, layer on layer (SPEC.md "Laminate"; MATH.md 8).
+"""The laminate wall of a job, layer on layer (docs/math/08-laminate-edges.md; docs/math/08-laminate-edges.md).
 
 After each layer is planned, `Buildup.add` measures what it laid (thickness per station from its
 bands, volume, masses, the winding angle per station), grows the mandrel by it, and hands the grown

@@ -1,4 +1,4 @@
-"""The G-code of a straight-axis winder (SPEC.md "<name>.gcode"): the generic and the linuxcnc
+"""The G-code of a straight-axis winder (docs/guide/conventions.md): the generic and the linuxcnc
 dialects, and the posts that extend them (Sinumerik, Fanuc, a shop's own).
 
 `G1` moves of the four axes, letters from machine.axes, in the order carriage, rotation, cross-feed,

@@ -1,4 +1,4 @@
-"""Which helical layers are friction-held (SPEC.md "Winding with friction"): `slip` and
+"""Which helical layers are friction-held (docs/guide/config.md): `slip` and
 `turnaround_radius` choose between the geodesic planners and the friction-held ones."""
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 A cone, a table profile or a tapered pole: where the geodesic at the layer's angle turns around
 inside the winding region (Clairaut), `slip: auto` holds the angle over the whole region with the
 slip lambda(t) that cancels the Clairaut drift. Every pass is a rotated copy of one quadrature, so
-forward and return passes advance alike and the pattern closes with the dwells (MATH.md 5).
+forward and return passes advance alike and the pattern closes with the dwells (docs/math/05-winding.md).
 """
 
 from __future__ import annotations

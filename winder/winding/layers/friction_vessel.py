@@ -1,5 +1,5 @@
 """Helical layers on domed vessels held by friction on the domes: a given cylinder angle turning at a
-given radius (`turnaround_radius`), or at the radius a given slip leads to (MATH.md 7).
+given radius (`turnaround_radius`), or at the radius a given slip leads to (docs/math/07-friction.md).
 
 On the cylinder the fiber is the geodesic helix at the layer angle; on each dome it is friction-held
 (dome_paths) so that it turns at r = c, which a geodesic reaches only at c = R sin(alpha). The

@@ -2,7 +2,7 @@
 
 Each circuit is a forward and a return pass, two-point (N-round) geodesics solved by the variational
 method between slot end points evenly spaced by arc length along the end sections; dwells at the
-ends close the pattern (MATH.md 5, paper 6.1). On a surface of revolution the circuits are rotated
+ends close the pattern (docs/math/05-winding.md, paper 6.1). On a surface of revolution the circuits are rotated
 copies of the first; elsewhere every pass is solved on its own.
 """
 

@@ -2,7 +2,7 @@
 
 A geodesic on a surface of revolution keeps r sin(alpha) = c; it turns around on each dome where
 r = c, tangent to that parallel. The circuit advance is a function of c (by quadrature); c is moved
-slightly from R sin(alpha) so the pattern closes, and the angle change is reported (MATH.md 5).
+slightly from R sin(alpha) so the pattern closes, and the angle change is reported (docs/math/05-winding.md).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The Clairaut geodesic's turnarounds and theta advance over a domed vessel, for many c at once.
 
 A geodesic on a surface of revolution keeps r sin(alpha) = c; it turns around on each dome where
-r = c. The circuit advance is a function of c by quadrature (MATH.md 5). Closing a layer's pattern
+r = c. The circuit advance is a function of c by quadrature (docs/math/05-winding.md). Closing a layer's pattern
 solves advance(c) = k / N_c for a few candidate skips (winder.winding.pattern.close_vessel_pattern):
 every function here takes c as a float or as an (n,) array, so that the candidates are solved
 together, each step of the root finder one quadrature of all of them.
