@@ -1,4 +1,4 @@
-"""Tension loss in a wound wall (winder.analysis.prestress, docs/math/15-winding-tension.md): the ring
+"""Tension loss in a wound wall (winder.analysis.prestress, docs/math/16-winding-tension.md): the ring
 stack's changes against its equations solved by hand for two hoop layers on a rigid mandrel and one on
 an elastic mandrel, and the uniform-prestress schedule leaving every layer the residual."""
 

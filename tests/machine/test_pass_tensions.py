@@ -1,5 +1,5 @@
 """Each pass's tension from the config (winder.machine.tension): the uniform-prestress schedule on a
-laminate leaves every layer the residual once the wall is wound (docs/math/15), falls from the inner
+laminate leaves every layer the residual once the wall is wound (docs/math/16), falls from the inner
 layers to the outer, and is refused where a layer would need more than its max, or where the plies'
 stiffness is not known."""
 

@@ -30,7 +30,7 @@ def check_analysis(job) -> tuple[Lamina | None, ...]:
         return ()
     plies = layer_laminae(job)
     schedule = job.winding.tension is not None and job.winding.tension.schedule is not None
-    if schedule and (not job.winding.has_laminate or any(p is None for p in plies)):  # docs/math/15
+    if schedule and (not job.winding.has_laminate or any(p is None for p in plies)):  # docs/math/16
         raise ConfigError(f"{job.winding.tension.schedule} needs every layer's material with its ply stiffness (a "
                           "name from winder's table, or E1 and E2) and its thickness (fiber_tex, tows, ... or "
                           "ply_thickness)", file=job.source, key_path="winding.tension")

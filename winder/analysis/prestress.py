@@ -1,5 +1,5 @@
 """Tension loss in a thick wound wall, and the winding tensions that leave every layer the same prestress
-(docs/math/15-winding-tension.md).
+(docs/math/16-winding-tension.md).
 
 The wall at the reference section is a stack of thin rings (one per layer) on the mandrel, joined by
 radial springs (the wet layers' through-thickness stiffness). A layer wound at tension T presses on

@@ -2,7 +2,7 @@
 
     winding:
       tension: 40                                   # every layer, every pass
-      tension: {schedule: uniform_prestress, residual: 30, max: 120}   # thick walls (docs/math/15)
+      tension: {schedule: uniform_prestress, residual: 30, max: 120}   # thick walls (docs/math/16)
       layers:
         - {type: hoop, passes: 2, tension: 60}      # a layer's own
         - {type: helical, angle: 30, tension: {start: 60, end: 45}}   # linear over its passes
@@ -68,7 +68,7 @@ def parse_tension(rd: Reader, value: Any, path: str, job: bool) -> TensionConfig
         m = rd.mapping(value, path, ("schedule", "residual", "max", "radial_modulus", "mandrel_modulus"),
                        required=("residual",))
         if m["schedule"] != UNIFORM_PRESTRESS:
-            raise rd.error(rd.at(path, "schedule"), f"must be {UNIFORM_PRESTRESS} (docs/math/15-winding-tension.md)",
+            raise rd.error(rd.at(path, "schedule"), f"must be {UNIFORM_PRESTRESS} (docs/math/16-winding-tension.md)",
                            m["schedule"])
         residual = _newtons(rd, m["residual"], rd.at(path, "residual"))
         limit = _newtons(rd, m["max"], rd.at(path, "max")) if "max" in m else None

@@ -1,7 +1,7 @@
 """The tension of every pass (N per band), carried in the motion program (winder.machine.program's
 Segment.tension) so that every program writes it as its controller's command and `simulate` reads it
 back: a layer's own (constant, or linear from its first pass to its last), else the job's, or the
-job's uniform-prestress schedule (winder.analysis.prestress, docs/math/15-winding-tension.md).
+job's uniform-prestress schedule (winder.analysis.prestress, docs/math/16-winding-tension.md).
 """
 
 from __future__ import annotations
