@@ -173,13 +173,25 @@ def test_vessel_slip_number_turns_where_the_3d_ode_does():
     assert layer.min_normal_curvature > 0.0 and layer.max_slip <= 0.2
 
 
-def test_vessel_auto_turns_just_outside_the_larger_opening():
+def test_vessel_auto_turns_each_dome_just_outside_its_own_opening():
     from winder.winding.plan import plan  # noqa: PLC0415
 
     layer = plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "slip": "auto"})).layers[0]
-    radii = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1)]
-    assert np.allclose(radii, 30.0 + 4.0, atol=1e-4)  # the opening plus half a band
+    first = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1) if p.t[k] < 100.0]
+    end = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1) if p.t[k] > 100.0]
+    assert np.allclose(first, 25.0 + 4.0, atol=1e-4) and np.allclose(end, 30.0 + 4.0, atol=1e-4)
+    assert layer.turnaround_radii == pytest.approx((29.0, 34.0), abs=1e-4)
     assert layer.max_slip <= 0.2
+
+
+def test_vessel_turnaround_radius_per_dome():
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    cfg = {"type": "helical", "angle": 14, "turnaround_radius": {"start": 33, "end": 36}}
+    layer = plan(vessel_job(25.0, 30.0, cfg)).layers[0]
+    assert layer.turnaround_radii == pytest.approx((33.0, 36.0), abs=1e-4)
+    first = {round(float(np.hypot(*p.points[k, :2])), 3) for p in layer.passes for k in (0, -1) if p.t[k] < 100.0}
+    assert first == {33.0}
 
 
 def test_vessel_radius_beyond_the_friction_refused_with_the_least_mu():

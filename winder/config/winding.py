@@ -67,8 +67,11 @@ class LayerConfig:
         sign follows the pass direction; on vessels the domes' lambda, on bent tubes the largest
         |lambda| the passes through the bends may use), or SLIP_AUTO (friction-held where geodesics
         cannot cover or turn: bent tubes, vessels whose Clairaut turnaround is inside an opening).
-    turnaround_radius: helical on vessels only: turn around on the domes at this radius (mm), lambda
-        solved for (|lambda| <= friction); None: where the slip leads (Clairaut for slip 0).
+    turnaround_radius: helical on vessels only: (first dome, end dome) radii (mm) to turn around at,
+        lambda solved for on each (|lambda| <= friction); YAML a number (both) or {start, end} (either may
+        be left out: that dome turns at its own opening plus half a band). None: where the slip leads
+        (Clairaut for slip 0; slip auto: each dome at its own opening plus half a band where the
+        geodesic would turn inside it, docs/math/15 15.6).
     circuits: helical only. YAML `circuits: N` (whole, >= 1): wind exactly N circuits instead of the
         planner's count (the fewest that cover, raised where passes bunch); `winder patterns` lists
         the choices. None: the planner's count.
@@ -79,7 +82,7 @@ class LayerConfig:
     pattern: int | None = None
     passes: int = 1
     slip: float | str = 0.0
-    turnaround_radius: float | None = None
+    turnaround_radius: tuple[float | None, float | None] | None = None
     material: MaterialConfig | None = None  # this layer's own (config.material), else the job's
     circuits: int | None = None
     taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
@@ -237,7 +240,8 @@ def _parse_dwell(rd: Reader, value: Any, path: str) -> tuple[float, float]:
     return (ends[0], ends[1])
 
 
-def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -> tuple[float | str, float | None]:
+def _parse_slip(rd: Reader, m: dict, path: str, friction: float,
+                vessel: bool) -> tuple[float | str, tuple[float | None, float | None] | None]:
     """The helical layer's slip and turnaround_radius (SPEC.md "Winding with friction")."""
     slip: float | str = 0.0
     if "slip" in m and m["slip"] != SLIP_AUTO:
@@ -256,7 +260,15 @@ def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -
         if isinstance(slip, float) and slip > 0.0:
             raise rd.error(key, "give slip or turnaround_radius, not both (the slip is solved for the radius)",
                            m["turnaround_radius"])
-        radius = rd.positive(m["turnaround_radius"], key)
+        value = m["turnaround_radius"]
+        if isinstance(value, dict):
+            ends = rd.mapping(value, key, ("start", "end"))
+            if not ends:
+                raise rd.error(key, "give start, end or both (mm: the radius each dome turns at)", value)
+            radius = tuple(rd.positive(ends[e], rd.at(key, e)) if e in ends else None for e in ("start", "end"))
+        else:
+            both = rd.positive(value, key)
+            radius = (both, both)
     return slip, radius
 
 

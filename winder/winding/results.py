@@ -80,7 +80,8 @@ class LayerPlan:
     angle_deg : the winding angle laid at the reference section (after any pattern adjustment);
         requested_angle_deg the config's. circuits N_c, pattern k (circuit advance 2 pi k / N_c).
     dwell_start_deg, dwell_end_deg : mandrel turn at each end of an open mandrel per circuit.
-    turnaround_radius : vessels: the Clairaut constant c where the fiber turns on the domes (mm).
+    turnaround_radius : vessels: the Clairaut constant c where the fiber turns on the domes (mm); where
+        friction turns each dome at its own radius, their mean, and turnaround_radii each (first, end).
     alpha_min_deg, alpha_max_deg : range of the winding angle (folded to [0, 90]) over the wound
         passes, their ends included (turnarounds and dwells left out).
     time_s : estimated winding time at the machine feed.
@@ -111,6 +112,7 @@ class LayerPlan:
     max_lift_off_mm: float = 0.0  # largest lift-off of its fiber over a concave stretch (docs/math 8.10)
     lift_off_t: float = 0.0  # where: station t (mm) and pass number
     lift_off_pass: int = 0
+    turnaround_radii: tuple[float, float] | None = None  # vessels: (first dome, end dome) radii (mm)
 
     @property
     def angle_change_deg(self) -> float:

@@ -10,6 +10,7 @@ or c: each dome's lambda gets a small linear term in the fiber length that chang
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -52,8 +53,9 @@ def _directions(surface, s: np.ndarray, th: np.ndarray, alpha: np.ndarray) -> np
 
 
 def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, mu: float,
-                          radius: float | None, slip: float | None) -> LayerPlan:
-    """radius set: turn around there, lambda solved per dome; else lambda = +-slip on the domes."""
+                          radii: tuple[float | None, float | None], slip: float) -> LayerPlan:
+    """Each dome turns at its radius in radii (lambda solved for), or where lambda = +-slip leads where
+    its radius is None (slip 0: a geodesic dome, docs/math/15 15.6)."""
     surf, w = ctx.surface, ctx.winding
     prof = surf.profile
     big_r, alpha = prof.radius, math.radians(cfg.angle_deg)
@@ -65,10 +67,9 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
     legs, slips = [], []
     for d, (s_eq, heading) in enumerate(domes):
         where = f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome"
-        if radius is not None:
-            c = radius
+        if radii[d] is not None:
             try:
-                lam, leg = solve_slip(meridians[d], s_eq, heading, c)
+                lam, leg = solve_slip(meridians[d], s_eq, heading, radii[d])
             except SolverError as exc:
                 raise SolverError(f"{where}: {exc}") from exc
         else:
@@ -105,12 +106,14 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
                           f"above the friction {mu:g}; the least mu is {worst:.3g}")
     passes = _passes(ctx, index, legs, domes, theta0, n_c, cyl)
     c = 0.5 * (legs[0].radius + legs[1].radius)
-    notes = [f"friction-held turnarounds: r = {legs[0].radius:.3f} / {legs[1].radius:.3f} mm on the first / end "
-             f"dome (Clairaut would turn at {big_r * math.sin(alpha):.3f} mm), |k_g / k_n| up to {worst:.3f} "
-             f"(friction {mu:g}); pattern k = {k} of {n_c} closed on the domes, the angle kept"]
+    how = ["geodesic" if radii[d] is None and slip == 0.0 else "friction-held" for d in range(2)]
+    notes = [f"turnarounds: r = {legs[0].radius:.3f} mm on the first dome ({how[0]}), {legs[1].radius:.3f} mm on "
+             f"the end dome ({how[1]}) (Clairaut would turn at {big_r * math.sin(alpha):.3f} mm), |k_g / k_n| up to "
+             f"{worst:.3f} (friction {mu:g}); pattern k = {k} of {n_c} closed on the domes, the angle kept"]
     t1, t2 = prof.equator_t
     stations = np.linspace(t1, t2, COVERAGE_STATIONS + 2)[1:-1]
-    return finish_layer(ctx, cfg, index, cfg.angle_deg, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+    done = finish_layer(ctx, cfg, index, cfg.angle_deg, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+    return replace(done, turnaround_radii=(legs[0].radius, legs[1].radius))
 
 
 def _passes(ctx: PlanContext, index: int, legs: list[Leg], domes, theta0: float, n_c: int,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import replace
 from typing import Callable
 
 import numpy as np
@@ -169,5 +170,6 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
              f"{alpha - cfg.angle_deg:+.4f} deg to close the pattern (k = {k} of {n_c})"]
     e1, e2 = prof.equator_t
     stations = np.linspace(e1, e2, COVERAGE_STATIONS + 2)[1:-1]
-    return finish_layer(ctx, cfg, index, alpha, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+    done = finish_layer(ctx, cfg, index, alpha, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+    return replace(done, turnaround_radii=(c, c))
 
