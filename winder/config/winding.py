@@ -21,6 +21,7 @@ DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
 MAX_POINTS = 100_000
 DEFAULT_FRICTION = 0.2
+DEFAULT_ANGLE_TOLERANCE = 0.5  # deg: how far closing a pattern may move a layer's angle from the one asked
 # Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
 MIN_HOOP_ANGLE = 70.0
 MAX_LAYER_CIRCUITS = 20_000  # YAML `circuits:`; = winder.winding.budget.MAX_CIRCUITS (the work budget)
@@ -110,6 +111,9 @@ class WindingConfig:
     friction: fiber-mandrel friction coefficient for the slip check of non-geodesic paths, in [0, 1]
         (default 0.2; typical wet epoxy rovings 0.1 to 0.3).
     layers: the layers, wound in this order, at least one.
+    angle_tolerance: how far (deg, >= 0) closing a vessel layer's pattern may move its angle from the one
+        asked (default 0.5); beyond it another circuit count, a friction-held closure at the angle, or a
+        refusal listing the choices (docs/math/15 15.7).
     """
 
     band_width: float
@@ -122,6 +126,7 @@ class WindingConfig:
     layers: tuple[LayerConfig, ...] = ()
     material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
     bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
+    angle_tolerance: float = DEFAULT_ANGLE_TOLERANCE  # deg a pattern's closing may move an angle (docs/math/15 15.7)
 
     @property
     def has_laminate(self) -> bool:
@@ -135,7 +140,7 @@ class WindingConfig:
 
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material",
-                 "bridging_tolerance")
+                 "bridging_tolerance", "angle_tolerance")
 _LAYER_KINDS = {
     "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back")),
     "hoop": ((), ("angle", "passes", "material", "taper")),
@@ -190,8 +195,15 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
             raise rd.error(rd.at(path, "bridging_tolerance"), "must be >= 0 (mm of lift-off a fiber may stand "
                            "off the mandrel over a concave stretch)", m["bridging_tolerance"])
     _check_tapers(rd, items, layers, rd.at(path, "layers"), region)
+    angle_tolerance = DEFAULT_ANGLE_TOLERANCE
+    if "angle_tolerance" in m:
+        key = rd.at(path, "angle_tolerance")
+        angle_tolerance = rd.number(m["angle_tolerance"], key)
+        if not 0.0 <= angle_tolerance <= 90.0:
+            raise rd.error(key, "must be in [0, 90] degrees (how far closing a pattern may move a layer's angle)",
+                           m["angle_tolerance"])
     return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
-                         bridging)
+                         bridging, angle_tolerance)
 
 
 def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path: str,

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from winder.geometry.domes import DomeMeridian, _quintic_hermite, with_derivatives
+from winder.geometry.domes import DomeMeridian, _quintic_hermite, table_grid, with_derivatives
 
 DEGREE = 5
 MAX_INTERVALS = 400  # knot intervals of the fit (every other point up to this)
@@ -130,16 +130,6 @@ def fit_contour(points: np.ndarray, tolerance: float) -> ContourFit:
     return ContourFit(BSpline(knots, best, DEGREE), float(u[-1]), float(dev.max()), 10.0**lam, u)
 
 
-def _table_grid(uniform: np.ndarray, knots: np.ndarray) -> np.ndarray:
-    """The arc-length table's sites: the uniform ones and the fit's knots (where its fifth derivative
-    jumps), without sites closer than a fifth of the spacing (the Hermite pieces between two nearly
-    equal sites would amplify the quadrature's last bits by 1 / dx^2 in their curvature)."""
-    step = uniform[1] - uniform[0]
-    near = np.min(np.abs(uniform[:, None] - knots[None, :]), axis=1) < 0.2 * step if knots.size else None
-    keep = uniform if near is None else uniform[~near | (np.arange(uniform.size) % (uniform.size - 1) == 0)]
-    return np.union1d(keep, knots)
-
-
 class ContourDome(DomeMeridian):
     """A dome through a contour's points, trimmed at the opening radius r0 (the last point's radius if
     None). Raises ContourError where the smoothed meridian does not fall toward the pole."""
@@ -158,9 +148,8 @@ class ContourDome(DomeMeridian):
             r = spl(grid)[:, 1]
             j = int(np.argmax(r <= r0))
             u_end = brentq(lambda x: float(spl(x)[1]) - r0, grid[max(j - 1, 0)], grid[j], xtol=1e-13)
-        n = int(min(MAX_TABLE, max(65, np.ceil(u_end / KNOT_SPACING) + 1)))
         inner = spl.t[(spl.t > 0.0) & (spl.t < u_end)]
-        grid = _table_grid(np.linspace(0.0, u_end, n), inner)
+        grid = table_grid(0.0, u_end, max(min(KNOT_SPACING, u_end / 64.0), u_end / MAX_TABLE), inner)
         d1, d2 = spl(grid, 1), spl(grid, 2)
         speed = np.hypot(d1[:, 0], d1[:, 1])
         self._refuse_folds(fit, grid, d1)

@@ -38,6 +38,7 @@ class Torispherical(DomeMeridian):
             self._psi_end = math.acos((r0 - R + rk) / rk)
             self.length = rk * self._psi_end
         self.end_radius = float(r0)
+        self.joints = (self.sigma_joint,) if 0.0 < self.sigma_joint < self.length else ()
         self.depth = float(self._h(np.array([self._psi_end]))[0])
         self._tab_sigma = np.linspace(0.0, self.length, 129)
         self._tab_h = self.evaluate(self._tab_sigma).h

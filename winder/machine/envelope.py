@@ -107,11 +107,11 @@ def _largest_section_angle(surface: SweepSurface) -> float:
 
 def eye_envelope(surface: SweepSurface, machine: MachineConfig) -> EyeEnvelope:
     """The eye envelope of a machine around a mandrel (module docstring); computed once per job."""
-    T = surface.axial_length
+    T, t0 = surface.axial_length, surface.t_start
     clearance = machine.eye_clearance if machine.eye_radius is None else None
     step = ENVELOPE_STEP if clearance is None else min(ENVELOPE_STEP, clearance / 16.0)
-    n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil(T / step) + 1)))
-    stations = np.linspace(0.0, T, n)
+    n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil((T - t0) / step) + 1)))
+    stations = np.linspace(t0, T, n)
     th_max = _largest_section_angle(surface)
     # r_max(t): sampled in the internal station (arc length on domes), then put on the uniform grid.
     s = np.linspace(0.0, surface.length, max(n, 2049))

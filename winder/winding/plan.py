@@ -68,8 +68,8 @@ def plan_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
     if (held := friction_layer(ctx, cfg, index, theta0)) is not None:
         return held
     if isinstance(ctx.surface.profile, VesselMeridian):
-        from winder.winding.layers.helical_vessel import vessel_helical_layer  # noqa: PLC0415
-        return vessel_helical_layer(ctx, cfg, index, theta0)
+        from winder.winding.layers.vessel_tolerance import tolerant_vessel_layer  # noqa: PLC0415
+        return tolerant_vessel_layer(ctx, cfg, index, theta0)
     return open_helical_layer(ctx, cfg, index, theta0)
 
 

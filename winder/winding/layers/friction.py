@@ -96,10 +96,11 @@ def _auto_vessel(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, 
         if c_geo > min(floors):
             tries.append(tuple(None if c_geo > f else r for f, r in zip(floors, held)))
     for i, radii in enumerate(tries):
+        last = i == len(tries) - 1
         try:
-            return friction_vessel_layer(ctx, cfg, index, theta0, mu, radii, 0.0)
+            return friction_vessel_layer(ctx, cfg, index, theta0, mu, radii, 0.0, least_mu=last)
         except SolverError:
-            if i == len(tries) - 1:
+            if last:
                 raise
     raise AssertionError("unreachable")
 

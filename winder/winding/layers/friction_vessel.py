@@ -53,9 +53,10 @@ def _directions(surface, s: np.ndarray, th: np.ndarray, alpha: np.ndarray) -> np
 
 
 def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, mu: float,
-                          radii: tuple[float | None, float | None], slip: float) -> LayerPlan:
+                          radii: tuple[float | None, float | None], slip: float, least_mu: bool = True) -> LayerPlan:
     """Each dome turns at its radius in radii (lambda solved for), or where lambda = +-slip leads where
-    its radius is None (slip 0: a geodesic dome, docs/math/15 15.6)."""
+    its radius is None (slip 0: a geodesic dome, docs/math/15 15.6). least_mu: where a dome needs more
+    than the friction, find how much for the message (a full solve); else fail fast."""
     surf, w = ctx.surface, ctx.winding
     prof = surf.profile
     big_r, alpha = prof.radius, math.radians(cfg.angle_deg)
@@ -69,9 +70,14 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         where = f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome"
         if radii[d] is not None:
             try:
-                lam, leg = solve_slip(meridians[d], s_eq, heading, radii[d])
+                lam, leg = solve_slip(meridians[d], s_eq, heading, radii[d], mu + 1e-12)
             except SolverError as exc:
-                raise SolverError(f"{where}: {exc}") from exc
+                if not least_mu:
+                    raise SolverError(f"{where}: {exc}") from exc
+                try:  # beyond the friction: how far, for the message below
+                    lam, leg = solve_slip(meridians[d], s_eq, heading, radii[d])
+                except SolverError as exc2:
+                    raise SolverError(f"{where}: {exc2}") from exc2
         else:
             lam = slip if d == 1 else -slip  # the sign follows the pass direction
             leg = trace_leg(meridians[d], s_eq, heading, lambda l, lam=lam: lam)
