@@ -145,7 +145,10 @@ class WindingPlan:
         return self.outer if self.outer is not None else self.surface
 
     def surface_of(self, layer: int) -> SweepSurface:
-        """The surface layer `layer` (1-based) was wound on: the mandrel grown by the layers below."""
+        """The surface layer `layer` (1-based) was wound on: the mandrel grown by the layers below, the
+        part as wound so far, which the payout eye must clear while this layer is wound (on a vessel's
+        domes the pile-ups stand as laid, past the bosses' planes: docs/math/15 15.8; its t runs over
+        [t_start, axial_length])."""
         own = self.layers[layer - 1].surface
         return own if own is not None else self.surface
 
