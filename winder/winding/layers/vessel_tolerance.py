@@ -75,7 +75,7 @@ def _refusal(ctx: PlanContext, cfg: LayerConfig, index: int, own: tuple[int, flo
     advance, c0, c_min, c_hi = closure
     big_r = ctx.surface.profile.radius
     tol = ctx.winding.angle_tolerance
-    counts = [cfg.circuits] if cfg.circuits is not None else list(range(n_c, n_c + 1 + EXTRA_COUNTS))
+    counts = list(range(n_c, n_c + 1 + EXTRA_COUNTS))
     lo = big_r * math.sin(math.radians(max(cfg.angle_deg - WINDOW_DEG, 0.1)))
     hi = big_r * math.sin(math.radians(min(cfg.angle_deg + WINDOW_DEG, 89.0)))
     found = vessel_closures(advance, c0, max(c_min, lo), min(c_hi, hi), counts, None)
