@@ -5,6 +5,7 @@ and the bare radius where it is."""
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterator
 
 import numpy as np
 
@@ -56,6 +57,12 @@ def layer_walls(plan: WindingPlan, bare: np.ndarray) -> np.ndarray:
 def wall_at(plan: WindingPlan, bare: np.ndarray) -> np.ndarray:
     """W (m,) (mm) at points (m, 2) as (z, r) of the bare mandrel's meridian (module docstring)."""
     return layer_walls(plan, bare).sum(axis=0)
+
+
+def walls_by_layer(plan: WindingPlan, bare: np.ndarray) -> Iterator[np.ndarray]:
+    """The wall (m,) (mm) at the bare points (m, 2) as (z, r) after each layer in turn: layers 1..k
+    for k = 1, 2, .. (wall_at's sum, one layer more each time)."""
+    yield from np.cumsum(layer_walls(plan, bare), axis=0)
 
 
 def dome_walls(plan: WindingPlan) -> tuple[DomeWall, DomeWall] | None:
