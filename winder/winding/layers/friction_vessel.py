@@ -35,6 +35,11 @@ def _pattern(advance: float, circuits: int, pattern: int | None) -> tuple[int, f
     return best
 
 
+def _up(value: float) -> str:
+    """A friction to suggest: value rounded up to 3 decimals (so that it holds, not just rounds near)."""
+    return f"{math.ceil(value * 1000.0 - 1e-9) / 1000.0:g}"
+
+
 def _leg_points(surface, leg: Leg, s_eq: float, theta_eq: float, outward: bool, m: int):
     """(s, theta, alpha) of a leg from the equator (outward False) or its mirror back to it (True)."""
     l = np.linspace(0.0, leg.length, m)
@@ -66,6 +71,7 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
     domes = ((e1, math.pi - alpha), (e2, alpha))
     meridians = (dome_meridian(prof, False), dome_meridian(prof, True))
     legs, slips = [], []
+    over = None  # the first dome needing more than the friction: the least mu follows the pattern's closing
     for d, (s_eq, heading) in enumerate(domes):
         where = f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome"
         if radii[d] is not None:
@@ -88,11 +94,10 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         if leg.radius < c_min - 1e-9:
             raise SolverError(f"{where}: the fiber turns around at r = {leg.radius:.3f} mm, inside the polar opening "
                               f"({openings[d]:.4g} mm) plus half a band ({c_min:.3f} mm)")
-        if abs(lam) > mu + 1e-12:
+        if abs(lam) > mu + 1e-12 and over is None:
             t_turn = float(surf.t_of_s(np.array([leg.state(leg.length)[0]]))[0])
-            raise SolverError(f"{where}: turning at r = {leg.radius:.3f} mm (t = {t_turn:.1f} mm) needs |k_g / k_n| = "
-                              f"{abs(lam):.3g}, above the friction {mu:g} (winding.friction); the least mu is "
-                              f"{abs(lam):.3g}")
+            over = (f"{where}: turning at r = {leg.radius:.3f} mm (t = {t_turn:.1f} mm) needs |k_g / k_n| = "
+                    f"{abs(lam):.3g}, above the friction {mu:g} (winding.friction)")
         legs.append(leg)
         slips.append(lam)
     cyl = prof.cylinder_length * math.tan(alpha) / big_r
@@ -107,9 +112,11 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
                                             leg.advance + 0.25 * delta * 2.0 * math.pi, start=leg)
             slips[d] = max(abs(lam0 - 0.5 * lam1), abs(lam0 + lam1 * (legs[d].length / leg.length - 0.5)))
     worst = max(abs(x) for x in slips)
+    if over is not None:
+        raise SolverError(f"{over}; the least mu is {_up(worst)} with the pattern closed")
     if worst > mu + 1e-12:
         raise SolverError(f"{ctx.key(index)}: closing the pattern needs |k_g / k_n| up to {worst:.3g} on the domes, "
-                          f"above the friction {mu:g}; the least mu is {worst:.3g}")
+                          f"above the friction {mu:g}; the least mu is {_up(worst)}")
     passes = _passes(ctx, index, legs, domes, theta0, n_c, cyl)
     c = 0.5 * (legs[0].radius + legs[1].radius)
     how = ["geodesic" if radii[d] is None and slip == 0.0 else "friction-held" for d in range(2)]
