@@ -86,15 +86,16 @@ def test_axis_limits_hold_as_written(pipe):
 
 
 def test_the_eye_clears_the_laminate_past_a_domes_opening_plane():
-    """The grown surface is trimmed at the opening plane; the laminate is not. Measured against the
-    bare meridian moved out by the wall (the summary's dome wall, its own sum of the layers'
-    thicknesses), the eye planned around the trimmed surface came within 9 mm (clearance 20);
+    """The laminate stands past the opening plane. Measured against the bare meridian moved out by the
+    wall (the summary's dome wall, its own sum of the layers' thicknesses), the eye planned around the
+    grown surface alone comes too close (9 mm of 20 when that surface was trimmed at the opening plane;
+    19.35 mm since it carries the pile-ups, docs/math/17 17.8, whose crests its smoothing lowers);
     planned around the part as wound, it keeps the clearance."""
     job = parse_config(__import__("yaml").safe_load(SMALL_VESSEL), "small_vessel.yaml")
     done = plan(job)
     first = wound_profiles(done)[-1]
     assert first.span[0] < -1.0  # the laminate stands more than a millimetre past the opening plane
-    with pytest.raises(SolverError, match=r"layer 1 \(helical 14 deg\).*the part as wound so far"):
+    with pytest.raises(SolverError, match=r"layer \d+ \(helical \d+ deg\).*the part as wound so far"):
         prove(done, job, build_program(done, job.machine, None))  # the eye around the grown surface alone
     found = prove(done, job, build_program(done, job.machine))
     assert found.min_clearance_mm >= CLEARANCE - job.machine.chord_tolerance

@@ -7,6 +7,8 @@ surface-of-revolution legs, and curvatures measured from the points with the exa
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import math
 
 import numpy as np
@@ -173,20 +175,38 @@ def test_vessel_slip_number_turns_where_the_3d_ode_does():
     assert layer.min_normal_curvature > 0.0 and layer.max_slip <= 0.2
 
 
-def test_vessel_auto_turns_just_outside_the_larger_opening():
+def test_vessel_auto_turns_each_dome_just_outside_its_own_opening():
     from winder.winding.plan import plan  # noqa: PLC0415
 
     layer = plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "slip": "auto"})).layers[0]
-    radii = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1)]
-    assert np.allclose(radii, 30.0 + 4.0, atol=1e-4)  # the opening plus half a band
+    first = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1) if p.t[k] < 100.0]
+    end = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1) if p.t[k] > 100.0]
+    assert np.allclose(first, 25.0 + 4.0, atol=1e-4) and np.allclose(end, 30.0 + 4.0, atol=1e-4)
+    assert layer.turnaround_radii == pytest.approx((29.0, 34.0), abs=1e-4)
     assert layer.max_slip <= 0.2
+
+
+def test_vessel_turnaround_radius_per_dome():
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    cfg = {"type": "helical", "angle": 14, "turnaround_radius": {"start": 33, "end": 36}}
+    layer = plan(vessel_job(25.0, 30.0, cfg)).layers[0]
+    assert layer.turnaround_radii == pytest.approx((33.0, 36.0), abs=1e-4)
+    first = {round(float(np.hypot(*p.points[k, :2])), 3) for p in layer.passes for k in (0, -1) if p.t[k] < 100.0}
+    assert first == {33.0}
 
 
 def test_vessel_radius_beyond_the_friction_refused_with_the_least_mu():
     from winder.winding.plan import plan  # noqa: PLC0415
 
-    with pytest.raises(SolverError, match=r"winding.layers\[0\]: on the first dome: .*the least mu is 0\.23"):
-        plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "turnaround_radius": 42}))
+    layer = {"type": "helical", "angle": 12, "turnaround_radius": 42}
+    with pytest.raises(SolverError, match=r"winding.layers\[0\]: on the first dome: .*the least mu is 0\.23") as info:
+        plan(vessel_job(25.0, 30.0, layer))
+    # the friction it names, applied, plans (the pattern's closing included in it)
+    least = float(str(info.value).rsplit("the least mu is ", 1)[1].split()[0])
+    job = vessel_job(25.0, 30.0, layer)
+    done = plan(replace(job, winding=replace(job.winding, friction=least))).layers[0]
+    assert done.max_slip <= least and done.turnaround_radii == pytest.approx((42.0, 42.0), abs=1e-4)
 
 
 def open_job(axis: dict, layer: dict, **winding):

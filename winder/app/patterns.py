@@ -47,7 +47,9 @@ def choice_yaml(cfg: LayerConfig, angle: float, circuits: int, pattern: int) -> 
     elif cfg.slip:
         keys.append(f"slip: {_num(cfg.slip)}")
     if cfg.turnaround_radius is not None:
-        keys.append(f"turnaround_radius: {_num(cfg.turnaround_radius)}")
+        start, end = cfg.turnaround_radius
+        ends = ", ".join(f"{k}: {_num(v)}" for k, v in (("start", start), ("end", end)) if v is not None)
+        keys.append(f"turnaround_radius: {_num(start)}" if start == end else f"turnaround_radius: {{{ends}}}")
     return "{" + ", ".join(keys) + "}"
 
 

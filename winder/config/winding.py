@@ -22,6 +22,7 @@ DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
 MAX_POINTS = 100_000
 DEFAULT_FRICTION = 0.2
+DEFAULT_ANGLE_TOLERANCE = 0.5  # deg: how far closing a pattern may move a layer's angle from the one asked
 # Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
 MIN_HOOP_ANGLE = 70.0
 MIN_COVERAGE = 0.999  # winding.min_coverage's default: the covered fraction every layer proves
@@ -69,8 +70,11 @@ class LayerConfig:
         sign follows the pass direction; on vessels the domes' lambda, on bent tubes the largest
         |lambda| the passes through the bends may use), or SLIP_AUTO (friction-held where geodesics
         cannot cover or turn: bent tubes, vessels whose Clairaut turnaround is inside an opening).
-    turnaround_radius: helical on vessels only: turn around on the domes at this radius (mm), lambda
-        solved for (|lambda| <= friction); None: where the slip leads (Clairaut for slip 0).
+    turnaround_radius: helical on vessels only: (first dome, end dome) radii (mm) to turn around at,
+        lambda solved for on each (|lambda| <= friction); YAML a number (both) or {start, end} (either may
+        be left out: that dome turns at its own opening plus half a band). None: where the slip leads
+        (Clairaut for slip 0; slip auto: each dome at its own opening plus half a band where the
+        geodesic would turn inside it, docs/math/17 17.6).
     circuits: helical only. YAML `circuits: N` (whole, >= 1): wind exactly N circuits instead of the
         planner's count (the fewest that cover, raised where passes bunch); `winder patterns` lists
         the choices. None: the planner's count.
@@ -81,7 +85,7 @@ class LayerConfig:
     pattern: int | None = None
     passes: int = 1
     slip: float | str = 0.0
-    turnaround_radius: float | None = None
+    turnaround_radius: tuple[float | None, float | None] | None = None
     material: MaterialConfig | None = None  # this layer's own (config.material), else the job's
     circuits: int | None = None
     taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
@@ -111,6 +115,9 @@ class WindingConfig:
     friction: fiber-mandrel friction coefficient for the slip check of non-geodesic paths, in [0, 1]
         (default 0.2; typical wet epoxy rovings 0.1 to 0.3).
     layers: the layers, wound in this order, at least one.
+    angle_tolerance: how far (deg, >= 0) closing a vessel layer's pattern may move its angle from the one
+        asked (default 0.5); beyond it another circuit count, a friction-held closure at the angle, or a
+        refusal listing the choices (docs/math/17 17.7).
     """
 
     band_width: float
@@ -125,6 +132,7 @@ class WindingConfig:
     bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
     min_coverage: float = MIN_COVERAGE  # the covered fraction every layer proves unless it asks another
     tension: TensionConfig | None = None  # N per band (winder.config.tension); None: none programmed
+    angle_tolerance: float = DEFAULT_ANGLE_TOLERANCE  # deg a pattern's closing may move an angle (docs/math/17 17.7)
 
     def min_coverage_of(self, index: int) -> float:
         """The covered fraction layer `index` (0-based) must prove: its own, else the job's."""
@@ -147,7 +155,7 @@ class WindingConfig:
 
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material",
-                 "bridging_tolerance", "min_coverage", "tension")
+                 "bridging_tolerance", "min_coverage", "tension", "angle_tolerance")
 _LAYER_KINDS = {
     "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back",
                              "min_coverage", "tension")),
@@ -210,8 +218,17 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
                    for i, (layer, item) in enumerate(zip(layers, items)))
     tension = parse_tension(rd, m["tension"], rd.at(path, "tension"), job=True) if "tension" in m else None
     check_tensions(rd, items, layers, tension, rd.at(path, "layers"))
-    return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
-                         bridging, least, tension)
+    angle_tolerance = DEFAULT_ANGLE_TOLERANCE
+    if "angle_tolerance" in m:
+        key = rd.at(path, "angle_tolerance")
+        angle_tolerance = rd.number(m["angle_tolerance"], key)
+        if not 0.0 <= angle_tolerance <= 90.0:
+            raise rd.error(key, "must be in [0, 90] degrees (how far closing a pattern may move a layer's angle)",
+                           m["angle_tolerance"])
+    return WindingConfig(band_width=band_width, region=region, points=points, tolerance=tolerance,
+                         dwell_start_deg=dwell[0], dwell_end_deg=dwell[1], friction=friction, layers=layers,
+                         material=material, bridging_tolerance=bridging, min_coverage=least, tension=tension,
+                         angle_tolerance=angle_tolerance)
 
 
 def _parse_fraction(rd: Reader, m: dict, path: str, key: str, default: float | None) -> float | None:
@@ -270,7 +287,8 @@ def _parse_dwell(rd: Reader, value: Any, path: str) -> tuple[float, float]:
     return (ends[0], ends[1])
 
 
-def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -> tuple[float | str, float | None]:
+def _parse_slip(rd: Reader, m: dict, path: str, friction: float,
+                vessel: bool) -> tuple[float | str, tuple[float | None, float | None] | None]:
     """The helical layer's slip and turnaround_radius (docs/guide/config.md)."""
     slip: float | str = 0.0
     if "slip" in m and m["slip"] != SLIP_AUTO:
@@ -289,7 +307,15 @@ def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -
         if isinstance(slip, float) and slip > 0.0:
             raise rd.error(key, "give slip or turnaround_radius, not both (the slip is solved for the radius)",
                            m["turnaround_radius"])
-        radius = rd.positive(m["turnaround_radius"], key)
+        value = m["turnaround_radius"]
+        if isinstance(value, dict):
+            ends = rd.mapping(value, key, ("start", "end"))
+            if not ends:
+                raise rd.error(key, "give start, end or both (mm: the radius each dome turns at)", value)
+            radius = tuple(rd.positive(ends[e], rd.at(key, e)) if e in ends else None for e in ("start", "end"))
+        else:
+            both = rd.positive(value, key)
+            radius = (both, both)
     return slip, radius
 
 

@@ -8,7 +8,7 @@ wall-clock timings: estimated times are the planner's, at the machine feed.
 Keys: name, source, total_fiber_length_mm, estimated_time_s, layer_count, and layers: one object per
 layer with index, type, angle_deg, requested_angle_deg, angle_change_deg, circuits, pattern (as planned),
 passes (the layer's passes in the job CSV: turnarounds and dwells included), fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
-when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
+when the fiber does not turn on a dome) and turnaround_radii_mm [first dome, end dome] (each dome's own), alpha_range_deg [min, max], time_s, coverage
 {covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text),
 max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0),
 max_lift_off_mm (how far the fiber stands off a concave stretch it bridges, 0 where it presses
@@ -120,6 +120,8 @@ def _layer(layer: LayerPlan) -> dict[str, Any]:
         "dwell_start_deg": _num(layer.dwell_start_deg, ANGLE_DECIMALS),
         "dwell_end_deg": _num(layer.dwell_end_deg, ANGLE_DECIMALS),
         "turnaround_radius_mm": _num(layer.turnaround_radius, LENGTH_DECIMALS),
+        "turnaround_radii_mm": (None if layer.turnaround_radii is None
+                                else [_num(r, LENGTH_DECIMALS) for r in layer.turnaround_radii]),
         "max_slip": _num(layer.max_slip, FRACTION_DECIMALS),
         "min_normal_curvature_per_mm": _num(layer.min_normal_curvature, CURVATURE_DECIMALS),
         "alpha_range_deg": [_num(layer.alpha_min_deg, ANGLE_DECIMALS), _num(layer.alpha_max_deg, ANGLE_DECIMALS)],

@@ -77,8 +77,13 @@ class SweepSurface:
     # -- stations ---------------------------------------------------------------------------------
     @property
     def axial_length(self) -> float:
-        """T: the user-facing station t runs over [0, T]."""
+        """T: the user-facing station t runs over [t_start, T] ([0, T] on every bare mandrel)."""
         return self.profile.axial_length if self.profile is not None else self.length
+
+    @property
+    def t_start(self) -> float:
+        """t at s = 0: 0, except on a grown vessel whose laminate rises past its first boss's plane."""
+        return float(getattr(self.profile, "t_start", 0.0))
 
     def t_of_s(self, s: np.ndarray) -> np.ndarray:
         s = np.asarray(s, dtype=float)

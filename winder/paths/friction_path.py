@@ -215,8 +215,9 @@ def _solve(shooter: _Shooter, z: np.ndarray, free: np.ndarray, tol: float) -> tu
 
 
 def _check_station(surface: SweepSurface, t: float, what: str) -> None:
-    if not (np.isfinite(t) and -1e-9 <= t <= surface.axial_length + 1e-9):
-        raise ConfigError(f"{what}: t must lie on the mandrel, in [0, {surface.axial_length:.6g}] mm, got {t:g}")
+    if not (np.isfinite(t) and surface.t_start - 1e-9 <= t <= surface.axial_length + 1e-9):
+        raise ConfigError(f"{what}: t must lie on the mandrel, in [{surface.t_start:.6g}, "
+                          f"{surface.axial_length:.6g}] mm, got {t:g}")
 
 
 def friction_path(surface: SweepSurface, start: tuple[float, float], end: tuple[float, float], *,

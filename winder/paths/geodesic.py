@@ -163,8 +163,9 @@ def extrapolate_vertices(coarse: PathSolve, fine: PathSolve) -> tuple[np.ndarray
 
 # -- the user-facing geodesic ---------------------------------------------------------------------------
 def _check_station(surface: SweepSurface, t: float, what: str) -> None:
-    if not (np.isfinite(t) and -1e-9 <= t <= surface.axial_length + 1e-9):
-        raise ConfigError(f"t must lie on the mandrel, in [0, {surface.axial_length:.6g}] mm, got {t:g}",
+    if not (np.isfinite(t) and surface.t_start - 1e-9 <= t <= surface.axial_length + 1e-9):
+        raise ConfigError(f"t must lie on the mandrel, in [{surface.t_start:.6g}, {surface.axial_length:.6g}] mm, "
+                          f"got {t:g}",
                           key_path=what)
 
 

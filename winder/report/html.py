@@ -136,6 +136,14 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     ]
     links = [("summary", "Summary"), ("unrolled", "Unrolled pattern"), ("coverage", "Coverage map"),
              ("profiles", "Along the mandrel"), ("view3d", "3D view")]
+    from winder.report.vessel import is_wound_vessel  # noqa: PLC0415
+
+    if is_wound_vessel(plan):  # the domes as wound (issue 42)
+        from winder.report.vessel import HOW as VESSEL_HOW, turnaround_table, vessel_figure  # noqa: PLC0415
+        HOW.setdefault("vessel", VESSEL_HOW)
+        body = figure_html(vessel_figure(plan), "winder-vessel", include_plotlyjs=False) + turnaround_table(summary)
+        sections.append(_section("vessel", "The domes as wound", body))
+        links.append(("vessel", "Domes"))
     if "analysis" in summary:  # the structure (issue 32)
         from winder.report.structure import HOW as STRUCTURE_HOW, structure_figure, structure_table  # noqa: PLC0415
 

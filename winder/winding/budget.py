@@ -180,18 +180,25 @@ def _held_by_friction(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, k
     return True
 
 
-def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radius: float, key: str) -> None:
-    """A turnaround_radius the friction-held planner (winding.layers.friction_vessel) can lay on the
-    bare vessel: below the cylinder's radius, and clear of both polar openings by half a band."""
-    where = f"{key}.turnaround_radius"
-    if radius >= prof.radius:
-        raise _refuse(job.source, where, f"must be smaller than the vessel's radius ({prof.radius:g} mm): the "
-                      f"fiber turns around on the domes, got {radius:g}")
-    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
-    c_min = r_open + 0.5 * job.winding.band_width
-    if radius < c_min - 1e-9:  # the planner's own comparison
-        raise _refuse(job.source, where, f"must be at least the larger polar opening ({r_open:.3f} mm) plus half a "
-                      f"band ({c_min:.3f} mm), or the band runs off the dome, got {radius:g}")
+def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radii: tuple[float | None, float | None],
+                             key: str) -> None:
+    """turnaround_radius the friction-held planner (winding.layers.friction_vessel) can lay on the bare
+    vessel: each dome's below the cylinder's radius and clear of its own polar opening by half a band."""
+    half = 0.5 * job.winding.band_width
+    same = radii[0] == radii[1]
+    for end, radius, dome in zip(("start", "end"), radii, (prof.dome, prof.end_dome)):
+        if radius is None:
+            continue
+        where = f"{key}.turnaround_radius" + ("" if same else f".{end}")
+        if radius >= prof.radius:
+            raise _refuse(job.source, where, f"must be smaller than the vessel's radius ({prof.radius:g} mm): the "
+                          f"fiber turns around on the domes, got {radius:g}")
+        c_min = dome.end_radius + half
+        if radius < c_min - 1e-9:  # the planner's own comparison
+            which = "first" if end == "start" else "end"
+            raise _refuse(job.source, where, f"must be at least the {which} dome's polar opening "
+                          f"({dome.end_radius:.3f} mm) plus half a band ({c_min:.3f} mm), or the band runs off the "
+                          f"dome, got {radius:g}")
 
 
 def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, vessel: bool,

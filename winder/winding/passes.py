@@ -58,7 +58,8 @@ class PlanContext:
     arcs: ArcMap
     feed: float  # mm/min
     progress: Progress | None = None  # (fraction of the whole job, label); see winder.progress
-    previous_turnaround: float | None = None  # the last helical layer's turnaround radius c (mm), for step_back
+    # the last helical layer's turnaround radius on each dome (first, end) (mm), for step_back
+    previous_turnaround: tuple[float, float] | None = None
 
     def key(self, index: int, field: str | None = None) -> str:
         base = f"{self.job.source}: winding.layers[{index}]"

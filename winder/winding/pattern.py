@@ -150,6 +150,29 @@ def close_vessel_pattern(advance: Callable[[np.ndarray], np.ndarray], c0: float,
     return best
 
 
+def vessel_closures(advance: Callable[[np.ndarray], np.ndarray], c0: float, c_lo: float, c_hi: float,
+                    counts: list[int], pattern: int | None) -> list[tuple[int, int, float]]:
+    """Every (N, k, c) closing a pattern of N circuits (N in counts) at the turnaround radius c in
+    [c_lo, c_hi] nearest c0 from above and from below, for each skip k (or the given pattern): the
+    choices a vessel layer has (winder patterns lists them); solved together (one quadrature of all
+    per step of the root finder)."""
+    a_lo, a_hi, a0 = (float(v) for v in advance(np.array([c_lo, c_hi, c0])))
+    wanted = []
+    for n in counts:
+        for k in (coprime_skips(n) if pattern is None else ([pattern % n or 1] if math.gcd(pattern, n) == 1 else [])):
+            up = a0 + (k / n - a0) % 1.0
+            wanted += [(n, k, t) for t in (up, up - 1.0) if a_lo <= t <= a_hi]
+    if not wanted:
+        return []
+    from scipy.optimize.elementwise import find_root  # noqa: PLC0415
+
+    target = np.array([t for _, _, t in wanted])
+    lo, hi = np.where(target > a0, c0, c_lo), np.where(target > a0, c_hi, c0)
+    res = find_root(lambda x, t: advance(x) - t, (lo, hi), args=(target,),
+                    tolerances={"xatol": 1e-13, "xrtol": 1e-14})
+    return [(n, k, float(c)) for (n, k, _), c, ok in zip(wanted, res.x, res.success) if ok]
+
+
 def slot_of_circuit(circuit: int, circuits: int, pattern: int) -> int:
     """The slot (0 .. N_c - 1) that circuit j (0-based) starts in."""
     return (circuit * pattern) % circuits

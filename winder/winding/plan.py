@@ -89,8 +89,8 @@ def plan(job: JobConfig, progress: Progress | None = None,
             layer, build = build.add(layer, material_of(job.winding.material_of(index)), ctx.key(index))
             ctx = replace(ctx, surface=build.surface)
         layers.append(layer)
-        if cfg.type is not LayerType.HOOP and layer.turnaround_radius is not None:  # for the next step_back
-            ctx = replace(ctx, previous_turnaround=float(layer.turnaround_radius))
+        if cfg.type is not LayerType.HOOP and layer.turnaround_radii is not None:  # for the next step_back
+            ctx = replace(ctx, previous_turnaround=layer.turnaround_radii)
         ctx.report(index, 1.0, "planned")
         # The next layer starts a little further on: the mandrel keeps turning while the eye moves
         # from this layer's last direction to the next one's first.
@@ -106,8 +106,8 @@ def plan_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
     if (held := friction_layer(ctx, cfg, index, theta0)) is not None:
         return held
     if isinstance(ctx.surface.profile, VesselMeridian):
-        from winder.winding.layers.helical_vessel import vessel_helical_layer  # noqa: PLC0415
-        return vessel_helical_layer(ctx, cfg, index, theta0)
+        from winder.winding.layers.vessel_tolerance import tolerant_vessel_layer  # noqa: PLC0415
+        return tolerant_vessel_layer(ctx, cfg, index, theta0)
     return open_helical_layer(ctx, cfg, index, theta0)
 
 

@@ -111,6 +111,12 @@ def _dome_advance(prof: VesselMeridian, c: np.ndarray, s_c: np.ndarray, s_eq: fl
     return near + far
 
 
+def dome_advance_to(prof: VesselMeridian, c: float, s_c: float, s_x: float) -> float:
+    """theta advance (rad) of the geodesic of Clairaut constant c from its turnaround station s_c to the
+    station s_x on the same dome (r > c there)."""
+    return float(_dome_advance(prof, np.array([c]), np.array([s_c]), s_x)[0])
+
+
 def circuit_advance(prof: VesselMeridian, c: float | np.ndarray) -> float | np.ndarray:
     """A circuit's advance in turns (two half advances), as close_vessel_pattern takes it."""
     return 2.0 * half_advance(prof, c) / (2.0 * math.pi)
