@@ -38,6 +38,8 @@ FK_TOL_MM = 0.01
 FK_TOL_DEG = 0.01
 TIME_TOL = 0.01  # relative
 QUATERNION_TOL = 1e-8
+CYCLE_S = 0.002  # the UR e-Series control cycle
+MOVING_M = 1e-6  # a TCP step of more than a micrometre: the arm moves
 SMALL_ELBOW = """
 name: small_elbow
 mandrel:
@@ -141,14 +143,23 @@ def test_rapid_structure_and_time(job_plan, programs) -> None:
 
 
 def test_urscript_structure_and_time(job_plan, programs) -> None:
+    """Every movel at least the 2 ms cycle, blended (r > 0) wherever the arm moves into and out of its
+    waypoint, its ring line before it; the times add up to the summary's."""
     machine, program = programs["ur10e"]
     text = urscript.serialize(program)[".script"]
     lines = [line for line in text.splitlines() if line.strip() and not line.strip().startswith("#")]
     assert lines[0] == "def small_elbow():" and lines[-1] == "end"
-    times = [float(t) for t in re.findall(r"^  movel\(p\[[^\]]*\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=0\)$", text, re.M)]
-    assert times and len(re.findall(r"^  ring\(", text, re.M)) == len(times) + 1
+    moves = re.findall(r"^  movel\(p\[([^\]]*)\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=([0-9.]+)\)$", text, re.M)
+    assert moves and len(re.findall(r"^  ring\(", text, re.M)) == len(moves) + 1
+    times = np.array([float(t) for _, t, _ in moves])
+    radii = np.array([float(r) for _, _, r in moves])
+    xyz = np.array([[float(v) for v in p.split(",")[:3]] for p, _, _ in moves])
+    assert times.min() >= CYCLE_S
+    step = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
+    moving = (step[:-1] > MOVING_M) & (step[1:] > MOVING_M)  # waypoints the arm moves into and out of
+    assert np.all(radii[1:-1][moving] > 0.0) and radii[-1] == 0.0
     expected = summary_dict(job_plan[1], machine)["winding_time_s"]
-    assert abs(sum(times) - expected) <= TIME_TOL * expected
+    assert abs(times.sum() - expected) <= TIME_TOL * expected
 
 
 @pytest.mark.parametrize("arm", sorted(CELLS))
@@ -209,7 +220,7 @@ def test_out_of_reach_refused_naming_the_pose_and_joint(job_plan) -> None:
         cell_motion(machine, make_guide(plan.outer_surface, env), program.values, program.fiber,
                     lambda row: f"layer 1 circuit 1 pass {row}")
     message = str(info.value)
-    assert re.search(r"layer 1 circuit 1 pass \d+", message) and "joint A5" in message and "limit 130" in message
+    assert re.search(r"layer 1 circuit 1 pass \d+", message) and "joint A5" in message and re.search(r"limit -?130 deg", message)
 
 
 def test_run_refuses_before_writing(tmp_path) -> None:
@@ -241,13 +252,15 @@ def test_shipped_cells(tmp_path, config: str) -> None:
 
 
 def test_each_language_for_its_arm(programs) -> None:
-    """KRL and RAPID hold the cell's poses for any arm (configuration bits only for their maker's);
-    URScript moves a UR arm in its own base frame and refuses another arm."""
-    _, abb = programs["abb_irb4600"]
-    assert ",S " not in krl.serialize(abb)[".dat"]
-    _, kuka = programs["kuka_kr16"]
-    with pytest.raises(ExportError, match="machine.robot.arm: URScript moves a Universal Robots arm"):
-        urscript.serialize(kuka)
+    """A language only for the arm whose controller runs it: KRL for the KUKA, RAPID for the ABB,
+    URScript for the UR; each refuses the others."""
+    for arm, (_, program) in programs.items():
+        for module, language in ((krl, "krl"), (rapid, "rapid"), (urscript, "urscript")):
+            if ARMS[arm].language == language:
+                assert module.serialize(program)
+            else:
+                with pytest.raises(ExportError, match=f"the cell's arm is {arm}"):
+                    module.serialize(program)
 
 
 def test_check_refuses_a_ring_beyond_the_arm(tmp_path) -> None:

@@ -16,6 +16,7 @@ from winder.machine.program import MotionProgram
 POSITION_DECIMALS = 4  # mm: the station's path read back keeps the move times to 1e-4 relative
 ANGLE_DECIMALS = 4  # deg
 TIME_DECIMALS = 4  # s
+JOINT_DECIMALS = 6  # deg: a start or bridge joint as written puts the flange within 1e-4 mm of its pose
 AXIS_LABELS = ("E1 ring turn (deg, cumulative)", "E2 eye yaw on the ring (deg)", "E3 eye radius (mm)")
 
 
@@ -75,10 +76,30 @@ def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
 
 def cell_start(program: MotionProgram, language: str, longest: int):
     """What a cell language's serializer starts from: (the cell motion, the module name, the frames'
-    positions (m, 3), the external axes (m, 3), the move times (m,))."""
+    positions (m, 3), the external axes (m, 3), the move times (m,)); ExportError when the cell's arm's
+    controller runs another language."""
     cell = cell_of(program)
+    if cell.arm.language != language.lower():
+        raise ExportError(f"machine.dialect: {language} runs on a {cell.arm.maker} controller; the cell's arm is "
+                          f"{cell.arm.name} ({cell.arm.maker}), whose controller runs {cell.arm.language}")
     name = checked_name(program.name, language, longest)
     return cell, name, cell.frames[:, :3, 3], cell.external, cell.times.time_s
+
+
+def bridges_after(program: MotionProgram) -> dict[int, object]:
+    """The cell's bridges (winder.machine.bridges) by the written row they follow: a bridge's own row,
+    or the last row before it that rows(program) writes."""
+    cell = cell_of(program)
+    written = np.array([row for _, row in rows(program)], dtype=int)
+    out = {}
+    for bridge in cell.bridges:
+        at = int(written[max(int(np.searchsorted(written, bridge.row, side="right")) - 1, 0)])
+        out[at] = bridge
+    return out
+
+
+BRIDGE_NOTE = ("bridge: the arm changes configuration by a joint move, winding stopped: the ring holds its axes, the "
+               "eye holds the fiber (docs/math/10-robot-cell.md 10.5)")
 
 
 def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Iterator[tuple[int, int]]:
