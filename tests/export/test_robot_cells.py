@@ -265,11 +265,11 @@ def test_each_language_for_its_arm(programs) -> None:
 
 def test_check_refuses_a_ring_beyond_the_arm(tmp_path) -> None:
     from winder.app.validate import validate  # noqa: PLC0415
-    from winder.errors import InfeasibleConfigError  # noqa: PLC0415
+    from winder.errors import ConfigError  # noqa: PLC0415
 
     config = tmp_path / "far.yaml"
     config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, positioner: "
                                           "{origin: {x: 4000, z: 800, ry: -90, rz: -90}}}"))
-    with pytest.raises(InfeasibleConfigError, match="machine.robot.positioner.origin: the ring is 4079 mm") as info:
+    with pytest.raises(ConfigError, match="machine.robot.positioner.origin: the ring is 4079 mm") as info:
         validate(config)
-    assert info.value.exit_code == 1
+    assert info.value.exit_code == 2

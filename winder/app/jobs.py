@@ -142,11 +142,11 @@ def motion_program(job, plan):
         return exc
 
 
-def _plan(job, progress: Progress | None = None):
+def _plan(job, progress: Progress | None = None, formats: tuple[str, ...] = ()):
     from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
 
-    validate_job(job)  # the checks of `check`, so that `run` refuses nothing `check` accepted
+    validate_job(job, formats)  # the checks of `check` (and of the robot languages asked for) before planning
     try:
         return plan(job, progress)
     except ConfigError as exc:
@@ -200,7 +200,7 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                 require_analysis(job)
             if progress is not None:
                 progress = _named(progress, name)
-            plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
+            plan = _plan(job, part(progress, 0.0, PLANNING_SHARE), formats)
             program = None
             if cell_dialect is not None:  # the cell's reach check refuses before any file, whatever is written
                 program = motion_program(job, plan)

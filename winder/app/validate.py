@@ -22,8 +22,18 @@ if TYPE_CHECKING:
 __all__ = ["validate", "validate_job"]
 
 
-def validate_job(job: JobConfig) -> tuple[SweepSurface, Budget]:
-    """The surface and the work budget of a loaded job that `run` can plan; ConfigError otherwise."""
+CELL_LANGUAGES = ("krl", "rapid", "urscript")
+
+
+def validate_job(job: JobConfig, formats: tuple[str, ...] = ()) -> tuple[SweepSurface, Budget]:
+    """The surface and the work budget of a loaded job that `run` can plan; ConfigError otherwise.
+    formats: the outputs asked for besides the job's own (a robot language among them is checked
+    against the cell like the job's dialect)."""
+    languages = tuple(dict.fromkeys(x for x in (getattr(job.machine, "dialect", None), *formats) if x in CELL_LANGUAGES))
+    if languages:  # the robot languages' names and arm, before anything is built
+        from winder.machine.cell_check import check_cell_program  # noqa: PLC0415
+
+        check_cell_program(job, languages)
     surface = build_surface(job.mandrel, job.source, job.name)
     if job.winding is None:
         raise ConfigError("required key missing; `run` needs a winding plan (band_width and layers)",

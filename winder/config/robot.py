@@ -5,6 +5,7 @@ reach check's margins. `machine.robot: true` (eye poses only, no cell) stays as 
 from __future__ import annotations
 
 import dataclasses
+import re
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -14,7 +15,10 @@ from winder.config.arms import ARMS
 if TYPE_CHECKING:
     from winder.config.reader import Reader
 
-DIALECT_OF_MAKER = {"KUKA": "krl", "ABB": "rapid", "Universal Robots": "urscript"}
+# The longest module name of each cell language (its identifiers; the file's name is the module's):
+# KRL 24 characters, RAPID 32, a URScript function 63.
+NAME_LENGTH = {"krl": 24, "rapid": 32, "urscript": 63}
+LANGUAGE_TITLE = {"krl": "KRL", "rapid": "RAPID", "urscript": "URScript"}
 POSE_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 DEFAULT_TOOL = {"z": 250.0}  # the mandrel's origin 250 mm out from the flange, axes as the flange's
 # The ring 1 m in front of the arm, 800 mm up, its axis across (the cell's +y), its x axis up: the
@@ -73,6 +77,25 @@ class RobotCell:
     singularity_margin: float = DEFAULT_SINGULARITY_MARGIN
     ring_width: float = DEFAULT_RING_WIDTH
     ring_depth: float = DEFAULT_RING_DEPTH
+
+
+def name_problem(name: str, language: str) -> str | None:
+    """Why the job's name cannot name the language's module (letters, digits and _, starting with a
+    letter, at most NAME_LENGTH characters), or None."""
+    longest = NAME_LENGTH[language]
+    if re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", name):
+        return None
+    return (f"{LANGUAGE_TITLE[language]} needs a module name of letters, digits and _, starting with a letter, at "
+            f"most {longest} characters, the same as its file's: rename the job")
+
+
+def language_problem(cell: RobotCell, language: str) -> str | None:
+    """Why the cell's arm cannot run the language, or None."""
+    arm = ARMS[cell.arm]
+    if arm.language == language:
+        return None
+    return (f"{LANGUAGE_TITLE.get(language, language)} is not the language of the cell's arm: {arm.name}'s "
+            f"{arm.maker} controller runs {arm.language}")
 
 
 def parse_pose(rd: Reader, value: Any, path: str, default: dict | None = None) -> Pose:

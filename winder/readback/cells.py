@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from collections.abc import Callable
 
 import numpy as np
 
@@ -130,8 +131,9 @@ class Rows:
 @dataclasses.dataclass(frozen=True)
 class CellRead:
     """A cell program as read: its rows, the ring's frames in the mandrel frame (m, 4, 4), the ring's
-    axes (m, 3), the start joints (6,) and their line, the bridges (row -> (joints, line)), and the eye
-    halfway along each move where the language times the ring itself (m, 3), else None."""
+    axes (m, 3), the start joints (6,) and their line, the bridges (row -> (joints, line)), the eye
+    halfway along each move where the language times the ring itself (m, 3), else None, and a check
+    of its own to run once the arm is known to follow (None: none)."""
 
     rows: Rows
     frames: np.ndarray
@@ -140,6 +142,7 @@ class CellRead:
     start_line: int
     bridges: dict
     mids: np.ndarray | None = None
+    then: Callable[[], None] | None = None
 
 
 def _pick(solutions: np.ndarray, last: np.ndarray) -> np.ndarray:
@@ -178,7 +181,7 @@ def follow(machine: MachineConfig, read: CellRead, source: str) -> np.ndarray:
     land(q, 0, read.start_line, "the start")
     out = np.empty((flange.shape[0], 6))
     for row in range(flange.shape[0]):
-        if np.isnan(solutions[row]).all():
+        if np.isnan(solutions[row]).any(axis=1).all():
             raise refuse(lines[row], "the pose is beyond the arm's reach (no inverse kinematics solution)")
         nxt = _pick(solutions[row], q)
         step = np.abs(nxt - q)
@@ -253,6 +256,8 @@ def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str) -> 
     if not rows.keys:
         raise ConfigError(f"{source}: the program has no moves")
     joints = follow(machine, read, source)
+    if read.then is not None:
+        read.then()
     move_s = np.array(rows.times) + bridge_times(machine, read, joints)
     eye = eye_of(read.frames, read.external)
     values = np.column_stack([eye, np.zeros_like(eye)])

@@ -66,7 +66,7 @@ def read_urscript(text: str, machine: MachineConfig, source: str) -> CellRead:  
             if not hit:
                 raise ConfigError(f"{source}: line {n}: the script must start with def name():, got {line[:60]!r}")
             name = hit[1]
-        elif (line in helpers and not tcp) or (line == "ring_wait()" and len(ring_at) == 1 and not poses):
+        elif (line in helpers and not tcp) or (line == "ring_wait()" and len(ring_at) == 1 and not poses):  # noqa: PLR2004
             continue
         elif hit := _TCP.match(line):
             if tcp or start is not None:
@@ -85,27 +85,21 @@ def read_urscript(text: str, machine: MachineConfig, source: str) -> CellRead:  
                 raise ConfigError(f"{source}: line {n}: the ring's time must be positive, got {values[3]:g}")
             if values[3] < 0.0 or values[3] > 3600.0:
                 raise ConfigError(f"{source}: line {n}: the ring's time must be within [0, 3600] s, got {values[3]:g}")
-            ring_at.append((max(len(poses), 1) if ring_at else 0, values[:3], values[3]))
+            ring_at.append((len(poses) if ring_at else -1, values[:3], values[3]))
             ring_lines.append(n)
         elif hit := _MOVEL.match(line):
-            if start is None or len(ring_at) < 2 or ring_at[-1][0] != max(len(poses), 1):
+            if start is None or len(ring_at) < 2 or ring_at[-1][0] != len(poses):
                 raise ConfigError(f"{source}: line {n}: a movel needs the start movej and its ring(...) line before it")
             v = numbers(hit[1], source, n, "the pose", 6)
             seconds(hit[2], source, n, "a")
             seconds(hit[3], source, n, "v")
-            t = seconds(hit[4], source, n, "t", CYCLE_S - 5e-5)
-            r = seconds(hit[5], source, n, "r") if float(hit[5]) != 0.0 else 0.0
-            if not poses:  # the first pose is the start's: the movej's
-                poses.append(None)
-                move_s.append(0.0)
-                radii.append(0.0)
-                pause.append(0.0)
-                rows.add(start_line, 0.0, "movej")
+            t = seconds(hit[4], source, n, "t (s, the controller's cycle at least)", CYCLE_S)
+            r = seconds(hit[5], source, n, "r") if hit[5] not in ("0", "0.0000000") else 0.0
             poses.append(v)
             move_s.append(t)
             radii.append(r * 1000.0)
             pause.append(0.0)
-            rows.add(n, t, raw)
+            rows.add(n, t if len(poses) > 1 else 0.0, raw)
         elif (hit := _BRIDGE.match(line)) and poses:
             if radii[-1] != 0.0 or len(poses) - 1 in bridges:
                 raise ConfigError(f"{source}: line {n}: a bridge's movej must follow a movel with r=0")
@@ -115,23 +109,16 @@ def read_urscript(text: str, machine: MachineConfig, source: str) -> CellRead:  
             raise ConfigError(f"{source}: line {n}: not a statement of winder's URScript programs, got {line[:60]!r}")
     if start is None:
         raise ConfigError(f"{source}: the script has no start movej")
-    from winder.config.arms import ARMS  # noqa: PLC0415
-    from winder.machine.arm_ik import fk  # noqa: PLC0415
-
-    tool = cell.tool.matrix()
-    first = fk(ARMS[cell.arm], start) @ tool
-    table = np.array([first[:3, 3].tolist() + [0.0] * 3 if p is None else p for p in poses]).reshape(-1, 6)
+    table = np.array(poses, dtype=float).reshape(-1, 6)
     mandrel = frames_of(1000.0 * table[:, :3], _rotations(table[:, 3:]))
-    if poses:
-        mandrel[0] = first
     ring_in_base = mandrel_in_base(cell, np.eye(4)[None])[0]
     frames = np.linalg.inv(mandrel) @ ring_in_base
     radii_a = np.array(radii)
     arrive, starts = line_times(np.array(move_s), radii_a, mandrel, np.array(pause))
     external, mid_ext = _ring(ring_at, arrive, starts, np.array(pause), ring_lines, source)
-    _check_blends(machine, mandrel, frames, external, radii_a, np.array(rows.lines), source, np.array(move_s))
     mids = midpoints(frames, external, mid_ext)
-    return CellRead(rows, frames, external, start, start_line, bridges, mids)
+    return CellRead(rows, frames, external, start, start_line, bridges, mids, lambda: _check_blends(
+        machine, mandrel, frames, external, radii_a, np.array(rows.lines), source, np.array(move_s)))
 
 
 def _check_blends(machine: MachineConfig, mandrel: np.ndarray, frames: np.ndarray, ring: np.ndarray,
@@ -157,14 +144,16 @@ def _ring(ring_at: list, arrive: np.ndarray, starts: np.ndarray, pause: np.ndarr
     from the start's axes, each line's targets reached linearly in its time from when it runs (the
     line before the move to waypoint j runs at starts[j])."""
     k = arrive.size
-    if len(ring_at) != k or any(at != j for j, (at, _, _) in enumerate(ring_at)):
-        line = ring_lines[min(len(ring_lines), k) - 1] if ring_lines else 0
+    if len(ring_at) != k + 1 or any(at != j - 1 for j, (at, _, _) in enumerate(ring_at)):
+        line = ring_lines[min(len(ring_lines), k + 1) - 1] if ring_lines else 0
         raise ConfigError(f"{source}: line {line}: one ring(...) line must precede the start's wait and each movel")
-    # knots: the start's axes at 0; each line's axes where the ring is when it runs, its targets its time later
+    # knots: the start's axes at 0 (its own line, before the wait); each movel's line: the axes where the
+    # ring is when it runs, its targets its time later
     times, values = [0.0], [np.asarray(ring_at[0][1], dtype=float)]
+    ring_at = ring_at[1:]
     now = values[0]
-    for j in range(1, k):
-        if j > 1:  # where the last line's linear move has got to when this one runs
+    for j in range(k):
+        if j > 0:  # where the last line's linear move has got to when this one runs
             t0, span = times[-2], ring_at[j - 1][2]
             share = 1.0 if span <= 0.0 else min(max((starts[j] - t0) / span, 0.0), 1.0)
             now = values[-2] + share * (values[-1] - values[-2])
@@ -173,7 +162,7 @@ def _ring(ring_at: list, arrive: np.ndarray, starts: np.ndarray, pause: np.ndarr
     t_sorted, v_sorted = np.array(times), np.array(values)
     order = np.argsort(t_sorted, kind="stable")
     t_sorted, v_sorted = t_sorted[order], v_sorted[order]
-    mid_t = np.concatenate([[0.0], 0.5 * (arrive[:-1] + pause[:-1] + arrive[1:])])
+    mid_t = np.concatenate([[0.5 * arrive[0]], 0.5 * (arrive[:-1] + pause[:-1] + arrive[1:])])
 
     def at(t: np.ndarray) -> np.ndarray:
         return np.column_stack([np.interp(t, t_sorted, v_sorted[:, c]) for c in range(3)])

@@ -21,7 +21,6 @@ from winder.export.dialects.text import fmt, fmt_significant
 from winder.machine.configuration import kuka_status_turn
 from winder.machine.program import MotionProgram
 
-NAME_LENGTH = 24  # KRL identifiers
 TOOL_STILL_MM = 1e-3  # a move whose ring centre travels less is timed by E1's speed
 
 
@@ -45,7 +44,7 @@ def _axes(q: np.ndarray, ext: np.ndarray) -> str:
 
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .src and .dat texts of the program."""
-    cell, name, xyz, ext, time = cell_start(program, "KRL", NAME_LENGTH)
+    cell, name, xyz, ext, time = cell_start(program, "KRL")
     c = cell.cell
     abc = abc_deg(cell.frames[:, :3, :3])
     s, t = status_turn(program)

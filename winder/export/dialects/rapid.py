@@ -20,7 +20,6 @@ from winder.export.dialects.text import fmt
 from winder.machine.configuration import abb_confdata
 from winder.machine.program import MotionProgram
 
-NAME_LENGTH = 32  # RAPID identifiers
 QUATERNION_DECIMALS = 9  # a unit quaternion as written stays unit within 1e-8
 NOT_USED = "9E9"  # RAPID's value of an external axis that is not there
 
@@ -45,7 +44,7 @@ def _jointtarget(name: str, q: np.ndarray, ext: np.ndarray) -> str:
 
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .mod text of the program."""
-    cell, name, xyz, ext, time = cell_start(program, "RAPID", NAME_LENGTH)
+    cell, name, xyz, ext, time = cell_start(program, "RAPID")
     c = cell.cell
     quat = quaternions(cell.frames[:, :3, :3])
     conf = configuration(program)

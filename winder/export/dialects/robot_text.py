@@ -9,6 +9,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from winder.config.robot import name_problem
 from winder.errors import ExportError
 from winder.export.dialects.text import JOB_LINE, clean, fmt, layer_line
 from winder.machine.program import MotionProgram
@@ -28,11 +29,12 @@ def cell_of(program: MotionProgram):
     return program.cell
 
 
-def checked_name(name: str, language: str, longest: int) -> str:
-    """The job's name as the language's module name, which must match the file's: refused otherwise."""
-    if not re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", name):
-        raise ExportError(f"name: {language} needs a module name of letters, digits and _, starting with a letter, "
-                          f"at most {longest} characters, the same as its file's: rename the job, got {name!r}")
+def checked_name(name: str, language: str) -> str:
+    """The job's name as the language's module name, which must match the file's: refused otherwise
+    (`check` refuses it first: winder.app.validate)."""
+    problem = name_problem(name, language.lower())
+    if problem is not None:
+        raise ExportError(f"name: {problem}, got {name!r}")
     return name
 
 
@@ -74,7 +76,7 @@ def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
                 told, first = True, False
 
 
-def cell_start(program: MotionProgram, language: str, longest: int):
+def cell_start(program: MotionProgram, language: str):
     """What a cell language's serializer starts from: (the cell motion, the module name, the frames'
     positions (m, 3), the external axes (m, 3), the move times (m,)); ExportError when the cell's arm's
     controller runs another language."""
@@ -82,7 +84,7 @@ def cell_start(program: MotionProgram, language: str, longest: int):
     if cell.arm.language != language.lower():
         raise ExportError(f"machine.dialect: {language} runs on a {cell.arm.maker} controller; the cell's arm is "
                           f"{cell.arm.name} ({cell.arm.maker}), whose controller runs {cell.arm.language}")
-    name = checked_name(program.name, language, longest)
+    name = checked_name(program.name, language)
     return cell, name, cell.frames[:, :3, 3], cell.external, cell.times.time_s
 
 

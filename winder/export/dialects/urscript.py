@@ -11,7 +11,8 @@ The ring follows by the schedule of winder.machine.blends (docs/math/10 10.6): b
 reach them to output float registers 0-3 and counts the line on output integer register 0; the
 ring's drive moves linearly to the targets in that time from when the count changes, and echoes the
 count on input integer register 0 when it is there: the program waits for that echo at the start
-(`ring_wait()`), after the movej to the first pose. One serialize(program) entry point.
+(`ring_wait()`), after the movej to the start joints, whose flange is the first pose (the first movel,
+one cycle long, moves nowhere). One serialize(program) entry point.
 """
 
 from __future__ import annotations
@@ -24,7 +25,6 @@ from winder.export.dialects.text import fmt
 from winder.machine.blends import CYCLE_S, blend_radii, line_times, ring_targets
 from winder.machine.program import MotionProgram
 
-NAME_LENGTH = 63
 METRE_DECIMALS = 7  # 0.1 micrometre
 RADIAN_DECIMALS = 8
 RING_DECIMALS = 4
@@ -60,7 +60,8 @@ def motion(program: MotionProgram):
     written = np.array([row for _, row in rows(program)], dtype=int)
     poses = cell.mandrel[written]
     # as written: the ring's schedule runs on the times and radii the controller reads
-    move_s = np.round(np.concatenate([[0.0], np.maximum(cell.times.time_s[written[1:]], CYCLE_S)]), TIME_DECIMALS)
+    # the first movel is to the first pose, where the movej put the arm: one cycle
+    move_s = np.round(np.concatenate([[CYCLE_S], np.maximum(cell.times.time_s[written[1:]], CYCLE_S)]), TIME_DECIMALS)
     bridges = bridges_after(program)
     stop = np.isin(written, list(bridges))
     pause = np.round([bridges[r].time_s if r in bridges else 0.0 for r in written.tolist()], TIME_DECIMALS)
@@ -69,12 +70,13 @@ def motion(program: MotionProgram):
     radii = np.round(blend_radii(poses, lever, program.machine.chord_tolerance, stop, cell.external[written], move_s), METRE_DECIMALS - 3)
     arrive, starts = line_times(move_s, radii, poses, pause)
     targets, spans = ring_targets(arrive, cell.external[written], starts, pause)
+    spans[0] = move_s[0]  # the ring holds its start through the first movel
     return written, move_s, radii, pause, targets, spans
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .script text of the program."""
-    cell, name, _, _, _ = cell_start(program, "URScript", NAME_LENGTH)
+    cell, name, _, _, _ = cell_start(program, "URScript")
     tool = cell.cell.tool.matrix()
     rv = rotation_vectors(cell.mandrel[:, :3, :3])
     xyz = cell.mandrel[:, :3, 3]
@@ -88,12 +90,11 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     for k, (head, row) in enumerate(rows(program)):
         if head is not None:
             lines.append(f"  # {head}")
-        if k:
-            t = fmt(move_s[k], TIME_DECIMALS)
-            lines.append("  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
-                         + f", {fmt(spans[k], TIME_DECIMALS)})")
-            lines.append(f"  movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
-                         f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
+        t = fmt(move_s[k], TIME_DECIMALS)
+        lines.append("  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
+                     + f", {fmt(spans[k], TIME_DECIMALS)})")
+        lines.append(f"  movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
+                     f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
         if row in bridges:
             lines += [f"  # {BRIDGE_NOTE}",
                       f"  movej({_joints(bridges[row].after)}, a=1.0, v=1.0, t={fmt(pause[k], TIME_DECIMALS)}, r=0)"]
