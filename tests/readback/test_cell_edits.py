@@ -16,7 +16,7 @@ from winder.config.robot import RobotCell
 from winder.errors import ConfigError
 from winder.export.dialects import krl, rapid, urscript
 from winder.machine.program import build_program
-from winder.readback.cells import parse_cell
+from winder.readback.cell_programs import parse_cell
 from winder.winding.plan import plan as plan_job
 
 LANGUAGE = {"kuka_kr16": "krl", "abb_irb4600": "rapid", "ur10e": "urscript"}

@@ -16,7 +16,7 @@ from winder.config.machine import MachineConfig
 from winder.config.robot import RobotCell
 from winder.errors import ExportError
 from winder.machine.bridges import JOINT_RAMP_S, Bridge, bridge_costs, make_bridge
-from winder.machine.cell_frames import eye_of, mandrel_in_base, ring_axes, station_frames
+from winder.machine.cell_frames import mandrel_in_base, ring_axes, station_frames
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.reach import Reach, configure
 

@@ -34,7 +34,6 @@ from winder.machine.arm_ik import fk, ik
 from winder.machine.bridges import swap_time
 from winder.machine.cell_frames import eye_of, mandrel_in_base
 from winder.machine.reach import wrist_angle
-from winder.readback.parsed import ParsedProgram
 from winder.readback.program_file import CELL_LINES
 
 NUMBER = r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]{1,3})?"  # ASCII digits only
@@ -234,35 +233,3 @@ def midpoints(frames: np.ndarray, external: np.ndarray, halfway: np.ndarray | No
     mid = frames_of(0.5 * (frames[:-1, :3, 3] + frames[1:, :3, 3]), half.as_matrix())
     eyes = eye_of(mid, 0.5 * (external[:-1] + external[1:]) if halfway is None else halfway[1:])
     return np.vstack([eye_of(frames[:1], external[:1]), eyes])
-
-
-def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str) -> ParsedProgram:
-    """The ParsedProgram (winder.readback.gcode) of a robot cell's program."""
-    if machine.cell is None:
-        raise ConfigError(f"{source}: a {dialect} program needs the robot cell it was written for: the config's "
-                          f"machine.robot must be a mapping with an arm")
-    arm = ARMS[machine.cell.arm]
-    if arm.language != dialect:
-        raise ConfigError(f"{source}: a {dialect} program, but the config's arm {arm.name} ({arm.maker}) runs "
-                          f"{arm.language}: the program was written for another cell")
-    if dialect == "krl":
-        from winder.readback.krl import read_krl as reader  # noqa: PLC0415
-    elif dialect == "rapid":
-        from winder.readback.rapid import read_rapid as reader  # noqa: PLC0415
-    else:
-        from winder.readback.urscript import read_urscript as reader  # noqa: PLC0415
-    read = reader(text, machine, source)
-    rows = read.rows
-    if not rows.keys:
-        raise ConfigError(f"{source}: the program has no moves")
-    joints = follow(machine, read, source)
-    if read.then is not None:
-        read.then()
-    move_s = np.array(rows.times) + bridge_times(machine, read, joints)
-    eye = eye_of(read.frames, read.external)
-    values = np.column_stack([eye, np.zeros_like(eye)])
-    return ParsedProgram(dialect, values, np.array(rows.keys, dtype=np.int64).reshape(-1, 3), tuple(rows.kinds),
-                         np.full(len(rows.keys), np.nan), np.array(rows.lines, dtype=int), rows.job,
-                         job_line=rows.job_line,
-                         mids=read.mids if read.mids is not None else midpoints(read.frames, read.external),
-                         move_s=move_s)

@@ -17,7 +17,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
-from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, number, numbers, same_frame, seconds
+from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, number, same_frame, seconds
 
 MAX_CP = 3.0  # m/s: KRL's largest path speed
 _FRAME_KEYS = ("X", "Y", "Z", "A", "B", "C")

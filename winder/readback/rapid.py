@@ -18,7 +18,7 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
-from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, number, numbers, same_frame, seconds
+from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, numbers, same_frame, seconds
 
 QUATERNION_TOL = 1e-6  # |q| - 1 of a written quaternion
 _N = NUMBER

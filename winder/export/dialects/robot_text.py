@@ -4,7 +4,6 @@ serialize winder.machine.cell.CellMotion and compute nothing else."""
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterator
 
 import numpy as np
