@@ -1,4 +1,4 @@
-"""A UR arm's continuous motion and the ring's drive in step with it (docs/math/10-robot-cell.md 10.6).
+"""A UR arm's continuous motion and the ring's drive in step with it (docs/math/10-robot-cell.md 10.7).
 
 URScript's movel blends into the next move within its radius r of the waypoint (the TCP's distance),
 so the arm never stops there. The blend stays within the triangle of the waypoint and the points r

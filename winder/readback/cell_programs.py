@@ -1,4 +1,4 @@
-"""A robot cell's program read back (docs/math/10-robot-cell.md 10.7): its language's reader
+"""A robot cell's program read back (docs/math/10-robot-cell.md 10.8): its language's reader
 (winder.readback.krl, rapid, urscript), the arm followed through it (winder.readback.cells.follow),
 the eye at every pose and halfway along every move, each move's time with the bridges'."""
 

@@ -1,7 +1,7 @@
 """Reading a robot cell's program back (KRL .src + .dat, RAPID .mod, URScript .script), as strictly as
 the G-code reader: each language's reader (winder.readback.krl, rapid, urscript) understands every line
 or refuses it naming it; this module holds what they share and checks what they read against the
-config (docs/math/10-robot-cell.md 10.7):
+config (docs/math/10-robot-cell.md 10.8):
 
 - numbers in ASCII digits only, finite, within the cell's size; times finite, positive, at most
   MAX_MOVE_S; the pass comments' numbers of at most 9 digits;

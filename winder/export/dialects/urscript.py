@@ -6,7 +6,7 @@ controller's Base frame (DH frame 0; metres, a rotation vector), and the arm nev
 program: each movel has its time t (at least the 2 ms control cycle) and a blend radius r within the
 chord tolerance (winder.machine.blends), none only at the ends and at a bridge.
 
-The ring follows by the schedule of winder.machine.blends (docs/math/10 10.6): before each movel,
+The ring follows by the schedule of winder.machine.blends (docs/math/10 10.7): before each movel,
 `ring(e1, e2, e3, t)` writes the ring's targets (turn and yaw in deg, radius in mm) and the time to
 reach them to output float registers 0-3 and counts the line on output integer register 0; the
 ring's drive moves linearly to the targets in that time from when the count changes, and echoes the
