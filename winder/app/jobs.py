@@ -110,18 +110,43 @@ def output_names(name: str, formats: Iterable[str], summary: bool = True) -> lis
     return [name + f.suffix for f in registry.chosen(formats, always=summary)]
 
 
-def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
-                   progress: Progress | None = None, program=None) -> dict[str, bytes]:
-    """Every requested output of a planned job, in memory: file name -> bytes (writing order);
-    program: the job's motion program when the caller has built it already."""
+def render_outputs(job, plan, formats: Iterable[str], summary: bool = True, progress: Progress | None = None,
+                   program=None, make_program: Callable[[], object] | None = None) -> dict[str, bytes]:
+    """Every requested output of a planned job, in memory: file name -> bytes (writing order).
+
+    program: the job's motion program when the caller has built it already; else make_program()
+    builds it (run_job's builds and proves it, raising where an invariant fails), or
+    motion_program where an output needs it.
+    """
     chosen = registry.chosen(formats, always=summary)
-    if program is None and any(f.program for f in chosen):
-        program = motion_program(job, plan)
-    rendered = {}
+    needed = make_program is not None or any(f.program for f in chosen)
+    builds = program is None and needed and getattr(job, "machine", None) is not None
+    free = [f for f in chosen if not f.program] if builds else []
+    from winder.app.machine_pool import aside  # noqa: PLC0415
+
+    # The outputs that need no program are rendered on a forked process while it is built.
+    with aside(lambda: _render_each(job, plan, free, None, None)) as rendered_aside:
+        if program is None and needed:
+            program = make_program() if make_program is not None else motion_program(job, plan)
+        rendered = _render_each(job, plan, [f for f in chosen if f not in free], program, progress)
+        rendered.update(rendered_aside())
+    first_error = next((rendered[job.name + f.suffix] for f in chosen
+                        if isinstance(rendered[job.name + f.suffix], Exception)), None)
+    if first_error is not None:  # the error of the first format in writing order, as one by one
+        raise first_error
+    return {job.name + f.suffix: rendered[job.name + f.suffix] for f in chosen}
+
+
+def _render_each(job, plan, chosen: list, program, progress: Progress | None) -> dict[str, bytes | Exception]:
+    """file name -> bytes of each format, or the error that kept it from being rendered."""
+    rendered: dict[str, bytes | Exception] = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
             progress(i / len(chosen), f"rendering the {fmt.name}")
-        rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
+        try:
+            rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
+        except WinderError as exc:  # raised by render_outputs in writing order
+            rendered[job.name + fmt.suffix] = exc
     return rendered
 
 
@@ -140,6 +165,15 @@ def motion_program(job, plan):
         return build_program_in_groups(plan, job.machine, run_groups=run_groups)
     except ExportError as exc:
         return exc
+
+
+def proved(job, plan, program):
+    """The program (or its build's error, or None) once the job's invariants hold, with their margins
+    (winder.machine.invariants); SolverError naming the first one broken: nothing is written then."""
+    from winder.machine.invariants import prove  # noqa: PLC0415
+
+    found = prove(plan, job, program)
+    return dataclasses.replace(program, invariants=found) if hasattr(program, "invariants") else program
 
 
 def _plan(job, progress: Progress | None = None, formats: tuple[str, ...] = ()):
@@ -201,12 +235,15 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE), formats)
-            program = None
-            if cell_dialect is not None:  # the cell's reach check refuses before any file, whatever is written
+
+            def checked_program():
                 program = motion_program(job, plan)
-                if isinstance(program, Exception):
-                    raise program
-            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0), program)
+                if cell_dialect is not None and isinstance(program, Exception):
+                    raise program  # the cell's reach check refuses before any file, whatever is written
+                return proved(job, plan, program)
+
+            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0),
+                                      make_program=checked_program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")

@@ -1,6 +1,6 @@
 """fiberpath's `.wind` job files (JSON, schemaVersion 1.x) read as winder jobs.
 
-What maps to what (README "Coming from fiberpath"): mandrelParameters (diameter, windLength, and
+What maps to what (docs/guide/fiberpath.md): mandrelParameters (diameter, windLength, and
 endDiameter for a cone, schema 1.1) is a straight mandrel of circular section; towParameters.width is
 winding.band_width (thickness is written down, and needs a material to become a laminate); hoop layers
 are hoop layers of 2 passes, 1 when `terminal`; helical layers are helical layers at windAngle, the

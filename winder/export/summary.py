@@ -54,6 +54,7 @@ CURVATURE_DECIMALS = 8  # 1/mm
 TIME_DECIMALS = 2
 MASS_DECIMALS = 6  # kg: to the milligram
 THICKNESS_DECIMALS = LENGTH_DECIMALS + 1  # a wall grows by tenths of a millimetre a layer
+DEVIATION_DECIMALS = LENGTH_DECIMALS + 1  # the program's points and moves off the fiber: tenths of a micrometre
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
 # at (one unit in the last place). Keys written otherwise are named in DECIMALS_BY_NAME (a looser
 # unit would let a real change pass, a tighter one fail on round-off); axis_travel is written at
@@ -63,7 +64,8 @@ DECIMALS_BY_SUFFIX = (("_mm", LENGTH_DECIMALS), ("_deg", ANGLE_DECIMALS), ("_fra
 DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm": CURVATURE_DECIMALS,
                     "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
                     "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS,
-                    "max_wall_mm": THICKNESS_DECIMALS}
+                    "max_wall_mm": THICKNESS_DECIMALS, "max_point_deviation_mm": DEVIATION_DECIMALS,
+                    "max_midpoint_deviation_mm": DEVIATION_DECIMALS}
 _DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
 DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.structure)
 
@@ -220,11 +222,26 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
             out["program_error"] = why
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
+    out["invariants"] = _invariants(plan, program)
     if job is not None and getattr(job, "analysis", None) is not None:
         from winder.analysis.structure import analyze, summary_block  # noqa: PLC0415
 
         out["analysis"] = summary_block(analyze(plan, job), job)
     return out
+
+
+def _invariants(plan: WindingPlan, program) -> dict[str, float | None]:
+    """The job's margins (winder.machine.invariants): the program's where it proved them, else the
+    plan's coverage alone."""
+    proved = getattr(program, "invariants", None)
+    least = min((layer.coverage.covered_fraction for layer in plan.layers), default=1.0)
+    figures = {
+        "min_covered_fraction": float(least) if proved is None else proved.min_covered_fraction,
+        "max_point_deviation_mm": None if proved is None else proved.max_point_deviation_mm,
+        "max_midpoint_deviation_mm": None if proved is None else proved.max_midpoint_deviation_mm,
+        "min_clearance_mm": None if proved is None else proved.min_clearance_mm,
+    }
+    return {key: _num(value, decimals_of(key)) for key, value in figures.items()}
 
 
 def summary_text(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,
