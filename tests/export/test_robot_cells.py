@@ -375,3 +375,12 @@ def test_rapid_through_its_grammar(programs) -> None:
              if not (line.strip().startswith(("MoveL ", "CONST robtarget")) or line.strip().startswith("!"))
              or i in keep or (line.strip().startswith("CONST robtarget") and line.split()[2] in names)]
     assert check_format("\n".join(short) + "\n") == []
+
+
+def test_another_arms_language_refused_before_planning(tmp_path) -> None:
+    """`--format krl` for a UR cell: exit 2 before any planning, nothing written."""
+    config = tmp_path / "ur.yaml"
+    config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: ur10e}"))
+    report = run_job(config, tmp_path / "out", formats=("krl",))
+    assert report.exit_code == 2 and not report.outputs
+    assert "KRL is not the language of the cell's arm: ur10e's Universal Robots controller runs urscript" in report.message
