@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.cells import CELLS, SMALL_ELBOW, small_elbow_cells
 from tests.machine.test_arm_ik import independent_fk
 from winder.app.jobs import run_job
 from winder.app.simulate import simulate
@@ -40,29 +41,6 @@ TIME_TOL = 0.01  # relative
 QUATERNION_TOL = 1e-8
 CYCLE_S = 0.002  # the UR e-Series control cycle
 MOVING_M = 1e-6  # a TCP step of more than a micrometre: the arm moves
-SMALL_ELBOW = """
-name: small_elbow
-mandrel:
-  axis:
-    type: path
-    segments:
-      - line: 60
-      - arc: {radius: 150, angle: 90, toward: 0}
-      - line: 60
-  profile: {type: constant, radius: 40}
-winding:
-  band_width: 25
-  friction: 0.3
-  layers:
-    - {type: helical, angle: 45, slip: auto}
-machine:
-  eye: {clearance: 25}
-  robot: {arm: kuka_kr16}
-"""
-CELLS = {"kuka_kr16": Pose(x=1000, z=800, ry=-90, rz=-90), "abb_irb4600": Pose(x=1000, z=800, ry=-90, rz=-90),
-         "ur10e": Pose(x=800, z=500, ry=-90, rz=-90)}
-
-
 def _matrix(p: Pose) -> np.ndarray:
     """Rz(rz) Ry(ry) Rx(rx) with the translation, written here with plain matrices."""
     a, b, c = np.radians([p.rz, p.ry, p.rx])
@@ -75,22 +53,15 @@ def _matrix(p: Pose) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def job_plan(tmp_path_factory):
-    path = tmp_path_factory.mktemp("cell") / "small_elbow.yaml"
-    path.write_text(SMALL_ELBOW)
-    job = load_config(path)
-    return job, plan_job(job)
+def job_plan():
+    job, plan, _ = small_elbow_cells()
+    return job, plan
 
 
 @pytest.fixture(scope="module")
-def programs(job_plan):
+def programs():
     """The program on each arm's cell: {arm: (machine, program)}."""
-    job, plan = job_plan
-    out = {}
-    for arm, ring in CELLS.items():
-        machine = dataclasses.replace(job.machine, cell=RobotCell(arm, ring=ring))
-        out[arm] = (machine, program_of(plan, machine))
-    return out
+    return small_elbow_cells()[2]
 
 
 def _krl_points(dat: str) -> dict[str, dict[str, float]]:
@@ -122,7 +93,7 @@ def test_krl_structure_and_time(job_plan, programs) -> None:
             if prev is not None:
                 total += np.linalg.norm([p[k] - prev[k] for k in "XYZ"]) / (vel * 1000.0)
             prev = p
-    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    expected = summary_dict(job_plan[1], machine, program)["winding_time_s"]
     assert abs(total - expected) <= TIME_TOL * expected
 
 
@@ -138,7 +109,7 @@ def test_rapid_structure_and_time(job_plan, programs) -> None:
     times = [float(t) for t in re.findall(r"^\s*MoveL \w+, v1000 \\T:=([0-9.]+), z0, tRing \\WObj:=wMandrel;$",
                                           text, re.M)]
     assert len(times) == len(quats)
-    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    expected = summary_dict(job_plan[1], machine, program)["winding_time_s"]
     assert abs(sum(times) - expected) <= TIME_TOL * expected
 
 
@@ -158,7 +129,7 @@ def test_urscript_structure_and_time(job_plan, programs) -> None:
     step = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
     moving = (step[:-1] > MOVING_M) & (step[1:] > MOVING_M)  # waypoints the arm moves into and out of
     assert np.all(radii[1:-1][moving] > 0.0) and radii[-1] == 0.0
-    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    expected = summary_dict(job_plan[1], machine, program)["winding_time_s"]
     assert abs(times.sum() - expected) <= TIME_TOL * expected
 
 

@@ -95,3 +95,15 @@ def test_ur10e_zero_pose_in_the_controllers_base() -> None:
     pose = fk(ARMS["ur10e"], np.zeros(6))
     expected = np.array([-612.7 - 571.55, -(174.15 + 116.55), 180.7 - 119.85])
     assert np.max(np.abs(pose[:3, 3] - expected)) < POSITION_TOL_MM
+
+
+def test_arms_are_named_links() -> None:
+    """Each arm is six named links with its DH numbers, range and speed; KUKA's Status bit 1 turns
+    where the wrist centre lines up with A2 and A3: A3 = -atan(a3 / |d4|) on the KR 16 (35, 670 mm)."""
+    from winder.machine.configuration import stretched_elbow  # noqa: PLC0415
+
+    kuka = ARMS["kuka_kr16"]
+    assert kuka.joint_names == ("A1", "A2", "A3", "A4", "A5", "A6")
+    assert (kuka.links[2].a, kuka.links[3].d, kuka.links[4].qlim) == (35, -670, (-130, 130))
+    assert abs(stretched_elbow(kuka) - (-np.degrees(np.arctan(35.0 / 670.0)))) < 1e-9
+    assert ARMS["ur10e"].language == "urscript" and ARMS["abb_irb4600"].configuration == "abb"

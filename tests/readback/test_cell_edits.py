@@ -4,36 +4,27 @@ program line, as ConfigError (exit 2), never an internal error; the clean progra
 
 from __future__ import annotations
 
-import dataclasses
 import re
 
 import numpy as np
 import pytest
 
-from tests.export.test_robot_cells import CELLS, SMALL_ELBOW
-from winder.config.job import load_config
-from winder.config.robot import RobotCell
+from tests.cells import small_elbow_cells
 from winder.errors import ConfigError
 from winder.export.dialects import krl, rapid, urscript
-from winder.machine.program import build_program
 from winder.readback.cell_programs import parse_cell
-from winder.winding.plan import plan as plan_job
 
 LANGUAGE = {"kuka_kr16": "krl", "abb_irb4600": "rapid", "ur10e": "urscript"}
 
 
 @pytest.fixture(scope="module")
-def texts(tmp_path_factory):
+def texts():
     """{language: (machine, text, plan)} of the small elbow on each arm's cell."""
-    path = tmp_path_factory.mktemp("edits") / "small_elbow.yaml"
-    path.write_text(SMALL_ELBOW)
-    job = load_config(path)
-    plan = plan_job(job)
+    _, plan, programs = small_elbow_cells()
     out = {}
-    for arm, ring in CELLS.items():
-        machine = dataclasses.replace(job.machine, cell=RobotCell(arm, ring=ring))
+    for arm, (machine, program) in programs.items():
         language = LANGUAGE[arm]
-        written = {"krl": krl, "rapid": rapid, "urscript": urscript}[language].serialize(build_program(plan, machine))
+        written = {"krl": krl, "rapid": rapid, "urscript": urscript}[language].serialize(program)
         out[language] = (machine, "".join(written[k] for k in sorted(written, key=lambda s: s != ".src")), plan)
     return out
 
