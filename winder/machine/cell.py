@@ -15,7 +15,7 @@ from winder.config.arms import ARMS, Arm
 from winder.config.machine import MachineConfig
 from winder.config.robot import RobotCell
 from winder.errors import ExportError
-from winder.machine.bridges import JOINT_RAMP_S, Bridge, bridge_costs, make_bridge
+from winder.machine.bridges import JOINT_RAMP_S, Bridge, bridge_costs, make_bridges
 from winder.machine.cell_frames import mandrel_in_base, ring_axes, station_frames
 from winder.machine.dynamics import MoveTimes, move_times
 from winder.machine.reach import Reach, configure
@@ -111,9 +111,8 @@ def _configured(arm: Arm, cell: RobotCell, flange: np.ndarray, cost: np.ndarray,
     cost = cost.copy()
     tool = cell.tool.matrix()
     for _ in range(MAX_BRIDGE_ROUNDS):
-        reach = configure(arm, cell, flange, cost, where)
-        made = [make_bridge(arm, reach, int(r), tool, checker) for r in reach.bridges]
-        if all(b is not None for b in made):
-            return reach, tuple(made)
-        cost[[int(r) for r, b in zip(reach.bridges, made) if b is None]] = np.inf
+        reach, made = make_bridges(arm, configure(arm, cell, flange, cost, where), tool, checker)
+        if reach is not None:
+            return reach, made
+        cost[made] = np.inf
     return configure(arm, cell, flange, np.full_like(cost, np.inf), where), ()
