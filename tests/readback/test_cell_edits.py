@@ -4,6 +4,7 @@ program line, as ConfigError (exit 2), never an internal error; the clean progra
 
 from __future__ import annotations
 
+import dataclasses
 import re
 
 import numpy as np
@@ -15,6 +16,7 @@ from winder.export.dialects import krl, rapid, urscript
 from winder.readback.cell_programs import parse_cell
 
 LANGUAGE = {"kuka_kr16": "krl", "abb_irb4600": "rapid", "ur10e": "urscript"}
+BRIDGE_TIME_TOL = 0.05  # s: URScript's blend schedule shifts by the stop the bridge makes
 
 
 @pytest.fixture(scope="module")
@@ -142,3 +144,29 @@ def test_another_jobs_program_names_its_job_line(texts) -> None:
     edited = _replace(text, r"^; job:", lambda _: "; job: another_job")
     with pytest.raises(ConfigError, match=r"program: line [0-9]+: the program was written for another job"):
         simulate(machine, plan, edited, "program")
+
+
+@pytest.mark.parametrize("arm", ["kuka_kr16", "abb_irb4600", "ur10e"])
+def test_a_bridge_is_written_and_read_back(arm: str) -> None:
+    """A bridge (winder.machine.bridges) after a row of the program: each language writes its joint
+    move after an exact stop (KRL PTP, RAPID MoveAbsJ, URScript movej with the movel before it at
+    r=0), and the reader lands its joints on the pose and adds its time. The bridge here keeps the
+    configuration (the small elbow needs none), which exercises the writing and the reading alike."""
+    from winder.export.dialects.robot_text import rows  # noqa: PLC0415
+    from winder.machine.bridges import Bridge, swap_time  # noqa: PLC0415
+
+    _, _, programs = small_elbow_cells()
+    machine, program = programs[arm]
+    cell = program.cell
+    row = [r for _, r in rows(program)][40]
+    q = cell.reach.joints[row]
+    bridged = dataclasses.replace(program, cell=dataclasses.replace(cell, bridges=(Bridge(row, q, q, swap_time(cell.arm, q, q)),)))
+    language = LANGUAGE[arm]
+    written = {"krl": krl, "rapid": rapid, "urscript": urscript}[language].serialize(bridged)
+    text = "".join(written[k] for k in sorted(written, key=lambda s: s != ".src"))
+    assert re.search(r"^\s*(PTP \{A1|MoveAbsJ jBridge|movej\(\[.*t=)", text, re.M | re.S)
+    parsed = parse_cell(text, machine, "program", language)
+    plain = parse_cell("".join(v for _, v in sorted(
+        {"krl": krl, "rapid": rapid, "urscript": urscript}[language].serialize(program).items(),
+        key=lambda kv: kv[0] != ".src")), machine, "program", language)
+    assert abs(np.sum(parsed.move_s) - np.sum(plain.move_s) - swap_time(cell.arm, q, q)) < BRIDGE_TIME_TOL
