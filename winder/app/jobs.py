@@ -18,11 +18,12 @@ import dataclasses
 from typing import TYPE_CHECKING
 
 from winder.app.interrupts import in_worker, raise_if_interrupted, stop_signals_held_back, stop_workers, worker_init
-from winder.app.wall_clock import TimeUp, time_limit
+from winder.app.wall_clock import TimeUp, time_limit, time_up_message
 from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
-from winder.progress import Progress, part
+from winder.export.paths import shown as shown_path
+from winder.progress import Progress, doing, part
 
 if TYPE_CHECKING:
     from concurrent.futures import Future
@@ -176,11 +177,12 @@ def proved(job, plan, program):
     return dataclasses.replace(program, invariants=found) if hasattr(program, "invariants") else program
 
 
-def _plan(job, progress: Progress | None = None, formats: tuple[str, ...] = ()):
+def _plan(job, progress: Progress | None = None):
     from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
 
-    validate_job(job, formats)  # the checks of `check` (and of the robot languages asked for) before planning
+    with doing(f"checking {shown_path(job.source)} as `check` does (values, surface, work budget)"):
+        validate_job(job)  # the checks of `check`, so that `run` refuses nothing `check` accepted
     try:
         return plan(job, progress)
     except ConfigError as exc:
@@ -216,7 +218,8 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
         with time_limit(seconds):
             formats = tuple(formats)
             output_names("x", formats, summary)  # refuses an unknown format before any work
-            job = load_config(config)
+            with doing(f"reading {shown_path(config)}"):
+                job = load_config(config)
             if source is not None:
                 job = dataclasses.replace(job, source=source)
                 shown = source
@@ -224,17 +227,12 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             cell_dialect = job.machine.dialect if job.machine is not None and job.machine.cell is not None else None
             if formats == tuple(ALL_FORMATS) and cell_dialect in FORMATS:  # a robot cell's language by default
                 formats += (cell_dialect,)
-            if "layup" in formats:  # a request refused from the config alone, before any planning
-                from winder.export.layup import require_material  # noqa: PLC0415
+            from winder.app.validate import refuse_formats  # noqa: PLC0415 - beside the geometry it loads
 
-                require_material(job)
-            if "abaqus" in formats:  # likewise: the ply data and the load case (SPEC "Structural analysis")
-                from winder.export.abaqus import require_analysis  # noqa: PLC0415
-
-                require_analysis(job)
+            refuse_formats(job, formats)  # what the config alone refuses, before any planning
             if progress is not None:
                 progress = _named(progress, name)
-            plan = _plan(job, part(progress, 0.0, PLANNING_SHARE), formats)
+            plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
 
             def checked_program():
                 program = motion_program(job, plan)
@@ -242,15 +240,15 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
                     raise program  # the cell's reach check refuses before any file, whatever is written
                 return proved(job, plan, program)
 
-            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0),
-                                      make_program=checked_program)
+            with doing(f"building the motion program and the outputs of {name} (its layers planned)"):
+                rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0),
+                                          make_program=checked_program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")
     except TimeUp as up:
         raise_if_interrupted(up)  # a stop signal came first: the job ends as interrupted
-        exc = WinderError(f"the job did not finish within its time limit of {seconds:g} s (--time-limit); "
-                          "its solvers do not converge on this mandrel in reasonable time")
+        exc = WinderError(time_up_message(seconds, up.activity))
         return JobReport(config, name, False, 1, error_message(exc, shown), (), _fiber_length(plan),
                          _layer_count(plan), time.perf_counter() - started)
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback

@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib
 import weakref
 
+from winder.errors import ConfigError
 from winder.machine.program import MotionProgram
 from winder.winding.results import WindingPlan
 
@@ -43,3 +44,29 @@ def rapid(plan: WindingPlan, job, program: MotionProgram | Exception | None = No
 
 def urscript(plan: WindingPlan, job, program: MotionProgram | Exception | None = None) -> str:
     return _texts(plan, job, "urscript", program)[".script"]
+
+
+LANGUAGES = {"krl": "KRL", "rapid": "RAPID", "urscript": "URScript"}  # format -> the language's name
+
+
+def require_cell(job, formats) -> None:
+    """Refuse, from the config alone (ConfigError, exit 2: `check` and `run` before planning), a robot
+    language the job cannot be written in: no robot cell, a language the cell's arm's controller does
+    not run, a job name that is not the language's module name (its file's): winder.config.robot."""
+    from winder.config.arms import ARMS  # noqa: PLC0415
+    from winder.config.robot import language_problem, name_problem  # noqa: PLC0415
+
+    for fmt in (f for f in formats if f in LANGUAGES):
+        cell = job.machine.cell if job.machine is not None else None
+        if cell is None:
+            raise ConfigError(f"--format {fmt} needs a robot cell: {LANGUAGES[fmt]} moves an arm, and this job has no "
+                              "machine.robot (a mapping with an arm: kuka_kr16, abb_irb4600, ur10e)",
+                              file=job.source, key_path="machine.robot")
+        problem = language_problem(cell, fmt)
+        if problem is not None:
+            raise ConfigError(f"{problem}: write {ARMS[cell.arm].language} for it, got --format {fmt}",
+                              file=job.source, key_path="machine.robot.arm")
+        problem = name_problem(job.name, fmt)
+        if problem is not None:
+            raise ConfigError(f"{problem}, got {job.name!r}", file=job.source, key_path="name")
+

@@ -1,8 +1,8 @@
 """What `check` can say of a robot cell without planning (docs/math/10-robot-cell.md 10.4): a ring
 farther from the arm's base than any flange of the arm can be, plus the mandrel's mount and the
 mandrel's own extent, can wind nothing; the job is refused as invalid (exit 2, by `check` as by `run`)
-before any computation. So are a cell language the cell's arm does not run and a job name the language
-cannot take for its module (check_cell_program)."""
+before any computation (a robot language the cell's arm does not run, or whose module name the job's
+name cannot be, is refused likewise: winder.export.robot_programs.require_cell)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,6 @@ import numpy as np
 
 from winder.config.arms import ARMS
 from winder.config.robot import RobotCell
-from winder.config.robot import language_problem, name_problem
 from winder.errors import ConfigError
 from winder.geometry.surface import SweepSurface
 
@@ -39,18 +38,3 @@ def check_cell_reach(cell: RobotCell, surface: SweepSurface, source: str | None 
             f"and the mandrel's stations lie within {tool + extent:.0f} mm of the flange (mount {tool:.0f} mm, "
             f"mandrel {extent:.0f} mm): no pose can be reached", file=source, key_path="machine.robot.positioner.origin")
 
-
-def check_cell_program(job, languages: tuple[str, ...]) -> None:
-    """ConfigError where a robot language to be written (the job's dialect, or asked for by --format)
-    is not the cell's arm's, or cannot take the job's name as its module's."""
-    cell = job.machine.cell if job.machine is not None else None
-    for language in languages:
-        if cell is None:
-            raise ConfigError(f"{language} needs a robot cell: machine.robot as a mapping with an arm",
-                              file=job.source, key_path="machine.robot")
-        problem = language_problem(cell, language)
-        if problem is not None:
-            raise ConfigError(f"{problem}, not {language}", file=job.source, key_path="machine.robot.arm")
-        problem = name_problem(job.name, language)
-        if problem is not None:
-            raise ConfigError(f"{problem}, got {job.name!r}", file=job.source, key_path="name")
