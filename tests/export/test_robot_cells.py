@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.cells import CELLS, SMALL_ELBOW, small_elbow_cells
 from tests.machine.test_arm_ik import independent_fk
 from winder.app.jobs import run_job
 from winder.app.simulate import simulate
@@ -38,29 +39,8 @@ FK_TOL_MM = 0.01
 FK_TOL_DEG = 0.01
 TIME_TOL = 0.01  # relative
 QUATERNION_TOL = 1e-8
-SMALL_ELBOW = """
-name: small_elbow
-mandrel:
-  axis:
-    type: path
-    segments:
-      - line: 60
-      - arc: {radius: 150, angle: 90, toward: 0}
-      - line: 60
-  profile: {type: constant, radius: 40}
-winding:
-  band_width: 25
-  friction: 0.3
-  layers:
-    - {type: helical, angle: 45, slip: auto}
-machine:
-  eye: {clearance: 25}
-  robot: {arm: kuka_kr16}
-"""
-CELLS = {"kuka_kr16": Pose(x=1000, z=800, ry=-90, rz=-90), "abb_irb4600": Pose(x=1000, z=800, ry=-90, rz=-90),
-         "ur10e": Pose(x=800, z=500, ry=-90, rz=-90)}
-
-
+CYCLE_S = 0.002  # the UR e-Series control cycle
+MOVING_M = 1e-6  # a TCP step of more than a micrometre: the arm moves
 def _matrix(p: Pose) -> np.ndarray:
     """Rz(rz) Ry(ry) Rx(rx) with the translation, written here with plain matrices."""
     a, b, c = np.radians([p.rz, p.ry, p.rx])
@@ -73,22 +53,15 @@ def _matrix(p: Pose) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def job_plan(tmp_path_factory):
-    path = tmp_path_factory.mktemp("cell") / "small_elbow.yaml"
-    path.write_text(SMALL_ELBOW)
-    job = load_config(path)
-    return job, plan_job(job)
+def job_plan():
+    job, plan, _ = small_elbow_cells()
+    return job, plan
 
 
 @pytest.fixture(scope="module")
-def programs(job_plan):
+def programs():
     """The program on each arm's cell: {arm: (machine, program)}."""
-    job, plan = job_plan
-    out = {}
-    for arm, ring in CELLS.items():
-        machine = dataclasses.replace(job.machine, cell=RobotCell(arm, ring=ring))
-        out[arm] = (machine, program_of(plan, machine))
-    return out
+    return small_elbow_cells()[2]
 
 
 def _krl_points(dat: str) -> dict[str, dict[str, float]]:
@@ -120,7 +93,7 @@ def test_krl_structure_and_time(job_plan, programs) -> None:
             if prev is not None:
                 total += np.linalg.norm([p[k] - prev[k] for k in "XYZ"]) / (vel * 1000.0)
             prev = p
-    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    expected = summary_dict(job_plan[1], machine, program)["winding_time_s"]
     assert abs(total - expected) <= TIME_TOL * expected
 
 
@@ -136,44 +109,106 @@ def test_rapid_structure_and_time(job_plan, programs) -> None:
     times = [float(t) for t in re.findall(r"^\s*MoveL \w+, v1000 \\T:=([0-9.]+), z0, tRing \\WObj:=wMandrel;$",
                                           text, re.M)]
     assert len(times) == len(quats)
-    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
+    expected = summary_dict(job_plan[1], machine, program)["winding_time_s"]
     assert abs(sum(times) - expected) <= TIME_TOL * expected
 
 
 def test_urscript_structure_and_time(job_plan, programs) -> None:
+    """Every movel at least the 2 ms cycle, blended (r > 0) wherever the arm moves into and out of its
+    waypoint, its ring line before it; the times add up to the summary's."""
     machine, program = programs["ur10e"]
     text = urscript.serialize(program)[".script"]
     lines = [line for line in text.splitlines() if line.strip() and not line.strip().startswith("#")]
     assert lines[0] == "def small_elbow():" and lines[-1] == "end"
-    times = [float(t) for t in re.findall(r"^  movel\(p\[[^\]]*\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=0\)$", text, re.M)]
-    assert times and len(re.findall(r"^  ring\(", text, re.M)) == len(times) + 1
-    expected = summary_dict(job_plan[1], machine)["winding_time_s"]
-    assert abs(sum(times) - expected) <= TIME_TOL * expected
+    moves = re.findall(r"^  movel\(p\[([^\]]*)\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=([0-9.]+)\)$", text, re.M)
+    assert moves and len(re.findall(r"^  ring\(", text, re.M)) == len(moves) + 1
+    times = np.array([float(t) for _, t, _ in moves])
+    radii = np.array([float(r) for _, _, r in moves])
+    xyz = np.array([[float(v) for v in p.split(",")[:3]] for p, _, _ in moves])
+    assert times.min() >= CYCLE_S
+    step = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
+    moving = (step[:-1] > MOVING_M) & (step[1:] > MOVING_M)  # waypoints the arm moves into and out of
+    assert np.all(radii[1:-1][moving] > 0.0) and radii[-1] == 0.0
+    expected = summary_dict(job_plan[1], machine, program)["winding_time_s"]
+    assert abs(times.sum() - expected) <= TIME_TOL * expected
+
+
+def _quat_matrix(q) -> np.ndarray:
+    """The rotation of a unit quaternion (w, x, y, z), written out here."""
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _rotvec_matrix(v) -> np.ndarray:
+    """The rotation of a rotation vector (Rodrigues), written out here."""
+    angle = float(np.linalg.norm(v))
+    if angle == 0.0:
+        return np.eye(3)
+    k = np.asarray(v) / angle
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+
+
+def written_flanges(arm: str, program, cell: RobotCell) -> tuple[np.ndarray, list[np.ndarray]]:
+    """(the start joints (deg), the flange (4, 4) of every written pose) read from the program's text
+    with this test's own parsing and frames: KRL's E6POS and RAPID's robtargets hold the ring in the
+    mandrel frame (flange = base^-1 ring S^-1 tool^-1), URScript's movel the mandrel in the base."""
+    need = np.linalg.inv(_matrix(cell.base)) @ _matrix(cell.ring)
+    tool_inv = np.linalg.inv(_matrix(cell.tool))
+    frames = []
+    if arm == "kuka_kr16":
+        texts = krl.serialize(program)
+        start = [float(v) for v in re.search(r"^PTP \{A1 ([^,]+),A2 ([^,]+),A3 ([^,]+),A4 ([^,]+),A5 ([^,]+),A6 ([^,]+),",
+                                              texts[".src"], re.M).groups()]
+        for p in _krl_points(texts[".dat"]).values():
+            frames.append(_matrix(Pose(p["X"], p["Y"], p["Z"], p["C"], p["B"], p["A"])))
+    elif arm == "abb_irb4600":
+        text = rapid.serialize(program)[".mod"]
+        start = [float(v) for v in re.search(r"jointtarget jStart := \[\[([^\]]*)\]", text)[1].split(",")]
+        for m in re.finditer(r"robtarget \w+ := \[\[([^\]]*)\],\[([^\]]*)\]", text):
+            t = np.eye(4)
+            t[:3, :3], t[:3, 3] = _quat_matrix([float(v) for v in m[2].split(",")]), [float(v) for v in m[1].split(",")]
+            frames.append(t)
+    else:
+        text = urscript.serialize(program)[".script"]
+        start = np.degrees([float(v) for v in re.search(r"^  movej\(\[([^\]]*)\]", text, re.M)[1].split(",")])
+        flanges = []
+        for m in re.finditer(r"^  movel\(p\[([^\]]*)\]", text, re.M):
+            v = [float(x) for x in m[1].split(",")]
+            t = np.eye(4)
+            t[:3, :3], t[:3, 3] = _rotvec_matrix(v[3:]), 1000.0 * np.array(v[:3])
+            flanges.append(t @ tool_inv)  # the pose is the mandrel frame in the controller's base
+        return np.asarray(start), flanges
+    return np.asarray(start), [need @ np.linalg.inv(f) @ tool_inv for f in frames]
+
+
+@pytest.mark.parametrize("arm", sorted(CELLS))
+def test_start_joints_are_the_first_pose(programs, arm: str) -> None:
+    """The start joints as written, through the forward kinematics written in tests/machine/test_arm_ik.py
+    from the published DH and URDF numbers, put the flange on the first written pose within 0.01 mm."""
+    machine, program = programs[arm]
+    start, flanges = written_flanges(arm, program, machine.cell)
+    got = independent_fk(arm, start)
+    assert np.linalg.norm(got[:3, 3] - flanges[0][:3, 3]) < FK_TOL_MM
+    turn = got[:3, :3].T @ flanges[0][:3, :3]
+    assert np.degrees(np.arccos(np.clip((np.trace(turn) - 1.0) / 2.0, -1.0, 1.0))) < FK_TOL_DEG
 
 
 @pytest.mark.parametrize("arm", sorted(CELLS))
 def test_joints_land_on_every_written_pose(programs, arm: str) -> None:
-    """The reach check's joints through the independent FK land on the flange the written pose needs:
-    KRL's E6POS (the ring in the mandrel frame) for the KUKA, the same station frames for the others."""
+    """The planned joints through the independent forward kinematics land on the flange each written
+    pose needs (KRL's E6POS, RAPID's robtargets, URScript's movel poses), within 0.01 mm and 0.01 deg."""
     machine, program = programs[arm]
-    cell = machine.cell
     motion = program.cell
-    q = motion.reach.joints
+    q = motion.reach.arrive
     limits = ARMS[arm].limits
     assert np.all(q >= limits[:, 0]) and np.all(q <= limits[:, 1])
-    assert np.max(np.abs(np.diff(q, axis=0))) <= cell.max_joint_step
-    if arm == "kuka_kr16":
-        points = list(_krl_points(krl.serialize(program)[".dat"]).values())
-        frames = []
-        for p in points:
-            frames.append(_matrix(Pose(p["X"], p["Y"], p["Z"], p["C"], p["B"], p["A"])))
-        rows = [row for _, row in krl_rows(program)]
-        q = q[rows]
-    else:
-        frames = list(motion.frames)
-    need = np.linalg.inv(_matrix(cell.base)) @ _matrix(cell.ring)
-    for k, frame in enumerate(frames):
-        flange = need @ np.linalg.inv(frame) @ np.linalg.inv(_matrix(cell.tool))
+    _, flanges = written_flanges(arm, program, machine.cell)
+    rows = [row for _, row in krl_rows(program)]
+    assert len(rows) == len(flanges)
+    for k, flange in zip(rows, flanges):
         got = independent_fk(arm, q[k])
         assert np.linalg.norm(got[:3, 3] - flange[:3, 3]) < FK_TOL_MM
         turn = got[:3, :3].T @ flange[:3, :3]
@@ -209,7 +244,7 @@ def test_out_of_reach_refused_naming_the_pose_and_joint(job_plan) -> None:
         cell_motion(machine, make_guide(plan.outer_surface, env), program.values, program.fiber,
                     lambda row: f"layer 1 circuit 1 pass {row}")
     message = str(info.value)
-    assert re.search(r"layer 1 circuit 1 pass \d+", message) and "joint A5" in message and "limit 130" in message
+    assert re.search(r"layer 1 circuit 1 pass \d+", message) and "joint A5" in message and re.search(r"limit -?130 deg", message)
 
 
 def test_run_refuses_before_writing(tmp_path) -> None:
@@ -241,22 +276,96 @@ def test_shipped_cells(tmp_path, config: str) -> None:
 
 
 def test_each_language_for_its_arm(programs) -> None:
-    """KRL and RAPID hold the cell's poses for any arm (configuration bits only for their maker's);
-    URScript moves a UR arm in its own base frame and refuses another arm."""
-    _, abb = programs["abb_irb4600"]
-    assert ",S " not in krl.serialize(abb)[".dat"]
-    _, kuka = programs["kuka_kr16"]
-    with pytest.raises(ExportError, match="machine.robot.arm: URScript moves a Universal Robots arm"):
-        urscript.serialize(kuka)
+    """A language only for the arm whose controller runs it: KRL for the KUKA, RAPID for the ABB,
+    URScript for the UR; each refuses the others."""
+    for arm, (_, program) in programs.items():
+        for module, language in ((krl, "krl"), (rapid, "rapid"), (urscript, "urscript")):
+            if ARMS[arm].language == language:
+                assert module.serialize(program)
+            else:
+                with pytest.raises(ExportError, match=f"the cell's arm is {arm}"):
+                    module.serialize(program)
 
 
 def test_check_refuses_a_ring_beyond_the_arm(tmp_path) -> None:
     from winder.app.validate import validate  # noqa: PLC0415
-    from winder.errors import InfeasibleConfigError  # noqa: PLC0415
+    from winder.errors import ConfigError  # noqa: PLC0415
 
     config = tmp_path / "far.yaml"
     config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, positioner: "
                                           "{origin: {x: 4000, z: 800, ry: -90, rz: -90}}}"))
-    with pytest.raises(InfeasibleConfigError, match="machine.robot.positioner.origin: the ring is 4079 mm") as info:
+    with pytest.raises(ConfigError, match="machine.robot.positioner.origin: the ring is 4079 mm") as info:
         validate(config)
+    assert info.value.exit_code == 2
+
+
+def test_ring_too_close_to_a_link_refused_naming_it(job_plan) -> None:
+    """A ring 300 mm up beside the UR10e's base: the base link's capsule (fitted to ROS-Industrial's
+    collision mesh) touches the ring, refused (exit 1) naming the link, the layer and the pass."""
+    job, plan = job_plan
+    machine = dataclasses.replace(job.machine, cell=RobotCell("ur10e", ring=Pose(x=500, z=300, ry=-90, rz=-90)))
+    with pytest.raises(ExportError, match=r"layer 1 circuit \d+ pass \d+ .*the ur10e's link 1 \(base\) comes within 5 mm "
+                                          r"of the ring") as info:
+        program_of(plan, machine)
     assert info.value.exit_code == 1
+
+
+def test_krl_structure(programs) -> None:
+    """No KRL grammar installs from PyPI (krllint checks style only): a structural check of the .src
+    and .dat against KSS 8's syntax: DEF/END and DEFDAT/ENDDAT, names of at most 24 characters, every
+    statement one winder writes, every LIN's point declared once in the .dat as a full E6POS."""
+    _, program = programs["kuka_kr16"]
+    texts = krl.serialize(program)
+    statements = (r"&ACCESS RVP", r"&REL 1", r"DEF [A-Za-z_]\w{0,23}\( \)", r"BAS\(#INITMOV, 0\)", r"END",
+                  r"\$(TOOL|BASE) = \{X [-0-9.]+,Y [-0-9.]+,Z [-0-9.]+,A [-0-9.]+,B [-0-9.]+,C [-0-9.]+\}( +;.*)?",
+                  r"\$IPO_MODE = #TCP", r"\$APO\.CDIS = [0-9.]+", r"\$VEL_EXTAX\[[1-6]\] = [0-9.]+", r"\$VEL\.CP = [0-9.]+",
+                  r"PTP \{(A[1-6] [-0-9.]+,){6}(E[1-3] [-0-9.]+,){2}E3 [-0-9.]+\}( +;.*)?", r"LIN P\d+( C_DIS)?")
+    src = [line.strip() for line in texts[".src"].splitlines() if line.strip() and not line.strip().startswith(";")]
+    for line in src:
+        assert any(re.fullmatch(s, line) for s in statements), line
+    assert src[2].startswith("DEF ") and src[-1] == "END" and src.count("END") == 1
+    dat = [line for line in texts[".dat"].splitlines() if line.strip()]
+    assert dat[:3] == ["&ACCESS RVP", "&REL 1", "DEFDAT small_elbow PUBLIC"] and dat[-1] == "ENDDAT"
+    keys = "X Y Z A B C S T E1 E2 E3 E4 E5 E6".split()
+    entry = r"DECL E6POS P\d+=\{" + ",".join(f"{k} [-0-9.]+" for k in keys) + r"\}"
+    assert all(re.fullmatch(entry, line) for line in dat[3:-1])
+    lins = [line.split()[1] for line in src if line.startswith("LIN ")]
+    assert sorted(lins) == sorted(line.split()[2].split("=")[0] for line in dat[3:-1])
+
+
+def test_rapid_through_its_grammar(programs) -> None:
+    """The .mod through rapidchecker's RAPID grammar (pyparsing), on a module of the program's first
+    and last moves (the grammar parses a whole 6,000-move module too slowly for the fast suite)."""
+    check_format = pytest.importorskip("rapidchecker.check").check_format
+    _, program = programs["abb_irb4600"]
+    lines = rapid.serialize(program)[".mod"].splitlines()
+    moves = [i for i, line in enumerate(lines) if line.strip().startswith("MoveL ")]
+    keep = set(moves[:8] + moves[-8:])
+    names = {re.search(r"MoveL (\w+),", lines[i])[1] for i in keep}
+    short = [line for i, line in enumerate(lines)
+             if not (line.strip().startswith(("MoveL ", "CONST robtarget")) or line.strip().startswith("!"))
+             or i in keep or (line.strip().startswith("CONST robtarget") and line.split()[2] in names)]
+    assert check_format("\n".join(short) + "\n") == []
+
+
+def test_another_arms_language_refused_before_planning(tmp_path) -> None:
+    """`--format krl` for a UR cell: exit 2 before any planning, nothing written."""
+    config = tmp_path / "ur.yaml"
+    config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: ur10e}"))
+    report = run_job(config, tmp_path / "out", formats=("krl",))
+    assert report.exit_code == 2 and not report.outputs
+    assert "KRL is not the language of the cell's arm: ur10e's Universal Robots controller runs urscript" in report.message
+
+
+def test_krl_serialized_once_per_program(monkeypatch, job_plan, programs) -> None:
+    """The .src and the .dat are two formats of one serialization (winder.export.robot_programs)."""
+    from winder.export import robot_programs  # noqa: PLC0415
+
+    _, program = programs["kuka_kr16"]
+    calls = []
+    real = krl.serialize
+    monkeypatch.setattr(krl, "serialize", lambda p: calls.append(p) or real(p))
+    job, plan = job_plan
+    src = robot_programs.krl_src(plan, job, program)
+    dat = robot_programs.krl_dat(plan, job, program)
+    assert src.startswith("&ACCESS") and dat.startswith("&ACCESS") and len(calls) == 1

@@ -23,6 +23,7 @@ CHAINS = {
                      ((0, 0, 0.175), (1, 0, 0)), ((0.96, 0, 0), (0, 1, 0)), ((0.135, 0, 0), (1, 0, 0))],
                     (0, 0, 0)),
 }
+# The controller's Base frame is DH frame 0 (not ROS's base_link, turned 180 deg about z).
 UR10E_DH = [(0.1807, 0, np.pi / 2), (0, -0.6127, 0), (0, -0.57155, 0), (0.17415, 0, np.pi / 2),
             (0.11985, 0, -np.pi / 2), (0.11655, 0, 0)]  # (d, a, alpha), m
 
@@ -44,7 +45,6 @@ def independent_fk(name: str, q_deg: np.ndarray) -> np.ndarray:
     q = np.radians(q_deg)
     t = np.eye(4)
     if name == "ur10e":
-        t = _homog(_rot((0, 0, 1), np.pi), (0, 0, 0))  # the controller's base is DH frame 0 turned about z
         for (d, a, alpha), th in zip(UR10E_DH, q):
             t = t @ _homog(_rot((0, 0, 1), th), (0, 0, d)) @ _homog(_rot((1, 0, 0), alpha), (a, 0, 0))
     else:
@@ -87,3 +87,23 @@ def test_ik_finds_the_joints_and_every_branch_lands(name: str) -> None:
             back = independent_fk(name, branch)
             assert np.max(np.abs(back[:3, 3] - poses[k, :3, 3])) < POSITION_TOL_MM * 10
             assert np.max(np.abs(back[:3, :3] - poses[k, :3, :3])) < ROTATION_TOL * 10
+
+
+def test_ur10e_zero_pose_in_the_controllers_base() -> None:
+    """All joints at zero, the UR controller reports the flange at x = a2 + a3, y = -(d4 + d6),
+    z = d1 - d5 in its Base frame (UR's published DH table): winder's base frame is the controller's."""
+    pose = fk(ARMS["ur10e"], np.zeros(6))
+    expected = np.array([-612.7 - 571.55, -(174.15 + 116.55), 180.7 - 119.85])
+    assert np.max(np.abs(pose[:3, 3] - expected)) < POSITION_TOL_MM
+
+
+def test_arms_are_named_links() -> None:
+    """Each arm is six named links with its DH numbers, range and speed; KUKA's Status bit 1 turns
+    where the wrist centre lines up with A2 and A3: A3 = -atan(a3 / |d4|) on the KR 16 (35, 670 mm)."""
+    from winder.machine.configuration import stretched_elbow  # noqa: PLC0415
+
+    kuka = ARMS["kuka_kr16"]
+    assert kuka.joint_names == ("A1", "A2", "A3", "A4", "A5", "A6")
+    assert (kuka.links[2].a, kuka.links[3].d, kuka.links[4].qlim) == (35, -670, (-130, 130))
+    assert abs(stretched_elbow(kuka) - (-np.degrees(np.arctan(35.0 / 670.0)))) < 1e-9
+    assert ARMS["ur10e"].language == "urscript" and ARMS["abb_irb4600"].configuration == "abb"

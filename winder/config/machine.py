@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 from winder.config.arms import ARMS
 from winder.config.controllers import Controller, builtin
 from winder.config.dialects import REGISTRY as DIALECT_REGISTRY
-from winder.config.robot import DIALECT_OF_MAKER, RobotCell, parse_robot_cell
+from winder.config.robot import RobotCell, language_problem, parse_robot_cell
 
 if TYPE_CHECKING:
     from winder.config.reader import Reader
@@ -237,7 +237,7 @@ def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool,
     krl, rapid and urscript need a robot cell (the maker's language is the default there)."""
     if "dialect" not in m:
         if cell is not None:
-            return True, DIALECT_OF_MAKER[ARMS[cell.arm].maker]
+            return True, ARMS[cell.arm].language
         return robot, "robot" if robot else "generic"
     where = rd.at(path, "dialect")
     dialect = m["dialect"]
@@ -247,6 +247,9 @@ def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool,
         if cell is None:
             raise rd.error(where, f"{dialect} needs a robot cell: machine.robot as a mapping with at least an arm "
                            f"({', '.join(ARMS)})", dialect)
+        problem = language_problem(cell, dialect)
+        if problem is not None:
+            raise rd.error(where, problem, dialect)
         return True, dialect
     if DIALECT_REGISTRY[dialect].robot:
         if "robot" in m and not robot:

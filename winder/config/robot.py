@@ -5,6 +5,7 @@ reach check's margins. `machine.robot: true` (eye poses only, no cell) stays as 
 from __future__ import annotations
 
 import dataclasses
+import re
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -14,7 +15,10 @@ from winder.config.arms import ARMS
 if TYPE_CHECKING:
     from winder.config.reader import Reader
 
-DIALECT_OF_MAKER = {"KUKA": "krl", "ABB": "rapid", "Universal Robots": "urscript"}
+# The longest module name of each cell language (its identifiers; the file's name is the module's):
+# KRL 24 characters, RAPID 32, a URScript function 63.
+NAME_LENGTH = {"krl": 24, "rapid": 32, "urscript": 63}
+LANGUAGE_TITLE = {"krl": "KRL", "rapid": "RAPID", "urscript": "URScript"}
 POSE_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 DEFAULT_TOOL = {"z": 250.0}  # the mandrel's origin 250 mm out from the flange, axes as the flange's
 # The ring 1 m in front of the arm, 800 mm up, its axis across (the cell's +y), its x axis up: the
@@ -22,6 +26,8 @@ DEFAULT_TOOL = {"z": 250.0}  # the mandrel's origin 250 mm out from the flange, 
 # bend turns it (docs/math/10-robot-cell.md 10.1).
 DEFAULT_RING = {"x": 1000.0, "y": 0.0, "z": 800.0, "rx": 0.0, "ry": -90.0, "rz": -90.0}
 DEFAULT_AXES = 2
+DEFAULT_RING_WIDTH = 60.0  # mm: the ring's body along its axis
+DEFAULT_RING_DEPTH = 80.0  # mm: the ring's body outward from its inner face
 DEFAULT_JOINT_STEP = 20.0  # deg between consecutive poses
 DEFAULT_SINGULARITY_MARGIN = 5.0  # deg of the wrist from its singularity
 MAX_CELL_SIZE = 20000.0  # mm: no cell is larger
@@ -58,7 +64,8 @@ class RobotCell:
     frame on the flange. ring : the winding ring's centre and axis (its z) in the cell
     (`positioner.origin`). axes : the ring's external axes, 1 (E1 the ring's turn), 2 (and E2 the
     eye's yaw, keeping a flat band flat), 3 (and E3 the eye's radial slide). max_joint_step (deg),
-    singularity_margin (deg): the reach check's limits.
+    singularity_margin (deg): the reach check's limits. ring_width, ring_depth (mm): the ring's body
+    (positioner width and depth) that no link may touch (winder.machine.links).
     """
 
     arm: str
@@ -68,6 +75,27 @@ class RobotCell:
     axes: int = DEFAULT_AXES
     max_joint_step: float = DEFAULT_JOINT_STEP
     singularity_margin: float = DEFAULT_SINGULARITY_MARGIN
+    ring_width: float = DEFAULT_RING_WIDTH
+    ring_depth: float = DEFAULT_RING_DEPTH
+
+
+def name_problem(name: str, language: str) -> str | None:
+    """Why the job's name cannot name the language's module (letters, digits and _, starting with a
+    letter, at most NAME_LENGTH characters), or None."""
+    longest = NAME_LENGTH[language]
+    if re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", name):
+        return None
+    return (f"{LANGUAGE_TITLE[language]} needs a module name of letters, digits and _, starting with a letter, at "
+            f"most {longest} characters, the same as its file's: rename the job")
+
+
+def language_problem(cell: RobotCell, language: str) -> str | None:
+    """Why the cell's arm cannot run the language, or None."""
+    arm = ARMS[cell.arm]
+    if arm.language == language:
+        return None
+    return (f"{LANGUAGE_TITLE.get(language, language)} is not the language of the cell's arm: {arm.name}'s "
+            f"{arm.maker} controller runs {arm.language}")
 
 
 def parse_pose(rd: Reader, value: Any, path: str, default: dict | None = None) -> Pose:
@@ -92,14 +120,20 @@ def parse_robot_cell(rd: Reader, value: dict, path: str) -> RobotCell:
     base = parse_pose(rd, m["base"], rd.at(path, "base")) if "base" in m else Pose()
     tool = parse_pose(rd, m["tool"], rd.at(path, "tool")) if "tool" in m else Pose(**DEFAULT_TOOL)
     ring, axes = Pose(**DEFAULT_RING), DEFAULT_AXES
+    size = {"width": DEFAULT_RING_WIDTH, "depth": DEFAULT_RING_DEPTH}
     if "positioner" in m:
         where = rd.at(path, "positioner")
-        pm = rd.mapping(m["positioner"], where, ("axes", "origin"))
+        pm = rd.mapping(m["positioner"], where, ("axes", "origin", "width", "depth"))
         if "axes" in pm:
             axes = rd.integer(pm["axes"], rd.at(where, "axes"), 1, 3,
                               "must be 1 (the ring's turn), 2 (and the eye's yaw) or 3 (and its radial slide)")
         if "origin" in pm:
             ring = parse_pose(rd, pm["origin"], rd.at(where, "origin"))
+        for key in ("width", "depth"):
+            if key in pm:
+                size[key] = rd.positive(pm[key], rd.at(where, key))
+                if size[key] > MAX_CELL_SIZE:
+                    raise rd.error(rd.at(where, key), f"must be at most {MAX_CELL_SIZE:g} mm", pm[key])
     step = rd.positive(m.get("max_joint_step", DEFAULT_JOINT_STEP), rd.at(path, "max_joint_step"))
     if step > 180.0:
         raise rd.error(rd.at(path, "max_joint_step"), "must be <= 180 deg (a larger step is a flip)",
@@ -107,4 +141,4 @@ def parse_robot_cell(rd: Reader, value: dict, path: str) -> RobotCell:
     margin = rd.number(m.get("singularity_margin", DEFAULT_SINGULARITY_MARGIN), rd.at(path, "singularity_margin"))
     if not 0.0 <= margin < 90.0:
         raise rd.error(rd.at(path, "singularity_margin"), "must be >= 0 and < 90 deg", m["singularity_margin"])
-    return RobotCell(arm, base, tool, ring, axes, step, margin)
+    return RobotCell(arm, base, tool, ring, axes, step, margin, size["width"], size["depth"])

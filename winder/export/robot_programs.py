@@ -5,20 +5,29 @@ job's one motion program (built once per job by winder.app.jobs) through its dia
 from __future__ import annotations
 
 import importlib
+import weakref
 
 from winder.errors import ConfigError
 from winder.machine.program import MotionProgram
 from winder.winding.results import WindingPlan
 
 
+_WRITTEN: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # program -> {language: its texts}
+
+
 def _texts(plan: WindingPlan, job, language: str, program: MotionProgram | Exception | None) -> dict[str, str]:
+    """The language's texts of the program, serialized once per program (KRL's .src and .dat are two
+    formats of one serialization)."""
     if isinstance(program, Exception):  # the build's error (an unreachable pose, a limit)
         raise program
     if program is None:
         from winder.machine.tension import job_program  # noqa: PLC0415
 
         program = job_program(plan, job)
-    return importlib.import_module(f"winder.export.dialects.{language}").serialize(program)
+    written = _WRITTEN.setdefault(program, {})
+    if language not in written:
+        written[language] = importlib.import_module(f"winder.export.dialects.{language}").serialize(program)
+    return written[language]
 
 
 def krl_src(plan: WindingPlan, job, program: MotionProgram | Exception | None = None) -> str:
@@ -42,26 +51,22 @@ LANGUAGES = {"krl": "KRL", "rapid": "RAPID", "urscript": "URScript"}  # format -
 
 def require_cell(job, formats) -> None:
     """Refuse, from the config alone (ConfigError, exit 2: `check` and `run` before planning), a robot
-    language the job cannot be written in: no robot cell, URScript for an arm that is not a Universal
-    Robots one, a job name that is not the language's module name (its file's)."""
-    import re  # noqa: PLC0415
-
-    from winder.config.arms import ARMS, UR  # noqa: PLC0415
+    language the job cannot be written in: no robot cell, a language the cell's arm's controller does
+    not run, a job name that is not the language's module name (its file's): winder.config.robot."""
+    from winder.config.arms import ARMS  # noqa: PLC0415
+    from winder.config.robot import language_problem, name_problem  # noqa: PLC0415
 
     for fmt in (f for f in formats if f in LANGUAGES):
-        language = LANGUAGES[fmt]
         cell = job.machine.cell if job.machine is not None else None
         if cell is None:
-            raise ConfigError(f"--format {fmt} needs a robot cell: {language} moves an arm, and this job has no "
+            raise ConfigError(f"--format {fmt} needs a robot cell: {LANGUAGES[fmt]} moves an arm, and this job has no "
                               "machine.robot (a mapping with an arm: kuka_kr16, abb_irb4600, ur10e)",
                               file=job.source, key_path="machine.robot")
-        arm = ARMS[cell.arm]
-        if fmt == "urscript" and arm.kind != UR:
-            raise ConfigError(f"URScript moves a Universal Robots arm in its own base frame; the cell's arm is "
-                              f"{arm.name} ({arm.maker}): write krl or rapid for it, got {cell.arm!r}",
+        problem = language_problem(cell, fmt)
+        if problem is not None:
+            raise ConfigError(f"{problem}: write {ARMS[cell.arm].language} for it, got --format {fmt}",
                               file=job.source, key_path="machine.robot.arm")
-        longest = importlib.import_module(f"winder.export.dialects.{fmt}").NAME_LENGTH
-        if not re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", job.name):
-            raise ConfigError(f"{language} needs a module name of letters, digits and _, starting with a letter, at "
-                              f"most {longest} characters, the same as its file's: rename the job, got {job.name!r}",
-                              file=job.source, key_path="name")
+        problem = name_problem(job.name, fmt)
+        if problem is not None:
+            raise ConfigError(f"{problem}, got {job.name!r}", file=job.source, key_path="name")
+

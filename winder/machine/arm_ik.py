@@ -145,3 +145,17 @@ def _ur(arm: Arm, r: np.ndarray, p: np.ndarray) -> np.ndarray:
                 t2 = np.arctan2(y, x) - np.arctan2(a3 * np.sin(t3), a2 + a3 * np.cos(t3))
                 out[:, i, j, f] = np.column_stack([t1, t2, t3, t234 - t2 - t3, t5, t6])
     return out.reshape(m, BRANCHES, 6)
+
+
+def link_frames(arm: Arm, q_deg: np.ndarray) -> np.ndarray:
+    """The DH frames 0..6 (..., 7, 4, 4) in the robot's base frame (mm) of joint angles (..., 6) (deg):
+    frame i moves with link i (frame 0 the base's)."""
+    theta = theta_of(arm, q_deg)
+    t = np.broadcast_to(np.eye(4), theta.shape[:-1] + (4, 4)).copy()
+    t[..., :3, :3] = arm.base
+    out = [t]
+    for i in range(6):
+        d, a, alpha = arm.dh[i]
+        t = t @ _dh(theta[..., i], d, a, np.radians(alpha))
+        out.append(t)
+    return np.stack(out, axis=-3)

@@ -15,10 +15,12 @@ from winder.config.arms import ARMS, Arm
 from winder.config.machine import MachineConfig
 from winder.config.robot import RobotCell
 from winder.errors import ExportError
+from winder.machine.bridges import JOINT_RAMP_S, Bridge, bridge_costs, make_bridges
+from winder.machine.cell_frames import mandrel_in_base, ring_axes, station_frames
 from winder.machine.dynamics import MoveTimes, move_times
-from winder.machine.reach import Reach, check_reach
+from winder.machine.reach import Reach, configure
 
-JOINT_RAMP_S = 0.5  # s from rest to a joint's top speed (its acceleration; makers publish none)
+MAX_BRIDGE_ROUNDS = 8  # the configuration chosen again without a turnaround whose bridge cannot be made
 
 
 @dataclasses.dataclass(frozen=True)
@@ -30,7 +32,8 @@ class CellMotion:
     (deg, continuous), E3 eye radius (mm). flange : (m, 4, 4) the flange in the arm's base frame.
     mandrel : (m, 4, 4) the mandrel frame in the arm's base frame (URScript's pose, TCP = tool).
     reach : the joints and margins. times : each move's time. tool_path : (m,) the ring centre's
-    travel in the mandrel frame along each move (mm).
+    travel in the mandrel frame along each move (mm). bridges : the configuration changes
+    (winder.machine.bridges), each after its row.
     """
 
     arm: Arm
@@ -43,54 +46,27 @@ class CellMotion:
     reach: Reach
     times: MoveTimes
     tool_path: np.ndarray
+    bridges: tuple[Bridge, ...] = ()
 
-
-def station_frames(guide, eye: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(t* (m,), S(t*) (m, 4, 4)) of eye positions (m, 3) in the mandrel frame: the closest guide
-    station and its rotation-minimizing frame (axes e2, e3, e1), constant beyond the ends."""
-    z, _, _, tan, _ = guide.project(eye, full=True)
-    x, _, _ = guide.evaluate(z)
-    ev = guide.curve.evaluate(np.clip(z, 0.0, guide.T))
-    frames = np.zeros((z.size, 4, 4))
-    frames[:, :3, 0], frames[:, :3, 1], frames[:, :3, 2] = ev.e2, ev.e3, tan
-    frames[:, :3, 3], frames[:, 3, 3] = x, 1.0
-    return z, frames
-
-
-def ring_axes(frames: np.ndarray, eye: np.ndarray, toward_eye: np.ndarray) -> np.ndarray:
-    """(m, 3) E1 (deg), E2 (deg), E3 (mm) of eyes (m, 3) at the station frames (m, 4, 4); toward_eye
-    (m, 3) the fiber's unit direction from its contact point to the eye (docs/math/10 10.2)."""
-    rel = eye - frames[:, :3, 3]
-    e2, e3, e1 = frames[:, :3, 0], frames[:, :3, 1], frames[:, :3, 2]
-    a, b = np.einsum("ij,ij->i", rel, e2), np.einsum("ij,ij->i", rel, e3)
-    phi = np.unwrap(np.arctan2(b, a)) if a.size else a
-    rho = np.hypot(a, b)
-    sense = -1.0 if phi.size and phi[-1] < phi[0] else 1.0
-    radial = np.cos(phi)[:, None] * e2 + np.sin(phi)[:, None] * e3
-    u = np.cross(e1, radial)
-    d = toward_eye
-    yaw = np.arctan2(sense * np.einsum("ij,ij->i", d, e1), sense * np.einsum("ij,ij->i", d, u))
-    yaw = np.unwrap(yaw) if yaw.size else yaw
-    return np.column_stack([np.degrees(phi), np.degrees(yaw), rho])
-
-
-def eye_of(frames: np.ndarray, external: np.ndarray) -> np.ndarray:
-    """The cell's forward kinematics to the eye (m, 3), mandrel frame: x(t*) + E3 (cos E1 e2 + sin E1 e3)."""
-    phi = np.radians(external[:, 0])
-    return frames[:, :3, 3] + external[:, 2:3] * (np.cos(phi)[:, None] * frames[:, :3, 0]
-                                                   + np.sin(phi)[:, None] * frames[:, :3, 1])
-
-
-def mandrel_in_base(cell: RobotCell, frames: np.ndarray) -> np.ndarray:
-    """The mandrel frame in the arm's base frame (m, 4, 4) that puts each station frame on the ring."""
-    base_ring = np.linalg.inv(cell.base.matrix()) @ cell.ring.matrix()
-    return base_ring @ np.linalg.inv(frames)
+    @property
+    def program_times(self) -> MoveTimes:
+        """The moves' times with each bridge's time on its row (the summary's and the layers' times)."""
+        extra = np.zeros_like(self.times.time_s)
+        for bridge in self.bridges:
+            extra[bridge.row] += bridge.time_s
+        return MoveTimes(self.times.cruise_s, self.times.time_s + extra, self.times.feed)
 
 
 def cell_motion(machine: MachineConfig, guide, values: np.ndarray, fiber: np.ndarray,
-                where: Callable[[int], str], source: str | None = None) -> CellMotion:
+                where: Callable[[int], str], source: str | None = None,
+                pass_start: np.ndarray | None = None, surface=None) -> CellMotion:
     """The motion of machine.cell over the program rows values (m, 6) (eye position, unit direction
-    from the eye to its contact) that lay fiber (m,) mm each; ExportError where the arm cannot follow."""
+    from the eye to its contact) that lay fiber (m,) mm each; pass_start (m,) bool the rows that start
+    a pass (the turnarounds, where the arm may bridge); surface the part's outer surface (the mandrel
+    with its laminate, which no link may touch); ExportError where the arm cannot follow or a link
+    strikes the ring or the mandrel (winder.machine.links)."""
+    from winder.machine.links import LinkChecker, check_links  # noqa: PLC0415 - the collision library
+
     cell = machine.cell
     assert cell is not None
     arm = ARMS[cell.arm]
@@ -108,9 +84,15 @@ def cell_motion(machine: MachineConfig, guide, values: np.ndarray, fiber: np.nda
         external[:, 1] = 0.0
     mandrel = mandrel_in_base(cell, frames)
     flange = mandrel @ np.linalg.inv(cell.tool.matrix())
-    reach = check_reach(arm, cell, flange, where)
+    starts = np.zeros(station.shape[0], dtype=bool) if pass_start is None else pass_start
+    checker = LinkChecker(arm, cell, float(np.max(external[:, 2])) if external.size else 0.0, surface)
+    reach, bridges = _configured(arm, cell, flange, bridge_costs(station.shape[0], starts), where, checker)
+    check_links(checker, reach.joints, mandrel, where)
     dyn = machine.dynamics
-    columns = np.column_stack([frames[:, :3, 3], external, reach.joints])
+    # The joints as one continuous motion: at a bridge the move in ends in the old configuration and
+    # the move out starts in the new one (the joint move between them is the bridge's own time).
+    swap = np.cumsum(reach.joints - reach.arrive, axis=0)
+    columns = np.column_stack([frames[:, :3, 3], external, reach.joints - swap])
     speed = np.concatenate([np.full(3, dyn.carriage.speed / 60.0),
                             [dyn.rotation.speed / 60.0, dyn.yaw.speed / 60.0, dyn.cross_feed.speed / 60.0],
                             arm.speed])
@@ -119,4 +101,18 @@ def cell_motion(machine: MachineConfig, guide, values: np.ndarray, fiber: np.nda
                           arm.speed / JOINT_RAMP_S])
     times = move_times(columns, fiber, machine, True, limits=(speed, acc))
     tool_path = np.concatenate([[0.0], np.linalg.norm(np.diff(frames[:, :3, 3], axis=0), axis=1)])
-    return CellMotion(arm, cell, station, frames, external, flange, mandrel, reach, times, tool_path)
+    return CellMotion(arm, cell, station, frames, external, flange, mandrel, reach, times, tool_path, bridges)
+
+
+def _configured(arm: Arm, cell: RobotCell, flange: np.ndarray, cost: np.ndarray, where: Callable[[int], str],
+                checker) -> tuple[Reach, tuple[Bridge, ...]]:
+    """The configuration sequence (winder.machine.reach) and its bridges (winder.machine.bridges); a row
+    whose bridge cannot be made is taken off the rows a bridge may follow and the sequence chosen again."""
+    cost = cost.copy()
+    tool = cell.tool.matrix()
+    for _ in range(MAX_BRIDGE_ROUNDS):
+        reach, made = make_bridges(arm, configure(arm, cell, flange, cost, where), tool, checker)
+        if reach is not None:
+            return reach, made
+        cost[made] = np.inf
+    return configure(arm, cell, flange, np.full_like(cost, np.inf), where), ()

@@ -384,8 +384,12 @@ def build_program(plan: WindingPlan, machine: MachineConfig, part=finished_part)
         return pass_where(plan, max((s for s in starts if s[0] <= row), key=lambda s: s[0])[1])
 
     check_collision(values, env, machine, where, guide, joins, gaps)
-    cell = cell_motion(machine, guide, values, fiber, where, plan.source) if robot and machine.cell else None
-    times = cell.times if cell is not None else move_times(values[:, :3] if robot else values, fiber, machine, robot)
+    cell = None
+    if robot and machine.cell:
+        pass_start = np.zeros(values.shape[0], dtype=bool)
+        pass_start[[seg.start for _, seg in starts]] = True
+        cell = cell_motion(machine, guide, values, fiber, where, plan.source, pass_start, surface)
+    times = cell.program_times if cell is not None else move_times(values[:, :3] if robot else values, fiber, machine, robot)
     return MotionProgram(
         name=plan.name, source=plan.source, robot=robot, machine=machine, layers=tuple(plan.layers),
         total_fiber_length_mm=plan.total_fiber_length_mm, envelope_radius=env.constant,

@@ -1,13 +1,25 @@
-"""The reach check of a robot cell (docs/math/10-robot-cell.md 10.4): one inverse-kinematics branch for
-the whole program, continuous, within the joint limits, away from the wrist singularity, no jump.
+"""The arm's configuration along the whole program (docs/math/10-robot-cell.md 10.4): every inverse
+kinematics solution of every pose, and the sequence of them chosen by dynamic programming.
 
-A program the arm cannot follow is refused (ExportError, exit 1) before any file is written, naming the
-pose's layer, circuit and pass, the joint, its value and the limit.
+A state is one closed-form branch (shoulder, elbow, wrist) with a whole number of turns added to each
+joint whose range exceeds a turn (the wrist's A4 and A6, every UR joint). Along the rows a state's
+joints are continuous (np.unwrap). A row is feasible in a state when its pose has that solution, every
+joint is within its limits and the wrist is at least singularity_margin from its singularity. The
+program may stay in a state from one row to the next when no joint moves more than max_joint_step (more
+is a flip the controller's linear interpolation would not follow), at the cost of the joints' travel
+(each joint's move over its top speed, s), plus at every row a penalty within LIMIT_ZONE of a joint
+limit and within WRIST_ZONE of the wrist singularity. At any row the state may change by a bridge
+(winder.machine.bridges), at a cost above any travel it could save (less at a turnaround). The cheapest
+sequence over the whole program is found by the Viterbi recursion, one row at a time over all states.
+
+A program no sequence serves is refused (ExportError, exit 1) before any file is written, at the first
+row no state reaches, naming its layer, circuit and pass, the joint, its value and the limit.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from collections.abc import Callable
 
 import numpy as np
@@ -15,104 +27,172 @@ import numpy as np
 from winder.config.arms import Arm
 from winder.config.robot import RobotCell
 from winder.errors import ExportError
-from winder.machine.arm_ik import BRANCHES, ik
+from winder.machine.arm_ik import ik
 
-JOINT_NAMES = {"KUKA": ("A1", "A2", "A3", "A4", "A5", "A6"),
-               "ABB": ("axis 1", "axis 2", "axis 3", "axis 4", "axis 5", "axis 6"),
-               "Universal Robots": ("base", "shoulder", "elbow", "wrist 1", "wrist 2", "wrist 3")}
 WRIST = 4  # the joint whose zero (and 180 deg) is the wrist singularity
-ELBOW = 2  # the joint a pose beyond the arm's reach would stretch
+LIMIT_ZONE = 20.0  # deg from a joint limit within which a row is penalised
+WRIST_ZONE = 15.0  # deg from the wrist singularity (beyond the margin) within which a row is penalised
+ZONE_WEIGHT = 1.0  # the penalty (s) of a row at a limit or at the margin, falling quadratically to 0
+TURNS = range(-2, 3)  # whole turns tried on a joint whose range exceeds a turn
+MAX_STATES = 1024  # states of one program (8 branches x turn choices)
+CHUNK = 4096  # rows whose penalties are held at once
 
 
 @dataclasses.dataclass(frozen=True)
 class Reach:
-    """The joints of every pose, (m, 6) deg, continuous; the branch used (0..7); the least distance
-    of any joint from its limits (deg); the least |sin| of the wrist joint, as an angle (deg)."""
+    """The arm's joints along the program.
+
+    joints : (m, 6) deg, the configuration each row leaves in. arrive : (m, 6) the configuration each
+    row is reached in (joints but at a bridge, where the arm changes configuration). bridges : (k,) the
+    rows after which the arm bridges. limit_margin : the least distance of a joint from its limits
+    (deg). wrist_margin : the least |sin| of the wrist joint, as an angle (deg).
+    """
 
     joints: np.ndarray
-    branch: int
+    arrive: np.ndarray
+    bridges: np.ndarray
     limit_margin: float
     wrist_margin: float
 
 
-@dataclasses.dataclass(frozen=True)
-class _Failure:
-    row: int
-    joint: int
-    what: str
-
-
-def _continuous(q: np.ndarray, limits: np.ndarray) -> np.ndarray:
-    """q (m, 6) made continuous along the rows (np.unwrap, NaN rows bridged), each column then moved
-    by whole turns to the middle of its limits."""
-    filled = q.copy()
-    bad = np.isnan(filled)
+def _continuous(q: np.ndarray) -> np.ndarray:
+    """q (m, 6) made continuous along the rows (np.unwrap), the rows without a solution (NaN) bridged
+    by the last solution before them, and left NaN."""
+    bad = np.isnan(q)
+    filled = q
     if bad.any():
         idx = np.where(~bad, np.arange(q.shape[0])[:, None], 0)
         np.maximum.accumulate(idx, axis=0, out=idx)
         filled = np.take_along_axis(np.where(bad, 0.0, q), idx, axis=0)
-    out = np.unwrap(filled, period=360.0, axis=0)
-    if out.shape[0]:
-        middle = 0.5 * (np.nanmin(out, axis=0) + np.nanmax(out, axis=0))
-        out += 360.0 * np.round((limits.mean(axis=1) - middle) / 360.0)
+    out = np.unwrap(filled, period=360.0, axis=0) if q.shape[0] else filled
     return np.where(bad, np.nan, out)
 
 
-def _first_failure(q: np.ndarray, arm: Arm, cell: RobotCell) -> _Failure | None:
-    """The first row (and joint) of a branch's joints q (m, 6) the arm cannot follow, or None."""
+def wrist_angle(q: np.ndarray) -> np.ndarray:
+    """The wrist joint's distance from its singularity (deg): |sin| as an angle."""
+    return np.degrees(np.arcsin(np.minimum(np.abs(np.sin(np.radians(q[..., WRIST]))), 1.0)))
+
+
+def _states(arm: Arm, unwrapped: np.ndarray) -> list[tuple[int, np.ndarray]]:
+    """(branch, turns (6,) deg) of every state worth trying: per joint the whole turns that bring some
+    row within the limits."""
     lo, hi = arm.limits[:, 0], arm.limits[:, 1]
-    checks = []
-    nan = np.isnan(q).any(axis=1)
-    if nan.any():
-        checks.append(_Failure(int(np.argmax(nan)), ELBOW, "has no solution: the pose is beyond the arm's reach (the elbow "
-                                                           "would have to stretch past straight)"))
+    out = []
+    for b in range(unwrapped.shape[1]):
+        u = unwrapped[:, b]
+        if np.isnan(u).all():
+            continue
+        choices = []
+        for j in range(6):
+            ks = [360.0 * k for k in TURNS if np.any((u[:, j] + 360.0 * k >= lo[j]) & (u[:, j] + 360.0 * k <= hi[j]))]
+            choices.append(ks)
+        out.extend((b, np.array(turns)) for turns in itertools.product(*choices))
+    return out[:MAX_STATES]
+
+
+def _penalty(arm: Arm, cell: RobotCell, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(feasible (..., ), penalty (...)) of joints q (..., 6) (module docstring)."""
+    lo, hi = arm.limits[:, 0], arm.limits[:, 1]
     with np.errstate(invalid="ignore"):
-        out = (q < lo) | (q > hi)
-        rows = np.flatnonzero(out.any(axis=1))
-        if rows.size:
-            r = int(rows[0])
-            j = int(np.argmax(out[r]))
-            bound = lo[j] if q[r, j] < lo[j] else hi[j]
-            checks.append(_Failure(r, j, f"at {q[r, j]:.2f} deg, beyond its limit {bound:g} deg"))
-        wrist = np.degrees(np.arcsin(np.minimum(np.abs(np.sin(np.radians(q[:, WRIST]))), 1.0)))
-        near = np.flatnonzero(wrist < cell.singularity_margin)
-        if near.size:
-            r = int(near[0])
-            checks.append(_Failure(r, WRIST, f"at {q[r, WRIST]:.2f} deg, within {cell.singularity_margin:g} deg of the "
-                                             f"wrist singularity (machine.robot.singularity_margin)"))
-        step = np.abs(np.diff(q, axis=0))
-        jumps = np.flatnonzero((step > cell.max_joint_step).any(axis=1))
-        if jumps.size:
-            r = int(jumps[0]) + 1
-            j = int(np.argmax(step[r - 1]))
-            checks.append(_Failure(r, j, f"jumps {step[r - 1, j]:.2f} deg from the pose before, more than "
-                                         f"{cell.max_joint_step:g} deg (machine.robot.max_joint_step)"))
-    return min(checks, key=lambda f: f.row) if checks else None
+        room = np.minimum(q - lo, hi - q)
+        wrist = wrist_angle(q)
+        ok = ~np.isnan(q).any(axis=-1) & (room >= 0.0).all(axis=-1) & (wrist >= cell.singularity_margin)
+        near = np.clip(1.0 - room / LIMIT_ZONE, 0.0, None) ** 2
+        close = np.clip(1.0 - (wrist - cell.singularity_margin) / WRIST_ZONE, 0.0, None) ** 2
+        cost = ZONE_WEIGHT * (np.nansum(near, axis=-1) + close)
+    return ok, np.where(ok, cost, np.inf)
 
 
-def check_reach(arm: Arm, cell: RobotCell, flange: np.ndarray, where: Callable[[int], str]) -> Reach:
-    """The reach check of the flange poses (m, 4, 4) in the arm's base frame; where(row) names a row's
-    pass. ExportError (exit 1) where no branch serves the whole program."""
-    solutions = ik(arm, flange)
-    best: tuple[float, int, np.ndarray] | None = None
-    worst: tuple[int, int, _Failure] | None = None
-    for b in range(BRANCHES):
-        q = _continuous(solutions[:, b], arm.limits)
-        failure = _first_failure(q, arm, cell)
-        if failure is None:
-            margin = float(np.min(np.minimum(q - arm.limits[:, 0], arm.limits[:, 1] - q))) if q.size else 0.0
-            if best is None or margin > best[0]:
-                best = (margin, b, q)
-        elif worst is None or failure.row > worst[0]:
-            worst = (failure.row, b, failure)
-    if best is None:
-        assert worst is not None
-        f = worst[2]
-        joint = f"joint {JOINT_NAMES[arm.maker][f.joint]} " if f.joint >= 0 else ""
-        raise ExportError(f"{where(f.row)}, program row {f.row}: the {arm.name} cannot reach the pose: {joint}{f.what}; "
-                          f"move the ring (machine.robot.positioner.origin), the arm's base or the mandrel's mount "
-                          f"(machine.robot.tool)")
-    margin, b, q = best
-    wrist = float(np.min(np.degrees(np.arcsin(np.minimum(np.abs(np.sin(np.radians(q[:, WRIST]))), 1.0))))) \
-        if q.size else 90.0
-    return Reach(q, b, margin, wrist)
+def configure(arm: Arm, cell: RobotCell, flange: np.ndarray, bridge_cost: np.ndarray,
+              where: Callable[[int], str]) -> Reach:
+    """The configuration sequence of the flange poses (m, 4, 4) in the arm's base frame (module
+    docstring); bridge_cost (m,): what changing configuration at a row costs (inf: not there)."""
+    m = flange.shape[0]
+    unwrapped = np.stack([_continuous(s) for s in np.moveaxis(ik(arm, flange), 1, 0)], axis=1)  # (m, 8, 6)
+    states = _states(arm, unwrapped)
+    if m == 0 or not states:
+        raise _refusal(arm, cell, unwrapped, 0, where, [(b, np.zeros(6)) for b in range(8)])
+    branch = np.array([b for b, _ in states])
+    turns = np.array([t for _, t in states])  # (S, 6)
+    step = np.abs(np.diff(unwrapped, axis=0))  # (m - 1, 8, 6)
+    with np.errstate(invalid="ignore"):
+        travel = np.sum(step / arm.speed, axis=2)  # s per move, per branch
+        jump = ~(step <= cell.max_joint_step).all(axis=2)
+    travel = np.where(jump | np.isnan(travel), np.inf, travel)
+    count = len(states)
+    came = np.zeros((m, count), dtype=bool)  # the row's state was entered by a bridge at the row
+    best_prev = np.zeros(m, dtype=int)
+    cost = np.full(count, np.inf)
+    for lo_row in range(0, m, CHUNK):
+        q = unwrapped[lo_row:lo_row + CHUNK, branch] + turns  # (rows, S, 6)
+        _, pen = _penalty(arm, cell, q)
+        for k in range(q.shape[0]):
+            r = lo_row + k
+            stay = pen[k] if r == 0 else cost + travel[r - 1, branch] + pen[k]
+            if r and np.isfinite(bridge_cost[r]):
+                j = int(np.argmin(stay))
+                swap = np.isfinite(pen[k]) & (stay[j] + bridge_cost[r] < stay)
+                came[r] = swap
+                best_prev[r] = j
+                stay = np.where(swap, stay[j] + bridge_cost[r], stay)
+            if not np.isfinite(stay).any():
+                alive = np.flatnonzero(np.isfinite(cost)) if r else np.arange(count)
+                raise _refusal(arm, cell, unwrapped, r, where, [states[i] for i in alive])
+            cost = stay
+    return _backtrack(arm, unwrapped, branch, turns, came, best_prev, cost)
+
+
+def _backtrack(arm: Arm, unwrapped: np.ndarray, branch: np.ndarray, turns: np.ndarray, came: np.ndarray,
+               best_prev: np.ndarray, cost: np.ndarray) -> Reach:
+    """The Reach of the cheapest sequence (the states read back from the last row)."""
+    m = unwrapped.shape[0]
+    state = np.empty(m, dtype=int)
+    before = np.empty(m, dtype=int)
+    s = int(np.argmin(cost))
+    for r in range(m - 1, -1, -1):
+        state[r] = s
+        if came[r, s]:
+            s = int(best_prev[r])
+        before[r] = s
+    rows = np.arange(m)
+    joints = unwrapped[rows, branch[state]] + turns[state]
+    arrive = unwrapped[rows, branch[before]] + turns[before]
+    lo, hi = arm.limits[:, 0], arm.limits[:, 1]
+    both = np.vstack([joints, arrive])
+    margin = float(np.min(np.minimum(both - lo, hi - both)))
+    return Reach(joints, arrive, np.flatnonzero(state != before), margin, float(np.min(wrist_angle(both))))
+
+
+def _refusal(arm: Arm, cell: RobotCell, unwrapped: np.ndarray, row: int, where: Callable[[int], str],
+             alive: list[tuple[int, np.ndarray]]) -> ExportError:
+    """Why none of the states alive before the row (alive: (branch, turns)) reaches it: the one nearest
+    its joint limits (the joint, its value and the limit), else the wrist's singularity, else a flip;
+    where the pose has no solution at all, it is out of reach."""
+    lo, hi = arm.limits[:, 0], arm.limits[:, 1]
+    names = arm.joint_names
+    found: dict[str, tuple[float, str]] = {}
+    for b, turns in alive:
+        q = unwrapped[row, b] + turns if unwrapped.shape[0] else np.full(6, np.nan)
+        if np.isnan(q).any():
+            continue
+        excess = np.maximum(lo - q, q - hi)
+        wrist = float(wrist_angle(q))
+        if excess.max() > 0.0:
+            j = int(np.argmax(excess))
+            bound = lo[j] if q[j] < lo[j] else hi[j]
+            found.setdefault("limit", (np.inf, ""))
+            if excess[j] < found["limit"][0]:
+                found["limit"] = (float(excess[j]), f"joint {names[j]} at {q[j]:.2f} deg, beyond its limit {bound:g} deg")
+        elif wrist < cell.singularity_margin:
+            found["wrist"] = (0.0, f"joint {names[WRIST]} at {q[WRIST]:.2f} deg, within {cell.singularity_margin:g} deg "
+                                   f"of the wrist singularity (machine.robot.singularity_margin)")
+        elif row:
+            jumps = np.abs(q - (unwrapped[row - 1, b] + turns))
+            j = int(np.nanargmax(jumps))
+            found["jump"] = (0.0, f"joint {names[j]} jumps {jumps[j]:.2f} deg from the pose before, more than "
+                                  f"{cell.max_joint_step:g} deg (machine.robot.max_joint_step)")
+    what = next((found[k][1] for k in ("limit", "wrist", "jump") if k in found),
+                f"the pose has no solution, beyond the arm's reach (joint {names[2]}, the elbow, would have to stretch "
+                "past straight)")
+    return ExportError(f"{where(row)}, program row {row}: the {arm.name} cannot reach the pose: {what}; move the ring "
+                       f"(machine.robot.positioner.origin), the arm's base or the mandrel's mount (machine.robot.tool)")

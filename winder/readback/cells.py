@@ -1,34 +1,50 @@
-"""Reading a robot cell's program back (KRL .src + .dat, RAPID .mod, URScript .script): each
-language's own small reader to the station frames S(t*), the ring's axes and each move's time, then
-the cell's forward kinematics (winder.machine.cell.eye_of) to the eye in the mandrel frame, at every
-programmed pose and halfway along every move (the pose interpolated as the controller does: the
-position linearly, the rotation by slerp, the external axes linearly). No parser of these languages
-exists on the registries; these read what winder writes, and refuse what is not that, naming the line.
+"""Reading a robot cell's program back (KRL .src + .dat, RAPID .mod, URScript .script), as strictly as
+the G-code reader: each language's reader (winder.readback.krl, rapid, urscript) understands every line
+or refuses it naming it; this module holds what they share and checks what they read against the
+config (docs/math/10-robot-cell.md 10.8):
+
+- numbers in ASCII digits only, finite, within the cell's size; times finite, positive, at most
+  MAX_MOVE_S; the pass comments' numbers of at most 9 digits;
+- the frames the program sets (KRL's $TOOL and $BASE, RAPID's tool and work object, URScript's TCP)
+  equal to machine.robot's tool and ring within FRAME_TOL;
+- the arm follows: the start joints within the limits and their flange (forward kinematics) on the
+  first pose within the chord tolerance; then every pose reached by the inverse solution nearest the
+  last joints (whole turns included), within the limits (JOINT_TOL), away from the wrist singularity,
+  no joint stepping more than max_joint_step (another configuration is a jump, refused); a joint move
+  within the program (a bridge) lands on the pose it starts from.
+
+The eye in the mandrel frame then follows from the ring's axes (winder.machine.cell_frames.eye_of), at
+every programmed pose and halfway along every move (the controller's interpolation: position
+linearly, rotation by slerp, external axes linearly, URScript's ring on its own schedule).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import re
-from collections.abc import Iterator
+from collections.abc import Callable
 
 import numpy as np
 
+from winder.config.arms import ARMS
 from winder.config.controllers import read_pattern
 from winder.config.machine import MachineConfig
+from winder.config.robot import MAX_CELL_SIZE, Pose
 from winder.errors import ConfigError
-from winder.readback.parsed import ParsedProgram
+from winder.machine.arm_ik import fk, ik
+from winder.machine.bridges import swap_time
+from winder.machine.cell_frames import eye_of, mandrel_in_base
+from winder.machine.reach import wrist_angle
 from winder.readback.program_file import CELL_LINES
-from winder.machine.cell import eye_of, mandrel_in_base
 
-_PASS = re.compile(r"^\s*(?:;|!|#)\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$")
+NUMBER = r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]{1,3})?"  # ASCII digits only
+_PASS = re.compile(r"^\s*(?:;|!|#)\s*layer\s+([0-9]{1,9})\s+circuit\s+([0-9]{1,9})\s+pass\s+([0-9]{1,9})\s+([a-z]+)\s*$")
+_PASS_LIKE = re.compile(r"^\s*(?:;|!|#)\s*layer\s+\S+\s+circuit\b")
 _JOB = re.compile(r"^\s*(?:;|!|#)\s*job:\s*(.*)$")
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-_E6POS = re.compile(r"^\s*DECL\s+E6POS\s+(\w+)\s*=\s*\{(.*)\}\s*$", re.I)
-_ROBTARGET = re.compile(r"^\s*CONST\s+robtarget\s+(\w+)\s*:=\s*\[\[(.*)\]\]\s*;\s*$")
-_MOVEL = re.compile(rf"^\s*MoveL\s+(\w+)\s*,\s*\w+\s*\\T:=({_NUMBER})\s*,\s*\w+\s*,\s*\w+\s*\\WObj:=\w+\s*;\s*$")
-_RING = re.compile(rf"^\s*ring\(({_NUMBER}),\s*({_NUMBER}),\s*({_NUMBER}),\s*({_NUMBER})\)\s*$")
-_URMOVE = re.compile(rf"^\s*movel\(p\[([^\]]*)\],\s*a=({_NUMBER}),\s*v=({_NUMBER}),\s*t=({_NUMBER}),\s*r=({_NUMBER})\)\s*$")
-QUATERNION_TOL = 1e-6  # |q| - 1 of a written quaternion
+FRAME_TOL = 1e-3  # mm and deg: a frame as written (3 decimals) against the config's
+JOINT_TOL = 0.01  # deg: a joint read back from rounded poses may pass its limit by this much
+MAX_MOVE_S = 3600.0  # s: no move of a winding program takes an hour
+MAX_ANGLE = 1.0e7  # deg: a ring's cumulative turn (27,000 rounds)
 
 
 def detect_cell(text: str) -> str | None:
@@ -37,202 +53,194 @@ def detect_cell(text: str) -> str | None:
     return next((name for name, line in CELL_LINES if line.search(text)), None)
 
 
-def _rz_ry_rx(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-    from scipy.spatial.transform import Rotation  # noqa: PLC0415 - slow to import
-
-    return Rotation.from_euler("ZYX", np.column_stack([a, b, c]), degrees=True).as_matrix()
-
-
-def _frames(xyz: np.ndarray, rot: np.ndarray) -> np.ndarray:
-    out = np.zeros((xyz.shape[0], 4, 4))
-    out[:, :3, :3], out[:, :3, 3], out[:, 3, 3] = rot, xyz, 1.0
-    return out
+def number(text: str, source: str, line: int, what: str, low: float = -MAX_CELL_SIZE, high: float = MAX_CELL_SIZE) -> float:
+    """A number of the program: ASCII digits, finite, within [low, high]; ConfigError naming the line."""
+    if not re.fullmatch(NUMBER, text.strip()):
+        raise ConfigError(f"{source}: line {line}: {what} must be a number in ASCII digits, got {text.strip()[:40]!r}")
+    value = float(text)
+    if not low <= value <= high:
+        raise ConfigError(f"{source}: line {line}: {what} must be within [{low:g}, {high:g}], got {text.strip()[:40]}")
+    return value
 
 
-class _Rows:
-    """The rows a reader collects: (frame fields, external axes, time, pass key, kind, line)."""
+def seconds(text: str, source: str, line: int, what: str, least: float = 0.0) -> float:
+    """A time or a speed: finite, positive and at least `least`, at most MAX_MOVE_S."""
+    value = number(text, source, line, what, -MAX_MOVE_S, MAX_MOVE_S)
+    if value <= 0.0 or value < least:
+        bound = f"at least {least:g}" if least > 0.0 else "positive"
+        raise ConfigError(f"{source}: line {line}: {what} must be {bound}, got {text.strip()[:40]}")
+    return value
 
-    def __init__(self, source: str, machine: MachineConfig | None = None) -> None:
-        self.source = source
-        controller = machine.controller if machine is not None else None
-        tension = controller.tension if controller is not None else None
-        self._tension = read_pattern(tension) if tension else None
-        self._controller, self.tension, self.tensions = controller, np.nan, []
-        self.key, self.kind, self.job = (0, 0, 0), "", None
-        self.keys: list[tuple[int, int, int]] = []
-        self.kinds: list[str] = []
-        self.lines: list[int] = []
-        self.times: list[float] = []
 
-    def comment(self, line: str) -> bool:
-        """Whether the line is a comment or the tension command (read as they pass)."""
-        set_to = self._tension.match(line) if self._tension is not None else None
+def numbers(body: str, source: str, line: int, what: str, count: int) -> list[float]:
+    """count comma-separated numbers."""
+    parts = body.split(",")
+    if len(parts) != count:
+        raise ConfigError(f"{source}: line {line}: {what} has {count} numbers, got {len(parts)}")
+    return [number(p, source, line, what, -MAX_ANGLE, MAX_ANGLE) for p in parts]
+
+
+def same_frame(pose: Pose, got: np.ndarray, source: str, line: int, what: str, key: str) -> None:
+    """ConfigError unless the frame got (4, 4) is the config's pose within FRAME_TOL (mm; rad as deg)."""
+    want = pose.matrix()
+    off = float(np.linalg.norm(want[:3, 3] - got[:3, 3]))
+    turn = float(np.degrees(np.arccos(np.clip((np.trace(want[:3, :3].T @ got[:3, :3]) - 1.0) / 2.0, -1.0, 1.0))))
+    if off > FRAME_TOL or turn > FRAME_TOL:
+        raise ConfigError(f"{source}: line {line}: {what} is {off:.3f} mm and {turn:.3f} deg off {key} of the config: "
+                          f"the program was written for another cell")
+
+
+@dataclasses.dataclass
+class Rows:
+    """What a reader collects, row by row: the pass key, kind, line and time of each pose, the job line."""
+
+    source: str
+    key: tuple[int, int, int] = (0, 0, 0)
+    kind: str = ""
+    job: str | None = None
+    job_line: int | None = None
+    keys: list = dataclasses.field(default_factory=list)
+    kinds: list = dataclasses.field(default_factory=list)
+    lines: list = dataclasses.field(default_factory=list)
+    times: list = dataclasses.field(default_factory=list)
+    controller: object = None  # the machine's controller description: how it sets the tension
+    tension_line: re.Pattern | None = None  # its tension command, read as the lines pass
+    tension: float = float("nan")  # N: the tension set so far (nan before the first command)
+    tensions: list = dataclasses.field(default_factory=list)
+
+    @classmethod
+    def of(cls, source: str, machine: MachineConfig) -> "Rows":
+        """The rows of a program written for `machine` (its controller's tension command read)."""
+        controller = machine.controller
+        command = controller.tension if controller is not None else None
+        return cls(source=source, controller=controller, tension_line=read_pattern(command) if command else None)
+
+    def comment(self, line: str, number_: int) -> bool:
+        """Whether the line is a comment or the tension command (read as they pass: pass and job
+        comments, the tension set)."""
+        set_to = self.tension_line.match(line) if self.tension_line is not None else None
         if set_to:
-            self.tension = self._controller.newtons(set_to.groupdict())
+            self.tension = self.controller.newtons(set_to.groupdict())
             return True
         hit = _PASS.match(line)
         if hit:
             self.key, self.kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
             return True
+        if _PASS_LIKE.match(line):
+            raise ConfigError(f"{self.source}: line {number_}: a pass comment must read 'layer L circuit C pass P kind' "
+                              f"with numbers of at most 9 digits, got {line.strip()[:60]!r}")
         hit = _JOB.match(line)
         if hit and self.job is None:
-            self.job = hit[1].strip()
+            self.job, self.job_line = hit[1].strip(), number_
         return line.lstrip()[:1] in (";", "!", "#")
 
-    def code_lines(self, text: str, last: str, unended: str) -> Iterator[tuple[int, str, str]]:
-        """(line number, stripped line, raw line) of each line that is neither blank nor a comment
-        (comments read as they pass); ConfigError `unended` when the text's last line is not `last`."""
-        lines = text.splitlines()
-        if not (lines and lines[-1].strip() == last):
-            raise ConfigError(f"{self.source}: {unended}: cut short?")
-        for number, raw in enumerate(lines, start=1):
-            line = raw.strip()
-            if line and not self.comment(line):
-                yield number, line, raw
-
-    def add(self, number: int, seconds: float, raw: str) -> None:
+    def add(self, number_: int, secs: float, raw: str) -> None:
         if self.key == (0, 0, 0):
-            raise ConfigError(f"{self.source}: line {number}: a move before any 'layer L circuit C pass P kind' comment, "
+            raise ConfigError(f"{self.source}: line {number_}: a move before any 'layer L circuit C pass P kind' comment, "
                               f"got {raw.strip()[:60]!r}")
         self.keys.append(self.key)
         self.kinds.append(self.kind)
-        self.lines.append(number)
-        self.times.append(seconds)
+        self.lines.append(number_)
+        self.times.append(secs)
         self.tensions.append(self.tension)
 
 
-def _fields(body: str, number: int, source: str) -> dict[str, float]:
-    out = {}
-    for part in body.split(","):
-        words = part.split()
-        if len(words) != 2:
-            raise ConfigError(f"{source}: line {number}: unreadable E6POS component {part.strip()!r}")
-        try:
-            out[words[0].upper()] = float(words[1])
-        except ValueError as exc:
-            raise ConfigError(f"{source}: line {number}: unreadable number in {part.strip()!r}") from exc
+@dataclasses.dataclass(frozen=True)
+class CellRead:
+    """A cell program as read: its rows, the ring's frames in the mandrel frame (m, 4, 4), the ring's
+    axes (m, 3), the start joints (6,) and their line, the bridges (row -> (joints, line)), the eye
+    halfway along each move where the language times the ring itself (m, 3), else None, and a check
+    of its own to run once the arm is known to follow (None: none)."""
+
+    rows: Rows
+    frames: np.ndarray
+    external: np.ndarray
+    start: np.ndarray
+    start_line: int
+    bridges: dict
+    mids: np.ndarray | None = None
+    then: Callable[[], None] | None = None
+
+
+def _pick(solutions: np.ndarray, last: np.ndarray) -> np.ndarray:
+    """The solution (6,) of solutions (8, 6) nearest the joints last (6,), each joint by whole turns."""
+    shifted = solutions + 360.0 * np.round((last - solutions) / 360.0)
+    step = np.max(np.abs(shifted - last), axis=1)
+    step = np.where(np.isnan(step), np.inf, step)
+    return shifted[int(np.argmin(step))]
+
+
+def follow(machine: MachineConfig, read: CellRead, source: str) -> np.ndarray:
+    """The joints (m, 6) the arm takes through the program (module docstring); ConfigError naming the
+    line where it cannot."""
+    cell = machine.cell
+    arm = ARMS[cell.arm]
+    lo, hi = arm.limits[:, 0] - JOINT_TOL, arm.limits[:, 1] + JOINT_TOL
+    flange = mandrel_in_base(cell, read.frames) @ np.linalg.inv(cell.tool.matrix())
+    solutions = ik(arm, flange)
+    names = arm.joint_names
+    q = np.asarray(read.start, dtype=float)
+    lines = read.rows.lines
+
+    def refuse(line: int, what: str) -> ConfigError:
+        return ConfigError(f"{source}: line {line}: the {arm.name} cannot follow: {what}")
+
+    def land(joints: np.ndarray, row: int, line: int, what: str) -> None:
+        bad = np.flatnonzero((joints < lo) | (joints > hi))
+        if bad.size:
+            j = int(bad[0])
+            raise refuse(line, f"{what} joint {names[j]} at {joints[j]:.3f} deg is beyond its limits "
+                               f"[{arm.limits[j, 0]:g}, {arm.limits[j, 1]:g}] deg")
+        off = float(np.linalg.norm(fk(arm, joints)[:3, 3] - flange[row, :3, 3]))
+        if off > machine.chord_tolerance:
+            raise refuse(line, f"{what} joints put the flange {off:.3f} mm from the pose of line {lines[row]}")
+
+    land(q, 0, read.start_line, "the start")
+    out = np.empty((flange.shape[0], 6))
+    for row in range(flange.shape[0]):
+        if np.isnan(solutions[row]).any(axis=1).all():
+            raise refuse(lines[row], "the pose is beyond the arm's reach (no inverse kinematics solution)")
+        nxt = _pick(solutions[row], q)
+        step = np.abs(nxt - q)
+        if row and step.max() > cell.max_joint_step:
+            j = int(np.argmax(step))
+            raise refuse(lines[row], f"joint {names[j]} jumps {step[j]:.2f} deg from the pose before (another "
+                                     f"configuration), more than {cell.max_joint_step:g} deg")
+        bad = np.flatnonzero((nxt < lo) | (nxt > hi))
+        if bad.size:
+            j = int(bad[0])
+            raise refuse(lines[row], f"joint {names[j]} at {nxt[j]:.3f} deg is beyond its limits "
+                                     f"[{arm.limits[j, 0]:g}, {arm.limits[j, 1]:g}] deg")
+        if wrist_angle(nxt) < cell.singularity_margin - JOINT_TOL:
+            raise refuse(lines[row], f"joint {names[4]} at {nxt[4]:.3f} deg is within {cell.singularity_margin:g} deg "
+                                     f"of the wrist singularity")
+        q = out[row] = nxt
+        if row in read.bridges:
+            joints, line = read.bridges[row]
+            land(joints, row, line, "the bridge's")
+            q = joints
     return out
 
 
-def _krl(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
-    src, _, dat = text.partition("&ACCESS RVP\n&REL 1\nDEFDAT") if "DEFDAT" in text else (text, "", "")
-    if not dat:
-        raise ConfigError(f"{source}: a KRL program needs its .dat (DEFDAT ... ENDDAT) beside the .src")
-    points: dict[str, dict[str, float]] = {}
-    dat_lines = ("DEFDAT" + dat).splitlines()
-    if not dat_lines[-1].strip().upper() == "ENDDAT":
-        raise ConfigError(f"{source}: the .dat does not end with ENDDAT: cut short?")
-    for k, line in enumerate(dat_lines, start=1):
-        hit = _E6POS.match(line)
-        if hit:
-            points[hit[1].upper()] = _fields(hit[2], k, source)
-    rows = _Rows(source, machine)
-    names: list[str] = []
-    speed, share, mode = np.nan, 100.0, "cp"
-    code = [(n, raw) for n, raw in enumerate(src.splitlines(), start=1)]
-    ended = False
-    top_e1 = machine.dynamics.rotation.speed / 60.0
-    for number, raw in code:
-        line = raw.strip()
-        if not line or rows.comment(line):
-            continue
-        if ended:
-            raise ConfigError(f"{source}: line {number}: code after END, got {line[:60]!r}")
-        upper = line.split(";")[0].strip()
-        if upper.upper() == "END":
-            ended = True
-        elif upper.startswith("$VEL.CP"):
-            speed, mode = float(upper.split("=")[1]), "cp"
-        elif upper.startswith("$VEL_EXTAX[1]"):
-            share = float(upper.split("=")[1])
-            mode = "ext" if share < 100.0 else mode
-        elif upper.upper().startswith("LIN "):
-            name = upper.split()[1].upper()
-            if name not in points:
-                raise ConfigError(f"{source}: line {number}: {name} is not declared in the .dat")
-            p = points[name]
-            if names:
-                q = points[names[-1]]
-                if mode == "cp":
-                    dist = np.sqrt((p["X"] - q["X"]) ** 2 + (p["Y"] - q["Y"]) ** 2 + (p["Z"] - q["Z"]) ** 2)
-                    seconds = dist / (speed * 1000.0)
-                else:
-                    seconds = abs(p["E1"] - q["E1"]) / (share / 100.0 * top_e1)
-            else:
-                seconds = 0.0
-            rows.add(number, seconds, raw)
-            names.append(name)
-    if not ended:
-        raise ConfigError(f"{source}: the .src stops without END: cut short?")
-    table = np.array([[points[n][k] for k in ("X", "Y", "Z", "A", "B", "C", "E1", "E2", "E3")] for n in names])
-    table = table.reshape(-1, 9)
-    frames = _frames(table[:, :3], _rz_ry_rx(table[:, 3], table[:, 4], table[:, 5]))
-    return rows, frames, table[:, 6:9]
+def bridge_times(machine: MachineConfig, read: CellRead, joints: np.ndarray) -> np.ndarray:
+    """(m,) each row's bridge's joint-move time (0 where none)."""
+    arm = ARMS[machine.cell.arm]
+    out = np.zeros(joints.shape[0])
+    for row, (after, _) in read.bridges.items():
+        out[row] = swap_time(arm, joints[row], after)
+    return out
 
 
-def _rapid(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
-    from scipy.spatial.transform import Rotation  # noqa: PLC0415
-
-    targets: dict[str, list[float]] = {}
-    rows = _Rows(source, machine)
-    names: list[str] = []
-    for number, line, raw in rows.code_lines(text, "ENDMODULE", "the module does not end with ENDMODULE"):
-        hit = _ROBTARGET.match(line)
-        if hit:
-            parts = [p for p in re.split(r"\]\s*,\s*\[", hit[2])]
-            try:
-                values = [float(v) for part in (parts[0], parts[1], parts[3]) for v in part.split(",")[:4]]
-            except (ValueError, IndexError) as exc:
-                raise ConfigError(f"{source}: line {number}: unreadable robtarget {line[:60]!r}") from exc
-            norm = np.linalg.norm(values[3:7])
-            if abs(norm - 1.0) > QUATERNION_TOL:
-                raise ConfigError(f"{source}: line {number}: the orientation must be a unit quaternion, got norm {norm:.9f}")
-            targets[hit[1]] = values[:10]
-            continue
-        hit = _MOVEL.match(line)
-        if hit:
-            if hit[1] not in targets:
-                raise ConfigError(f"{source}: line {number}: {hit[1]} is not declared before its move")
-            rows.add(number, float(hit[2]) if names else 0.0, raw)
-            names.append(hit[1])
-    table = np.array([targets[n] for n in names]).reshape(-1, 10)
-    w, xyz_q = table[:, 3], table[:, 4:7]
-    rot = Rotation.from_quat(np.column_stack([xyz_q, w])).as_matrix() if table.shape[0] else np.zeros((0, 3, 3))
-    return rows, _frames(table[:, :3], rot), table[:, 7:10]
+def frames_of(xyz: np.ndarray, rot: np.ndarray) -> np.ndarray:
+    out = np.zeros((xyz.shape[0], 4, 4))
+    out[:, :3, :3], out[:, :3, 3], out[:, 3, 3] = rot, xyz, 1.0
+    return out
 
 
-def _urscript(text: str, machine: MachineConfig, source: str) -> tuple[_Rows, np.ndarray, np.ndarray]:
-    from scipy.spatial.transform import Rotation  # noqa: PLC0415
-
-    rows = _Rows(source, machine)
-    poses, ring = [], None
-    external = []
-    for number, line, raw in rows.code_lines(text, "end", "the script does not end with its function's end"):
-        hit = _RING.match(line)
-        if hit:
-            ring = [float(hit[1]), float(hit[2]), float(hit[3])]
-            continue
-        hit = _URMOVE.match(line)
-        if hit:
-            if ring is None:
-                raise ConfigError(f"{source}: line {number}: a movel without the ring's targets before it")
-            pose = [float(v) for v in hit[1].split(",")]
-            if len(pose) != 6:
-                raise ConfigError(f"{source}: line {number}: a pose has 6 numbers, got {len(pose)}")
-            rows.add(number, float(hit[4]) if poses else 0.0, raw)
-            poses.append(pose)
-            external.append(ring)
-    table = np.array(poses, dtype=float).reshape(-1, 6)
-    mandrel = _frames(1000.0 * table[:, :3], Rotation.from_rotvec(table[:, 3:]).as_matrix()
-                      if table.shape[0] else np.zeros((0, 3, 3)))
-    # The ring's frame in the mandrel frame: mandrel_in_base of the identity station is the ring in the base.
-    ring_in_base = mandrel_in_base(machine.cell, np.eye(4)[None])[0]
-    frames = np.linalg.inv(mandrel) @ ring_in_base
-    return rows, frames, np.array(external, dtype=float).reshape(-1, 3)
-
-
-def _midpoints(frames: np.ndarray, external: np.ndarray) -> np.ndarray:
-    """The eye halfway along the move to each row (m, 3) (row 0: the row itself)."""
+def midpoints(frames: np.ndarray, external: np.ndarray, halfway: np.ndarray | None = None) -> np.ndarray:
+    """The eye halfway along the move to each row (m, 3) (row 0: the row itself): the pose halfway
+    (position linearly, rotation by slerp) with the ring's axes halfway (halfway (m, 3) where the ring
+    keeps a schedule of its own, else the mean of the two rows')."""
     from scipy.spatial.transform import Rotation  # noqa: PLC0415
 
     if frames.shape[0] < 2:
@@ -240,28 +248,6 @@ def _midpoints(frames: np.ndarray, external: np.ndarray) -> np.ndarray:
     r0 = Rotation.from_matrix(frames[:-1, :3, :3])
     r1 = Rotation.from_matrix(frames[1:, :3, :3])
     half = r0 * Rotation.from_rotvec(0.5 * (r0.inv() * r1).as_rotvec())
-    mid = _frames(0.5 * (frames[:-1, :3, 3] + frames[1:, :3, 3]), half.as_matrix())
-    eyes = eye_of(mid, 0.5 * (external[:-1] + external[1:]))
+    mid = frames_of(0.5 * (frames[:-1, :3, 3] + frames[1:, :3, 3]), half.as_matrix())
+    eyes = eye_of(mid, 0.5 * (external[:-1] + external[1:]) if halfway is None else halfway[1:])
     return np.vstack([eye_of(frames[:1], external[:1]), eyes])
-
-
-def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str):
-    """The ParsedProgram (winder.readback.gcode) of a robot cell's program."""
-
-    if machine.cell is None:
-        raise ConfigError(f"{source}: a {dialect} program needs the robot cell it was written for: the config's "
-                          f"machine.robot must be a mapping with an arm")
-    if dialect == "krl":
-        rows, frames, external = _krl(text, machine, source)
-    elif dialect == "rapid":
-        rows, frames, external = _rapid(text, machine, source)
-    else:
-        rows, frames, external = _urscript(text, machine, source)
-    if not rows.keys:
-        raise ConfigError(f"{source}: the program has no moves")
-    eye = eye_of(frames, external)
-    values = np.column_stack([eye, np.zeros_like(eye)])
-    return ParsedProgram(dialect, values, np.array(rows.keys, dtype=int).reshape(-1, 3), tuple(rows.kinds),
-                         np.full(len(rows.keys), np.nan), np.array(rows.lines, dtype=int), rows.job,
-                         mids=_midpoints(frames, external), move_s=np.array(rows.times),
-                         tension=np.array(rows.tensions, dtype=float))

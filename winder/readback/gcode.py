@@ -78,7 +78,8 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
     written for `machine`, its dialect detected from the text; refused past max_moves moves, as soon
     as the line past them is read (or at once when the text has more than twice as many lines: a
     winder program has a comment line per pass, not per move). Memory: the rows read, in numpy blocks."""
-    from winder.readback.cells import detect_cell, parse_cell  # noqa: PLC0415
+    from winder.readback.cell_programs import parse_cell  # noqa: PLC0415
+    from winder.readback.cells import detect_cell  # noqa: PLC0415
 
     if isinstance(text, ProgramFile):
         cell, dialect, lines_in_text = text.survey(2 * max_moves + 10_000)

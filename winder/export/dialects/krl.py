@@ -15,14 +15,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.export.dialects.robot_text import (ANGLE_DECIMALS, POSITION_DECIMALS, abc_deg, cell_of, cell_start,
-                                               header, numbered_rows)
+from winder.export.dialects.robot_text import (ANGLE_DECIMALS, BRIDGE_NOTE, JOINT_DECIMALS, POSITION_DECIMALS, abc_deg,
+                                               bridges_after, cell_of, cell_start, header, numbered_rows)
 from winder.export.dialects.text import fmt, fmt_significant
+from winder.machine.configuration import kuka_status_turn
 from winder.machine.program import MotionProgram
 
-NAME_LENGTH = 24  # KRL identifiers
 TOOL_STILL_MM = 1e-3  # a move whose ring centre travels less is timed by E1's speed
-KR16_ELBOW_DEG = -2.99  # A3 at which the KR 16's wrist centre lines up with A2-A3 (S bit 1), atan(35 / 670)
 
 
 def _frame_text(pose) -> str:
@@ -31,45 +30,40 @@ def _frame_text(pose) -> str:
 
 
 def status_turn(program: MotionProgram) -> tuple[np.ndarray, np.ndarray]:
-    """KUKA's S and T of every row: S bit 0 the wrist centre behind A1 (overhead), bit 1 A3 >= the
-    stretched angle, bit 2 A5 <= 0; T bit i: joint i + 1 negative."""
+    """KUKA's S and T of every row, in the configuration the row is reached in
+    (winder.machine.configuration)."""
     cell = cell_of(program)
-    q = cell.reach.joints
-    wrist = cell.flange[:, :3, 3] - abs(cell.arm.dh[5, 0]) * cell.flange[:, :3, 2]
-    a1 = np.radians(-q[:, 0])  # A1 turns about -z
-    ahead = wrist[:, 0] * np.cos(a1) + wrist[:, 1] * np.sin(a1)
-    s = (ahead < 0.0).astype(int) + 2 * (q[:, 2] >= KR16_ELBOW_DEG).astype(int) + 4 * (q[:, 4] <= 0.0).astype(int)
-    t = np.sum((q < 0.0).astype(int) * (1 << np.arange(6)), axis=1)
-    return s, t
+    return kuka_status_turn(cell.arm, cell.reach.arrive, cell.flange)
+
+
+def _axes(q: np.ndarray, ext: np.ndarray) -> str:
+    """An E6AXIS aggregate: the joints (deg) and the external axes."""
+    return "{" + ",".join(f"A{i + 1} {fmt(q[i], JOINT_DECIMALS)}" for i in range(6)) + "," + ",".join(
+        f"E{i + 1} {fmt(ext[i])}" for i in range(3)) + "}"
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .src and .dat texts of the program."""
-    cell, name, xyz, ext, time = cell_start(program, "KRL", NAME_LENGTH)
+    cell, name, xyz, ext, time = cell_start(program, "KRL")
     c = cell.cell
     abc = abc_deg(cell.frames[:, :3, :3])
     s, t = status_turn(program)
-    turns = cell.arm.maker == "KUKA"  # S and T are a KUKA arm's; LIN itself ignores them
+    bridges = bridges_after(program)
     top_e1 = program.machine.dynamics.rotation.speed / 60.0  # deg/s
     src = ["&ACCESS RVP", "&REL 1", f"DEF {name}( )"] + header(program, ";")
-    if cell.arm.maker != "KUKA":
-        src.append("; the cell's arm is not a KUKA: the poses are the cell's, without S and T (a KUKA arm in its "
-                   "place chooses its own configuration)")
     src += [";FOLD INI", "  BAS(#INITMOV, 0)", ";ENDFOLD",
             f"$TOOL = {_frame_text(c.tool)}  ; the mandrel frame on the flange",
             f"$BASE = {_frame_text(c.ring)}  ; the winding ring, a fixed external TCP",
             "$IPO_MODE = #TCP", f"$APO.CDIS = {fmt(program.machine.chord_tolerance)}",
             "$VEL_EXTAX[1] = 100", "$VEL_EXTAX[2] = 100", "$VEL_EXTAX[3] = 100"]
-    q0 = cell.reach.joints[0]
-    src.append("PTP {" + ",".join(f"A{i + 1} {fmt(q0[i])}" for i in range(6)) + ","
-               + ",".join(f"E{i + 1} {fmt(ext[0, i])}" for i in range(3)) + "}  ; the first pose, joint by joint")
+    src.append(f"PTP {_axes(cell.reach.joints[0], ext[0])}  ; the first pose, joint by joint")
     dat = ["&ACCESS RVP", "&REL 1", f"DEFDAT {name} PUBLIC"]
     slow, prev = False, 0
     for n, row in numbered_rows(program, src, ";"):
         dat.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
                    f"Z {fmt(xyz[row, 2], POSITION_DECIMALS)},A {fmt(abc[row, 0], ANGLE_DECIMALS)},"
                    f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},"
-                   + (f"S {s[row]},T {t[row]}," if turns else "")
+                   + f"S {s[row]},T {t[row]},"
                    + f"E1 {fmt(ext[row, 0], ANGLE_DECIMALS)},E2 {fmt(ext[row, 1], ANGLE_DECIMALS)},"
                    + f"E3 {fmt(ext[row, 2], POSITION_DECIMALS)},E4 0.0,E5 0.0,E6 0.0}}")
         if n > 1:
@@ -82,7 +76,10 @@ def serialize(program: MotionProgram) -> dict[str, str]:
                 share = 100.0 * abs(ext[row, 0] - ext[prev, 0]) / time[row] / top_e1
                 src.append(f"$VEL_EXTAX[1] = {fmt_significant(min(max(share, 1e-3), 100.0))}")
                 slow = True
-        src.append(f"LIN P{n} C_DIS")
+        if row in bridges:  # the arm stops at the point, then changes configuration
+            src += [f"LIN P{n}", f"; {BRIDGE_NOTE}", f"PTP {_axes(bridges[row].after, ext[row])}"]
+        else:
+            src.append(f"LIN P{n} C_DIS")
         prev = row
     src.append("END")
     dat.append("ENDDAT")

@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.export.dialects.robot_text import (ANGLE_DECIMALS, POSITION_DECIMALS, TIME_DECIMALS, cell_of,
-                                               cell_start, header, numbered_rows, quaternions)
+from winder.export.dialects.robot_text import (ANGLE_DECIMALS, BRIDGE_NOTE, JOINT_DECIMALS, POSITION_DECIMALS,
+                                               TIME_DECIMALS,
+                                               bridges_after, cell_of, cell_start, header, numbered_rows, quaternions)
 from winder.export.dialects.text import fmt
+from winder.machine.configuration import abb_confdata
 from winder.machine.program import MotionProgram
 
-NAME_LENGTH = 32  # RAPID identifiers
 QUATERNION_DECIMALS = 9  # a unit quaternion as written stays unit within 1e-8
 NOT_USED = "9E9"  # RAPID's value of an external axis that is not there
 
@@ -30,36 +31,28 @@ def _frame(pose) -> str:
 
 
 def configuration(program: MotionProgram) -> np.ndarray:
-    """(m, 4) ints: cf1, cf4, cf6, cfx of every row (module docstring)."""
+    """(m, 4) ints: cf1, cf4, cf6, cfx of every row, in the configuration the row is reached in
+    (winder.machine.configuration)."""
     cell = cell_of(program)
-    q = cell.reach.joints
-    arm = cell.arm
-    wrist = cell.flange[:, :3, 3] - arm.dh[5, 0] * cell.flange[:, :3, 2]
-    a1 = np.radians(q[:, 0])
-    ahead = wrist[:, 0] * np.cos(a1) + wrist[:, 1] * np.sin(a1) - arm.dh[0, 1]
-    up = wrist[:, 2] - arm.dh[0, 0]
-    lower = np.radians(q[:, 1])  # the lower arm leans forward by axis 2 from the vertical
-    behind_lower = (ahead * np.cos(lower) - up * np.sin(lower)) < 0.0
-    cfx = 4 * (ahead + arm.dh[0, 1] < 0.0) + 2 * behind_lower + (q[:, 4] < 0.0)
-    quadrant = np.floor(q[:, [0, 3, 5]] / 90.0).astype(int)
-    return np.column_stack([quadrant, cfx.astype(int)])
+    return abb_confdata(cell.arm, cell.reach.arrive, cell.flange)
+
+
+def _jointtarget(name: str, q: np.ndarray, ext: np.ndarray) -> str:
+    return (f"  CONST jointtarget {name} := [[" + ",".join(fmt(v, JOINT_DECIMALS) for v in q) + "],["
+            + ",".join(fmt(v) for v in ext) + f",{NOT_USED},{NOT_USED},{NOT_USED}]];")
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
     """The .mod text of the program."""
-    cell, name, xyz, ext, time = cell_start(program, "RAPID", NAME_LENGTH)
+    cell, name, xyz, ext, time = cell_start(program, "RAPID")
     c = cell.cell
     quat = quaternions(cell.frames[:, :3, :3])
     conf = configuration(program)
+    bridges = bridges_after(program)
     lines = [f"MODULE {name}"] + header(program, "  !")
-    if cell.arm.maker != "ABB":  # robconf is an ABB arm's; ConfL \Off lets an ABB arm in its place choose
-        conf = np.zeros_like(conf)
-        lines.append("  ! the cell's arm is not an ABB: the poses are the cell's, robconf left [0,0,0,0]")
     lines += [f"  PERS tooldata tRing := [FALSE,{_frame(c.ring)},[1,[0,0,1],[1,0,0,0],0,0,0]];",
               f"  PERS wobjdata wMandrel := [TRUE,TRUE,\"\",{_frame(c.tool)},[[0,0,0],[1,0,0,0]]];"]
-    q0 = cell.reach.joints[0]
-    lines.append("  CONST jointtarget jStart := [[" + ",".join(fmt(v) for v in q0) + "],["
-                 + ",".join(fmt(v) for v in ext[0]) + f",{NOT_USED},{NOT_USED},{NOT_USED}]];")
+    lines.append(_jointtarget("jStart", cell.reach.joints[0], ext[0]))
     targets, moves = [], []
     for n, row in numbered_rows(program, moves, "    !"):
         targets.append(f"  CONST robtarget p{n} := [[{fmt(xyz[row, 0], POSITION_DECIMALS)},"
@@ -69,7 +62,12 @@ def serialize(program: MotionProgram) -> dict[str, str]:
                        f"{fmt(ext[row, 1], ANGLE_DECIMALS)},{fmt(ext[row, 2], POSITION_DECIMALS)},"
                        f"{NOT_USED},{NOT_USED},{NOT_USED}]];")
         seconds = max(float(time[row]), 10.0 ** -TIME_DECIMALS) if n > 1 else 10.0 ** -TIME_DECIMALS
-        moves.append(f"    MoveL p{n}, v1000 \\T:={fmt(seconds, TIME_DECIMALS)}, z0, tRing \\WObj:=wMandrel;")
+        zone = "fine" if row in bridges else "z0"  # the arm stops where it changes configuration
+        moves.append(f"    MoveL p{n}, v1000 \\T:={fmt(seconds, TIME_DECIMALS)}, {zone}, tRing \\WObj:=wMandrel;")
+        if row in bridges:
+            targets.append(_jointtarget(f"jBridge{n}", bridges[row].after, ext[row]))
+            moves += [f"    ! {BRIDGE_NOTE}", f"    MoveAbsJ jBridge{n}, v1000 \\T:={fmt(bridges[row].time_s, TIME_DECIMALS)}, "
+                      "fine, tRing \\WObj:=wMandrel;"]
     lines += targets
     lines += ["  PROC main()", "    ConfL \\Off;",
               "    MoveAbsJ jStart, v100, fine, tRing \\WObj:=wMandrel;"] + moves + ["  ENDPROC", "ENDMODULE"]

@@ -4,11 +4,11 @@ serialize winder.machine.cell.CellMotion and compute nothing else."""
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterator
 
 import numpy as np
 
+from winder.config.robot import name_problem
 from winder.errors import ExportError
 from winder.escape import krl_comment, rapid_comment, urscript_comment
 from winder.export.dialects.text import JOB_LINE, fmt, layer_line
@@ -17,6 +17,7 @@ from winder.machine.program import MotionProgram
 POSITION_DECIMALS = 4  # mm: the station's path read back keeps the move times to 1e-4 relative
 ANGLE_DECIMALS = 4  # deg
 TIME_DECIMALS = 4  # s
+JOINT_DECIMALS = 6  # deg: a start or bridge joint as written puts the flange within 1e-4 mm of its pose
 AXIS_LABELS = ("E1 ring turn (deg, cumulative)", "E2 eye yaw on the ring (deg)", "E3 eye radius (mm)")
 
 
@@ -28,11 +29,12 @@ def cell_of(program: MotionProgram):
     return program.cell
 
 
-def checked_name(name: str, language: str, longest: int) -> str:
-    """The job's name as the language's module name, which must match the file's: refused otherwise."""
-    if not re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", name):
-        raise ExportError(f"name: {language} needs a module name of letters, digits and _, starting with a letter, "
-                          f"at most {longest} characters, the same as its file's: rename the job, got {name!r}")
+def checked_name(name: str, language: str) -> str:
+    """The job's name as the language's module name, which must match the file's: refused otherwise
+    (`check` refuses it first: winder.app.validate)."""
+    problem = name_problem(name, language.lower())
+    if problem is not None:
+        raise ExportError(f"name: {problem}, got {name!r}")
     return name
 
 
@@ -81,12 +83,32 @@ def _rows_and_tensions(program: MotionProgram) -> Iterator[tuple[str | None, int
                 told, first = True, False
 
 
-def cell_start(program: MotionProgram, language: str, longest: int):
+def cell_start(program: MotionProgram, language: str):
     """What a cell language's serializer starts from: (the cell motion, the module name, the frames'
-    positions (m, 3), the external axes (m, 3), the move times (m,))."""
+    positions (m, 3), the external axes (m, 3), the move times (m,)); ExportError when the cell's arm's
+    controller runs another language."""
     cell = cell_of(program)
-    name = checked_name(program.name, language, longest)
+    if cell.arm.language != language.lower():
+        raise ExportError(f"machine.dialect: {language} runs on a {cell.arm.maker} controller; the cell's arm is "
+                          f"{cell.arm.name} ({cell.arm.maker}), whose controller runs {cell.arm.language}")
+    name = checked_name(program.name, language)
     return cell, name, cell.frames[:, :3, 3], cell.external, cell.times.time_s
+
+
+def bridges_after(program: MotionProgram) -> dict[int, object]:
+    """The cell's bridges (winder.machine.bridges) by the written row they follow: a bridge's own row,
+    or the last row before it that rows(program) writes."""
+    cell = cell_of(program)
+    written = np.array([row for _, row in rows(program)], dtype=int)
+    out = {}
+    for bridge in cell.bridges:
+        at = int(written[max(int(np.searchsorted(written, bridge.row, side="right")) - 1, 0)])
+        out[at] = bridge
+    return out
+
+
+BRIDGE_NOTE = ("bridge: the arm changes configuration by a joint move, winding stopped: the ring holds its axes, the "
+               "eye holds the fiber (docs/math/10-robot-cell.md 10.5)")
 
 
 def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Iterator[tuple[int, int]]:
