@@ -39,14 +39,14 @@ def _pass(t: np.ndarray, theta: np.ndarray, kind: PassKind = PassKind.FORWARD) -
 
 
 def _per_pass(passes, stations):
-    return [np.concatenate(c) for c in zip(*[coverage._spline_crossings(p, stations) for p in passes])]
+    return [np.concatenate(c) for c in zip(*[coverage._spline_crossings(p, stations, p.theta) for p in passes])]
 
 
 @pytest.mark.parametrize("kind", [PassKind.FORWARD, PassKind.RETURN])
 def test_batched_crossings_are_the_pass_by_pass_ones(elliptic_layer, kind):
     passes = [p for p in elliptic_layer.passes if p.kind is kind]
     stations = elliptic_layer.coverage.stations
-    batched = coverage._spline_crossings_batched(passes, stations)
+    batched = coverage._spline_crossings_batched(passes, stations, lambda p: p.theta)
     assert batched is not None
     for got, want in zip(batched, _per_pass(passes, stations)):
         assert got.dtype == want.dtype
@@ -60,7 +60,7 @@ def test_helix_crossings_closed_form():
     back = t[::-1].copy()
     passes = [_pass(t, 0.3 + k * t), _pass(back, 1.0 + k * back, PassKind.RETURN)]
     stations = np.linspace(0.0, 100.0, 23)[1:-1]
-    idx, s, th, ds, dth = coverage._spline_crossings_batched(passes, stations)
+    idx, s, th, ds, dth = coverage._spline_crossings_batched(passes, stations, lambda p: p.theta)
     assert np.array_equal(idx, np.concatenate([np.arange(21), np.arange(21)]))
     assert np.allclose(s, np.concatenate([stations, stations]), atol=HELIX_ABS)
     assert np.allclose(th, np.concatenate([0.3 + k * stations, 1.0 + k * stations]), atol=HELIX_ABS)
@@ -71,11 +71,13 @@ def test_short_pass_falls_back_to_pass_by_pass(elliptic, elliptic_layer):
     stations = elliptic_layer.coverage.stations
     t = np.linspace(0.0, 300.0, 3)  # three points: a parabola, not a not-a-knot cubic
     passes = [p for p in elliptic_layer.passes if p.kind is PassKind.FORWARD][:2] + [_pass(t, 0.01 * t)]
-    assert coverage._spline_crossings_batched(passes, stations) is None
+    assert coverage._spline_crossings_batched(passes, stations, lambda p: p.theta) is None
     surf = elliptic.surface
     arcs = arc_map(surf.section)
     got = coverage.crossings_many(surf, arcs, passes, stations, 10.0)
-    want = coverage._bands(surf, arcs, *_per_pass(passes, stations), 10.0)
+    per = [np.concatenate(c) for c in zip(*[coverage._spline_crossings(p, stations, arcs.fraction(p.theta))
+                                            for p in passes])]
+    want = coverage._bands(surf, arcs, *coverage.in_theta(arcs, tuple(per)), 10.0)
     for a, b in zip(got, want):
         assert_roundoff(a, b)
 

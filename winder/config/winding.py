@@ -98,7 +98,8 @@ class WindingConfig:
     region: YAML `region: {start, end}`: the axial station range (t, mm) wound on an open mandrel,
         0 <= start < end <= T; None (the default) is the whole mandrel. Not for vessels, whose
         turnarounds lie on the domes.
-    points: points per pass, the accuracy of each geodesic solve, integer >= 3 (default 200).
+    points: points per pass, the accuracy of each geodesic solve, integer >= 3 (default 200, and more for a
+        pass of many rounds: winder.winding.passes.pass_points).
     tolerance: instead of points: refine each pass until its estimated length error is below this
         (mm, > 0). Exclusive with points; when tolerance is given, points is None.
     dwell_start_deg, dwell_end_deg: YAML `dwell: {start, end}`: the least mandrel turn (deg) while the
@@ -119,6 +120,8 @@ class WindingConfig:
     layers: tuple[LayerConfig, ...] = ()
     material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
     bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
+    # Whether `points` was written: the default grows with a pass's rounds (winder.winding.passes.pass_points)
+    points_given: bool = False
 
     @property
     def has_laminate(self) -> bool:
@@ -188,7 +191,7 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
                            "off the mandrel over a concave stretch)", m["bridging_tolerance"])
     _check_tapers(rd, items, layers, rd.at(path, "layers"), region)
     return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
-                         bridging)
+                         bridging, "points" in m)
 
 
 def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path: str,

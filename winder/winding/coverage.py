@@ -8,6 +8,8 @@ perimeter once for an even layer: gaps are uncovered stretches, overlaps doubly 
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from winder.winding.bands import union_stats_many
@@ -30,19 +32,35 @@ def crossings_many(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass],
     """
     if not passes:
         return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0)
-    batched = _spline_crossings_batched(passes, stations)
+    # On a non-circular section the splines run in the perimeter fraction, not in theta: a straight
+    # tube's pass is a line in (t, f), which the spline carries, where theta(t) bends at every joint of
+    # a flat and a corner (200 points over 5 turns of a 200 x 100 tube, corners 20: crossings off by a
+    # share of a band, and 38 circuits laid where 34 cover).
+    along = (lambda p: p.theta) if arcs.identity else (lambda p: arcs.fraction(p.theta))
+    batched = _spline_crossings_batched(passes, stations, along)
     if batched is None:
-        parts = [_spline_crossings(p, stations) for p in passes]
+        parts = [_spline_crossings(p, stations, along(p)) for p in passes]
         batched = tuple(np.concatenate(c) for c in zip(*parts))
-    return _bands(surface, arcs, *batched, band_width)
+    return _bands(surface, arcs, *in_theta(arcs, batched), band_width)
 
 
-def _spline_crossings(p: FiberPass, stations: np.ndarray) -> tuple[np.ndarray, ...]:
-    """(station index, s, theta, s'(t), theta'(t)) where the pass crosses the stations."""
+def in_theta(arcs: ArcMap, crossings: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """Crossings (station index, s, a, s'(t), a'(t)) with a the perimeter fraction (non-circular
+    sections) turned into theta and theta'(t)."""
+    idx, s_x, a_x, ds, da = crossings
+    if arcs.identity:
+        return crossings
+    th = arcs.theta(a_x)
+    return idx, s_x, th, ds, da * arcs.dtheta_dfrac(th)
+
+
+def _spline_crossings(p: FiberPass, stations: np.ndarray, angle: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(station index, s, a, s'(t), a'(t)) where the pass crosses the stations; angle (m,): the pass's
+    theta or perimeter fraction, a the same at the crossing."""
     forward = p.t[-1] > p.t[0]
     if p.t.size < 2:
         return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0)
-    t, s, th = (p.t, p.s, p.theta) if forward else (p.t[::-1], p.s[::-1], p.theta[::-1])
+    t, s, th = (p.t, p.s, angle) if forward else (p.t[::-1], p.s[::-1], angle[::-1])
     idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
     if idx.size == 0:
         return idx, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0)
@@ -51,8 +69,9 @@ def _spline_crossings(p: FiberPass, stations: np.ndarray) -> tuple[np.ndarray, .
     return idx, cs(st), ct(st), cs(st, 1), ct(st, 1)
 
 
-def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray) -> tuple[np.ndarray, ...] | None:
-    """_spline_crossings of every pass, concatenated, from one tridiagonal solve for all the passes'
+def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray,
+                              along: Callable[[FiberPass], np.ndarray]) -> tuple[np.ndarray, ...] | None:
+    """_spline_crossings of every pass (its angle along(p)), concatenated, from one tridiagonal solve for all the passes'
     splines (s and theta together); None where a pass needs the other kinds of spline (fewer than four
     points, or t not strictly monotone), which _spline_crossings then builds pass by pass.
 
@@ -64,7 +83,8 @@ def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray) -> 
         if p.t.size < 2:
             continue
         forward = p.t[-1] > p.t[0]
-        t, s, th = (p.t, p.s, p.theta) if forward else (p.t[::-1], p.s[::-1], p.theta[::-1])
+        a = along(p)
+        t, s, th = (p.t, p.s, a) if forward else (p.t[::-1], p.s[::-1], a[::-1])
         idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
         if idx.size == 0:
             continue

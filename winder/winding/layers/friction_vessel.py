@@ -84,8 +84,7 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         if abs(lam) > mu + 1e-12:
             t_turn = float(surf.t_of_s(np.array([leg.state(leg.length)[0]]))[0])
             raise SolverError(f"{where}: turning at r = {leg.radius:.3f} mm (t = {t_turn:.1f} mm) needs |k_g / k_n| = "
-                              f"{abs(lam):.3g}, above the friction {mu:g} (winding.friction); the least mu is "
-                              f"{abs(lam):.3g}")
+                              f"{abs(lam):.3g}, above the friction {mu:g} (winding.friction)")
         legs.append(leg)
         slips.append(lam)
     cyl = prof.cylinder_length * math.tan(alpha) / big_r
@@ -102,7 +101,7 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
     worst = max(abs(x) for x in slips)
     if worst > mu + 1e-12:
         raise SolverError(f"{ctx.key(index)}: closing the pattern needs |k_g / k_n| up to {worst:.3g} on the domes, "
-                          f"above the friction {mu:g}; the least mu is {worst:.3g}")
+                          f"above the friction {mu:g} (winding.friction)")
     passes = _passes(ctx, index, legs, domes, theta0, n_c, cyl)
     c = 0.5 * (legs[0].radius + legs[1].radius)
     notes = [f"friction-held turnarounds: r = {legs[0].radius:.3f} / {legs[1].radius:.3f} mm on the first / end "
