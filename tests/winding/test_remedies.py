@@ -131,3 +131,26 @@ def _pole(angle: float) -> dict:
 def test_held_angle_advice_steepens_instead_of_lowering():
     fixes = assert_each_plans(_pole(45), least=2)
     assert [float(f.split()[1]) > 45 for f in fixes if f.startswith("angle: ")] == [True]
+
+
+def _thin_tube(*layers: dict) -> dict:
+    """A 30 mm shaft, its ends (40 mm) trimmed: helicals over hoops turn around over the hoops' edges."""
+    return {"name": "shaft", "mandrel": {"axis": {"type": "line", "length": 1200},
+                                         "profile": {"type": "constant", "radius": 15}},
+            "winding": {"band_width": 6, "region": {"start": 40, "end": 1160}, "material": {"ply_thickness": 0.2},
+                        "layers": list(layers)}}
+
+
+def test_lift_off_in_a_trimmed_end_is_not_judged():
+    """Issue 41 item 6: the helical over the hoops bridges their edge past the region's end (0.85 mm at
+    t = 1189 was refused); the part is cut there. Within the region it presses."""
+    from winder.winding.plan import layer_contexts  # noqa: PLC0415
+    from winder.winding.slip import measure  # noqa: PLC0415
+
+    config = _thin_tube({"type": "helical", "angle": 45}, {"type": "hoop", "passes": 2},
+                        {"type": "helical", "angle": 15})
+    contexts, plan = layer_contexts(parse_config(config, "shaft.yaml"), 3)
+    layer = plan.layers[2]
+    assert layer.max_lift_off_mm <= 0.2
+    everywhere = measure(contexts[2][0].surface, layer.passes)  # on the mandrel the layer was wound on
+    assert everywhere.max_lift_off > 0.2 and not 40.0 <= everywhere.lift_t <= 1160.0

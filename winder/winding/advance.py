@@ -32,6 +32,10 @@ CONSTANT_GRID = 257  # stations where a profile must be flat for the section to 
 # The relative spread of a section's size over a region within which the mandrel is wound as a cylinder
 # (near_cylinder): a laminate's thickness varies by the bands' overlaps, a taper by far more.
 NEAR_CYLINDER_SPREAD = 1e-4
+# A laminate grown on a straight tube changes its size by a ply or two near a layer's edge: within this
+# spread the passes stay unrolled lines, their slip measured exactly (a solve over such an edge on a box
+# section stalled), beyond it (a taper) they are solved.
+LAMINATE_SPREAD = 1e-2
 
 
 def is_cylinder(surface: SweepSurface) -> bool:
@@ -46,7 +50,7 @@ def is_cylinder(surface: SweepSurface) -> bool:
     return bool(np.all(ev[4] == 0.0) and np.all(ev[1] == 1.0))
 
 
-def near_cylinder(surface: SweepSurface, t_a: float, t_b: float) -> bool:
+def near_cylinder(surface: SweepSurface, t_a: float, t_b: float, spread: float = NEAR_CYLINDER_SPREAD) -> bool:
     """A straight axis whose section keeps its size over [t_a, t_b] within NEAR_CYLINDER_SPREAD: a
     cylinder, or one grown by a laminate whose thickness varies only by the bands' overlaps (2e-6 of
     the section on a box tube). On such a mandrel the unrolled line (cylinder_pass) is the geodesic, or
@@ -57,7 +61,7 @@ def near_cylinder(surface: SweepSurface, t_a: float, t_b: float) -> bool:
     if not (surface.curve.is_straight and surface.is_axial_parameter):
         return False
     p = surface.profile.evaluate(surface.s_of_t(np.linspace(t_a, t_b, CONSTANT_GRID)))[3]
-    return bool(np.ptp(p) <= NEAR_CYLINDER_SPREAD * float(np.max(p)))
+    return bool(np.ptp(p) <= spread * float(np.max(p)))
 
 
 def _clairaut(surface: SweepSurface, s0: float, s1: float, alpha: float, heading_deg: float) -> float:

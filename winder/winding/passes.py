@@ -357,7 +357,7 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)
     if held is None:
         held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha),
-                          ctx.bridging_tolerance(index))
+                          ctx.bridging_tolerance(index), wound=ctx.winding.region)
     return LayerPlan(index=index + 1, type=cfg.type, angle_deg=float(alpha),
                      requested_angle_deg=float(cfg.angle_deg if cfg.angle_deg is not None else alpha),
                      circuits=int(circuits), pattern=int(pattern), dwell_start_deg=float(dwell_a),

@@ -25,8 +25,8 @@ from winder.config.vessel import VesselProfile
 from winder.config.winding import SLIP_AUTO, LayerType
 from winder.errors import ConfigError, SolverError, WinderError
 
-MAX_TRIES = 14  # plans of the job's prefix over all remedies of one refusal
-MAX_SECONDS = 90.0  # and the time they may take together
+MAX_TRIES = 10  # plans of the job's prefix over all remedies of one refusal
+MAX_SECONDS = 40.0  # and the time they may take together (a refusal costs a few plans of the job)
 FRICTION_STEP = 0.01  # friction is named to this resolution, rounded up
 MAX_FRICTION_ROUNDS = 4  # a friction that plans is sought this many times (each asks the next figure)
 BAND_SHARES = (0.5, 1.0, 2.0, 4.0)  # step_back and taper tried at these multiples of the band width

@@ -37,7 +37,8 @@ from winder.geometry.surface import SweepSurface
 from winder.winding.clairaut import revolution_pass
 from winder.winding.layers.friction_revolution import is_open_revolution, turn_remedies
 from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
-from winder.winding.advance import cylinder_pass, cylinder_reach, near_cylinder, reach_theta, turnaround_error
+from winder.winding.advance import (LAMINATE_SPREAD, cylinder_pass, cylinder_reach, near_cylinder, reach_theta,
+                                    turnaround_error)
 
 TRACE_RTOL = 1e-10
 
@@ -67,7 +68,7 @@ def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alp
     span = 4.0 * (s_b - s_a) / max(math.cos(math.radians(alpha_deg)), 0.05) + 10.0
     starts = np.array([0.0] if surf.is_revolution else [0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi])
     ends = []
-    cylinder = near_cylinder(surf, *(float(v) for v in surf.t_of_s(np.array([s_a, s_b]))))
+    cylinder = near_cylinder(surf, *(float(v) for v in surf.t_of_s(np.array([s_a, s_b]))), LAMINATE_SPREAD)
     for heading, s_end in ((alpha_deg, s_b), (alpha_deg + 180.0, s_a)):
         if s_end == s_ref:
             th = starts
@@ -124,7 +125,7 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
     f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
     layer = index + 1
     solved = []
-    cylinder = near_cylinder(surf, t_a, t_b)
+    cylinder = near_cylinder(surf, t_a, t_b, LAMINATE_SPREAD)
     for j in range(pat.circuits if not surf.is_revolution else 1):
         ctx.report(index, j / pat.circuits, f"circuit {j + 1} of {pat.circuits}")
         f_start = f0 + j * pat.advance
@@ -142,7 +143,7 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
         solved += [fine_geodesic(ctx, (t_a, th[0]), (t_b, th[1]), None),
                    fine_geodesic(ctx, (t_b, th[2]), (t_a, th[3]), None)]
     # The tangents of all the passes together (solved_passes).
-    done = solved if cylinder or surf.is_revolution else solved_passes(surf, solved)
+    done = solved if isinstance(solved[0], SolvedPass) else solved_passes(surf, solved)
     solved = list(zip(done[0::2], done[1::2]))
     # Where an end holds the fiber, the swing there runs between the passes' own end headings.
     ends_at = _end_headings(surf, done if not (leg_a.s.size and leg_b.s.size) else []).tolist()
@@ -274,14 +275,14 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     cov = None
     held = None
     # passes known without a solve (_exact_pass) are geodesics: the slip check takes their curvature exactly
-    exact = frozenset((PassKind.FORWARD, PassKind.RETURN)) if surf.is_revolution or near_cylinder(surf, t_a, t_b) \
-        else frozenset()
+    lines = not surf.is_revolution and near_cylinder(surf, t_a, t_b, LAMINATE_SPREAD)
+    exact = frozenset((PassKind.FORWARD, PassKind.RETURN)) if surf.is_revolution or lines else frozenset()
     while True:
         pat = close_open_pattern(n_c, closure.natural, *least, cfg.pattern, ctx.key(index, "pattern"))
         passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs, clairaut)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
         held = check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index),
-                          alpha, ctx.bridging_tolerance(index), exact)
+                          alpha, ctx.bridging_tolerance(index), exact, w.region, lines)
         if surf.is_revolution or cfg.pattern is not None or cfg.circuits is not None:
             break
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)
