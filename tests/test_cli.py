@@ -146,7 +146,7 @@ def test_run_help_and_readme_name_every_format_run_accepts():
 
     shown = "|".join(SELECTABLE)  # csv|gcode|ply|layup|report: --format layup is SPEC.md's
     assert f"--format {shown}" in invoke("run", "--help").stdout
-    assert f"[--format {shown} ...]" in (ROOT / "README.md").read_text(encoding="utf-8")
+    assert f"[--format {shown} ...]" in (ROOT / "docs" / "guide" / "commands.md").read_text(encoding="utf-8")
 
 
 def test_geodesic_text_output():

@@ -77,3 +77,40 @@ def test_help_and_a_tube_check_import_nothing_heavy():
     """scipy, trimesh and plotly load where a job first needs them, never for --help or a tube's check."""
     assert _heavy_imports("--help") == []
     assert _heavy_imports("check", "samples/pipe.yaml") == []
+
+
+# What a plain pipe job (helical and hoop layers, friction-held turnarounds on a cylinder) may import in
+# its own process: the splines' and LAPACK's parts of scipy, never an ODE solver (its turnarounds have a
+# closed form: winder.paths.friction_cylinder), the mesh library (its PLY is rendered aside, on a forked
+# process: winder.app.machine_pool.aside) or the plot library. MODULE_BUDGET bounds everything loaded
+# (877 with scipy 1.17, numpy 2.4, trimesh 4 and click 8.3 when it was set).
+PIPE_JOB_FORBIDDEN = ("scipy.integrate", "trimesh", "plotly")
+MODULE_BUDGET = 1000
+
+JOB_IMPORTS_PROBE = """
+import json, sys
+import winder.__main__ as m
+sys.argv = ["winder", *json.loads(sys.argv[1])]
+try:
+    m.main()
+except SystemExit:
+    pass
+print(json.dumps(sorted(sys.modules)))
+"""
+
+
+def test_a_plain_pipe_job_keeps_to_its_import_budget(tmp_path):
+    import json  # noqa: PLC0415
+    from pathlib import Path  # noqa: PLC0415
+
+    root = Path(__file__).resolve().parent.parent
+    args = ["run", "samples/pipe.yaml", "-o", str(tmp_path)]
+    proc = subprocess.run([sys.executable, "-c", JOB_IMPORTS_PROBE, json.dumps(args)], capture_output=True, text=True,
+                          env={**_clean_env(), "PYTHONPATH": str(root)}, check=True, cwd=root)
+    modules = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert (tmp_path / "pipe.ply").stat().st_size > 0  # the mesh was written, by the forked process
+    # on one core the PLY is rendered in the job's own process (usable_workers), and needs trimesh there
+    forbidden = PIPE_JOB_FORBIDDEN if len(os.sched_getaffinity(0)) >= 2 else ("scipy.integrate", "plotly")
+    loaded = [m for m in modules if any(m == f or m.startswith(f + ".") for f in forbidden)]
+    assert not loaded, loaded[:5]
+    assert len(modules) <= MODULE_BUDGET

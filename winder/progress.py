@@ -7,7 +7,8 @@ draws it as a bar on stderr; everything else passes None, and nothing is reporte
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 
 Progress = Callable[[float, str], None]
 
@@ -35,3 +36,22 @@ def part(progress: Progress | None, start: float, end: float) -> Progress | None
         progress(start + (end - start) * min(max(float(fraction), 0.0), 1.0), label)
 
     return report
+
+
+_DOING: list[str] = []  # what this process is doing now, innermost last (doing)
+
+
+@contextmanager
+def doing(what: str) -> Iterator[None]:
+    """Say what this process does while inside, for a message that stops it there: a job's time
+    limit names it (waiting for a folder's lock, reading a config) instead of guessing."""
+    _DOING.append(what)
+    try:
+        yield
+    finally:
+        _DOING.pop()
+
+
+def activity() -> str | None:
+    """What doing says this process is doing now (the innermost), or None."""
+    return _DOING[-1] if _DOING else None

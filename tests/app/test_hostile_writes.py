@@ -1,4 +1,4 @@
-"""Hostile input, second round (issue 34): outputs that never mix or escape the output folder.
+"""Hostile input, second and third rounds (issues 34, 45): outputs that never mix, links written through.
 
 The race is repeated WINDER_TRIALS times (default 4, to keep the suite short; the issue's 200, about 7 minutes on 2 cores):
 WINDER_TRIALS=200 python -m pytest tests/app/test_hostile_writes.py -k race
@@ -181,32 +181,21 @@ def test_geodesic_into_a_closed_pipe_ends_quietly(tmp_path: Path) -> None:
     assert res.stdout == "i,t,theta_" and res.stderr == "", res.stderr
 
 
-# -- links to existing files and folders outside the output folder: replaced, never written through --
-def _links_out(folder: Path, outside: Path, names: tuple[str, str]) -> bytes:
-    """Make names[0] a link to a file outside folder and names[1] a link to a folder outside it; the
-    outside file's bytes."""
+# -- links to existing files outside the output folder: written through, as cp or a shell's > do ----
+def _links_out(folder: Path, outside: Path, names: tuple[str, ...]) -> bytes:
+    """Make each of names a link to its own file outside folder ("victim", "victim2"); their bytes."""
     outside.mkdir(exist_ok=True)
-    (outside / "victim").write_bytes(b"keep me\n")
-    (outside / "sub").mkdir(exist_ok=True)
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / names[0]).symlink_to(outside / "victim")
-    if names[1]:
-        (folder / names[1]).symlink_to(outside / "sub")
-    return (outside / "victim").read_bytes()
-
-
-def _assert_nothing_escaped(folder: Path, outside: Path, names: tuple[str, str], before: bytes) -> None:
-    assert (outside / "victim").read_bytes() == before and list((outside / "sub").iterdir()) == []
-    assert sorted(p.name for p in outside.iterdir()) == ["sub", "victim"]
-    for name in filter(None, names):
-        assert not (folder / name).is_symlink() and (folder / name).is_file(), name
-        assert (folder / name).stat().st_size > 0
+    for k, name in enumerate(filter(None, names)):
+        (outside / f"victim{k or ''}").write_bytes(b"keep me\n")
+        (folder / name).symlink_to(outside / f"victim{k or ''}")
+    return b"keep me\n"
 
 
 @pytest.mark.parametrize("command", ["run", "run_jobs_2", "geodesic", "simulate", "regress_update"])
-def test_links_out_of_the_folder_are_replaced_not_written_through(tmp_path: Path, command: str) -> None:
-    """A link in DIR (or an `-o` file) to an existing file or folder outside its folder: the output
-    replaces the link itself; the file or folder it named is left as it was."""
+def test_links_out_of_the_folder_are_written_through(tmp_path: Path, command: str) -> None:
+    """A link in DIR (or an `-o` file) to an existing file outside its folder: the file it names gets the
+    output (replaced whole in its own folder), the link stays a link, nothing else appears outside."""
     outside = tmp_path / "outside"
     pipe = str(ROOT / "samples" / "pipe.yaml")
     out = tmp_path / "out"
@@ -218,10 +207,10 @@ def test_links_out_of_the_folder_are_replaced_not_written_through(tmp_path: Path
         if not jobs:
             names = ("tiny.csv", "tiny.gcode")
     elif command == "geodesic":
-        names = ("g.csv", "")
+        names = ("g.csv",)
         args = ["geodesic", pipe, "--start", "10,0", "--end", "400,90", "-o", str(out / "g.csv")]
     elif command == "simulate":
-        names = ("s.csv", "")
+        names = ("s.csv",)
         program = str(ROOT / "samples" / "reference" / "pipe" / "pipe.gcode")
         args = ["simulate", pipe, program, "-o", str(out / "s.csv")]
     else:
@@ -235,27 +224,73 @@ def test_links_out_of_the_folder_are_replaced_not_written_through(tmp_path: Path
                          capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
     assert "Traceback" not in res.stderr and "Error" not in res.stderr, res.stderr
-    _assert_nothing_escaped(out, outside, names, before)
+    for k, name in enumerate(names):
+        victim = outside / f"victim{k or ''}"
+        assert (out / name).is_symlink() and os.readlink(out / name) == str(victim), name
+        assert victim.read_bytes() != before and victim.stat().st_size > 0, name
+    assert sorted(p.name for p in outside.iterdir()) == sorted(f"victim{k or ''}" for k in range(len(names)))
 
 
-def test_a_link_out_of_the_folder_is_put_back_when_the_job_fails(tmp_path: Path, monkeypatch) -> None:
-    """The roll-back puts back the link itself (not a copy of the file it names)."""
+@pytest.mark.parametrize("command", ["run", "geodesic"])
+def test_a_link_to_a_folder_where_a_file_goes_is_refused_and_nothing_written(tmp_path: Path, command: str) -> None:
+    outside = tmp_path / "outside"
+    (outside / "sub").mkdir(parents=True)
+    out = tmp_path / "out"
+    out.mkdir()
+    name = "tiny.gcode" if command == "run" else "g.csv"
+    (out / name).symlink_to(outside / "sub")
+    if command == "run":
+        report = run_job(_config(tmp_path, "tiny"), out)
+        code, message = report.exit_code, report.message
+    else:
+        code, errors = _invoke(["geodesic", str(ROOT / "samples" / "pipe.yaml"), "--start", "10,0", "--end", "400,90",
+                                "-o", str(out / name)])
+        message = errors[0]
+    assert code == (1 if command == "run" else 2), message
+    assert ("a link to a folder, not a file" if command == "run" else "is a directory") in message
+    assert sorted(p.name for p in out.iterdir()) == [name] and list((outside / "sub").iterdir()) == []
+
+
+def test_a_file_written_through_a_link_is_put_back_when_the_job_fails(tmp_path: Path, monkeypatch) -> None:
+    """The roll-back puts back the old file the link names, and the link stays a link."""
     from winder.errors import ExportError  # noqa: PLC0415
     from winder.export import atomic  # noqa: PLC0415
 
     config = _config(tmp_path, "tiny")
     out, outside = tmp_path / "out", tmp_path / "outside"
     before = _links_out(out, outside, ("tiny.csv", "tiny.gcode"))
-    real, calls = atomic.write_atomic, []
+    real, calls = atomic.write_temporary, []
 
-    def third_fails(path, data):
-        calls.append(path)
+    def third_fails(target, data):
+        calls.append(target)
         if len(calls) == 3:
-            raise ExportError(f"{path}: cannot write: No space left on device")
-        return real(path, data)
+            raise ExportError(f"{target}: cannot write: No space left on device")
+        return real(target, data)
 
-    monkeypatch.setattr(atomic, "write_atomic", third_fails)
+    monkeypatch.setattr(atomic, "write_temporary", third_fails)
     assert not run_job(config, out).ok
     assert (out / "tiny.csv").is_symlink() and os.readlink(out / "tiny.csv") == str(outside / "victim")
-    assert (out / "tiny.gcode").is_symlink() and (outside / "victim").read_bytes() == before
+    assert (outside / "victim").read_bytes() == before and (outside / "victim1").read_bytes() == before
     assert sorted(p.name for p in out.iterdir()) == ["tiny.csv", "tiny.gcode"]
+    assert sorted(p.name for p in outside.iterdir()) == ["victim", "victim1"]
+
+
+def test_a_run_waiting_for_a_locked_folder_names_the_lock_and_its_holder(tmp_path: Path) -> None:
+    """A job whose folder another writer holds (a paused run) times out saying so, not "solvers do not
+    converge" (issue 45); it writes nothing. The child only writes (no planning, whose time varies)."""
+    from winder.export.journal import folder_lock  # noqa: PLC0415
+
+    out = tmp_path / "out"
+    out.mkdir()
+    child = ("import sys\nfrom winder.app.wall_clock import TimeUp, time_limit, time_up_message\n"
+             "from winder.app.writes import write_outputs\ntry:\n    with time_limit(1.0):\n"
+             "        write_outputs(sys.argv[1], {'a.csv': b'x'})\nexcept TimeUp as up:\n"
+             "    print(time_up_message(1.0, up.activity))\n")
+    with folder_lock(out) as locked:
+        assert locked
+        res = subprocess.run([sys.executable, "-c", child, str(out)], env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                             capture_output=True, text=True, timeout=120)
+    assert res.stdout.strip() == (f"the job did not finish within its time limit of 1 s (--time-limit): stopped while "
+                                  f"waiting for the output folder {out}, whose lock process {os.getpid()} holds (a "
+                                  "winder writing there, or a reader taking it)"), res.stdout + res.stderr
+    assert list(out.iterdir()) == []

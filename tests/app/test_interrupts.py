@@ -76,16 +76,17 @@ def test_the_first_signal_decides_and_a_second_changes_nothing() -> None:
 def test_a_signal_while_a_set_is_written_leaves_the_set_or_nothing(monkeypatch, tmp_path: Path) -> None:
     from winder.export import atomic
 
-    write = atomic.write_atomic
+    write = atomic.write_temporary
     calls = []
 
     def write_then_signal(path, data):
-        write(path, data)
+        tmp = write(path, data)
         calls.append(path)
-        if len(calls) == 2:  # between the second file's rename and its note for the rollback
+        if len(calls) == 2:  # between the second file's temporary and its note for the rollback
             _signal_self(signal.SIGTERM)
+        return tmp
 
-    monkeypatch.setattr(atomic, "write_atomic", write_then_signal)
+    monkeypatch.setattr(atomic, "write_temporary", write_then_signal)
     with pytest.raises(Interrupted), interrupts_raise():
         write_outputs(tmp_path, {"a.csv": b"1", "a.gcode": b"2", "a.ply": b"3"})
     assert len(calls) == 2  # held until the second file was noted, then raised before the third

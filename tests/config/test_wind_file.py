@@ -6,6 +6,7 @@ test_fiberpath_files.py reads them where the bench folder is present)."""
 from __future__ import annotations
 
 import copy
+import math
 import json
 from pathlib import Path
 
@@ -120,3 +121,60 @@ def test_a_bad_wind_file_is_one_error_line_exit_2(tmp_path, name, data, expected
         assert expected in lines[0]
     assert not (tmp_path / "x.yaml").exists()
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
+
+
+# -- read in time linear in its size (issue 45: the duplicate-key check was quadratic) ---------------
+def _keys(n: int) -> str:
+    return json.dumps({f"{i:x}": 1 for i in range(n)}, separators=(",", ":"))
+
+
+def test_duplicate_keys_are_found_in_time_linear_in_the_keys(tmp_path: Path) -> None:
+    """10,000 keys took 2.1 s, 40,000 36 s and 190,000 (1.8 MB) more than 130 s; a linear check reads
+    4.75x the keys in about 4.75x the CPU time (a quadratic one in 22.6x)."""
+    import time  # noqa: PLC0415
+
+    from winder.config.wind_file import _load  # noqa: PLC0415
+
+    def seconds(path: Path) -> float:
+        best = math.inf
+        for _ in range(3):
+            start = time.process_time()
+            _load(path, path.name)
+            best = min(best, time.process_time() - start)
+        return best
+
+    small, large = write(tmp_path, _keys(40_000), "small.wind"), write(tmp_path, _keys(190_000), "large.wind")
+    assert large.stat().st_size < 2_000_000
+    large_s = seconds(large)
+    assert large_s < 20.0  # 0.7 s here; the quadratic check took more than 130 s
+    assert large_s / seconds(small) < 15.0  # 4.75 for linear, 22.6 for quadratic
+    text = _keys(190_000)
+    dup = write(tmp_path, text[:-1] + ',"0":2}', "dup.wind")
+    with pytest.raises(ConfigError, match="invalid JSON: duplicate key '0'"):
+        load_config(dup)
+
+
+# -- convert: no text of the file's name read as YAML (issue 45) ------------------------------------
+@pytest.mark.parametrize("name", ["j\nanalysis: {pressure: 5}\n#.wind", "j\ranalysis: {pressure: 5}\r#.wind",
+                                  "j\u2028analysis: {pressure: 5}\u2028#.wind", "j\x85analysis: {pressure: 5}\x85#.wind",
+                                  "j\r\nanalysis: {pressure: 5}\r\n#.wind"])
+def test_a_file_name_cannot_add_keys_to_the_converted_config(tmp_path, name):
+    import yaml  # noqa: PLC0415
+
+    wind = write(tmp_path, JOB, name)
+    out = tmp_path / "job.yaml"
+    result = CliRunner().invoke(main, ["convert", str(wind), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert sorted(yaml.safe_load(out.read_text(encoding="utf-8"))) == ["machine", "mandrel", "name", "winding"]
+    assert load_config(out).analysis is None
+    assert len(result.stdout.splitlines()) == 1  # the ok line shows the name escaped
+
+
+def test_convert_to_standard_output(tmp_path):
+    wind = write(tmp_path, JOB)
+    result = CliRunner().invoke(main, ["convert", str(wind), "-o", "-"])
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("# Converted by `winder convert`") and "winding:" in result.stdout
+    assert not (tmp_path / "-").exists()
+    refused = CliRunner().invoke(main, ["convert", str(wind), "-o", str(wind)])
+    assert refused.exit_code == 2 and "-o: is WIND itself" in refused.stderr

@@ -35,8 +35,15 @@ def same(a: object, b: object) -> bool:
 @needs_libyaml
 @pytest.mark.parametrize("path", JOB_FILES, ids=lambda p: p.name)
 def test_both_parsers_read_the_same_data(path: Path) -> None:
-    """Same data from both; where the file is not YAML, the same refusal."""
+    """Same data from both; where the file is not YAML, the same refusal. A document past the expansion
+    limit (or recursive) is refused by winder over both parsers alike (tested below)."""
     text = path.read_text(encoding="utf-8")
+    try:
+        reader.load_yaml(text)
+    except reader.ExpansionError:
+        return
+    except (yaml.YAMLError, ValueError, RecursionError):
+        pass
     try:
         expected = yaml.load(text, Loader=reader.YamlLoader)  # noqa: S506
     except yaml.YAMLError as exc:  # not YAML: load_yaml raises PyYAML's own error
@@ -87,3 +94,34 @@ def test_nesting_is_counted_before_libyaml_composes_it() -> None:
     with pytest.raises(RecursionError):
         reader.load_yaml("x:\n" + "".join("  " * k + "- \n" for k in range(1, 3 * depth)))
     assert reader._deeper_than("a: {b: [1, {c: 2}]}", 3) and not reader._deeper_than("a: {b: [1, {c: 2}]}", 4)
+
+
+# -- aliases: counted expanded, in time linear in the file (issue 45) --------------------------------
+def test_the_expanded_size_counts_each_alias_as_what_it_stands_for() -> None:
+    """[&a [1, 2, 3], *a, *a]: the outer list, three lists of four values each (closed form 1 + 3 x 4)."""
+    loader = reader.YamlLoader("[&a [1, 2, 3], *a, *a]")
+    try:
+        assert reader.expanded_size(loader.get_single_node()) == 13
+    finally:
+        loader.dispose()
+
+
+@pytest.mark.parametrize("parser", ["libyaml", "pyyaml"])
+def test_a_document_expanding_past_the_limit_is_refused_before_it_is_built(parser, monkeypatch) -> None:
+    """Nine levels of ten aliases: 10^9 values; refused at once (before: built as shared lists, then
+    walked by every check), with the same message by both parsers."""
+    if parser == "pyyaml":
+        monkeypatch.setattr(reader, "_CParser", None)
+    elif reader._CParser is None:
+        pytest.skip("PyYAML built without libyaml")
+    levels = ["&l0 [0, 0, 0, 0, 0, 0, 0, 0, 0, 0]"]
+    levels += [f"&l{k} [{', '.join([f'*l{k - 1}'] * 10)}]" for k in range(1, 9)]
+    with pytest.raises(yaml.YAMLError, match="its aliases expand it to more than 1,000,000 values"):
+        reader.load_yaml("x: [" + ", ".join(levels) + "]\n")
+    just_under = "x: [&a [" + ", ".join(["0"] * 998) + "], " + ", ".join(["*a"] * 999) + "]\n"  # 999,003 values
+    assert len(reader.load_yaml(just_under)["x"]) == 1000
+
+
+def test_a_recursive_alias_is_refused() -> None:
+    with pytest.raises(yaml.YAMLError, match="an alias inside its own anchor"):
+        reader.load_yaml("a: &x {b: *x}\n")

@@ -29,9 +29,11 @@ SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 CCX = shutil.which("ccx") or next((shutil.which(f"ccx_2.{k}") for k in range(30, 10, -1) if shutil.which(f"ccx_2.{k}")),
                                   None)
 STRAIN_AGREEMENT = 0.02  # the issue's 2 %: a thin shell (h / R = 0.012) against membrane CLT
-VESSEL_AGREEMENT = 0.03  # its wall is 1.8 mm on R 100 (h / R = 0.018): the thin-shell error doubles
+VESSEL_AGREEMENT = 0.02  # the issue's 2 % (measured +1.5 % hoop at the inner face, -0.7 % axial)
 SOLVE_SECONDS = 60.0
 CSV_DECIMALS = 1e-6  # the layup CSV's and the deck's 6 decimals
+PLY_AVERAGE = 0.01  # an element's area mean of its layer's cells: the deck's trapezoids on 4 points a cell
+MIRROR = 1e-4  # mm: the sample laminate's two ends mirror each other to 1e-4 (its outer helical's cells)
 ANGLE_DEG = 1e-3  # a ply's angle read back from its orientation vector (9 decimals) and the element's chords
 
 CYLINDER = """name: closed_cylinder
@@ -143,90 +145,69 @@ def test_ccx_solves_the_vessel_and_matches_clt_on_its_cylinder(tmp_path, vessel)
     assert np.ptp(u_r) < 1e-3 * np.mean(u_r)
 
 
-def _layup(text: str) -> dict[int, dict]:
-    rows = list(csv.DictReader(io.StringIO(text)))
-    out: dict[int, dict] = {}
-    for row in rows:
-        out.setdefault(int(row["layer"]), []).append([float(row[k]) for k in ("t", "theta_deg", "angle_deg",
-                                                                                "thickness_mm")])
-    return {k: np.array(v) for k, v in out.items()}
-
-
-def _expected(layers: dict[int, np.ndarray], types: dict[int, str], t: float, theta_deg: float) -> list:
-    """The plies the layup CSV gives at station t, angle theta: each layer whose rows reach within half a
-    row spacing, its row nearest in t then in theta; a helical layer as two plies."""
-    plies = []
-    for layer, rows in sorted(layers.items()):
-        ts = np.unique(rows[:, 0])
-        half = 0.5 * np.median(np.diff(ts)) if ts.size > 1 else 0.0
-        if not ts[0] - half - 1e-9 <= t <= ts[-1] + half + 1e-9:
-            continue
-        near = ts[np.argmin(np.abs(ts - t))]
-        at = rows[rows[:, 0] == near]
-        row = at[np.argmin(np.abs((at[:, 1] - theta_deg + 180.0) % 360.0 - 180.0))]
-        if types[layer] == "helical":
-            plies += [(layer, row[2], row[3] / 2), (layer, -row[2], row[3] / 2)]
-        else:
-            plies.append((layer, row[2], row[3]))
-    return plies
-
-
 @pytest.fixture(scope="module")
 def vessel():
     job = load_config(SAMPLES / "vessel_laminate.yaml")
     return job, plan(job)
 
 
-def test_vessel_end_loads_are_the_bosses_thrust(vessel):
-    """Closed ends: each end ring carries p pi r^2 along the axis, outward (the polar bosses' thrust), and
-    the nodal loads balance."""
-    from winder.analysis.layup import layer_rows
-    from winder.analysis.shell_model import build_model
+def test_vessel_bosses_take_their_thrust_and_the_loads_balance(vessel):
+    """Closed ends on a vessel: each polar boss is a rigid body pushed out along the axis by the pressure on
+    the area inside its flange's rim (the laminate's first band width from the opening, where no pressure
+    acts on the shells), and the nodal loads balance."""
+    from winder.export.abaqus import job_model
 
     job, planned = vessel
     p = job.analysis.pressure
-    model = build_model(planned.surface, layer_rows(planned), planned.band_width, p, True)
-    z = model.nodes[:, 2]
-    scale = p * math.pi * 30.0**2
-    assert np.abs(model.loads.sum(axis=0)).max() < 1e-9 * scale
-    for ring, sign in ((z < z.min() + 1e-9, -1.0), (z > z.max() - 1e-9, 1.0)):
-        r = float(np.hypot(model.nodes[ring, 0], model.nodes[ring, 1]).mean())
-        force = model.loads[ring].sum(axis=0)
-        assert abs(force[2] - sign * p * math.pi * r * r) < 1e-3 * p * math.pi * r * r  # the 96-gon's area
-        assert np.abs(force[:2]).max() < 1e-9 * scale
+    model = job_model(planned, job)
+    assert len(model.rigid) == 2 and not model.pressed[model.meridian[0]] and model.pressed[model.meridian[50]]
+    assert np.abs(model.loads.sum(axis=0)).max() < 1e-6 * p * math.pi * 30.0 ** 2  # two rims mirrored to 1e-7
+    for ids, ref, _ in model.rigid:
+        rim = np.hypot(model.nodes[ids, 0], model.nodes[ids, 1]).max()  # the flange's rim: its widest ring
+        force = model.loads[ref]
+        assert abs(abs(force[2]) - p * math.pi * rim * rim) < 2e-3 * p * math.pi * rim * rim  # the 96-gon's area
+        assert np.abs(force[:2]).max() < 1e-9 * abs(force[2])
+    ends = [model.loads[ref, 2] for _, ref, _ in model.rigid]
+    assert ends[0] < 0.0 < ends[1]
 
 
-def test_vessel_deck_plies_are_the_layup_csv_at_each_element(vessel):
+def _cell_mean(lam, t0: float, t1: float, surface) -> float:
+    """A layer's area-mean thickness between stations t0 and t1 of a surface of revolution: its cells (piecewise
+    constant) integrated against the ring's area 2 pi r ds, on a fine grid of the meridian."""
+    s = np.linspace(*surface.s_of_t(np.array([t0, t1])), 20001)
+    t = surface.t_of_s(s)
+    r = surface.perimeter(s) / (2.0 * math.pi)
+    edges = np.concatenate([[lam.t[0] - 0.5 * (lam.t[1] - lam.t[0])], 0.5 * (lam.t[1:] + lam.t[:-1]),
+                            [lam.t[-1] + 0.5 * (lam.t[-1] - lam.t[-2])]])
+    k = np.clip(np.searchsorted(edges, t) - 1, 0, lam.t.size - 1)
+    h = np.where((t >= edges[0]) & (t <= edges[-1]), lam.thickness[k], 0.0)
+    return float(np.trapezoid(h * r, s) / np.trapezoid(r, s))
+
+
+def test_vessel_plies_are_the_laminate_averaged_over_each_element(vessel):
+    """Each element's ply thickness is its layer's cells averaged over the element's area, both openings
+    alike: the elements nearest the two openings of the symmetric vessel carry the same plies."""
+    from winder.export.abaqus import job_model
+
     job, planned = vessel
-    deck = _deck(job, planned)
-    layup = next(f for f in registry.FORMATS if f.name == "layup").render(planned, job).decode("utf-8")
-    layers = _layup(layup)
-    types = {layer.index: layer.type.value for layer in planned.layers}
-    nodes = _nodes(deck)
-    elements = np.loadtxt(io.StringIO(deck.split("*ELEMENT, TYPE=S8R, ELSET=EALL\n", 1)[1].split("*", 1)[0]),
-                          delimiter=",", dtype=int)
-    orient = dict(re.findall(r"\*ORIENTATION, NAME=(\S+), SYSTEM=RECTANGULAR\n([^\n]+)\n", deck))
-    sections = re.findall(r"\*SHELL SECTION, ELSET=E(\d+), COMPOSITE, OFFSET=-0.5\n((?:[^*][^\n]*\n)+)", deck)
-    assert len(sections) == elements.shape[0] > 1000
-    worst_angle = 0.0
-    for number, body in sections:
-        el = elements[int(number) - 1]
-        n = nodes[el[1:]]
-        t = n[5, 2]  # node 6: mid-side on the element's middle row, on the mandrel (z = t on a straight axis)
-        mid = 0.5 * (n[4] + n[6])  # nodes 5 and 7: the middle of the element's first and last rows
-        theta = math.degrees(math.atan2(mid[1], mid[0])) % 360.0
-        e_h = np.array([-math.sin(math.radians(theta)), math.cos(math.radians(theta)), 0.0])
-        e_m = n[6] - n[4]  # the meridian chord through the centre (parallel to its tangent on a circle)
-        e_m -= (e_m @ e_h) * e_h
-        e_m /= np.linalg.norm(e_m)
-        got = []
-        for line in body.strip().splitlines():
-            thick, _, material, name = (x.strip() for x in line.split(","))
-            a = np.array([float(x) for x in orient[name].split(",")[:3]])
-            got.append((int(material.removeprefix("PLY")), math.degrees(math.atan2(a @ e_h, a @ e_m)), float(thick)))
-        want = _expected(layers, types, t, theta)
-        assert [g[0] for g in got] == [w[0] for w in want], (t, got, want)
-        for g, w in zip(got, want):
-            assert abs(g[2] - w[2]) <= CSV_DECIMALS, (t, g, w)
-            worst_angle = max(worst_angle, abs(g[1] - w[1]))
-    assert worst_angle < ANGLE_DEG, worst_angle
+    model = job_model(planned, job)
+    mer = model.meridian
+    worst = 0.0
+    rows = np.linspace(0, mer.size - 1, 25).astype(int)
+    for row in rows:
+        element = mer[row]
+        corners = model.nodes[model.elements[element, [0, 3]]]
+        t0, t1 = sorted(corners[:, 2])
+        for slot, layer in enumerate(model.ply_layer):
+            lam = planned.layers[layer - 1].laminate
+            share = 0.5 if planned.layers[layer - 1].type.value == "helical" else 1.0
+            want = share * _cell_mean(lam, t0, t1, planned.surface)
+            worst = max(worst, abs(model.ply_thickness[element, slot] - want) / max(want, 0.05))
+    assert worst < PLY_AVERAGE, worst
+    # the openings' ends of the laminate mirror each other (the hoops' ends do not quite: one traverse starts
+    # where the other ends), and so do the meshes and plies there
+    near = slice(0, 30)
+    ply = model.ply_thickness[mer]
+    assert np.allclose(ply[near], ply[::-1][near], rtol=0, atol=MIRROR)
+    length = planned.surface.axial_length
+    assert np.allclose(model.t[mer][near], length - model.t[mer][::-1][near], rtol=0, atol=0.01)  # mm

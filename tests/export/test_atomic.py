@@ -34,7 +34,7 @@ def test_replaces_the_old_file_whole(tmp_path):
 def test_a_taken_temporary_name_is_drawn_again(tmp_path, monkeypatch):
     draws = iter([b"\0" * 8, b"\0" * 8, b"\1" * 8])
     monkeypatch.setattr(atomic.os, "urandom", lambda n: next(draws))
-    taken = tmp_path / f".job.ply.{'00' * 8}.tmp"
+    taken = tmp_path / f".job.ply.winder-{os.getpid()}-{'00' * 8}.tmp"
     taken.write_bytes(b"someone else's")
     atomic.write_atomic(tmp_path / "job.ply", b"ply")
     assert (tmp_path / "job.ply").read_bytes() == b"ply"
@@ -121,3 +121,47 @@ def test_an_output_path_that_is_an_input_or_no_file_is_refused(tmp_path):
             atomic.check_output_file(output, {"CONFIG": str(config)})
     atomic.check_output_file(str(tmp_path / "new.csv"), {"CONFIG": str(config), "PROGRAM": str(tmp_path / "gone")})
     assert config.read_text() == "name: t\n"
+
+
+# -- links to open descriptors (issue 45): written into, never replaced ------------------------------
+def test_a_chain_of_links_to_an_open_descriptor_is_a_descriptor(tmp_path):
+    (tmp_path / "fd1").symlink_to("/proc/self/fd/1")
+    (tmp_path / "hop").symlink_to(tmp_path / "fd1")
+    (tmp_path / "fdlink").symlink_to("/proc/self/fd")
+    for path in (tmp_path / "fd1", tmp_path / "hop", tmp_path / "fdlink" / "1", "/proc/self/fd/1", "/dev/fd/1"):
+        assert atomic.descriptor(path) == (os.getpid(), 1), path
+        assert atomic.is_stream(path), path
+    (tmp_path / "plain").write_text("x")
+    (tmp_path / "tofile").symlink_to(tmp_path / "plain")
+    for path in (tmp_path / "plain", tmp_path / "tofile", tmp_path / "new.csv"):
+        assert atomic.descriptor(path) is None and not atomic.is_stream(path), path
+
+
+def test_this_process_descriptor_is_written_at_its_own_offset(tmp_path):
+    """A link to /proc/self/fd/N is written through descriptor N (its offset, its append mode), the
+    link left a link: the way `-o /dev/stdout >> log` appends."""
+    log = tmp_path / "log.txt"
+    log.write_bytes(b"kept\n")
+    fd = os.open(log, os.O_WRONLY | os.O_APPEND)
+    try:
+        link = tmp_path / "out.csv"
+        link.symlink_to(f"/proc/self/fd/{fd}")
+        atomic.write_atomic(link, "x,y\n")
+        atomic.write_atomic(link, "1,2\n")
+    finally:
+        os.close(fd)
+    assert log.read_bytes() == b"kept\nx,y\n1,2\n"
+    assert link.is_symlink() and os.readlink(link) == f"/proc/self/fd/{fd}"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["log.txt", "out.csv"]
+
+
+def test_a_user_link_to_a_file_in_another_folder_is_written_through(tmp_path):
+    """As cp, a shell's > and editors do: the file the link names is replaced whole, the link stays."""
+    (tmp_path / "share").mkdir()
+    (tmp_path / "share" / "job.csv").write_text("old")
+    (tmp_path / "out").mkdir()
+    link = tmp_path / "out" / "job.csv"
+    link.symlink_to(tmp_path / "share" / "job.csv")
+    atomic.write_atomic(link, "new")
+    assert link.is_symlink() and (tmp_path / "share" / "job.csv").read_text() == "new"
+    assert sorted(p.name for p in (tmp_path / "share").iterdir()) == ["job.csv"]

@@ -51,12 +51,14 @@ def tsai_wu_pressure(per_p: np.ndarray, held: np.ndarray, strengths: tuple) -> n
         disc = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
         # the larger root of a p^2 + b p + c (a >= 0 for Tsai-Wu's positive definite quadratic part)
         root = np.where(a > 0.0, (-b + disc) / (2.0 * a), np.where(b > 0.0, -c / b, np.inf))
-    root = np.where(c >= 0.0, 0.0, root)  # the held loads alone fail it
+    root = np.where(c >= 0.0, 0.0, root)  # the held loads alone fail it, whatever the pressure does next
     return np.where(np.isfinite(root) & (root >= 0.0), root, np.inf)
 
 
 def max_stress_pressure(per_p: np.ndarray, held: np.ndarray, strengths: tuple) -> np.ndarray:
-    """The least pressure p >= 0 at which a stress component reaches its strength (...,); inf if none."""
+    """The least pressure p >= 0 at which a stress component reaches its strength (...,); inf if none. A
+    component the held loads alone already take past its strength fails at 0, whichever way the pressure
+    moves it (the ply is broken before the pressure comes: a later pressure easing it mends nothing)."""
     xt, xc, yt, yc, s = strengths
     out = np.full(per_p.shape[:-1], np.inf)
     for i, (hi, lo) in enumerate(((xt, xc), (yt, yc), (s, s))):
@@ -64,5 +66,6 @@ def max_stress_pressure(per_p: np.ndarray, held: np.ndarray, strengths: tuple) -
         with np.errstate(divide="ignore", invalid="ignore"):
             up = np.where(g > 0.0, (hi - h) / np.where(g > 0.0, g, 1.0), np.inf)
             down = np.where(g < 0.0, (-lo - h) / np.where(g < 0.0, g, 1.0), np.inf)
-        out = np.minimum(out, np.maximum(np.minimum(up, down), 0.0))
+        broken = (h >= hi) | (h <= -lo)
+        out = np.minimum(out, np.where(broken, 0.0, np.maximum(np.minimum(up, down), 0.0)))
     return out

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from winder.analysis.loads import LoadCase
-from winder.analysis.materials import Lamina, lamina_of
+from winder.analysis.materials import Lamina, NettingAllowable, lamina_of
 from winder.errors import ConfigError
 
 
@@ -35,6 +35,7 @@ def check_analysis(job) -> tuple[Lamina | None, ...]:
         raise ConfigError("needs winding.material (the ply thickness and its stiffness and strength: a name from "
                           "winder's table or E1, E2, G12, nu12, Xt, Xc, Yt, Yc, S)", file=job.source,
                           key_path="analysis")
+    _check_ratios(job, plies)
     for i, ply in enumerate(plies):
         if ply is None:
             raise ConfigError("the structural analysis needs the ply's stiffness and strength: a name from "
@@ -44,12 +45,29 @@ def check_analysis(job) -> tuple[Lamina | None, ...]:
     return plies
 
 
+def _check_ratios(job, plies: tuple[Lamina | None, ...]) -> None:
+    """A stress_ratio given per material names materials the job's layers use (a typo is never ignored)."""
+    ratios = job.analysis.stress_ratio
+    if not isinstance(ratios, tuple):
+        return
+    names = sorted({p.name for p in plies if p is not None})
+    for name, _ in ratios:
+        if name not in names:
+            raise ConfigError(f"no layer's material is named {name!r} (the job's: {', '.join(names) or 'none'})",
+                              file=job.source, key_path=f"analysis.stress_ratio.{name}")
+
+
 def load_case(job) -> LoadCase:
     a = job.analysis
     return LoadCase(a.pressure, a.axial_force, a.torque, a.ends == "closed")
 
 
-def netting_stress(job, index: int, ply: Lamina) -> float:
-    """The netting allowable of layer `index` (0-based): its fiber strength on the job's V_f (9.2)."""
+def netting_allowable(job, index: int, ply: Lamina) -> NettingAllowable:
+    """The netting allowables of layer `index` (0-based) at its material's V_f (docs/math/09 9.2)."""
     cfg = job.winding.material_of(index)
-    return ply.netting_stress(None if cfg is None else cfg.fiber_volume_fraction)
+    return ply.netting_allowable(None if cfg is None else cfg.fiber_volume_fraction)
+
+
+def netting_stress(job, index: int, ply: Lamina) -> float:
+    """The netting allowable of layer `index` (0-based) on the composite thickness (MPa)."""
+    return netting_allowable(job, index, ply).composite

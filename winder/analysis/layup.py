@@ -13,11 +13,22 @@ LAYUP_STEP_BANDS = 0.5  # station spacing, in band widths
 LAYUP_ANGLES = 24  # rows around each station, 15 deg apart
 
 
-def station_rows(s: np.ndarray, thickness: np.ndarray, band_width: float) -> np.ndarray:
-    """Indices of a layer's laminate cells the layup writes: every LAYUP_STEP_BANDS band widths, only
-    where it lays fiber. s, thickness : (k,) the layer's cells (LayerLaminate.s, .thickness)."""
+def station_rows(s: np.ndarray, thickness: np.ndarray, band_width: float, every_cell: bool = False) -> np.ndarray:
+    """Indices of a layer's laminate cells the layup writes: every LAYUP_STEP_BANDS band widths over the span
+    where it lays fiber, placed symmetrically about that span's middle (so the two ends of a mirrored part
+    are sampled alike), only cells where it lays fiber; with every_cell each cell, empty ones included (the
+    shell model's). s, thickness : (k,) the layer's cells (LayerLaminate.s, .thickness)."""
+    if every_cell:  # the empty cells too: each laid cell then keeps its own edges
+        return np.arange(s.size)
+    laid = np.nonzero(thickness > 0.0)[0]
+    if laid.size == 0:
+        return laid
     step = max(1, int(round(LAYUP_STEP_BANDS * band_width / max(np.median(np.diff(s)), 1e-12))))
-    pick = np.arange(0, s.size, step)
+    lo, hi = int(laid[0]), int(laid[-1])
+    middle = 0.5 * (lo + hi)
+    offsets = np.arange(0.0, 0.5 * (hi - lo) + 1.0, step)
+    pick = np.unique(np.concatenate([np.floor(middle + offsets), np.ceil(middle - offsets)]).astype(int))
+    pick = pick[(pick >= lo) & (pick <= hi)]
     return pick[thickness[pick] > 0.0]
 
 
@@ -57,8 +68,9 @@ class LayerRows:
         return np.where(inside, np.round(self.angle_deg[j], 6), 0.0), np.where(inside, np.round(thick, 6), 0.0)
 
 
-def layer_rows(plan) -> tuple[LayerRows, ...]:
-    """Every layer's rows of a plan with a laminate (layers without one are left out)."""
+def layer_rows(plan, every_cell: bool = False) -> tuple[LayerRows, ...]:
+    """Every layer's rows of a plan with a laminate (layers without one are left out): the layup CSV's, or
+    with every_cell each laminate cell (what the shell model averages over its elements)."""
     from winder.winding.buildup import share_around  # noqa: PLC0415 - bends and non-circular sections only
 
     out = []
@@ -67,7 +79,7 @@ def layer_rows(plan) -> tuple[LayerRows, ...]:
         lam = layer.laminate
         if lam is None:
             continue
-        pick = station_rows(lam.s, lam.thickness, plan.band_width)
+        pick = station_rows(lam.s, lam.thickness, plan.band_width, every_cell)
         surface = plan.surface_of(layer.index)
         share = None if surface.is_revolution else share_around(surface, layer.passes, plan.band_width,
                                                                  lam.s[pick], theta)

@@ -14,8 +14,8 @@ from winder.analysis.clt import abd, membrane_strains, ply_response, reduced_sti
 from winder.analysis.failure import max_stress_index, max_stress_pressure, tsai_wu_index, tsai_wu_pressure
 from winder.analysis.layup import LayerRows
 from winder.analysis.loads import LoadCase, StationGeometry, resultants, revolution_geometry
-from winder.analysis.materials import Lamina
-from winder.analysis.netting import NettingLimits, limits
+from winder.analysis.materials import Lamina, NettingAllowable
+from winder.analysis.netting import NettingLimits, Wall, limits
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,10 +66,10 @@ def analysis_stations(rows: tuple[LayerRows, ...]) -> np.ndarray:
     return np.unique(np.round(np.concatenate([r.t for r in rows]), 6))
 
 
-def analyze_stations(surface, rows: tuple[LayerRows, ...], plies: tuple[Lamina, ...], sigma: np.ndarray,
-                     case: LoadCase, boss_radius: float = 0.0) -> StationAnalysis:
-    """The analysis at every layup station. plies : each layer's Lamina (same order as rows); sigma : (L,)
-    their netting allowables (MPa); boss_radius : on a vessel, netting applies at r >= it (0: everywhere)."""
+def analyze_stations(surface, rows: tuple[LayerRows, ...], plies: tuple[Lamina, ...],
+                     allowables: tuple[NettingAllowable, ...], case: LoadCase, boss_radius: float = 0.0) -> StationAnalysis:
+    """The analysis at every layup station. plies : each layer's Lamina (same order as rows); allowables :
+    their netting allowables; boss_radius : on a vessel, netting applies at r >= it (0: everywhere)."""
     t = analysis_stations(rows)
     geo = surface_geometry(surface, t)
     at = [r.at(t) for r in rows]
@@ -110,10 +110,10 @@ def analyze_stations(surface, rows: tuple[LayerRows, ...], plies: tuple[Lamina, 
             by_layer[3][:, k] = np.nanmax(np.where(present[:, mine], ms_i[:, mine], -np.inf), axis=1)
     for arr in by_layer[2:]:
         arr[~np.isfinite(arr)] = np.nan
-    lay_rad = np.radians(angle)
-    cap_m = np.sum(sigma * thick * np.cos(lay_rad) ** 2, axis=1)
-    cap_h = np.sum(sigma * thick * np.sin(lay_rad) ** 2, axis=1)
-    net = limits(cap_m, cap_h, per_p, held)
+    wall = Wall(angle=np.radians(angle), thickness=thick, helical=np.array([r.helical for r in rows]),
+                modulus=np.array([p.E1 for p in plies]), tension=np.array([a.composite for a in allowables]),
+                compression=np.array([a.composite_compression for a in allowables]))
+    net = limits(wall, per_p, held)
     applies = laid & (geo.r >= boss_radius)
     return StationAnalysis(geo, np.array([r.index for r in rows]), thick, angle, a, b, d, eps_p, eps_0, stress,
                            ply_layer, by_layer[0], by_layer[1], by_layer[2], by_layer[3], net, applies)

@@ -21,12 +21,12 @@ def compare_json(expected: str, got: str, rtol: float = JSON_RTOL, atol: float =
     out = _Collector(limit)
     try:
         a = json.loads(expected)
-    except ValueError as exc:
+    except (ValueError, RecursionError) as exc:  # RecursionError: nested past Python's stack
         out.add("(reference)", "valid JSON", f"unreadable: {exc}")
         return out.shown, out.count
     try:
         b = json.loads(got)
-    except ValueError as exc:
+    except (ValueError, RecursionError) as exc:
         out.add("(output)", "valid JSON", f"unreadable: {exc}")
         return out.shown, out.count
     _walk(a, b, "", out, rtol, atol)

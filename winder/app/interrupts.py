@@ -1,4 +1,4 @@
-"""Interrupts: TERM and INT stop a job or a batch cleanly (SPEC-style exit 130 / 143, README).
+"""Interrupts: TERM and INT stop a job or a batch cleanly (exit 130 / 143, docs/guide/commands.md).
 
 In the main process, `interrupts_raise` turns both signals into Interrupted, which unwinds through a
 job's writes (winder.app.jobs.write_outputs takes back what it put in place) and through the batch

@@ -18,11 +18,12 @@ import dataclasses
 from typing import TYPE_CHECKING
 
 from winder.app.interrupts import in_worker, raise_if_interrupted, stop_signals_held_back, stop_workers, worker_init
-from winder.app.wall_clock import TimeUp, time_limit
+from winder.app.wall_clock import TimeUp, time_limit, time_up_message
 from winder.app.writes import write_outputs
 from winder.errors import ConfigError, SolverError, WinderError
 from winder.export import registry
-from winder.progress import Progress, part
+from winder.export.paths import shown as shown_path
+from winder.progress import Progress, doing, part
 
 if TYPE_CHECKING:
     from concurrent.futures import Future
@@ -110,18 +111,43 @@ def output_names(name: str, formats: Iterable[str], summary: bool = True) -> lis
     return [name + f.suffix for f in registry.chosen(formats, always=summary)]
 
 
-def render_outputs(job, plan, formats: Iterable[str], summary: bool = True,
-                   progress: Progress | None = None, program=None) -> dict[str, bytes]:
-    """Every requested output of a planned job, in memory: file name -> bytes (writing order);
-    program: the job's motion program when the caller has built it already."""
+def render_outputs(job, plan, formats: Iterable[str], summary: bool = True, progress: Progress | None = None,
+                   program=None, make_program: Callable[[], object] | None = None) -> dict[str, bytes]:
+    """Every requested output of a planned job, in memory: file name -> bytes (writing order).
+
+    program: the job's motion program when the caller has built it already; else make_program()
+    builds it (run_job's builds and proves it, raising where an invariant fails), or
+    motion_program where an output needs it.
+    """
     chosen = registry.chosen(formats, always=summary)
-    if program is None and any(f.program for f in chosen):
-        program = motion_program(job, plan)
-    rendered = {}
+    needed = make_program is not None or any(f.program for f in chosen)
+    builds = program is None and needed and getattr(job, "machine", None) is not None
+    free = [f for f in chosen if not f.program] if builds else []
+    from winder.app.machine_pool import aside  # noqa: PLC0415
+
+    # The outputs that need no program are rendered on a forked process while it is built.
+    with aside(lambda: _render_each(job, plan, free, None, None)) as rendered_aside:
+        if program is None and needed:
+            program = make_program() if make_program is not None else motion_program(job, plan)
+        rendered = _render_each(job, plan, [f for f in chosen if f not in free], program, progress)
+        rendered.update(rendered_aside())
+    first_error = next((rendered[job.name + f.suffix] for f in chosen
+                        if isinstance(rendered[job.name + f.suffix], Exception)), None)
+    if first_error is not None:  # the error of the first format in writing order, as one by one
+        raise first_error
+    return {job.name + f.suffix: rendered[job.name + f.suffix] for f in chosen}
+
+
+def _render_each(job, plan, chosen: list, program, progress: Progress | None) -> dict[str, bytes | Exception]:
+    """file name -> bytes of each format, or the error that kept it from being rendered."""
+    rendered: dict[str, bytes | Exception] = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
             progress(i / len(chosen), f"rendering the {fmt.name}")
-        rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
+        try:
+            rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
+        except WinderError as exc:  # raised by render_outputs in writing order
+            rendered[job.name + fmt.suffix] = exc
     return rendered
 
 
@@ -142,11 +168,21 @@ def motion_program(job, plan):
         return exc
 
 
+def proved(job, plan, program):
+    """The program (or its build's error, or None) once the job's invariants hold, with their margins
+    (winder.machine.invariants); SolverError naming the first one broken: nothing is written then."""
+    from winder.machine.invariants import prove  # noqa: PLC0415
+
+    found = prove(plan, job, program)
+    return dataclasses.replace(program, invariants=found) if hasattr(program, "invariants") else program
+
+
 def _plan(job, progress: Progress | None = None):
     from winder.app.validate import validate_job  # noqa: PLC0415
     from winder.winding.plan import plan  # noqa: PLC0415 - a heavy import, and not needed by `check`
 
-    validate_job(job)  # the checks of `check`, so that `run` refuses nothing `check` accepted
+    with doing(f"checking {shown_path(job.source)} as `check` does (values, surface, work budget)"):
+        validate_job(job)  # the checks of `check`, so that `run` refuses nothing `check` accepted
     try:
         return plan(job, progress)
     except ConfigError as exc:
@@ -182,7 +218,8 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
         with time_limit(seconds):
             formats = tuple(formats)
             output_names("x", formats, summary)  # refuses an unknown format before any work
-            job = load_config(config)
+            with doing(f"reading {shown_path(config)}"):
+                job = load_config(config)
             if source is not None:
                 job = dataclasses.replace(job, source=source)
                 shown = source
@@ -190,30 +227,28 @@ def run_job(config_path: str | os.PathLike, out_dir: str | os.PathLike = ".",
             cell_dialect = job.machine.dialect if job.machine is not None and job.machine.cell is not None else None
             if formats == tuple(ALL_FORMATS) and cell_dialect in FORMATS:  # a robot cell's language by default
                 formats += (cell_dialect,)
-            if "layup" in formats:  # a request refused from the config alone, before any planning
-                from winder.export.layup import require_material  # noqa: PLC0415
+            from winder.app.validate import refuse_formats  # noqa: PLC0415 - beside the geometry it loads
 
-                require_material(job)
-            if "abaqus" in formats:  # likewise: the ply data and the load case (SPEC "Structural analysis")
-                from winder.export.abaqus import require_analysis  # noqa: PLC0415
-
-                require_analysis(job)
+            refuse_formats(job, formats)  # what the config alone refuses, before any planning
             if progress is not None:
                 progress = _named(progress, name)
             plan = _plan(job, part(progress, 0.0, PLANNING_SHARE))
-            program = None
-            if cell_dialect is not None:  # the cell's reach check refuses before any file, whatever is written
+
+            def checked_program():
                 program = motion_program(job, plan)
-                if isinstance(program, Exception):
-                    raise program
-            rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0), program)
+                if cell_dialect is not None and isinstance(program, Exception):
+                    raise program  # the cell's reach check refuses before any file, whatever is written
+                return proved(job, plan, program)
+
+            with doing(f"building the motion program and the outputs of {name} (its layers planned)"):
+                rendered = render_outputs(job, plan, formats, summary, part(progress, PLANNING_SHARE, 1.0),
+                                          make_program=checked_program)
             outputs = write_outputs(out_dir, rendered)
         if progress is not None:
             progress(1.0, "written")
     except TimeUp as up:
         raise_if_interrupted(up)  # a stop signal came first: the job ends as interrupted
-        exc = WinderError(f"the job did not finish within its time limit of {seconds:g} s (--time-limit); "
-                          "its solvers do not converge on this mandrel in reasonable time")
+        exc = WinderError(time_up_message(seconds, up.activity))
         return JobReport(config, name, False, 1, error_message(exc, shown), (), _fiber_length(plan),
                          _layer_count(plan), time.perf_counter() - started)
     except Exception as exc:  # noqa: BLE001 - every failure becomes a report, never a traceback

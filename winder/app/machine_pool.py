@@ -1,4 +1,5 @@
-"""The machine stage's layer groups (winder.machine.chunks) on two processes at once.
+"""The machine stage's layer groups (winder.machine.chunks) on two processes at once, and the outputs
+that need no motion program rendered aside while it is built.
 
 A large plan's motion program is built a group of layers at a time, and the groups do not depend on
 one another until they are joined, so a job run alone on Linux (not inside a batch's worker, whose
@@ -20,12 +21,15 @@ import multiprocessing
 import os
 import sys
 from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import TypeVar
 
 from winder.app.interrupts import stop_signals_held_back, stop_workers, worker_init
 from winder.errors import ExportError
 from winder.winding.memory_model import MACHINE_WORKERS as WORKERS  # the work budget counts their memory
 
 _TASK: Callable[[int], tuple] | None = None  # in a worker: the job's group task, handed over at the fork
+T = TypeVar("T")
 
 
 def _start(task: Callable[[int], tuple]) -> None:
@@ -73,6 +77,40 @@ def run_groups(task: Callable[[int], tuple], n: int) -> Iterator[tuple]:
             futures[i] = None  # the rows are the caller's now
             yield rows
     except BaseException:  # an error, the time limit, an interrupt, or the caller done early
+        stop_workers(pool)
+        raise
+    pool.shutdown(wait=True)
+
+
+@contextmanager
+def aside(task: Callable[[], T]) -> Iterator[Callable[[], T]]:
+    """task() on one forked process while the caller goes on; yields the function that waits for its
+    result (or raises its error). Where usable_workers() is 1, task runs when its result is asked for.
+
+    A job's outputs that need no motion program (the CSV, the meshes) are rendered so while the
+    program is built: their work, and the mesh library's import, leave the job's wall time.
+    """
+    if usable_workers() < 2:
+        yield task
+        return
+    from concurrent.futures import ProcessPoolExecutor  # noqa: PLC0415
+    from concurrent.futures.process import BrokenProcessPool  # noqa: PLC0415
+
+    pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"),
+                               initializer=_start, initargs=(lambda _i: task(),))
+
+    def result() -> T:
+        try:
+            return future.result()
+        except BrokenProcessPool as exc:
+            raise ExportError("a worker process rendering the outputs died before it finished "
+                              "(killed, or out of memory)") from exc
+
+    try:
+        with stop_signals_held_back():
+            future = pool.submit(_run, 0)
+        yield result
+    except BaseException:
         stop_workers(pool)
         raise
     pool.shutdown(wait=True)

@@ -24,14 +24,18 @@ def patterns_output(config: str, layer: int | None, angle: float | None, within:
 
 
 def convert_file(wind: str, output: str) -> str:
-    """Write the winder config of fiberpath's job WIND to output (`winder convert`); the line to print."""
+    """Write the winder config of fiberpath's job WIND to output (`winder convert`); the text to print:
+    a line saying so, or with output `-` (standard output, as the shell's tools read it) the config."""
     from winder.config.wind_yaml import convert_wind  # noqa: PLC0415
-    from winder.export.atomic import write_atomic  # noqa: PLC0415
+    from winder.export.atomic import check_output_file, write_atomic  # noqa: PLC0415
+    from winder.export.paths import shown  # noqa: PLC0415
 
-    if os.path.exists(output) and os.path.samefile(wind, output):
-        raise ConfigError(f"-o: {output} is the .wind file itself; give another file for the config")
-    write_atomic(output, convert_wind(wind))
-    return f"ok: {wind} -> {output}"
+    if output == "-":  # a file of that name is ./-
+        return convert_wind(wind).rstrip("\n")
+    check_output_file(output, {"WIND": wind})
+    text = convert_wind(wind)
+    write_atomic(output, text)
+    return f"ok: {shown(wind)} -> {shown(output)}"
 
 
 def choice_yaml(cfg: LayerConfig, angle: float, circuits: int, pattern: int) -> str:

@@ -197,23 +197,26 @@ def _check(sample: Sample, report: JobReport) -> tuple[FileCheck, ...]:
 
 
 def _update(sample: Sample, report: JobReport) -> tuple[FileCheck, ...]:
-    """Rewrite the sample's reference folder with the new outputs; say what changed."""
-    from winder.export.atomic import write_atomic  # noqa: PLC0415
+    """Rewrite the sample's reference folder with the new outputs, as one set (winder.app.writes: a
+    reference folder never holds files of two runs); say what changed."""
+    from winder.app.writes import write_outputs  # noqa: PLC0415
 
     reference = _reference_files(sample)
     got = {Path(p).name: Path(p).read_bytes() for p in report.outputs}
-    checks = []
+    checks, rewrite = [], {}
     for file_name, data in got.items():
         expected = _read_reference(sample, file_name, reference[file_name], data) if file_name in reference else None
         if expected is None:  # absent, or too large to read
-            write_atomic(sample.reference / file_name, data)
+            rewrite[file_name] = data
             checks.append(FileCheck(file_name, "new"))
             continue
         shown, count = compare_file(file_name, expected, data)
         if expected != data:
-            write_atomic(sample.reference / file_name, data)
+            rewrite[file_name] = data
         status = "changed" if count else ("refreshed" if expected != data else "same")
         checks.append(FileCheck(file_name, status, tuple(shown), count))
+    if rewrite:
+        write_outputs(sample.reference, rewrite)
     for file_name in reference:
         if file_name not in got and file_name.endswith(registry.suffixes()):
             (sample.reference / file_name).unlink()

@@ -276,6 +276,8 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     from winder.config.job import load_config  # noqa: PLC0415
     from winder.errors import SolverError  # noqa: PLC0415
     from winder.export.atomic import check_output_file, write_atomic  # noqa: PLC0415
+    from winder.export.paths import shown  # noqa: PLC0415
+    from winder.progress import doing  # noqa: PLC0415
     from winder.winding.plan import plan as plan_job  # noqa: PLC0415
 
     if output is not None:
@@ -289,10 +291,14 @@ def simulate_files(config: str, program: str, output: str | None = None, as_json
     validate_job(job)  # run's work budget: a job `check` refuses is not planned here either
     try:
         with time_limit(seconds):  # and run's time limit, over the plan and the reading
-            sim = simulate(job.machine, plan_job(job), source, program)
+            with doing(f"planning the job of {shown(config)}, as run does"):
+                plan = plan_job(job)
+            with doing(f"reading {shown(program)} back and matching it to the plan"):
+                sim = simulate(job.machine, plan, source, program)
     except TimeUp as exc:
+        where = f": stopped while {exc.activity}" if exc.activity else ""
         raise SolverError(f"{config}: the simulation did not finish within its time limit of {seconds:g} s "
-                          "(--time-limit)") from exc
+                          f"(--time-limit){where}") from exc
     if output is not None:
         write_atomic(output, simulation_csv(sim))
     if as_json:

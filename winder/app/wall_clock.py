@@ -9,16 +9,23 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-__all__ = ["TimeUp", "time_limit"]
+__all__ = ["TimeUp", "time_limit", "time_up_message"]
 
 
 class TimeUp(BaseException):
     """A job's wall-clock limit ran out (time_limit). A BaseException, so that it unwinds through
-    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1)."""
+    the solvers' own `except Exception` and the job's writes roll back; run_job reports it (exit 1).
+    activity: what the job was doing then (winder.progress.doing), None if it did not say."""
+
+    def __init__(self, activity: str | None = None) -> None:
+        super().__init__(activity)
+        self.activity = activity
 
 
 def _time_up(signum: int, frame) -> None:
-    raise TimeUp()
+    from winder.progress import activity  # noqa: PLC0415
+
+    raise TimeUp(activity())
 
 
 @contextmanager
@@ -44,3 +51,12 @@ def time_limit(seconds: float | None) -> Iterator[None]:
         if old_delay > 0:
             left = old_delay - (time.monotonic() - started)
             signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), old_interval)
+
+
+def time_up_message(seconds: float | None, activity: str | None) -> str:
+    """The message of a job stopped by its time limit, naming what it was doing (winder.progress.doing);
+    past the reading and the checks, a job's time goes to its solvers."""
+    head = f"the job did not finish within its time limit of {seconds:g} s (--time-limit)"
+    if activity is None:
+        return f"{head}; its solvers do not converge on this mandrel in reasonable time"
+    return f"{head}: stopped while {activity}"

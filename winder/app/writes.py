@@ -1,141 +1,87 @@
-"""A job's output files put in place as one set, whatever else writes into the same folder.
+"""A job's output files put in place as one set: the old set or the new one, never a mix, whatever
+else writes into the folder and whenever the writer dies (docs/guide/output-files.md).
 
-Each file is written atomically (winder.export.atomic); the set is made whole by two things:
-
-- an advisory lock on the output folder itself (flock on the folder's descriptor, so no lock file is
-  left behind) held while the set is put in place, so that two `winder run` writing one folder at
-  once (two shells, two CI jobs, a batch's workers) put their sets in one after the other: the folder
-  ends with one set or the other, never a mix of both;
-- a roll-back: on any failure (or an interrupt) the files already put in place are taken back and the
-  files they replaced put back (kept as hard links until the end).
-
-An output name that is a link is followed only to an existing file inside the output folder (the
-file it names is replaced and the link stays); a link to an existing file or folder outside it is
-replaced itself, atomically, by the job's file (winder.export.atomic.output_target), the file it
-named left untouched, and put back if the job fails; a link to nothing (dangling, or to a folder
-that does not exist) or a loop of links is refused before anything is written: following it would
-create folders and files outside the output folder.
+The protocol (winder.export.journal): under the output folder's lock, first finish what dead writers
+left there; write every file of the set aside (temporary files, and a hard link kept to each old file);
+make the commit record (one rename: the switch); rename the files into place; drop the record and the
+old files' links. On a failure or an interrupt the set is taken back (the old files put back). A name
+that is a link to a regular file is written through (the file it names is replaced, the link stays);
+a device, FIFO or descriptor (a link to /dev/null, /dev/stdout) is written into once the set is in
+place; a link to nothing, a loop or a folder is refused before anything is written.
 """
 
 from __future__ import annotations
 
-import errno
 import os
-import stat
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 from winder.app.interrupts import held
-from winder.errors import ExportError
 
-__all__ = ["folder_lock", "write_outputs"]
-
-
-@contextmanager
-def folder_lock(folder: Path) -> Iterator[None]:
-    """Hold an exclusive advisory lock on folder (created if missing) while inside. Where the
-    folder cannot be locked (a file system without flock, a folder not readable), the writes go
-    on without it, as before: the lock only orders winder's own writers."""
-    try:
-        import fcntl  # noqa: PLC0415 - POSIX only
-    except ImportError:  # pragma: no cover - not POSIX
-        yield
-        return
-    try:
-        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0) | getattr(os, "O_CLOEXEC", 0))
-    except OSError:
-        yield
-        return
-    try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX)  # an interrupt while waiting raises out of here (PEP 475)
-        except OSError:
-            pass
-        yield
-    finally:
-        os.close(fd)  # releases the lock
+__all__ = ["write_outputs"]
 
 
-def _refuse_links_out(folder: Path, names) -> None:
-    """ExportError for an output name that is a link to nothing or a loop (module docstring)."""
-    for file_name in names:
+def _destinations(folder: Path, rendered: dict[str, bytes]) -> tuple[list, list]:
+    """(streams, files): (path, bytes) of the names written into, and (output file, bytes) of those put in
+    place as the set; ExportError for a name that cannot be written (winder.export.atomic.output_target)."""
+    from winder.export.atomic import is_stream, output_target  # noqa: PLC0415
+
+    streams, files = [], []
+    for file_name, data in rendered.items():
         path = folder / file_name
-        if not path.is_symlink():
-            continue
-        try:
-            os.stat(path)
-        except OSError as exc:
-            why = "a loop of links" if exc.errno == errno.ELOOP else "a link to a file that does not exist"
-            raise ExportError(f"{path}: {why}: not followed out of the output folder; remove the link, got "
-                              f"{os.readlink(path)!r}") from exc
+        if is_stream(path):
+            streams.append((path, data))
+        else:
+            files.append((output_target(path), data))
+    return streams, files
 
 
-def write_outputs(out_dir: str | Path, rendered: dict[str, bytes]) -> list[str]:
+def write_outputs(out_dir: str | os.PathLike, rendered: dict[str, bytes]) -> list[str]:
     """Write the rendered files (file name -> bytes) into out_dir as one set and return their paths.
 
-    All or nothing: on any failure (or an interrupt) the files this call already put in place are
-    taken back again; where one replaced the output of an earlier run, that earlier file is put
-    back, so the folder holds the old set or the new set, never a mix.
+    All or nothing: on any failure (or an interrupt) the files already put in place are taken back and
+    the old ones put back, so the folder holds the old set or the new set; a writer killed on the way
+    leaves a commit record that the next winder writing into the folder completes (module docstring).
     """
-    from winder.export.atomic import is_stream, output_target, write_atomic  # noqa: PLC0415
+    from winder.export import journal  # noqa: PLC0415
+    from winder.export.atomic import write_stream, write_temporary  # noqa: PLC0415
 
     folder = Path(out_dir)
     try:
         folder.mkdir(parents=True, exist_ok=True)
-    except OSError:  # a file in the way, a read-only parent: write_atomic says which, for the first file
+    except OSError:  # a file in the way, a read-only parent: write_temporary says which, for the first file
         pass
-    _refuse_links_out(folder, rendered)
-    written: list[Path] = []  # the files to take back: a link's target, not a device it names
-    backups: dict[Path, Path] = {}
-    with folder_lock(folder):
+    streams, files = _destinations(folder, rendered)
+    with journal.folder_lock(folder) as locked:
+        journal.recover(folder, locked)
+        journal.settle_earlier(folder, [target.name for target, _ in files if target.parent == folder], locked)
+        entries: list[journal.Entry] = []
+        record = None
         try:
-            for file_name, data in rendered.items():
-                path = folder / file_name
-                if is_stream(path):  # a device or FIFO in the folder (a link to /dev/null): nothing to take back
-                    write_atomic(path, data)
-                    continue
-                target = output_target(path)
-                with held():  # a stop signal waits until the file is in place and noted for the rollback
-                    backup = _keep_old(target)
-                    if backup is not None:
-                        backups[target] = backup
-                    write_atomic(target, data)
-                    written.append(target)
+            for target, data in files:
+                with held():  # a stop signal waits until the file is noted for the rollback
+                    backup, had_old = journal.keep_old(target)
+                    try:
+                        tmp = write_temporary(target, data)
+                    except BaseException:
+                        if backup is not None:
+                            backup.unlink(missing_ok=True)
+                        raise
+                    entries.append((tmp, target, backup, had_old))
+            with held():  # the switch: the record, then the renames it promises
+                record = journal.commit(folder, entries)
+                for tmp, target, _, _ in entries:
+                    os.replace(tmp, target)
+            for path, data in streams:
+                write_stream(path, data)
+            with held():
+                record.unlink()
+                record = None
+                journal.drop_backups(entries)
         except BaseException:
             with held():  # the rollback is not cut short by an interrupt (after a failure of another kind)
-                for path in reversed(written):
-                    try:
-                        if path in backups:
-                            os.replace(backups.pop(path), path)
-                        else:
-                            path.unlink(missing_ok=True)
-                    except OSError:
-                        pass
+                try:
+                    journal.roll_back(folder, entries, record)
+                except OSError:  # a folder gone read-only: the record stays for the next writer
+                    pass
             raise
-        finally:
-            with held():  # nor is the removal of the old files kept for it
-                for backup in backups.values():
-                    try:
-                        backup.unlink(missing_ok=True)
-                    except OSError:
-                        pass
     return [str(folder / file_name) for file_name in rendered]
-
-
-def _keep_old(path: Path) -> Path | None:
-    """A hard link to an existing file or symbolic link at path (the link itself, not what it names: to
-    put it back if the job fails), or None."""
-    try:
-        mode = os.lstat(path).st_mode
-    except OSError:
-        return None
-    if not (stat.S_ISREG(mode) or stat.S_ISLNK(mode)):
-        return None
-    backup = path.with_name(f".{path.name}.{os.getpid()}.old")
-    try:
-        backup.unlink(missing_ok=True)
-        os.link(path, backup, follow_symlinks=False)
-    except OSError:  # no hard links here (some network or FAT folders): no way back, as without
-        return None
-    return backup

@@ -24,6 +24,7 @@ METHODS = ("newton", "lbfgs")  # winder.paths.geodesic.Method's values
 DEFAULT_POINTS = 200  # winder.config.winding.DEFAULT_POINTS
 MAX_POINTS = 100_000  # winder.config.winding.MAX_POINTS: the command line holds the config's limit
 DEFAULT_TIME_LIMIT = 600.0  # s per job: the largest job the work budget allows plans in about a minute
+CHECK_TIME_LIMIT = 60.0  # s per config of `check`: the slowest config within the limits checks in ~10 s
 MAX_ROUNDS = 1000  # --rounds and the turns of --start / --end: a 1000-round helix needs 48,000 points
 
 
@@ -100,10 +101,27 @@ class WinderGroup(click.Group):
         sys.exit(rv if isinstance(rv, int) else 0)
 
 
-class FiniteRange(click.FloatRange):
-    """click's FloatRange, refusing nan too: its range checks are comparisons, all false for nan."""
+def _plain_number(kind: click.ParamType, value, param, ctx) -> None:
+    """Refuse what Python's int() and float() read but a user does not mean: digit separators (`1_0` is
+    10 to Python) and digits of other scripts (`١٠` is 10 too), as YAML and the program readers do."""
+    if isinstance(value, str) and ("_" in value or not value.isascii()):
+        kind.fail(f"{value!r} is not a plain number (ASCII digits, no _).", param, ctx)
+
+
+class WholeRange(click.IntRange):
+    """click's IntRange on plain numbers only (_plain_number)."""
 
     def convert(self, value, param, ctx):  # type: ignore[no-untyped-def] - click's signature
+        _plain_number(self, value, param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class FiniteRange(click.FloatRange):
+    """click's FloatRange on plain numbers only (_plain_number), refusing nan too: its range checks are
+    comparisons, all false for nan."""
+
+    def convert(self, value, param, ctx):  # type: ignore[no-untyped-def] - click's signature
+        _plain_number(self, value, param, ctx)
         number = super().convert(value, param, ctx)
         if number != number:
             self.fail(f"{value!r} is not a number.", param, ctx)

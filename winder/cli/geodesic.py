@@ -6,17 +6,18 @@ import json
 
 import click
 
-from winder.cli.base import DEFAULT_POINTS, MAX_POINTS, MAX_ROUNDS, METHODS, _TIME_LIMIT, _echo, _guard, main
+from winder.cli.base import (DEFAULT_POINTS, MAX_POINTS, MAX_ROUNDS, METHODS, _TIME_LIMIT, FiniteRange, WholeRange,
+                              _echo, _guard, main)
 
 
 @main.command("geodesic", short_help="The geodesic on the mandrel of CONFIG from START to END.")
 @click.argument("config", type=click.Path(dir_okay=False))
 @click.option("--start", required=True, metavar="T,DEG", help="Start point: station t (mm), angle (deg).")
 @click.option("--end", required=True, metavar="T,DEG", help="End point: station t (mm), angle (deg).")
-@click.option("--rounds", type=int, default=0, show_default=True, help="Extra full turns: +360*N on the end angle.")
-@click.option("--points", "points", type=click.IntRange(min=1, max=MAX_POINTS), default=None,
+@click.option("--rounds", type=WholeRange(), default=0, show_default=True, help="Extra full turns: +360*N on the end angle.")
+@click.option("--points", "points", type=WholeRange(min=1, max=MAX_POINTS), default=None,
               help=f"Intermediate points (default {DEFAULT_POINTS}, and at least 48 per round).")
-@click.option("--tolerance", type=click.FloatRange(min=0, min_open=True), default=None, metavar="MM",
+@click.option("--tolerance", type=FiniteRange(min=0, min_open=True), default=None, metavar="MM",
               help="Choose the points so that the length's error bound is below MM.")
 @click.option("--method", type=click.Choice(METHODS), default="newton", show_default=True, help="lbfgs: the paper's.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), default=None, help="Write the path CSV here.")

@@ -8,23 +8,27 @@ import time
 
 import click
 
-from winder.cli.base import _TIME_LIMIT, _echo, _error, _guard, main
+from winder.cli.base import _TIME_LIMIT, CHECK_TIME_LIMIT, FiniteRange, WholeRange, _echo, _error, _guard, main
 
 
 @main.command("check", short_help="Validate configs as `run` would, without computing paths.")
 @click.argument("configs", nargs=-1, required=True, type=click.Path(dir_okay=False))
-def check_cmd(configs: tuple[str, ...]) -> None:
+@click.option("--time-limit", "time_limit", type=FiniteRange(min=0, min_open=True, max=1e6),
+              default=CHECK_TIME_LIMIT, show_default=True, metavar="SECONDS",
+              help="Wall-clock limit of each config's check; past it, exit 1 naming what it was checking.")
+def check_cmd(configs: tuple[str, ...], time_limit: float) -> None:
     """Validate configs as `run` would, before computing: values, geometry, the winding plan, the
-    work budget (no path computation). Exit status: 0 every config valid, 2 if any is invalid."""
+    work budget (no path computation). Exit status: 0 every config valid, 2 if any is invalid, 1 if a
+    check did not finish within --time-limit (neither valid nor invalid)."""
     from winder.app.batch import name_clash, shown  # noqa: PLC0415
     from winder.app.jobs import exit_status  # noqa: PLC0415
-    from winder.app.validate import validate  # noqa: PLC0415
+    from winder.app.validate import validate_within  # noqa: PLC0415
 
     codes = []
     owner: dict[str, str] = {}
     for path in configs:
         try:
-            job, _, _ = validate(path)  # every check `run` makes before it computes
+            job, _, _ = validate_within(path, time_limit)  # every check `run` makes before it computes
             clash = name_clash(path, job.name, owner, "one output folder") if len(configs) > 1 else None
             if clash is not None:  # as run refuses it in a batch of these configs
                 raise clash
@@ -125,7 +129,7 @@ def _needs_plot_extra() -> None:
 
 _OUT_DIR = click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default=".",
                         show_default=True, help="Folder for the output files (created if missing).")
-_JOBS = click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
+_JOBS = click.option("-j", "--jobs", type=WholeRange(min=0), default=1, show_default=True,
                      help="Worker processes for a batch; 0: one per CPU. The outputs do not depend on it.")
 
 

@@ -6,7 +6,7 @@ import sys
 
 import click
 
-from winder.cli.base import DEFAULT_TIME_LIMIT, FiniteRange, _echo, _guard, main
+from winder.cli.base import DEFAULT_TIME_LIMIT, FiniteRange, WholeRange, _echo, _guard, main
 from winder.cli.jobs import _progress
 
 
@@ -20,10 +20,32 @@ def design_cmd(config: str, as_json: bool) -> None:
     _echo(design_output(config, as_json))
 
 
+@main.command("analyze", short_help="Solve CONFIG's shell model with CalculiX and set it beside the laminate analysis.")
+@click.argument("config", type=click.Path(dir_okay=False))
+@click.option("-o", "--output-dir", "out_dir", type=click.Path(file_okay=False), default=".", show_default=True,
+              help="Folder for the output files (created if missing).")
+@click.option("--json", "as_json", is_flag=True, help="Print the summary's `fe` block as one JSON object.")
+@click.option("--refine", type=FiniteRange(0.25, 8.0), default=1.0, show_default=True, metavar="FACTOR",
+              help="Element rows along the mandrel, times the default grading (2: the mesh doubled).")
+@click.option("--around", type=click.IntRange(12, 192), default=48, show_default=True, metavar="N",
+              help="Elements around the mandrel (a multiple of 4).")
+@_guard
+def analyze_cmd(config: str, out_dir: str, as_json: bool, refine: float, around: int) -> None:
+    """Plan CONFIG, write its shell model (<name>.inp), solve it with CalculiX `ccx`, read the fiber stress and
+    failure index along the meridian back, and write them beside the laminate analysis into <name>.summary.json
+    (`fe`) and <name>.html (with the plot extra). Exit status: 0, 2 an invalid config or no ccx installed,
+    1 a job or a solve that failed."""
+    from winder.app.analyze import analyze_files  # noqa: PLC0415
+    if around % 4:
+        raise click.BadParameter(f"must be a multiple of 4 (the supports lie 90 deg apart), got {around}",
+                                 param_hint="--around")
+    _echo(analyze_files(config, out_dir, as_json, refine, around))
+
+
 # -- patterns and fiberpath files (issue 33) -------------------------------------------------------
 @main.command("patterns", short_help="The feasible patterns of helical layers, side by side.")
 @click.argument("config", type=click.Path(dir_okay=False))
-@click.option("--layer", type=click.IntRange(min=1), help="The layer (1-based); default: every helical one.")
+@click.option("--layer", type=WholeRange(min=1), help="The layer (1-based); default: every helical one.")
 @click.option("--angle", type=FiniteRange(0, 90, True, True), metavar="DEG", help="Ask this angle instead.")
 @click.option("--within", type=FiniteRange(0, 45), default=2.0, show_default=True, metavar="DEG",
               help="Vessels: the choices whose closed angle lies this near the angle asked.")
@@ -38,7 +60,8 @@ def patterns_cmd(config: str, layer: int | None, angle: float | None, within: fl
 
 @main.command("convert", short_help="Write a fiberpath .wind job as a winder config (YAML).")
 @click.argument("wind", type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False), help="The YAML config to write.")
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False, allow_dash=True),
+              help="The YAML config to write; - for standard output (./- for a file of that name).")
 @_guard
 def convert_cmd(wind: str, output: str) -> None:
     """WIND's job as the winder config `run WIND` winds, commented. Exit status: 0, 2 invalid, 1 not written."""
@@ -65,7 +88,7 @@ def simulate_cmd(config: str, program: str, output: str | None, as_json: bool) -
 @main.command("regress", short_help="Recompute the samples of DIR and compare with their references.")
 @click.argument("directory", type=click.Path(file_okay=False))
 @click.option("--update", is_flag=True, help="Rewrite the references with the current outputs.")
-@click.option("-j", "--jobs", type=click.IntRange(min=0), default=1, show_default=True,
+@click.option("-j", "--jobs", type=WholeRange(min=0), default=1, show_default=True,
               help="Worker processes; 0: one per CPU.")
 @_guard
 def regress_cmd(directory: str, update: bool, jobs: int) -> None:

@@ -12,7 +12,13 @@ from typing import Any
 from winder.config.line import LineAxis
 from winder.config.reader import MAX_SIZE, Reader
 
-__all__ = ["ArcAxis", "PathAxis", "SplineAxis", "bent_axis_length", "parse_axis"]
+__all__ = ["MAX_SEGMENTS", "MAX_SPLINE_POINTS", "ArcAxis", "PathAxis", "SplineAxis", "bent_axis_length", "parse_axis"]
+
+# A bent mandrel's guide has a few to a few dozen pieces; the geometry's checks (folds, the mandrel
+# running into itself) compare pieces and points pairwise: 1,000 take `check` about 6 s and 300 MB
+# (a spline of 20,000 points took 6 GB), so past these a list is no mandrel's.
+MAX_SEGMENTS = 1000
+MAX_SPLINE_POINTS = 1000
 
 
 @dataclasses.dataclass(frozen=True)
@@ -68,7 +74,7 @@ def _parse_arc(rd: Reader, m: dict[str, Any], path: str) -> ArcAxis:
 
 def _parse_path(rd: Reader, value: Any, path: str) -> PathAxis:
     segments: list[LineAxis | ArcAxis] = []
-    for i, item in enumerate(rd.listing(value, path, 1, "segment")):
+    for i, item in enumerate(_bounded(rd, rd.listing(value, path, 1, "segment"), path, MAX_SEGMENTS, "segments")):
         where = rd.at(path, i)
         seg = rd.mapping(item, where, ("line", "arc"))
         if len(seg) != 1:
@@ -82,9 +88,16 @@ def _parse_path(rd: Reader, value: Any, path: str) -> PathAxis:
     return PathAxis(tuple(segments))
 
 
+def _bounded(rd: Reader, items: list[Any], path: str, limit: int, noun: str) -> list[Any]:
+    if len(items) > limit:
+        raise rd.error(path, f"must have at most {limit:,} {noun} (a mandrel's guide has a few dozen), got "
+                       f"{len(items):,}")
+    return items
+
+
 def _parse_spline(rd: Reader, value: Any, path: str) -> SplineAxis:
     points: list[tuple[float, float, float]] = []
-    for i, item in enumerate(rd.listing(value, path, 2, "point")):
+    for i, item in enumerate(_bounded(rd, rd.listing(value, path, 2, "point"), path, MAX_SPLINE_POINTS, "points")):
         where = rd.at(path, i)
         if not isinstance(item, list) or len(item) != 3:
             raise rd.error(where, "must be a point [x, y, z]", item)

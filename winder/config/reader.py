@@ -15,6 +15,7 @@ from typing import Any
 
 import yaml
 
+from winder.config.yaml_expansion import ExpansionError, expanded_size
 from winder.errors import ConfigError
 
 # Slack (mm) when comparing user-typed lengths with computed ones: an arc's length is irrational,
@@ -157,12 +158,24 @@ def _deeper_than(text: str, limit: int) -> bool:
     return False
 
 
+def _load(loader: Any) -> Any:
+    """The document of a loader, refused past MAX_EXPANDED_VALUES before it is constructed."""
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        expanded_size(node)
+        return loader.construct_document(node)
+    finally:
+        loader.dispose()
+
+
 def load_yaml(text: str) -> Any:
-    """The data of a YAML document read by YamlLoader's rules.
+    """The data of a YAML document read by YamlLoader's rules, in time and memory linear in its size.
 
     libyaml parses where PyYAML has it. Anything it refuses is read again by PyYAML's own parser,
-    which raises the error: messages (line, column, problem) and the nesting limit are the same
-    with or without libyaml.
+    which raises the error: messages (line, column, problem) and the nesting and expansion limits are
+    the same with or without libyaml.
     """
     if _CParser is not None:
         try:
@@ -172,10 +185,12 @@ def load_yaml(text: str) -> Any:
         if deep:
             raise RecursionError(f"collections nested deeper than {MAX_NESTING} levels")
         try:
-            return yaml.load(text, Loader=_FastLoader)  # noqa: S506 - SafeConstructor
+            return _load(_FastLoader(text))
+        except ExpansionError:
+            raise  # read whole already: PyYAML's parser would take 20 s to say the same
         except (yaml.YAMLError, ValueError, RecursionError):
             pass
-    return yaml.load(text, Loader=YamlLoader)  # noqa: S506 - a SafeLoader subclass
+    return _load(YamlLoader(text))
 
 
 # -- checking values -------------------------------------------------------------------------------
@@ -356,7 +371,7 @@ def station_option(text: str, option: str) -> tuple[float, float]:
     """A command-line point `T,DEG` as (t mm, theta rad); ConfigError naming the option otherwise."""
     parts = text.split(",")
     try:
-        if len(parts) != 2 or "_" in text:  # Python's float reads 1_0 as 10; YAML and a user do not
+        if len(parts) != 2 or "_" in text or not text.isascii():  # float() reads 1_0 and ١٠ as 10; a user does not
             raise ValueError
         t, deg = float(parts[0]), float(parts[1])
     except ValueError as exc:

@@ -1,6 +1,6 @@
 """fiberpath's `.wind` job files (JSON, schemaVersion 1.x) read as winder jobs.
 
-What maps to what (README "Coming from fiberpath"): mandrelParameters (diameter, windLength, and
+What maps to what (docs/guide/fiberpath.md): mandrelParameters (diameter, windLength, and
 endDiameter for a cone, schema 1.1) is a straight mandrel of circular section; towParameters.width is
 winding.band_width (thickness is written down, and needs a material to become a laminate); hoop layers
 are hoop layers of 2 passes, 1 when `terminal`; helical layers are helical layers at windAngle, the
@@ -24,7 +24,9 @@ from winder.config.reader import Reader
 from winder.errors import ConfigError
 
 WIND_SUFFIX = ".wind"
-SCHEMA = re.compile(r"1\.\d+")  # fiberpath reads any 1.x (additive) and refuses other majors
+# fiberpath reads any 1.x (additive) and refuses other majors; x in ASCII digits (\d would take any
+# script's), a few of them (fiberpath's are 1.0 to 1.2; 100,000 nines are no version)
+SCHEMA = re.compile(r"1\.[0-9]{1,4}")
 EYE_CLEARANCE = 20.0  # mm beyond the mandrel's largest radius: marlin's eye stays at one radius
 CARRIAGE_MARGIN = 500.0  # mm of carriage travel beyond each end of the wind length
 CROSS_FEED_LIMIT = 400.0  # mm, at least the eye radius plus this margin's tenth
@@ -40,11 +42,14 @@ _KINDS = {"hoop": ((), ("terminal",)),
 
 
 def _no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    keys = [k for k, _ in pairs]
-    for key in keys:
-        if keys.count(key) > 1:
-            raise ValueError(f"duplicate key {key!r}")
-    return dict(pairs)
+    """The object of JSON's pairs, refusing a key given twice (in time linear in the pairs: the JSON
+    reader calls this once per object, and a 2 MB file may hold 200,000 keys in one)."""
+    out = dict(pairs)
+    if len(out) < len(pairs):
+        seen: set[str] = set()
+        key = next(k for k, _ in pairs if k in seen or seen.add(k))
+        raise ValueError(f"duplicate key {key!r}")
+    return out
 
 
 def _load(path: str | Path, source: str) -> Any:
@@ -102,7 +107,8 @@ def read_wind(path: str | Path) -> WindJob:
                                                                "defaultFeedRate", "layers"))
     version = top.get("schemaVersion", "1.0")
     if not isinstance(version, str) or not SCHEMA.fullmatch(version.strip()):
-        raise rd.error("schemaVersion", "must be a 1.x version string (fiberpath's format 1.x)", version)
+        raise rd.error("schemaVersion", "must be a 1.x version string, x of 1 to 4 ASCII digits (fiberpath's "
+                       "format 1.x)", version)
     mp = rd.mapping(top["mandrelParameters"], "mandrelParameters", _MANDREL, required=("diameter", "windLength"))
     if "profile" in mp:
         raise rd.error("mandrelParameters.profile", "a profile mandrel (schema 1.2, Von Karman) is not read by winder; "

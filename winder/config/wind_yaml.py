@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from winder.config.wind_file import WindJob, read_wind
+from winder.escape import yaml_comment
 
 
 def yaml_number(value: float) -> str:
@@ -41,7 +42,8 @@ def wind_yaml(job: WindJob, source: str) -> str:
     """The commented YAML text of a .wind job read."""
     d = job.data
     m, w, mc = d["mandrel"], d["winding"], d["machine"]
-    lines = [f"# Converted by `winder convert` from fiberpath's {Path(source).name} (schemaVersion {job.version}).",
+    lines = [f"# Converted by `winder convert` from fiberpath's {yaml_comment(Path(source).name)} (schemaVersion "
+             f"{yaml_comment(job.version)}).",
              f"# Tow thickness {yaml_number(job.thickness)} mm: not used for the plan (give winding.material for a "
              f"laminate that grows as wound).",
              f"name: {d['name']}", "", "mandrel:",

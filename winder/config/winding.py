@@ -23,6 +23,7 @@ MAX_POINTS = 100_000
 DEFAULT_FRICTION = 0.2
 # Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
 MIN_HOOP_ANGLE = 70.0
+MIN_COVERAGE = 0.999  # winding.min_coverage's default: the covered fraction every layer proves
 MAX_LAYER_CIRCUITS = 20_000  # YAML `circuits:`; = winder.winding.budget.MAX_CIRCUITS (the work budget)
 SLIP_AUTO = "auto"
 
@@ -84,6 +85,7 @@ class LayerConfig:
     circuits: int | None = None
     taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
     step_back: float = 0.0  # helical on vessels: mm its turnarounds move toward the equator (math 8.8)
+    min_coverage: float | None = None  # the covered fraction it proves (None: winding.min_coverage)
 
     def label(self, index: int) -> str:
         """`layer 5 (helical 16 deg)`: layer_label of this layer at 0-based position `index`."""
@@ -120,8 +122,14 @@ class WindingConfig:
     layers: tuple[LayerConfig, ...] = ()
     material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
     bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
+    min_coverage: float = MIN_COVERAGE  # the covered fraction every layer proves unless it asks another
     # Whether `points` was written: the default grows with a pass's rounds (winder.winding.passes.pass_points)
     points_given: bool = False
+
+    def min_coverage_of(self, index: int) -> float:
+        """The covered fraction layer `index` (0-based) must prove: its own, else the job's."""
+        own = self.layers[index].min_coverage
+        return self.min_coverage if own is None else own
 
     @property
     def has_laminate(self) -> bool:
@@ -135,10 +143,11 @@ class WindingConfig:
 
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material",
-                 "bridging_tolerance")
+                 "bridging_tolerance", "min_coverage")
 _LAYER_KINDS = {
-    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back")),
-    "hoop": ((), ("angle", "passes", "material", "taper")),
+    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back",
+                             "min_coverage")),
+    "hoop": ((), ("angle", "passes", "material", "taper", "min_coverage")),
 }
 
 
@@ -190,8 +199,23 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
             raise rd.error(rd.at(path, "bridging_tolerance"), "must be >= 0 (mm of lift-off a fiber may stand "
                            "off the mandrel over a concave stretch)", m["bridging_tolerance"])
     _check_tapers(rd, items, layers, rd.at(path, "layers"), region)
+    least = _parse_fraction(rd, m, path, "min_coverage", MIN_COVERAGE)
+    layers = tuple(dataclasses.replace(layer, min_coverage=_parse_fraction(rd, item, rd.at(rd.at(path, "layers"), i),
+                                                                             "min_coverage", None))
+                   if isinstance(item, dict) and "min_coverage" in item else layer
+                   for i, (layer, item) in enumerate(zip(layers, items)))
     return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
-                         bridging, "points" in m)
+                         bridging, least, "points" in m)
+
+
+def _parse_fraction(rd: Reader, m: dict, path: str, key: str, default: float | None) -> float | None:
+    """A covered fraction (min_coverage) in (0, 1], or the default where the key is left out."""
+    if key not in m:
+        return default
+    value = rd.number(m[key], rd.at(path, key))
+    if not 0.0 < value <= 1.0:
+        raise rd.error(rd.at(path, key), "must be a covered fraction in (0, 1]", m[key])
+    return value
 
 
 def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path: str,

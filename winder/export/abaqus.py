@@ -15,11 +15,13 @@ import io
 
 import numpy as np
 
+from winder.analysis.gauge import is_vessel
 from winder.analysis.job import check_analysis
 from winder.analysis.layup import layer_rows
 from winder.analysis.materials import Lamina
-from winder.analysis.shell_model import ShellModel, build_model
+from winder.analysis.shell_model import NTHETA, ShellModel, build_model
 from winder.errors import ConfigError, ExportError
+from winder.escape import abaqus_text
 
 NUM = "%.9g"  # node coordinates and loads: single-precision solvers read 9 digits without loss
 
@@ -46,7 +48,7 @@ def _rows(buf: io.StringIO, first: np.ndarray, table: np.ndarray, fmt: str) -> N
 def deck_text(model: ShellModel, plies: dict[int, Lamina], pressure: float, title: str) -> str:
     """The deck of a shell model; plies: each layer's (1-based) Lamina."""
     buf = io.StringIO()
-    buf.write(f"*HEADING\n{title}\n** winder: shell model of the wound laminate (docs/math/09-structure.md 9.5)\n")
+    buf.write(f"*HEADING\n{abaqus_text(title)}\n** winder: shell model of the wound laminate (docs/math/09-structure.md 9.5)\n")
     n, e = model.nodes.shape[0], model.elements.shape[0]
     buf.write("*NODE, NSET=NALL\n")
     _rows(buf, np.arange(1, n + 1), model.nodes, "%d, " + ", ".join([NUM] * 3))
@@ -55,6 +57,14 @@ def deck_text(model: ShellModel, plies: dict[int, Lamina], pressure: float, titl
     for name, ids in (("START", model.fixed_axial), ("MIDA", model.rings[0]), ("MIDB", model.rings[1])):
         buf.write(f"*NSET, NSET={name}\n")
         np.savetxt(buf, (np.sort(ids) + 1).reshape(-1, 1), fmt="%d")
+    buf.write("*ELSET, ELSET=MERIDIAN\n")  # the elements read back along the mandrel (winder analyze)
+    np.savetxt(buf, (model.meridian + 1).reshape(-1, 1), fmt="%d")
+    buf.write("*ELSET, ELSET=PRESSED\n")  # the pressure's elements: all but a boss's flange zones
+    np.savetxt(buf, (np.nonzero(model.pressed)[0] + 1).reshape(-1, 1), fmt="%d")
+    for k, (ids, ref, rot) in enumerate(model.rigid):  # a polar boss: rigid, the laminate on its flange bonded
+        buf.write(f"*NSET, NSET=BOSS{k + 1}\n")
+        np.savetxt(buf, (ids + 1).reshape(-1, 1), fmt="%d")
+        buf.write(f"*RIGID BODY, NSET=BOSS{k + 1}, REF NODE={ref + 1}, ROT NODE={rot + 1}\n")
     for layer in sorted(set(model.ply_layer.tolist())):
         buf.write(_material(f"PLY{layer}", plies[layer]))
     present = model.ply_thickness > 0.0
@@ -78,7 +88,7 @@ def deck_text(model: ShellModel, plies: dict[int, Lamina], pressure: float, titl
               + "".join(f"{n + 1}, 2, 2, 0.\n" for n in model.fixed_y))
     buf.write("*STEP\n*STATIC\n")
     if pressure:
-        buf.write(f"*DLOAD\nEALL, P, {pressure:.9g}\n")
+        buf.write(f"*DLOAD\nPRESSED, P, {pressure:.9g}\n")
     loaded = np.nonzero(np.any(model.loads != 0.0, axis=1))[0]
     if loaded.size:
         buf.write("*CLOAD\n")
@@ -87,7 +97,8 @@ def deck_text(model: ShellModel, plies: dict[int, Lamina], pressure: float, titl
         val = model.loads[loaded].ravel()
         keep = val != 0.0
         np.savetxt(buf, np.column_stack([ids[keep], dof[keep], val[keep]]), fmt=["%d", "%d", NUM], delimiter=", ")
-    buf.write("*NODE FILE\nU\n*EL FILE\nS, E\n*NODE PRINT, NSET=MIDA\nU\n*NODE PRINT, NSET=MIDB\nU\n*END STEP\n")
+    buf.write("*NODE FILE\nU\n*EL FILE\nS, E\n*NODE PRINT, NSET=MIDA\nU\n*NODE PRINT, NSET=MIDB\nU\n"
+              "*EL PRINT, ELSET=MERIDIAN\nS, E\n*END STEP\n")
     return buf.getvalue()
 
 
@@ -95,10 +106,16 @@ def export(plan, job) -> str:
     """The registry's entry (winder.export.registry)."""
     require_analysis(job)
     laminae = check_analysis(job)
-    rows = layer_rows(plan)
+    model = job_model(plan, job)
+    return deck_text(model, {int(k): laminae[int(k) - 1] for k in set(model.ply_layer.tolist())}, job.analysis.pressure,
+                     job.name)
+
+
+def job_model(plan, job, refine: float = 1.0, ntheta: int = NTHETA) -> ShellModel:
+    """The shell model of a planned job with an `analysis:` section (ExportError without a laminate)."""
+    rows = layer_rows(plan, every_cell=True)
     if not rows:
         raise ExportError("no layer lays a laminate: no shell model", file=job.source)
     case = job.analysis
-    model = build_model(plan.surface, rows, plan.band_width, case.pressure, case.ends == "closed",
-                        case.axial_force, case.torque)
-    return deck_text(model, {r.index: laminae[r.index - 1] for r in rows}, case.pressure, job.name)
+    return build_model(plan.surface, rows, plan.band_width, case.pressure, case.ends == "closed", case.axial_force,
+                       case.torque, refine, ntheta, bosses=is_vessel(plan.surface))

@@ -13,7 +13,8 @@ Columns: layer,t,theta_deg,x,y,z,angle_deg,thickness_mm
   non-circular sections) the section's mean times the share of bands over that angle
   (buildup.share_around), so its mean around the section is the section's.
 Stations every LAYUP_STEP_BANDS band widths (the laminate's cells, from the layer's own surface),
-only where the layer lays fiber; LAYUP_ANGLES angles around. Numbers with 6 decimals.
+only where the layer lays fiber, placed symmetrically about the middle of its laid span (a mirrored part is
+sampled alike at both ends); LAYUP_ANGLES angles around. Numbers with 6 decimals.
 """
 
 from __future__ import annotations

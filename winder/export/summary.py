@@ -16,7 +16,10 @@ everywhere) with lift_off_t_mm and lift_off_pass (where; null without a lift-off
 With a material (a laminate), each layer also has thickness_mm (mean, at the reference section),
 max_thickness_mm, ply_thickness_mm, volume_mm3, fiber_mass_kg, resin_mass_kg, material_length_mm
 and outer_radius_mm (after the layer), and the job fiber_mass_kg, resin_mass_kg, mass_kg and
-outer_radius_mm; without one these keys are absent. On a vessel with a material, domes: the first and
+outer_radius_mm; without one these keys are absent. On an open mandrel with densities, mass_per_metre_kg
+(the laminate at the reference section) and trimmed {t_mm, length_mm, mass_kg, mass_per_metre_kg}: the part between the
+turnaround zones where every layer is laid (winder.analysis.gauge's `wound`). On a vessel, volume_l: the
+volume its mandrel encloses, closed at the polar openings' planes. On a vessel with a material, domes: the first and
 the end dome's wall at the bosses (docs/math/08-laminate-edges.md 8.11): opening_radius_mm,
 max_wall_mm (the largest laminate thickness on the dome) and max_wall_radius_mm (the bare radius there).
 With the machine: winding_time_s in total and per layer, the machine's time over the motion program
@@ -25,9 +28,13 @@ no program can be built (an axis limit). estimated_time_s / time_s stay the fibe
 And axis_travel: each logical axis's [least, largest] value over the program as written (carriage,
 rotation, cross_feed, yaw; for robot poses x, y, z, i, j, k), to set against the machine's travel;
 null when no program can be built, and then program_error: why (the axis, the value and the limit).
-With an `analysis:` section, the `analysis` block (winder.analysis.structure.summary_block): the load
-case, burst_pressure_netting_mpa (and where), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and
-t, first_ply_failure_max_stress_mpa, netting_optimum_angle_deg, and per layer.
+With an `analysis:` section, the `analysis` block (winder.analysis.verdict.summary_block): the load
+case, the gauge section the headline figures come from (gauge, gauge_t_mm), burst_pressure_netting_mpa
+(and where, which layer, how), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and t,
+first_ply_failure_max_stress_mpa, burst_ratio and first_ply_failure_ratio (safety_factor: the same, its
+older name), the targets' burst_ratio_required and burst_pass, stress_ratio per fiber material,
+netting_allowables and notes, netting_optimum_angle_deg, per layer, and end_zones (the same figures
+outside the gauge, labelled). `winder analyze` adds the `fe` block (winder.analysis.fe_compare).
 """
 
 from __future__ import annotations
@@ -38,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from winder.analysis.structure import DECIMALS as STRUCTURE_DECIMALS
+from winder.analysis.verdict import DECIMALS as STRUCTURE_DECIMALS
 from winder.errors import ExportError, WinderError
 from winder.export.dialects.marlin import AXIS_SIGNS
 from winder.machine.program import MotionProgram, build_program
@@ -53,7 +60,9 @@ FRACTION_DECIMALS = 6
 CURVATURE_DECIMALS = 8  # 1/mm
 TIME_DECIMALS = 2
 MASS_DECIMALS = 6  # kg: to the milligram
+VOLUME_DECIMALS = 6  # litres: to the cubic millimetre
 THICKNESS_DECIMALS = LENGTH_DECIMALS + 1  # a wall grows by tenths of a millimetre a layer
+DEVIATION_DECIMALS = LENGTH_DECIMALS + 1  # the program's points and moves off the fiber: tenths of a micrometre
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
 # at (one unit in the last place). Keys written otherwise are named in DECIMALS_BY_NAME (a looser
 # unit would let a real change pass, a tighter one fail on round-off); axis_travel is written at
@@ -63,9 +72,10 @@ DECIMALS_BY_SUFFIX = (("_mm", LENGTH_DECIMALS), ("_deg", ANGLE_DECIMALS), ("_fra
 DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm": CURVATURE_DECIMALS,
                     "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
                     "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS,
-                    "max_wall_mm": THICKNESS_DECIMALS}
+                    "max_wall_mm": THICKNESS_DECIMALS, "max_point_deviation_mm": DEVIATION_DECIMALS,
+                    "max_midpoint_deviation_mm": DEVIATION_DECIMALS, "volume_l": VOLUME_DECIMALS}
 _DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
-DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.structure)
+DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.verdict)
 
 
 def decimals_of(key: str) -> int | None:
@@ -164,6 +174,32 @@ def _totals(plan: WindingPlan) -> dict[str, Any]:
     return out
 
 
+def _shop_figures(plan: WindingPlan, job) -> dict[str, Any]:
+    """A vessel's enclosed volume (volume_l); an open mandrel's laminate mass per metre at its reference
+    section and over its trimmed part (the `wound` gauge: winder.analysis.gauge), with a material's densities."""
+    from winder.analysis import gauge, quantities  # noqa: PLC0415
+    from winder.winding.wall import reference_station  # noqa: PLC0415
+
+    if not plan.surface.is_revolution:
+        return {}
+    if gauge.is_vessel(plan.surface):
+        return {"volume_l": _num(quantities.enclosed_volume(plan.surface.profile) * 1e-6, VOLUME_DECIMALS)}
+    densities = quantities.layer_densities(plan)
+    if densities.size == 0 or not np.all(np.isfinite(densities)):
+        return {}
+    region = getattr(getattr(job, "winding", None), "region", None)
+    span = gauge.gauge_span(plan, "wound", region)
+    if not np.all(np.isfinite(span)):
+        return {}
+    ref = reference_station(plan.surface, region or (0.0, plan.surface.axial_length), plan.band_width)
+    per_m = float(quantities.mass_per_length(plan, np.array([ref]))[0]) * 1000.0
+    mass = quantities.trimmed_mass(plan, span)
+    return {"mass_per_metre_kg": _num(per_m, MASS_DECIMALS),
+            "trimmed": {"t_mm": [_num(span[0], LENGTH_DECIMALS), _num(span[1], LENGTH_DECIMALS)],
+                        "length_mm": _num(span[1] - span[0], LENGTH_DECIMALS), "mass_kg": _num(mass, MASS_DECIMALS),
+                        "mass_per_metre_kg": _num(mass / (span[1] - span[0]) * 1000.0, MASS_DECIMALS)}}
+
+
 def _winding_times(plan: WindingPlan, machine, program: MotionProgram | Exception | None = None
                    ) -> tuple[float | None, list[float | None], dict | None, str | None]:
     """(total, per layer) machine time from the dynamics, the axis travel and None; None, None and
@@ -211,6 +247,7 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
         "layer_count": len(plan.layers),
         "layers": [_layer(layer) for layer in plan.layers],
         **_totals(plan),
+        **_shop_figures(plan, job),
     }
     if machine is not None:
         total, layers, travel, why = _winding_times(plan, machine, program)
@@ -220,11 +257,26 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
             out["program_error"] = why
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
+    out["invariants"] = _invariants(plan, program)
     if job is not None and getattr(job, "analysis", None) is not None:
         from winder.analysis.structure import analyze, summary_block  # noqa: PLC0415
 
         out["analysis"] = summary_block(analyze(plan, job), job)
     return out
+
+
+def _invariants(plan: WindingPlan, program) -> dict[str, float | None]:
+    """The job's margins (winder.machine.invariants): the program's where it proved them, else the
+    plan's coverage alone."""
+    proved = getattr(program, "invariants", None)
+    least = min((layer.coverage.covered_fraction for layer in plan.layers), default=1.0)
+    figures = {
+        "min_covered_fraction": float(least) if proved is None else proved.min_covered_fraction,
+        "max_point_deviation_mm": None if proved is None else proved.max_point_deviation_mm,
+        "max_midpoint_deviation_mm": None if proved is None else proved.max_midpoint_deviation_mm,
+        "min_clearance_mm": None if proved is None else proved.min_clearance_mm,
+    }
+    return {key: _num(value, decimals_of(key)) for key, value in figures.items()}
 
 
 def summary_text(plan: WindingPlan, machine=None, program: MotionProgram | Exception | None = None,

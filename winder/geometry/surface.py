@@ -94,6 +94,14 @@ class SweepSurface:
         """A straight axis and a circular section: a surface of revolution (Clairaut holds)."""
         return bool(self.curve.is_straight and self.section.is_circle)
 
+    @functools.cached_property
+    def cylinder_radius(self) -> float | None:
+        """R on a circular cylinder (a straight axis, a circle, one radius everywhere), else None:
+        where geodesics are helices and friction paths have a closed form (winder.paths.friction_cylinder)."""
+        if not self.is_revolution or self._constant_radius is None:
+            return None
+        return float(self.radius(np.zeros(1), np.zeros(1))[0])
+
     @property
     def is_axial_parameter(self) -> bool:
         """Whether s is the axial station itself (everything but vessels)."""

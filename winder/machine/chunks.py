@@ -32,6 +32,7 @@ from collections.abc import Callable, Iterable, Iterator
 import numpy as np
 
 from winder.config.machine import MachineConfig
+from winder.machine.as_wound import finished_part
 from winder.machine.axis_batch import TURN_BACK_DEG
 from winder.machine.batch import pass_where
 from winder.machine.collision import check_collision
@@ -82,14 +83,15 @@ def build_program_in_groups(plan: WindingPlan, machine: MachineConfig, most: int
     whole = _sense_of(plan.layers)
     if len(groups) <= 1 or whole_plan(machine, plan.surface) or any(_sense_of(g) != whole for g in groups):
         return build_program(plan, machine)
-    env = eye_envelope(plan.outer_surface, machine)
+    part = finished_part(plan)  # every group's eye clears the whole finished part
+    env = eye_envelope(plan.outer_surface, machine, part)
     firsts = np.cumsum([0] + [len(g) for g in groups]).tolist()  # each group's first layer
 
     def task(i: int) -> GroupResult:
         # The layers before stay, without passes: a layer's number is its place in the plan.
         done = firsts[i]
         earlier = tuple(dataclasses.replace(layer, passes=()) for layer in plan.layers[:done])
-        own = build_program(dataclasses.replace(plan, layers=earlier + groups[i]), machine)
+        own = build_program(dataclasses.replace(plan, layers=earlier + groups[i]), machine, part)
         # its times are recomputed on the joined rows; its dense arrays are gone already
         return own.values, own.index, own.fiber, own.segments[done:]
 

@@ -105,18 +105,31 @@ def _largest_section_angle(surface: SweepSurface) -> float:
     return float(th[k])
 
 
-def eye_envelope(surface: SweepSurface, machine: MachineConfig) -> EyeEnvelope:
-    """The eye envelope of a machine around a mandrel (module docstring); computed once per job."""
+def section_top(surface: SweepSurface, stations: np.ndarray) -> np.ndarray:
+    """r_max (k,) at the uniform stations (k,) inside [0, T]: the largest section radius, sampled in
+    the internal station (arc length on domes) at least as finely, then put on the stations."""
+    th_max = _largest_section_angle(surface)
+    s = np.linspace(0.0, surface.length, max(stations.size, 2049))
+    r_s = surface.radius(s, np.full(s.shape, th_max))
+    return np.interp(stations, surface.t_of_s(s), r_s)
+
+
+def eye_envelope(surface: SweepSurface, machine: MachineConfig, wound=None) -> EyeEnvelope:
+    """The eye envelope of a machine around a mandrel (module docstring); computed once per job.
+    wound : the part as wound (winder.machine.as_wound.WoundProfile) where its laminate stands
+    beyond the surface (past a vessel's opening planes): the envelope clears both."""
     T = surface.axial_length
     clearance = machine.eye_clearance if machine.eye_radius is None else None
     step = ENVELOPE_STEP if clearance is None else min(ENVELOPE_STEP, clearance / 16.0)
-    n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil(T / step) + 1)))
-    stations = np.linspace(0.0, T, n)
-    th_max = _largest_section_angle(surface)
-    # r_max(t): sampled in the internal station (arc length on domes), then put on the uniform grid.
-    s = np.linspace(0.0, surface.length, max(n, 2049))
-    r_s = surface.radius(s, np.full(s.shape, th_max))
-    r_max = np.interp(stations, surface.t_of_s(s), r_s)
+    lo, hi = (0.0, T) if wound is None else wound.span
+    n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil((hi - lo) / step) + 1)))
+    stations = np.linspace(lo, hi, n)
+    if wound is None:
+        r_max = section_top(surface, stations)
+    else:
+        inside = (stations >= 0.0) & (stations <= T)
+        r_max = np.maximum(wound.beyond(stations), 0.0)
+        r_max[inside] = np.maximum(r_max[inside], section_top(surface, stations[inside]))
     if machine.eye_radius is not None:
         zr = float(machine.eye_radius)
         return EyeEnvelope(stations, np.full(n, zr), r_max, zr, None)

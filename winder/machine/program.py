@@ -30,6 +30,7 @@ import dataclasses
 import numpy as np
 
 from winder.config.machine import MachineConfig
+from winder.machine.as_wound import finished_part
 from winder.machine.cell import CellMotion, cell_motion
 from winder.machine.chords import CLEAR_ROUNDS, refine
 from winder.machine.collision import GAP_TOL, check_collision, clearance_gaps
@@ -114,6 +115,7 @@ class MotionProgram:
     mandrel_radius: float = 0.0  # the mandrel's largest section radius (mm)
     axial_length: float = 0.0  # the mandrel's length along its axis (mm)
     cell: CellMotion | None = None  # a robot cell's motion (machine.robot as a mapping), its times the program's
+    invariants: object = None  # winder.machine.invariants.Invariants, once the job has proved them
 
     @property
     def layer_times_s(self) -> tuple[float, ...]:
@@ -254,12 +256,13 @@ def _kept_clear(q: np.ndarray, sizes: np.ndarray, tols: np.ndarray, laid: tuple,
     return kept, moves, joins, gaps
 
 
-def build_program(plan: WindingPlan, machine: MachineConfig) -> MotionProgram:
+def build_program(plan: WindingPlan, machine: MachineConfig, part=finished_part) -> MotionProgram:
     """The motion program of a plan on a machine (module docstring); ExportError where the eye
-    cannot clear the mandrel or an axis would leave its limits."""
+    cannot clear the mandrel or an axis would leave its limits. part : the finished part's
+    WoundProfile (winder.machine.as_wound) or None, or the function of the plan giving it."""
     robot = robot_poses(machine, plan.surface)  # a bent axis or machine.robot
     surface = plan.outer_surface  # the eye clears the finished part, laminate included
-    env = eye_envelope(surface, machine)
+    env = eye_envelope(surface, machine, part(plan) if callable(part) else part)
     guide = make_guide(surface, env) if robot else None
     tol = float(machine.chord_tolerance)
     angle_scale = tol / np.radians(YAW_TOLERANCE_DEG)  # mm per radian of yaw / direction

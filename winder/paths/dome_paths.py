@@ -185,6 +185,11 @@ def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) ->
     return lam, leg
 
 
+# |det J| below this times max|J_ij|^2: the Jacobian has no rank 2 (a helical at 89.99 deg turns at
+# the equator, its dome leg of no length: lambda moves nothing), and Newton has no step.
+SINGULAR_JACOBIAN = 1e-12
+
+
 def _linear(lam0: float, lam1: float, l0: float) -> Callable[[np.ndarray], np.ndarray]:
     return lambda l: lam0 + lam1 * (np.asarray(l) / l0 - 0.5)
 
@@ -219,6 +224,8 @@ def close_leg(meridian: DomeMeridian, s_eq: float, heading: float, c: float, lam
             return float(x[0]), float(x[1]), leg
         if (score := abs(f[0]) / RADIUS_ACCEPT + abs(f[1]) / ADVANCE_ACCEPT) < best[0]:
             best = (score, x, leg)
+        if abs(np.linalg.det(jac)) <= SINGULAR_JACOBIAN * float(np.abs(jac).max()) ** 2:
+            break  # lambda moves neither the turnaround nor the advance (a leg of no length): no Newton step
         dx = np.linalg.solve(jac, -f)
         f_new, leg = res(x + dx)
         if f_new is None:

@@ -33,6 +33,8 @@ from winder.geometry.surface import SweepSurface
 
 Slip = float | Callable[[float], float]
 STATION_TOL = 1e-9  # mm: a start this far outside [0, length] is still on the mandrel
+ALONG_TOL = 1e-9  # |cos(heading)| below this starts on the parallel: traced by the ODE, which decides the turn
+CLOSED_FORM_SAMPLES = 65  # the closed-form trace's (s, theta, arc) samples; its state is exact everywhere
 
 
 # -- the ODE --------------------------------------------------------------------------------------------
@@ -116,7 +118,8 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
 
     slip : lambda = k_g / k_n, a number or a function of the arc length (mm) from the start; positive
         lambda turns the fiber toward larger heading (as shooting's heading: from the meridian toward
-        increasing theta). scipy.integrate.solve_ivp (DOP853), dense output.
+        increasing theta). On a circular cylinder with a constant slip, the closed form
+        (winder.paths.friction_cylinder); elsewhere scipy.integrate.solve_ivp (DOP853), dense output.
     stop_at_ends : stop where s leaves [0, surface.length]. stop_at_turnaround : stop where the fiber
         first runs along the parallel (heading +-90 deg: the turnaround on a surface of revolution).
     """
@@ -126,6 +129,29 @@ def trace_friction(surface: SweepSurface, start: tuple[float, float], heading_de
                           f"got {s0:g}")
     if not (np.isfinite(length) and length > 0.0):
         raise ConfigError(f"trace length: must be a number > 0 mm, got {length}")
+    if not callable(slip) and surface.cylinder_radius is not None and abs(np.cos(np.radians(heading_deg))) > ALONG_TOL:
+        return _cylinder_trace(surface, s0, th0, heading_deg, float(slip), float(length), stop_at_ends,
+                               stop_at_turnaround)
+    return _integrated_trace(surface, s0, th0, heading_deg, slip, length, rtol, atol, stop_at_ends, stop_at_turnaround)
+
+
+def _cylinder_trace(surface: SweepSurface, s0: float, th0: float, heading_deg: float, slip: float, length: float,
+                    ends: bool, turnaround: bool) -> FrictionTrace:
+    """trace_friction on a circular cylinder: the closed form of winder.paths.friction_cylinder."""
+    from winder.paths.friction_cylinder import cylinder_path  # noqa: PLC0415
+
+    radius = surface.cylinder_radius
+    state, reached, event = cylinder_path(radius, surface.length, s0, th0, heading_deg, slip, length, ends, turnaround)
+    arc = np.linspace(0.0, reached, CLOSED_FORM_SAMPLES)
+    y = state(arc)
+    return FrictionTrace(s=y[0], theta=y[1], arc=arc, state=state, length=reached, event=event,
+                         turnaround_radius=radius if event == "turnaround" else None, heading_deg=float(heading_deg),
+                         speed_error=0.0, nfev=0)
+
+
+def _integrated_trace(surface: SweepSurface, s0: float, th0: float, heading_deg: float, slip: Slip, length: float,
+                      rtol: float, atol: float, stop_at_ends: bool, stop_at_turnaround: bool) -> FrictionTrace:
+    """trace_friction on any surface: the ODE above by scipy's solve_ivp (DOP853), dense output."""
     ds, dth = velocity_of_heading(surface, s0, th0, np.radians(heading_deg))
     y0 = np.array([s0, th0, ds[0], dth[0]])
 

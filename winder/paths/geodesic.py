@@ -278,6 +278,16 @@ def _message(sol: PathSolve, levels: tuple[Level, ...], rounds: float, n: int) -
     return text
 
 
+def _load_solver(method: Method) -> None:
+    """Import the library routines a solve by `method` calls, so that the solve's `seconds` time the
+    solve alone: the banded LAPACK solvers (Newton's steps, the index splines' slopes), and scipy's
+    L-BFGS-B for the paper's method. Loaded on the first solve only (later imports are lookups)."""
+    import scipy.linalg.lapack  # noqa: F401, PLC0415 - winder.paths.energy, winder.geometry.index_spline
+
+    if method is Method.LBFGS:
+        import scipy.optimize  # noqa: F401, PLC0415 - winder.paths.lbfgs
+
+
 def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float, float], *,
              rounds: int = 0, n: int | None = None, tolerance: float | None = None,
              method: Method = Method.NEWTON, init: tuple[np.ndarray, np.ndarray] | None = None,
@@ -296,7 +306,8 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
     swept = abs(th1 - th0) / (2.0 * np.pi)
     n = default_points(swept) if n is None else n
     check_points(n, swept, max_points)
-    t0 = time.perf_counter()
+    _load_solver(method)
+    t0 = time.perf_counter()  # the solve alone: what the solver imports is loaded above
     s0, s1 = (float(v) for v in surface.s_of_t(np.array([start[0], end[0]])))
     if init is not None:
         s_init, th_init = (np.asarray(a, dtype=float) for a in init)

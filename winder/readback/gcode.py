@@ -118,7 +118,7 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
                 fixed_z = _fixed_eye(line, number, source)
             continue
         code = _code(line)
-        if not code or code in _SKIP or code.startswith("G64 P"):
+        if not code or code in _SKIP or (code.startswith("G64 P") and dialect == "linuxcnc"):  # linuxcnc's alone
             continue
         if code in _END and dialect != "marlin":
             end = number

@@ -78,7 +78,8 @@ def _agreement(maps: tuple[LayerCoverageMap, ...], summary: dict[str, Any]) -> s
 
 
 def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | None = None,
-                progress: Progress | None = None, structure=None, cell: dict[str, Any] | None = None) -> str:
+                progress: Progress | None = None, structure=None, cell: dict[str, Any] | None = None,
+                fe=None) -> str:
     """The whole report page of a planned job.
 
     Parameters
@@ -88,6 +89,7 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     progress : called as progress(fraction done, label) after each step (winder.progress).
     structure : the job's winder.analysis.structure.Structure (a job with `analysis:`), for its section.
     cell : a robot cell's figure (winder.report.cell_view), shown after the 3D view.
+    fe : `winder analyze`'s winder.analysis.fe_compare.Comparison, drawn beside the laminate analysis.
 
     Raises ConfigError (exit 2) when plotly, the `plot` extra, is not installed.
     """
@@ -137,7 +139,7 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
 
         body = structure_table(summary["analysis"])
         if structure is not None and structure.stations is not None:
-            body += figure_html(structure_figure(structure, length), "winder-structure", include_plotlyjs=False)
+            body += figure_html(structure_figure(structure, length, fe), "winder-structure", include_plotlyjs=False)
         HOW.setdefault("structure", STRUCTURE_HOW)
         sections.append(_section("structure", "Will it hold?", body))
         links.append(("structure", "Structure"))

@@ -8,8 +8,6 @@ perimeter once for an even layer: gaps are uncovered stretches, overlaps doubly 
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
 from winder.winding.bands import union_stats_many
@@ -28,38 +26,44 @@ def crossings_many(surface: SweepSurface, arcs: ArcMap, passes: list[FiberPass],
     Cubic splines of s and theta against t (monotone along a pass) give the crossing and the local
     direction Phi_s s'(t) + Phi_theta theta'(t) to O(h^4), far below a band's width: one slope
     system for all the passes where each has four points or more, the surface (pointwise) in one
-    evaluation.
+    evaluation. On a non-circular section the splines run in the perimeter fraction, not in theta
+    (docs/math/12 12.2): a path straight in (t, f) bends in theta where a flat meets a corner, and a
+    hoop's spline there read theta'(t) up to 2.4 % off at 72 points a turn, the band's width across the
+    station with it (a 120 x 80 tube, corners 15: 0.989 covered where the planned turns close exactly).
     """
     if not passes:
         return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0)
-    # On a non-circular section the splines run in the perimeter fraction, not in theta: a straight
-    # tube's pass is a line in (t, f), which the spline carries, where theta(t) bends at every joint of
-    # a flat and a corner (200 points over 5 turns of a 200 x 100 tube, corners 20: crossings off by a
-    # share of a band, and 38 circuits laid where 34 cover).
-    along = (lambda p: p.theta) if arcs.identity else (lambda p: arcs.fraction(p.theta))
+    along = None if arcs.identity else arcs
     batched = _spline_crossings_batched(passes, stations, along)
     if batched is None:
-        parts = [_spline_crossings(p, stations, along(p)) for p in passes]
+        parts = [_spline_crossings(p, stations, along) for p in passes]
         batched = tuple(np.concatenate(c) for c in zip(*parts))
-    return _bands(surface, arcs, *in_theta(arcs, batched), band_width)
+    return _bands(surface, arcs, *_from_fraction(along, batched), band_width)
 
 
-def in_theta(arcs: ArcMap, crossings: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
-    """Crossings (station index, s, a, s'(t), a'(t)) with a the perimeter fraction (non-circular
-    sections) turned into theta and theta'(t)."""
-    idx, s_x, a_x, ds, da = crossings
-    if arcs.identity:
+def _from_fraction(arcs: ArcMap | None, crossings: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """Crossings (station index, s, 2 pi f, s'(t), 2 pi f'(t)) back to (.., theta, .., theta'(t));
+    as they are where arcs is None (the splines ran in theta)."""
+    if arcs is None:
         return crossings
-    th = arcs.theta(a_x)
-    return idx, s_x, th, ds, da * arcs.dtheta_dfrac(th)
+    idx, s_x, a_x, ds, da = crossings
+    th_x = arcs.theta(a_x / (2.0 * np.pi))
+    return idx, s_x, th_x, ds, arcs.dtheta_dfrac(th_x) * da / (2.0 * np.pi)
 
 
-def _spline_crossings(p: FiberPass, stations: np.ndarray, angle: np.ndarray) -> tuple[np.ndarray, ...]:
-    """(station index, s, a, s'(t), a'(t)) where the pass crosses the stations; angle (m,): the pass's
-    theta or perimeter fraction, a the same at the crossing."""
+def _angles(p: FiberPass, arcs: ArcMap | None) -> np.ndarray:
+    """The coordinate a pass's splines run in around the section: theta, or on a non-circular
+    section (arcs given) the perimeter fraction as an angle, 2 pi f (unwrapped as theta is)."""
+    return p.theta if arcs is None else 2.0 * np.pi * arcs.fraction(p.theta)
+
+
+def _spline_crossings(p: FiberPass, stations: np.ndarray, arcs: ArcMap | None = None) -> tuple[np.ndarray, ...]:
+    """(station index, s, theta, s'(t), theta'(t)) where the pass crosses the stations (with arcs:
+    2 pi f and its rate in place of theta's, _angles)."""
     forward = p.t[-1] > p.t[0]
     if p.t.size < 2:
         return np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0)
+    angle = _angles(p, arcs)
     t, s, th = (p.t, p.s, angle) if forward else (p.t[::-1], p.s[::-1], angle[::-1])
     idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
     if idx.size == 0:
@@ -70,8 +74,8 @@ def _spline_crossings(p: FiberPass, stations: np.ndarray, angle: np.ndarray) -> 
 
 
 def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray,
-                              along: Callable[[FiberPass], np.ndarray]) -> tuple[np.ndarray, ...] | None:
-    """_spline_crossings of every pass (its angle along(p)), concatenated, from one tridiagonal solve for all the passes'
+                              arcs: ArcMap | None = None) -> tuple[np.ndarray, ...] | None:
+    """_spline_crossings of every pass (in the coordinate of arcs), concatenated, from one tridiagonal solve for all the passes'
     splines (s and theta together); None where a pass needs the other kinds of spline (fewer than four
     points, or t not strictly monotone), which _spline_crossings then builds pass by pass.
 
@@ -83,8 +87,8 @@ def _spline_crossings_batched(passes: list[FiberPass], stations: np.ndarray,
         if p.t.size < 2:
             continue
         forward = p.t[-1] > p.t[0]
-        a = along(p)
-        t, s, th = (p.t, p.s, a) if forward else (p.t[::-1], p.s[::-1], a[::-1])
+        angle = _angles(p, arcs)
+        t, s, th = (p.t, p.s, angle) if forward else (p.t[::-1], p.s[::-1], angle[::-1])
         idx = np.nonzero((stations >= t[0]) & (stations <= t[-1]))[0]
         if idx.size == 0:
             continue

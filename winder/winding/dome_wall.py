@@ -5,6 +5,7 @@ and the bare radius where it is."""
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterator
 
 import numpy as np
 
@@ -46,10 +47,20 @@ def _foot(points: np.ndarray, prof: VesselMeridian) -> np.ndarray:
 def wall_at(plan: WindingPlan, bare: np.ndarray) -> np.ndarray:
     """W (m,) (mm) at points (m, 2) as (z, r) of the bare mandrel's meridian (module docstring)."""
     wall = np.zeros(bare.shape[0])
+    for wall in walls_by_layer(plan, bare):
+        pass
+    return wall
+
+
+def walls_by_layer(plan: WindingPlan, bare: np.ndarray) -> Iterator[np.ndarray]:
+    """The wall (m,) (mm) at the bare points (m, 2) as (z, r) after each layer in turn: layers 1..k
+    for k = 1, 2, .. (wall_at's sum, one layer more each time)."""
+    wall = np.zeros(bare.shape[0])
     for layer in plan.layers:
         lam = layer.laminate
-        wall += np.interp(_foot(bare, plan.surface_of(layer.index).profile), lam.s, lam.thickness, left=0.0, right=0.0)
-    return wall
+        wall = wall + np.interp(_foot(bare, plan.surface_of(layer.index).profile), lam.s, lam.thickness,
+                                left=0.0, right=0.0)
+        yield wall
 
 
 def dome_walls(plan: WindingPlan) -> tuple[DomeWall, DomeWall] | None:

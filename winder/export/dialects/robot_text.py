@@ -10,7 +10,8 @@ from collections.abc import Iterator
 import numpy as np
 
 from winder.errors import ExportError
-from winder.export.dialects.text import JOB_LINE, clean, fmt, layer_line
+from winder.escape import krl_comment, rapid_comment, urscript_comment
+from winder.export.dialects.text import JOB_LINE, fmt, layer_line
 from winder.machine.program import MotionProgram
 
 POSITION_DECIMALS = 4  # mm: the station's path read back keeps the move times to 1e-4 relative
@@ -39,6 +40,7 @@ def header(program: MotionProgram, mark: str) -> list[str]:
     """The comment lines every robot program starts with."""
     cell = cell_of(program)
     c = cell.cell
+    clean = {";": krl_comment, "!": rapid_comment, "#": urscript_comment}[mark.strip()]
     lines = ["winder filament-winding program", f"{JOB_LINE[2:]} {clean(program.name)}",
              f"source: {clean(program.source)}",
              f"cell: {cell.arm.maker} {cell.arm.name} holds the mandrel (tool: its frame on the flange); the payout "

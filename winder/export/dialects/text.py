@@ -14,6 +14,7 @@ from typing import Protocol
 import numpy as np
 
 from winder.errors import ExportError
+from winder.escape import gcode_comment
 from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
@@ -151,8 +152,8 @@ def fmt_column(values: np.ndarray, decimals: int = DECIMALS) -> list[str]:
 
 
 def clean(text: str) -> str:
-    """A comment's text on one line, printable characters only."""
-    return " ".join("".join(c if c.isprintable() else " " for c in str(text)).split())
+    """A comment's text (a config's path, the job's name): winder.escape.gcode_comment's."""
+    return gcode_comment(text)
 
 
 def shortened(text: str, room: int, keep_end: bool = False) -> str:

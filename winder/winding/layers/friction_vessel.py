@@ -95,8 +95,13 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         # Each dome is laid twice per circuit (in and out): a quarter of the change each.
         for d, (s_eq, heading) in enumerate(domes):
             leg = legs[d]
-            lam0, lam1, legs[d] = close_leg(meridians[d], s_eq, heading, leg.radius, slips[d], leg.length,
-                                            leg.advance + 0.25 * delta * 2.0 * math.pi, start=leg)
+            try:
+                lam0, lam1, legs[d] = close_leg(meridians[d], s_eq, heading, leg.radius, slips[d], leg.length,
+                                                leg.advance + 0.25 * delta * 2.0 * math.pi, start=leg)
+            except SolverError as exc:
+                raise SolverError(f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome: {exc} (the leg "
+                                  f"turns at r = {leg.radius:.3f} mm of {big_r:g}; a leg this short leaves the slip no "
+                                  "hold on the advance: lower the angle, or give turnaround_radius)") from exc
             slips[d] = max(abs(lam0 - 0.5 * lam1), abs(lam0 + lam1 * (legs[d].length / leg.length - 0.5)))
     worst = max(abs(x) for x in slips)
     if worst > mu + 1e-12:
@@ -117,7 +122,12 @@ def _passes(ctx: PlanContext, index: int, legs: list[Leg], domes, theta0: float,
     surf = ctx.surface
     prof = surf.profile
     e1, e2 = prof.equator_s
-    m_cyl = max(8, int(math.ceil((ctx.winding.points or 200) * 0.5)))
+    # The cylinder's samples are spaced no closer than the legs': a cylinder of no length (or of a
+    # micrometre) joins the legs at the equator without repeating a point or crowding points closer
+    # than any derivative of the pass can be read from (every spline of the pass is in t or s).
+    spacing = min(leg.length for leg in legs) / (LEG_POINTS - 1)
+    fiber = math.hypot(e2 - e1, prof.radius * cyl)  # the helix on the cylinder
+    m_cyl = min(max(8, int(math.ceil((ctx.winding.points or 200) * 0.5))), 1 + int(math.ceil(fiber / spacing)))
     s_cyl = np.linspace(e1, e2, m_cyl)
 
     def one(forward: bool, th_start: float):
