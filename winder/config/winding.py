@@ -106,7 +106,8 @@ class WindingConfig:
     region: YAML `region: {start, end}`: the axial station range (t, mm) wound on an open mandrel,
         0 <= start < end <= T; None (the default) is the whole mandrel. Not for vessels, whose
         turnarounds lie on the domes.
-    points: points per pass, the accuracy of each geodesic solve, integer >= 3 (default 200).
+    points: points per pass, the accuracy of each geodesic solve, integer >= 3 (default 200, and more for a
+        pass of many rounds: winder.winding.passes.pass_points).
     tolerance: instead of points: refine each pass until its estimated length error is below this
         (mm, > 0). Exclusive with points; when tolerance is given, points is None.
     dwell_start_deg, dwell_end_deg: YAML `dwell: {start, end}`: the least mandrel turn (deg) while the
@@ -133,6 +134,8 @@ class WindingConfig:
     min_coverage: float = MIN_COVERAGE  # the covered fraction every layer proves unless it asks another
     tension: TensionConfig | None = None  # N per band (winder.config.tension); None: none programmed
     angle_tolerance: float = DEFAULT_ANGLE_TOLERANCE  # deg a pattern's closing may move an angle (docs/math/17 17.7)
+    # Whether `points` was written: the default grows with a pass's rounds (winder.winding.passes.pass_points)
+    points_given: bool = False
 
     def min_coverage_of(self, index: int) -> float:
         """The covered fraction layer `index` (0-based) must prove: its own, else the job's."""
@@ -228,7 +231,7 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
     return WindingConfig(band_width=band_width, region=region, points=points, tolerance=tolerance,
                          dwell_start_deg=dwell[0], dwell_end_deg=dwell[1], friction=friction, layers=layers,
                          material=material, bridging_tolerance=bridging, min_coverage=least, tension=tension,
-                         angle_tolerance=angle_tolerance)
+                         angle_tolerance=angle_tolerance, points_given="points" in m)
 
 
 def _parse_fraction(rd: Reader, m: dict, path: str, key: str, default: float | None) -> float | None:

@@ -28,7 +28,7 @@ from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_re
 from winder.winding.layers.hoop import HOOP_STEP_DEG
 from winder.winding.layer_batches import robot_poses, whole_plan
 from winder.winding.memory_model import PROGRAM_CHUNK_POINTS, peak_bytes, solve_bytes_per_point
-from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
+from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext, pass_points
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
 
@@ -133,10 +133,13 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
         _check_pass_points(job, surface, cfg, key, vessel, (t_a, t_b))
     if not vessel and slip not in (0.0, SLIP_AUTO):
         from winder.winding.layers.friction_open import is_bent_tube  # noqa: PLC0415 - friction jobs only
+        from winder.winding.layers.slip_revolution import tapers  # noqa: PLC0415
         ctx = PlanContext(job, w, surface, arc_map(surface.section), job.machine.feed)
-        if not is_bent_tube(ctx):  # as winder.winding.layers.friction refuses it, before any path
-            raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels and to bent tubes of lines and "
-                          f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
+        # as winder.winding.layers.friction refuses it, before any path
+        if not is_bent_tube(ctx) and not (surface.curve.is_straight and tapers(surface, t_a, t_b)):
+            raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels, bent tubes of lines and arcs, "
+                          f"and tapered surfaces of revolution (cones, poles); geodesics cover this mandrel "
+                          f"evenly: use 0 or auto, got {slip:g}")
     grows = not vessel and not surface.is_revolution and cfg.pattern is None and cfg.circuits is None
     most = circuits * (MAX_CIRCUIT_FACTOR if grows else 1)
     n = w.points or DEFAULT_POINTS
@@ -173,7 +176,7 @@ def _held_by_friction(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, k
         return False
     mu = job.winding.friction
     need, at, presses = held_need(surface, *region, cfg.angle_deg)
-    why = need_message(cfg.angle_deg, mu, need, at, presses)
+    why = need_message(surface, region, cfg.angle_deg, mu, need, at, presses)
     if why is not None:  # a bridge is the angle's; too little friction, the friction's
         raise _refuse(job.source, "winding.friction" if presses else f"{key}.angle",
                       f"{key}: {why}, got {mu if presses else cfg.angle_deg:g}")
@@ -233,7 +236,10 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
                     return
                 ends.append(th)
         except SolverError as exc:  # the geodesic turns around on a narrowing mandrel
-            raise _refuse(job.source, f"{key}.angle", f"{exc.message}, got {cfg.angle_deg:g}") from exc
+            from winder.winding.layers.friction_revolution import is_open_revolution, turn_remedies  # noqa: PLC0415
+
+            hint = turn_remedies(surface, region, cfg.angle_deg, w.friction) if is_open_revolution(surface) else ""
+            raise _refuse(job.source, f"{key}.angle", f"{exc.message}{hint}, got {cfg.angle_deg:g}") from exc
         natural = float(np.mean(ctx.arcs.fraction(ends[0]) - ctx.arcs.fraction(ends[1])))
         # A pass spans natural turns of the perimeter from where it starts; on a non-circular section
         # its angle's span depends on that start: the narrowest, so that what is refused here every
@@ -241,6 +247,7 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
         starts = np.linspace(0.0, 1.0, START_SAMPLES)
         span = ctx.arcs.theta(starts + natural) - ctx.arcs.theta(starts)
         rounds = float(np.min(np.abs(span))) / (2.0 * math.pi)
+    n = pass_points(w, rounds) or n  # the planner's own: more than the default for a pass of many rounds
     try:
         check_points(n, rounds, max(REFINE_MAX_POINTS, n))
     except ConfigError as exc:
@@ -257,10 +264,10 @@ def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
 
     if not surface.section.is_circle:
         return
-    n = job.winding.points or DEFAULT_POINTS
     t = np.linspace(*region, REGION_STATIONS)
     per = np.asarray(surface.perimeter(surface.s_of_t(t)), dtype=float)
     rounds = math.tan(math.radians(cfg.angle_deg)) * float(np.mean(1.0 / per)) * (region[1] - region[0])
+    n = pass_points(job.winding, BENT_ROUNDS_SHARE * rounds) or DEFAULT_POINTS
     least = math.ceil(MIN_SEGMENTS_PER_ROUND * BENT_ROUNDS_SHARE * rounds) - 1
     if n < least:
         raise _refuse(job.source, "winding.points",

@@ -12,7 +12,7 @@ from dataclasses import replace
 from winder.config.job import JobConfig
 from winder.config.winding import LayerConfig, LayerType
 from winder.geometry.vessel import VesselMeridian
-from winder.errors import ConfigError
+from winder.errors import ConfigError, SolverError
 from winder.progress import Progress, monotone
 from winder.winding.layers.friction import friction_layer
 from winder.winding.layers.helical_open import open_helical_layer
@@ -25,7 +25,7 @@ from winder.geometry.build import build_surface
 
 
 def plan(job: JobConfig, progress: Progress | None = None,
-         contexts: list[tuple[PlanContext, float]] | None = None) -> WindingPlan:
+         contexts: list[tuple[PlanContext, float]] | None = None, remedies: bool = True) -> WindingPlan:
     """Plan every layer of a job: circuits, patterns, passes, coverage (docs/math/05-winding.md).
 
     Parameters
@@ -36,6 +36,9 @@ def plan(job: JobConfig, progress: Progress | None = None,
         Told the fraction of the job done, per layer and per circuit (winder.progress).
     contexts : list, optional
         Gets each layer's context and start angle (rad) as the layer is planned in them.
+    remedies : bool, optional
+        A layer refused for a physical reason is refused naming the changes that plan it
+        (winder.winding.remedies); False: the refusal alone (the remedies' own trial plans).
 
     Returns
     -------
@@ -84,7 +87,14 @@ def plan(job: JobConfig, progress: Progress | None = None,
     for index, cfg in enumerate(job.winding.layers):
         if contexts is not None:
             contexts.append((ctx, theta0))
-        layer = plan_layer(ctx, cfg, index, theta0)
+        try:
+            layer = plan_layer(ctx, cfg, index, theta0)
+        except SolverError as exc:
+            if not remedies:
+                raise
+            from winder.winding.remedies import with_remedies  # noqa: PLC0415 - refusals only
+
+            raise with_remedies(job, index, exc, lambda j: plan(j, remedies=False)) from exc
         if build is not None:  # the next layer winds on the mandrel grown by this one
             layer, build = build.add(layer, material_of(job.winding.material_of(index)), ctx.key(index))
             ctx = replace(ctx, surface=build.surface)

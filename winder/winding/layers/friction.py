@@ -10,7 +10,7 @@ import numpy as np
 from winder.config.winding import SLIP_AUTO, LayerConfig
 from winder.errors import ConfigError, SolverError
 from winder.geometry.vessel import VesselMeridian
-from winder.winding.passes import PlanContext
+from winder.winding.passes import PlanContext, winding_region
 from winder.winding.results import LayerPlan
 
 STEP_BACK_SAMPLES = 4001  # meridian samples to find where a dome reaches a radius
@@ -54,13 +54,18 @@ def friction_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float
     if slip == SLIP_AUTO and surf.curve.is_straight:
         from winder.winding.layers.friction_revolution import (geodesic_reaches, held_angle_layer,  # noqa: PLC0415
                                                                is_open_revolution)
-        from winder.winding.passes import winding_region  # noqa: PLC0415
 
         if is_open_revolution(surf) and not geodesic_reaches(surf, *winding_region(ctx), cfg.angle_deg):
             return held_angle_layer(ctx, cfg, index, theta0, mu)
+    if slip != SLIP_AUTO and surf.curve.is_straight:
+        from winder.winding.layers.slip_revolution import slip_layer, tapers  # noqa: PLC0415
+
+        if tapers(surf, *winding_region(ctx)):
+            return slip_layer(ctx, cfg, index, theta0)
     if slip != SLIP_AUTO:
-        raise ConfigError(f"{ctx.key(index, 'slip')}: a number applies to vessels and to bent tubes of lines and "
-                          f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
+        raise ConfigError(f"{ctx.key(index, 'slip')}: a number applies to vessels, bent tubes of lines and arcs, "
+                          f"and tapered surfaces of revolution (cones, poles); geodesics cover this mandrel evenly: "
+                          f"use 0 or auto, got {slip:g}")
     return None
 
 

@@ -121,7 +121,7 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         raise SolverError(f"{over}; the least mu is {_up(worst)} with the pattern closed")
     if worst > mu + 1e-12:
         raise SolverError(f"{ctx.key(index)}: closing the pattern needs |k_g / k_n| up to {worst:.3g} on the domes, "
-                          f"above the friction {mu:g}; the least mu is {_up(worst)}")
+                          f"above the friction {mu:g} (winding.friction); the least mu is {_up(worst)}")
     passes = _passes(ctx, index, legs, domes, theta0, n_c, cyl)
     c = 0.5 * (legs[0].radius + legs[1].radius)
     how = ["geodesic" if radii[d] is None and slip == 0.0 else "friction-held" for d in range(2)]
