@@ -137,7 +137,7 @@ def cylinder_pass(surface: SweepSurface, arcs: ArcMap, a: tuple[float, float], b
     """The geodesic from a to b ((t, theta) each) on a general cylinder (near_cylinder), exactly: unrolled,
     the surface is a plane in which the station and the section's arc length are Cartesian coordinates,
     so the geodesic is the straight line between the ends and its points at equal steps of the station
-    and of the arc-length fraction are equally spaced along it (MATH.md 4; docs/math/12-exact-eye.md
+    and of the arc-length fraction are equally spaced along it (docs/math/04-checks.md; docs/math/12-exact-eye.md
     12.2). No iteration: the variational solver's answer at any n tends to this.
 
     n : interior points. Returns s, theta (n + 2,) float, the unit tangents (n + 2, 3) float (the line's

@@ -5,7 +5,7 @@ so along the travel
 
     d theta / ds = c sqrt(E) / (sqrt(G) sqrt(G - c^2)),    d sigma / ds = sqrt(E) sqrt(G) / sqrt(G - c^2),
 
-sigma the arc length (MATH.md 4; docs/math/12-exact-eye.md 12.1). Where the fiber comes close to its
+sigma the arc length (docs/math/04-checks.md; docs/math/12-exact-eye.md 12.1). Where the fiber comes close to its
 turnaround (G -> c^2 at an end of the stretch) both integrands have a 1/sqrt singularity; a change of
 variable s = s0 + D (1 - (1 - u)^2) (at the far end; u^2 at the near one, both together the smoothstep
 3u^2 - 2u^3) puts a factor (1 - u) into ds/du that cancels it, so composite Gauss-Legendre converges as

@@ -1,5 +1,5 @@
 """Helical layers at a given slip on open surfaces of revolution (cones, tables, tapered poles): `slip`
-a number (SPEC.md "Winding with friction"; docs/math/07-held-angle-on-revolution.md, 9.1).
+a number (docs/guide/config.md; docs/math/07-friction.md 7.4).
 
 The passes keep lambda = k_g / k_n at the slip's magnitude, its sign the one that holds the angle
 against Clairaut's drift (that of r' along the travel), so the angle follows
