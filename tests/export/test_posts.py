@@ -1,4 +1,4 @@
-"""Controllers described as data (SPEC.md "Tension and controllers as data"): a post file kept in this
+"""Controllers described as data (docs/guide/controllers.md): a post file kept in this
 test folder alone (tests/export/posts/shop.post.yaml: block numbers, comments in parentheses, four
 decimals, its own tension command) yields the program a hand-written excerpt describes, LinuxCNC's
 interpreter reads it, and simulate reads it back; the shipped Sinumerik 840D and Fanuc posts write what

@@ -1,4 +1,4 @@
-"""The fiber tension in the robot cells' languages (SPEC.md "Tension and controllers as data"): an
+"""The fiber tension in the robot cells' languages (docs/guide/tension.md): an
 analog output, as each controller's description says (KRL $ANOUT[1] a share of the output's full
 scale, RAPID SetAO in N, URScript set_standard_analog_out a share), one command per change as
 written, and each language's reader (what simulate reads a program through: winder.readback.cells)

@@ -1,4 +1,4 @@
-"""Fiber tension (SPEC.md "Tension and controllers as data"): N per band, per layer or over a layer's
+"""Fiber tension (docs/guide/tension.md): N per band, per layer or over a layer's
 passes, carried in the motion program and written into every program as its controller's command;
 LinuxCNC's own interpreter reads the M68 lines (one per change), and simulate reads back the tension
 of every layer as the config plans it."""

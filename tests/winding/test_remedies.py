@@ -104,7 +104,7 @@ def test_a_geodesic_turning_inside_the_region_names_what_reaches():
 
 
 def test_a_slip_number_on_a_cone_holds_its_slip():
-    """SPEC.md lists a number as valid: check accepts it and the laid passes keep |k_g / k_n| at it."""
+    """docs/guide/config.md lists a number as valid: check accepts it and the laid passes keep |k_g / k_n| at it."""
     plan = _plan(_cone(layers=[{"type": "helical", "angle": 30, "slip": 0.1},
                                {"type": "helical", "angle": 45, "slip": 0.04}]))
     for layer, slip in zip(plan.layers, (0.1, 0.04)):

@@ -4,7 +4,8 @@ Every key the readers of winder.config accept, with its type, unit, range and de
 `description`, and unknown keys refused (`additionalProperties: false`). The readers stay the
 authority (they also check what a schema cannot say: a region inside the mandrel, a polar opening
 below the radius); tests/config/test_schema.py holds the two together, key by key, so that a key
-added to a reader without its line here fails a test.
+added to a reader without its line here fails a test. The `winding:` section is
+winder.config.schema_winding's.
 
 Examples
 --------
@@ -19,33 +20,32 @@ False
 
 from __future__ import annotations
 
-from winder.config.analysis import (ENDS, GAUGES, MAX_AXIAL_FORCE, MAX_MODULUS, MAX_PRESSURE, MAX_STRESS_RATIO,
+from winder.config.analysis import (ENDS, GAUGES, MAX_AXIAL_FORCE, MAX_PRESSURE, MAX_STRESS_RATIO,
                                     MAX_TORQUE)
 from winder.config.arms import ARMS
+from winder.config.axes import MAX_SEGMENTS, MAX_SPLINE_POINTS
+from winder.config.contours import CONTOUR_TOLERANCE, MAX_CONTOUR_TOLERANCE
+from winder.config.contours import MAX_POINTS as MAX_CONTOUR_POINTS
+from winder.config.contours import MIN_POINTS as MIN_CONTOUR_POINTS
 from winder.config.dialects import REGISTRY as DIALECTS
 from winder.config.files import MAX_NAME_LENGTH
 from winder.config.machine import (AXIS_LETTERS, DEFAULT_CHORD_TOLERANCE, DEFAULT_DYNAMICS, DEFAULT_EYE_CLEARANCE,
                                    DEFAULT_FEED, MACHINE_ROLES, MAX_EYE_CLEARANCE, WRITTEN_RESOLUTION, MachineAxes)
-from winder.config.material import MAX_DENSITY, MAX_TOWS
 from winder.config.reader import MAX_SIZE
-from winder.config.robot import (DEFAULT_AXES, DEFAULT_JOINT_STEP, DEFAULT_SINGULARITY_MARGIN, MAX_CELL_SIZE,
-                                 POSE_KEYS)
-from winder.config.schema_kit import Schema, choice, closed, nullable, number, pair, positive, tagged
+from winder.config.robot import (DEFAULT_AXES, DEFAULT_JOINT_STEP, DEFAULT_RING_DEPTH, DEFAULT_RING_WIDTH,
+                                 DEFAULT_SINGULARITY_MARGIN, MAX_CELL_SIZE, POSE_KEYS)
+from winder.config.schema_kit import Schema, choice, closed, length, nullable, number, pair, positive, tagged
+from winder.config.schema_winding import winding_schema
 from winder.config.sections import MAX_EXPONENT
-from winder.config.winding import (DEFAULT_FRICTION, DEFAULT_POINTS, MAX_LAYER_CIRCUITS, MAX_POINTS, MIN_COVERAGE,
-                                   MIN_HOOP_ANGLE)
 
 __all__ = ["SCHEMA_ID", "job_schema"]
 
 SCHEMA_ID = "https://winder.invalid/schema/job.json"  # names the schema; nothing is fetched from it
 
 
-def _length(what: str, default: float | None = None) -> Schema:
-    return positive(what, "mm", MAX_SIZE, default)
-
-
-def _points(what: str, width: int, names: str) -> Schema:
-    return {"type": "array", "description": f"{what}: a list of [{names}] (mm), at least 2.", "minItems": 2,
+def _points(what: str, width: int, names: str, most: int) -> Schema:
+    return {"type": "array", "description": f"{what}: a list of [{names}] (mm), 2 to {most}.", "minItems": 2,
+            "maxItems": most,
             "items": {"type": "array", "items": {"type": "number"}, "minItems": width, "maxItems": width}}
 
 
@@ -58,14 +58,14 @@ def _table_points() -> Schema:
 
 # -- mandrel ---------------------------------------------------------------------------------------
 def _arc_keys() -> dict[str, Schema]:
-    return {"radius": _length("Bend radius of the axis"),
+    return {"radius": length("Bend radius of the axis"),
             "angle": number("Bend angle", "deg", lo=0, lo_open=True, hi=360),
             "toward": number("The side the axis bends toward, from e2 toward e3 (theta = toward is the inside of "
                              "the bend)", "deg", default=0)}
 
 
 def _segment() -> Schema:
-    line = closed("A straight piece", {"line": _length("Its length")}, ("line",))
+    line = closed("A straight piece", {"line": length("Its length")}, ("line",))
     arc = closed("A circular bend", {"arc": closed("The bend", _arc_keys(), ("radius", "angle"))}, ("arc",))
     return {"type": "object", "description": "One piece of the guide: {line: L} or {arc: {radius, angle, "
             "toward}}.", "oneOf": [line, arc]}
@@ -73,38 +73,92 @@ def _segment() -> Schema:
 
 def _axis() -> Schema:
     return tagged("The guide curve x(t); t is arc length along it, from 0", {
-        "line": ("straight, along +z", {"length": _length("Axis length T")}, ("length",)),
+        "line": ("straight, along +z", {"length": length("Axis length T")}, ("length",)),
         "arc": ("a circular bend", _arc_keys(), ("radius", "angle")),
         "path": ("a tangent-continuous chain of lines and arcs",
-                 {"segments": {"type": "array", "minItems": 1, "items": _segment(),
-                               "description": "The pieces, in order, at least one."}}, ("segments",)),
+                 {"segments": {"type": "array", "minItems": 1, "maxItems": MAX_SEGMENTS, "items": _segment(),
+                               "description": f"The pieces, in order, 1 to {MAX_SEGMENTS}."}}, ("segments",)),
         "spline": ("a C2 interpolating curve through the points (moved so the first is the origin)",
-                   {"points": _points("The points the axis passes through", 3, "x, y, z")}, ("points",)),
+                   {"points": _points("The points the axis passes through", 3, "x, y, z", MAX_SPLINE_POINTS)},
+                   ("points",)),
     })
+
+
+# A closed end (polar_opening 0) turns around the mandrel's shaft: shaft_radius with it, and only with it.
+_CLOSED_END = {
+    "if": {"properties": {"polar_opening": {"const": 0, "description": "A closed end."}},
+           "required": ["polar_opening"]},
+    "then": {"required": ["shaft_radius"]},
+    "dependentSchemas": {"shaft_radius": {"properties": {"polar_opening": {
+        "const": 0, "description": "shaft_radius is a closed end's only."}}, "required": ["polar_opening"]}},
+}
+_DXF = r"\.[dD][xX][fF]$"
+
+
+def _contour() -> dict[str, Schema]:
+    z = number("z: distance from the junction toward the pole, increasing", "mm")
+    r = number("r: radius there, never rising toward the pole", "mm", lo=0)
+    return {
+        "points": {"type": "array", "minItems": MIN_CONTOUR_POINTS, "maxItems": MAX_CONTOUR_POINTS,
+                   "description": f"The meridian's points from the junction with the cylinder (z = 0, r = the "
+                   f"vessel radius) toward the pole: a list of [z, r] (mm), {MIN_CONTOUR_POINTS} to "
+                   f"{MAX_CONTOUR_POINTS}; or file.",
+                   "items": {"type": "array", "prefixItems": [z, r], "minItems": 2, "maxItems": 2}},
+        "file": {"type": "string", "pattern": r"\.([cC][sS][vV]|[dD][xX][fF])$",
+                 "description": "Instead of points: a .csv of z,r (header z,r) or a .dxf drawing of the meridian "
+                 "(LINE, ARC, LWPOLYLINE, SPLINE, ELLIPSE chained end to end, x = z, y = r), relative to the "
+                 "config's folder."},
+        "layer": {"type": "string", "description": "With a .dxf file: the drawing's layer holding the meridian "
+                  "(default: the whole model space)."},
+        "tolerance": positive("Largest distance of the smoothed meridian from the points", "mm",
+                              MAX_CONTOUR_TOLERANCE, CONTOUR_TOLERANCE),
+    }
 
 
 def _dome() -> Schema:
-    opening = _length("Radius (not diameter) of the polar opening, below the vessel radius")
-    return tagged("One end dome of a vessel", {
-        "hemisphere": ("a half sphere of the vessel radius", {"polar_opening": opening}, ("polar_opening",)),
-        "ellipsoid": ("a half ellipsoid", {"polar_opening": opening,
-                                           "depth": _length("Semi-axis along the vessel axis (the depth to the "
-                                                            "closed pole)")}, ("polar_opening", "depth")),
-        "isotensoid": ("the netting isotensoid of the radius and the opening", {"polar_opening": opening},
+    what = "Radius (not diameter) of the polar opening, below the vessel radius; 0 a closed end (with shaft_radius)"
+    opening = number(what, "mm", lo=0, hi=MAX_SIZE, hi_open=True)
+    closed_end = {"shaft_radius": length("Closed ends only (polar_opening 0): radius of the mandrel shaft the "
+                                         "fibers turn around, below the vessel radius")}
+    out = tagged("One end dome of a vessel", {
+        "hemisphere": ("a half sphere of the vessel radius", {"polar_opening": opening, **closed_end},
                        ("polar_opening",)),
+        "ellipsoid": ("a half ellipsoid", {"polar_opening": opening,
+                                           "depth": length("Semi-axis along the vessel axis (the depth to the "
+                                                           "closed pole)"), **closed_end},
+                      ("polar_opening", "depth")),
+        "isotensoid": ("the netting isotensoid of the radius and the opening", {"polar_opening": opening,
+                                                                                **closed_end}, ("polar_opening",)),
+        "torispherical": ("a torispherical (ASME-style) head: a crown sphere meeting the cylinder through a knuckle "
+                          "torus", {"crown_radius": length("Crown radius, at least the vessel radius (ASME heads: "
+                                                           "about the diameter)"),
+                                    "knuckle_radius": length("Knuckle radius, below the vessel radius"),
+                                    "polar_opening": opening, **closed_end},
+                          ("crown_radius", "knuckle_radius", "polar_opening")),
+        "contour": ("a liner's meridian from a drawing (points, or a CSV or DXF file), smoothed to C2 within the "
+                    "tolerance", {**_contour(), "polar_opening": number(
+                        "Radius of the polar opening the contour must reach (default: its last point's); 0 a closed "
+                        "end (with shaft_radius)", "mm", lo=0, hi=MAX_SIZE, hi_open=True), **closed_end}, ()),
     })
+    for variant in out["oneOf"]:
+        variant.update(_CLOSED_END)
+        if variant["properties"]["type"]["const"] == "contour":
+            variant["oneOf"] = [{"required": ["points"]}, {"required": ["file"]}]
+            variant["dependentSchemas"] = {**_CLOSED_END["dependentSchemas"], "layer": {
+                "required": ["file"], "properties": {"file": {"pattern": _DXF, "description": "A .dxf drawing."}}}}
+    return out
 
 
 def _profile() -> Schema:
     return tagged("The radius along the axis, r(t)", {
-        "constant": ("r = radius", {"radius": _length("Tube radius")}, ("radius",)),
-        "cone": ("linear from t = 0 to t = T", {"start_radius": _length("Radius at t = 0"),
-                                                "end_radius": _length("Radius at t = T")},
+        "constant": ("r = radius", {"radius": length("Tube radius")}, ("radius",)),
+        "cone": ("linear from t = 0 to t = T", {"start_radius": length("Radius at t = 0"),
+                                                "end_radius": length("Radius at t = T")},
                  ("start_radius", "end_radius")),
         "table": ("smooth interpolation through [t, r] points, t from 0 increasing",
                   {"points": _table_points()}, ("points",)),
         "vessel": ("a cylinder between two domes; t = 0 at the first dome's polar opening",
-                   {"radius": _length("Cylinder radius R"),
+                   {"radius": length("Cylinder radius R"),
                     "cylinder_length": number("Length of the cylinder between the domes", "mm", lo=0, hi=MAX_SIZE),
                     "dome": _dome(), "end_dome": _dome() | {"description": "The dome at t = T (default: as dome)."}},
                    ("radius", "cylinder_length", "dome")),
@@ -114,14 +168,14 @@ def _profile() -> Schema:
 def _section() -> Schema:
     return tagged("The cross-section r(theta), scaled by profile(t) / profile(0) when a profile is given", {
         "circle": ("a circle of the profile's radius (default)", {}, ()),
-        "ellipse": ("semi-axis a along e2, b along e3", {"a": _length("Semi-axis along e2"),
-                                                         "b": _length("Semi-axis along e3")}, ("a", "b")),
+        "ellipse": ("semi-axis a along e2, b along e3", {"a": length("Semi-axis along e2"),
+                                                         "b": length("Semi-axis along e3")}, ("a", "b")),
         "rounded_rectangle": ("width along e2, height along e3, round corners",
-                              {"width": _length("Width along e2"), "height": _length("Height along e3"),
-                               "corner_radius": _length("Corner radius, <= min(width, height) / 2")},
+                              {"width": length("Width along e2"), "height": length("Height along e3"),
+                               "corner_radius": length("Corner radius, <= min(width, height) / 2")},
                               ("width", "height", "corner_radius")),
-        "superellipse": ("|x/a|^p + |y/b|^p = 1", {"a": _length("Semi-axis along e2"),
-                                                   "b": _length("Semi-axis along e3"),
+        "superellipse": ("|x/a|^p + |y/b|^p = 1", {"a": length("Semi-axis along e2"),
+                                                   "b": length("Semi-axis along e3"),
                                                    "exponent": number("The exponent p", lo=2, hi=MAX_EXPONENT)},
                          ("a", "b", "exponent")),
     })
@@ -130,100 +184,6 @@ def _section() -> Schema:
 def _mandrel() -> Schema:
     return closed("The mandrel: guide curve, radius along it, cross-section.",
                   {"axis": _axis(), "profile": _profile(), "section": _section()})
-
-
-# -- winding ---------------------------------------------------------------------------------------
-def _material() -> Schema:
-    modulus = {key: positive(f"Ply {what}", "MPa", MAX_MODULUS) for key, what in (
-        ("E1", "modulus along the fiber"), ("E2", "modulus across the fiber"), ("G12", "in-plane shear modulus"),
-        ("Xt", "tensile strength along the fiber"), ("Xc", "compressive strength along the fiber (magnitude)"),
-        ("Yt", "tensile strength across the fiber"), ("Yc", "compressive strength across the fiber (magnitude)"),
-        ("S", "in-plane shear strength"))}
-    keys = {
-        "fiber_tex": positive("Linear density of one tow", "g/km (tex)", MAX_SIZE),
-        "tows": number("Tows per band (with fiber_tex)", integer=True, lo=1, hi=MAX_TOWS),
-        "fiber_density": positive("Fiber density", "g/cm^3", MAX_DENSITY),
-        "resin_density": positive("Resin density (for the resin mass)", "g/cm^3", MAX_DENSITY),
-        "fiber_volume_fraction": number("Fiber volume fraction V_f", lo=0, hi=1, lo_open=True, hi_open=True),
-        "ply_thickness": positive("Instead of fiber_tex and tows: one band's thickness as laid, below the band "
-                                  "width", "mm", MAX_SIZE),
-        "name": {"type": "string", "description": "A material system of winder's table (its ply stiffness and "
-                 "strengths; the numbers below override it)."},
-        **modulus,
-        "nu12": number("Ply major Poisson ratio", lo=0, hi=1, hi_open=True),
-        "fiber_strength": positive("Fiber tensile strength, for netting analysis", "MPa", MAX_MODULUS),
-        "strand_strength": positive("Impregnated strand strength (ASTM D4018), for netting analysis", "MPa",
-                                    MAX_MODULUS),
-    }
-    return closed("The band's material: fiber_tex with tows, fiber_density and fiber_volume_fraction, or "
-                  "ply_thickness; ply properties for the structural analysis.", keys,
-                  oneOf=[{"required": ["fiber_tex"]}, {"required": ["ply_thickness"]}],
-                  dependentRequired={"fiber_tex": ["tows", "fiber_density", "fiber_volume_fraction"],
-                                     "tows": ["fiber_tex"]})
-
-
-def _coverage(default: str) -> Schema:
-    return number(f"The covered fraction the layer proves before anything is written ({default})",
-                  lo=0, lo_open=True, hi=1)
-
-
-def _layer() -> Schema:
-    common = {"material": _material() | {"description": "This layer's own material (default: winding.material)."},
-              "min_coverage": _coverage("default: winding.min_coverage")}
-    helical = {
-        "angle": number("Winding angle from the meridian (0 along the axis, 90 a hoop)", "deg", lo=0, hi=90,
-                        lo_open=True, hi_open=True),
-        "pattern": {"anyOf": [{"const": "auto"}, {"type": "integer", "minimum": 1}], "default": "auto",
-                    "description": "The skip k (circuit advance 2 pi k / circuits, k coprime with circuits), or "
-                    "auto: the planner's choice. Default auto."},
-        "slip": {"anyOf": [{"const": "auto"}, {"type": "number", "minimum": 0, "maximum": 1}], "default": 0,
-                 "description": "lambda = k_g / k_n the passes may use, in [0, winding.friction]: 0 geodesic "
-                 "(default), or auto: friction-held where geodesics cannot cover or turn."},
-        "turnaround_radius": _length("Vessels: turn around on the domes at this radius (lambda solved for)"),
-        "circuits": number("Wind exactly this many circuits (winder patterns lists the choices)", integer=True,
-                           lo=1, hi=MAX_LAYER_CIRCUITS),
-        "step_back": number("Vessels, slip auto: move the turnaround this far toward the equator from the "
-                            "previous helical layer's", "mm", lo=0, default=0),
-    }
-    hoop = {
-        "angle": number("Hoop angle from the meridian (default: one band width of advance per turn)", "deg",
-                        lo=MIN_HOOP_ANGLE, hi=90, hi_open=True),
-        "passes": number("Traverses over the region, each one ply (2: there and back)", integer=True, lo=1,
-                         default=1),
-        "taper": number("Length over which the layer's thickness runs out at each end", "mm", lo=0, default=0),
-    }
-    return tagged("One layer, wound in list order", {
-        "helical": ("circuits of a forward and a return pass laying +angle and -angle bands",
-                    {**helical, **common}, ("angle",)),
-        "hoop": ("near-circumferential turns over the cylindrical region", {**hoop, **common}, ()),
-    })
-
-
-def _start_end(what: str, unit: str, required: tuple[str, ...], lo: float = 0.0) -> Schema:
-    return closed(what, {"start": number("At t = 0's end", unit, lo=lo), "end": number("At t = T's end", unit,
-                                                                                       lo=lo)}, required)
-
-
-def _winding() -> Schema:
-    keys = {
-        "band_width": _length("Width of the fiber band as laid"),
-        "layers": {"type": "array", "minItems": 1, "items": _layer(), "description": "The layers, at least one."},
-        "region": _start_end("Open mandrels: the axial stretch wound, 0 <= start < end <= T (mm); default the "
-                             "whole mandrel.", "mm", ("start", "end")),
-        "points": number("Points per pass (the accuracy of each solve)", integer=True, lo=3, hi=MAX_POINTS,
-                         default=DEFAULT_POINTS),
-        "tolerance": _length("Instead of points: refine each pass until its estimated length error is below this"),
-        "dwell": _start_end("Open mandrels: the least mandrel turn (deg) while the carriage waits at each end; "
-                            "the planner may dwell longer to close the pattern.", "deg", ()),
-        "friction": number("Fiber-mandrel friction coefficient mu, the slip limit |k_g / k_n| <= mu", lo=0, hi=1,
-                           default=DEFAULT_FRICTION),
-        "material": _material(),
-        "bridging_tolerance": number("Largest lift-off of a fiber over a concave stretch (default: one ply)", "mm",
-                                     lo=0),
-        "min_coverage": _coverage(f"default {MIN_COVERAGE:g}; a layer may ask its own"),
-    }
-    return closed("The winding plan: band, layers, accuracy, friction, material.", keys, ("band_width", "layers"),
-                  **{"not": {"required": ["points", "tolerance"]}})
 
 
 # -- machine ---------------------------------------------------------------------------------------
@@ -248,7 +208,11 @@ def _robot() -> Schema:
         "positioner": closed("The winding ring.", {
             "axes": number("External axes: 1 the ring's turn, 2 and the eye's yaw, 3 and its radial slide",
                            integer=True, lo=1, hi=3, default=DEFAULT_AXES),
-            "origin": _pose("The ring's centre and axis (its z) in the cell")}),
+            "origin": _pose("The ring's centre and axis (its z) in the cell"),
+            "width": positive("The ring's body along its axis, which no link may touch", "mm", MAX_CELL_SIZE,
+                              DEFAULT_RING_WIDTH),
+            "depth": positive("The ring's body outward from its inner face", "mm", MAX_CELL_SIZE,
+                              DEFAULT_RING_DEPTH)}),
         "max_joint_step": number("Largest joint turn between consecutive poses", "deg", lo=0, lo_open=True, hi=180,
                                  default=DEFAULT_JOINT_STEP),
         "singularity_margin": number("Least distance of the wrist from its singularity", "deg", lo=0, hi=90,
@@ -271,7 +235,7 @@ def _machine() -> Schema:
         "acceleration": positive("Acceleration", _ROLE_UNITS[role][2], MAX_SIZE, DEFAULT_DYNAMICS[role][1])})
         for role in MACHINE_ROLES})
     eye = closed("The payout-eye envelope: exactly one of radius or clearance; size its diameter.", {
-        "radius": _length("The eye moves on a cylinder of this radius around the axis"),
+        "radius": length("The eye moves on a cylinder of this radius around the axis"),
         "clearance": positive("The eye keeps this far beyond the surface as wound", "mm", MAX_EYE_CLEARANCE,
                               DEFAULT_EYE_CLEARANCE),
         "size": number("The eye's diameter; its body keeps the clearance", "mm", lo=0, hi=MAX_EYE_CLEARANCE,
@@ -285,6 +249,9 @@ def _machine() -> Schema:
                                                 default=DEFAULT_CHORD_TOLERANCE),
                       "limits": limits, "robot": _robot(),
                       "dialect": choice("How the program is written", list(DIALECTS)),
+                      "post": {"type": "string", "pattern": r"\S", "description": "A post file describing the "
+                               "controller (docs/guide/controllers.md), relative to the config's folder; it extends "
+                               "a built-in dialect, which machine.dialect, if given too, must be."},
                       "dynamics": dynamics})
 
 
@@ -332,5 +299,5 @@ def job_schema() -> Schema:
             "description": "A filament-winding job: mandrel, winding plan, machine, load case. Lengths in mm, "
                            "angles in degrees.",
             "type": "object", "required": ["name", "mandrel"], "additionalProperties": False,
-            "properties": {"name": name, "mandrel": _mandrel(), "winding": nullable(_winding()),
+            "properties": {"name": name, "mandrel": _mandrel(), "winding": nullable(winding_schema()),
                            "machine": nullable(_machine()), "analysis": nullable(_analysis())}}

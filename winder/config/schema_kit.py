@@ -10,6 +10,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from winder.config.reader import MAX_SIZE
+
 Schema = dict[str, Any]
 
 
@@ -56,6 +58,11 @@ def number(what: str, unit: str = "", *, lo: float | None = None, hi: float | No
 def positive(what: str, unit: str, hi: float | None = None, default: Any = None) -> Schema:
     """A size > 0 (Reader.positive): lengths, feeds, tolerances."""
     return number(what, unit, lo=0, lo_open=True, hi=hi, default=default)
+
+
+def length(what: str, default: Any = None) -> Schema:
+    """A length in mm, > 0 and <= MAX_SIZE (Reader.positive)."""
+    return positive(what, "mm", MAX_SIZE, default)
 
 
 def choice(what: str, values: Sequence[str], default: str | None = None) -> Schema:

@@ -1,7 +1,9 @@
 """Reading a robot cell's program back (KRL .src + .dat, RAPID .mod, URScript .script), as strictly as
 the G-code reader: each language's reader (winder.readback.krl, rapid, urscript) understands every line
-or refuses it naming it; this module holds what they share and checks what they read against the
-config (docs/math/10-robot-cell.md 10.8):
+or refuses it naming it (the controller's tension command, its description's `tension`, read as a
+line of its own wherever it stands: each row runs at the tension last set before its move's line);
+this module holds what they share and checks what they read against the config
+(docs/math/10-robot-cell.md 10.8):
 
 - numbers in ASCII digits only, finite, within the cell's size; times finite, positive, at most
   MAX_MOVE_S; the pass comments' numbers of at most 9 digits;

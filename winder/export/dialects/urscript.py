@@ -12,7 +12,9 @@ reach them to output float registers 0-3 and counts the line on output integer r
 ring's drive moves linearly to the targets in that time from when the count changes, and echoes the
 count on input integer register 0 when it is there: the program waits for that echo at the start
 (`ring_wait()`), after the movej to the start joints, whose flange is the first pose (the first movel,
-one cycle long, moves nowhere). One serialize(program) entry point.
+one cycle long, moves nowhere). After a pass comment, the controller's tension command
+(set_standard_analog_out, robot_text.numbered_rows) where the tension changes. One serialize(program)
+entry point.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from winder.export.dialects.robot_text import (BRIDGE_NOTE, TIME_DECIMALS, bridges_after, cell_start, header,
-                                               rotation_vectors, rows)
+                                               numbered_rows, rotation_vectors, rows)
 from winder.export.dialects.text import fmt
 from winder.machine.blends import CYCLE_S, blend_radii, line_times, ring_targets
 from winder.machine.program import MotionProgram
@@ -87,9 +89,9 @@ def serialize(program: MotionProgram) -> dict[str, str]:
               f"  movej({_joints(cell.reach.joints[0])}, a=0.5, v=0.5)",
               "  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[0]) + ", 0)",
               "  ring_wait()"]
-    for k, (head, row) in enumerate(rows(program)):
-        if head is not None:
-            lines.append(f"  # {head}")
+    # each pass comment, and after it the controller's tension command where it changes, before its row
+    for n, row in numbered_rows(program, lines, "  #"):
+        k = n - 1  # motion()'s rows are rows(program)'s, as numbered_rows gives them
         t = fmt(move_s[k], TIME_DECIMALS)
         lines.append("  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
                      + f", {fmt(spans[k], TIME_DECIMALS)})")
