@@ -104,8 +104,17 @@ def _objects_at(node: dict, parts: list) -> list[dict]:
     return _objects_at(child, rest) if child is not None else []
 
 
+# A layer's key path names it as messages do (`layer 2 (hoop).passes`: winder.config.winding.layer_key).
+LAYER_KEY = re.compile(r"^layer \d+(?: \([^)]*\))?")
+
+
+def _listed(path: str) -> str:
+    """The reader's key path with each list index as `[]` (a layer's label as `winding.layers[]`)."""
+    return re.sub(r"\[\d+\]", "[]", LAYER_KEY.sub("winding.layers[]", path))
+
+
 def _parts(path: str) -> list:
-    return [p for p in re.split(r"\.|(\[\])", re.sub(r"\[\d+\]", "[]", path)) if p]
+    return [p for p in re.split(r"\.|(\[\])", _listed(path)) if p]
 
 
 def _watched_reads(monkeypatch) -> tuple[dict, dict, list]:
@@ -118,7 +127,7 @@ def _watched_reads(monkeypatch) -> tuple[dict, dict, list]:
 
     def mapping(self, value, path, allowed, required=(), kind=""):
         if not kind and not FREE_KEYS.search(path) and self.source == reading[0]:  # not a file the job names
-            seen = mappings.setdefault(re.sub(r"\[\d+\]", "[]", path), [])
+            seen = mappings.setdefault(_listed(path), [])
             if frozenset(allowed) not in seen:
                 seen.append(frozenset(allowed))
         return plain(self, value, path, allowed, required, kind)
@@ -126,7 +135,7 @@ def _watched_reads(monkeypatch) -> tuple[dict, dict, list]:
     def typed_(self, value, path, noun, kinds_, tag="type"):
         if self.source != reading[0]:
             return typed(self, value, path, noun, kinds_, tag)
-        kinds.setdefault(re.sub(r"\[\d+\]", "[]", path), {}).update(
+        kinds.setdefault(_listed(path), {}).update(
             {k: ({tag, *req}, {tag, *req, *opt}) for k, (req, opt) in kinds_.items()})
         return typed(self, value, path, noun, kinds_, tag)
 

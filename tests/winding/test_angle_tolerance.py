@@ -41,7 +41,7 @@ def test_refusal_lists_the_choices_and_the_first_plans():
     with pytest.raises(SolverError) as info:
         plan(job)
     message = str(info.value)
-    assert "winding.layers[0].angle: closing the pattern of 54 circuits moves the angle +1.784 deg" in message
+    assert "layer 1 (helical 32 deg).angle: closing the pattern of 54 circuits moves the angle +1.784 deg" in message
     assert "beyond winding.angle_tolerance (0.5 deg)" in message and "the choices (winder patterns): " in message
     found = re.search(r"write one as \{type: helical, angle: ([\d.]+), circuits: (\d+), pattern: (\d+)\}", message)
     assert found, message

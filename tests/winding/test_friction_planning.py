@@ -203,8 +203,8 @@ def test_vessel_radius_beyond_the_friction_refused_with_the_least_mu():
     from winder.winding.plan import plan  # noqa: PLC0415
 
     job = vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "turnaround_radius": 42})
-    with pytest.raises(SolverError, match=r"winding.layers\[0\]: on the first dome: .*needs \|k_g / k_n\| = 0\.234"
-                                          r".*what plans it: winding\.friction: 0\.24") as info:
+    with pytest.raises(SolverError, match=r"layer 1 \(helical 12 deg\): on the first dome: .*needs \|k_g / k_n\| "
+                                          r"= 0\.234.*what plans it: winding\.friction: 0\.24") as info:
         plan(job)
     least = float(info.value.message.rsplit(" ", 1)[1])
     assert plan(replace(job, winding=replace(job.winding, friction=least))).layers[0].max_slip <= least

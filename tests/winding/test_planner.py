@@ -127,7 +127,7 @@ def test_vessel_angle_moved_to_close_pattern(vessel_plan):
 
 
 def test_vessel_angle_below_polar_opening_refused():
-    with pytest.raises(SolverError, match=r"winding.layers\[0\].angle: 15 deg turns around at r = 25.882 mm, "
+    with pytest.raises(SolverError, match=r"layer 1 \(helical 15 deg\)\.angle: 15 deg turns around at r = 25.882 mm, "
                                           r"inside the polar opening"):
         plan(job(VESSEL, {"band_width": 10, "layers": [{"type": "helical", "angle": 15}]}))
 

@@ -26,7 +26,7 @@ def _plan(config: dict):
 
 
 def _refused_layer(message: str) -> int:
-    return int(re.search(r"winding\.layers\[(\d+)\]", message).group(1))
+    return int(re.search(r"\blayer (\d+) \(", message).group(1)) - 1  # named from 1
 
 
 def apply(config: dict, layer: int, remedy: str) -> dict:

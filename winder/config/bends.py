@@ -54,5 +54,5 @@ def check_bend_angles(mandrel: MandrelConfig, winding: WindingConfig | None, sou
         for i, layer in enumerate(winding.layers):
             if layer.type is LayerType.HELICAL and layer.slip == 0.0 and layer.angle_deg <= least:
                 raise InfeasibleConfigError(
-                    f"{source}: winding.layers[{i}]: the fiber bridges at the inside of the bend (t = {t_mid:.0f} "
+                    f"{source}: {layer.label(i)}: the fiber bridges at the inside of the bend (t = {t_mid:.0f} "
                     f"mm) at {layer.angle_deg:g} deg: below {least:.1f} deg on this bend no friction holds it")

@@ -122,12 +122,12 @@ def parse_materials(rd: Reader, value: Any, items: list[Any], layers: tuple, pat
     out = []
     for i, (item, layer) in enumerate(zip(items, layers)):
         if isinstance(item, dict) and "material" in item:
-            where = rd.at(rd.at(rd.at(path, "layers"), i), "material")
+            where = rd.at(layer.label(i), "material")
             layer = replace(layer, material=parse_material(rd, item["material"], where, band_width))
         out.append(layer)
     if material is None and any(x.material is not None for x in out):
         missing = next((i for i, x in enumerate(out) if x.material is None), None)
         if missing is not None:
-            raise rd.error(rd.at(rd.at(path, "layers"), missing), "needs a material: other layers have one "
+            raise rd.error(out[missing].label(missing), "needs a material: other layers have one "
                            "and winding.material (the default for all layers) is not given")
     return material, tuple(out)

@@ -85,11 +85,11 @@ def parse_tension(rd: Reader, value: Any, path: str, job: bool) -> TensionConfig
     return TensionConfig(_newtons(rd, m["start"], rd.at(path, "start")), _newtons(rd, m["end"], rd.at(path, "end")))
 
 
-def check_tensions(rd: Reader, items: list, layers: tuple, job: TensionConfig | None, path: str) -> None:
+def check_tensions(rd: Reader, layers: tuple, job: TensionConfig | None) -> None:
     """Every layer is wound at a programmed tension, or none is: a controller keeps the last one set,
     so a layer without its own after one with would be wound at the other's."""
     own = [layer.tension is not None for layer in layers]
     if job is None and any(own) and not all(own):
         i = own.index(False)
-        raise rd.error(rd.at(path, i), f"{layers[i].label(i)} has no tension while others have one: give "
+        raise rd.error(layers[i].label(i), "has no tension while others have one: give "
                        "winding.tension (the default of every layer) or this layer's own")

@@ -51,6 +51,33 @@ def layer_label(index: int, kind: str | None = None, angle_deg: float | None = N
     return f"layer {index + 1} ({words})" if words else f"layer {index + 1}"
 
 
+def layer_key(index: int, item: Any) -> str:
+    """The key path of layer `index` (0-based) of `winding.layers` as read, before it is parsed: its
+    layer_label with what its mapping tells (a known type, then a numeric angle), so that a message
+    names the layer as every other message does (`layer 2 (hoop).passes`).
+
+    Examples
+    --------
+    >>> layer_key(1, {"type": "hoop", "passes": 0}), layer_key(0, {"type": "helical", "angle": 16})
+    ('layer 2 (hoop)', 'layer 1 (helical 16 deg)')
+    >>> layer_key(2, {"type": "spiral", "angle": 16}), layer_key(3, "hoop")
+    ('layer 3', 'layer 4')
+    """
+    if not isinstance(item, dict):
+        return layer_label(index)
+    kind = item.get("type")
+    if not isinstance(kind, str) or kind not in _LAYER_KINDS:
+        return layer_label(index)
+    angle = item.get("angle")
+    if isinstance(angle, bool) or not isinstance(angle, (int, float)):
+        return layer_label(index, kind)
+    try:
+        value = float(angle)
+    except OverflowError:
+        return layer_label(index, kind)
+    return layer_label(index, kind, value if math.isfinite(value) else None)
+
+
 @dataclasses.dataclass(frozen=True)
 class LayerConfig:
     """One layer of the plan (YAML: an entry of `winding.layers`).
@@ -204,8 +231,7 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
                            m["friction"])
 
     items = rd.listing(m["layers"], rd.at(path, "layers"), 1, "layer")
-    layers = tuple(_parse_layer(rd, item, rd.at(rd.at(path, "layers"), i), friction, vessel)
-                   for i, item in enumerate(items))
+    layers = tuple(_parse_layer(rd, item, layer_key(i, item), friction, vessel) for i, item in enumerate(items))
     material, layers = parse_materials(rd, m.get("material"), items, layers, path, band_width)
     bridging = None
     if "bridging_tolerance" in m:
@@ -213,14 +239,14 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
         if bridging < 0.0:
             raise rd.error(rd.at(path, "bridging_tolerance"), "must be >= 0 (mm of lift-off a fiber may stand "
                            "off the mandrel over a concave stretch)", m["bridging_tolerance"])
-    _check_tapers(rd, items, layers, rd.at(path, "layers"), region)
+    _check_tapers(rd, items, layers, region)
     least = _parse_fraction(rd, m, path, "min_coverage", MIN_COVERAGE)
-    layers = tuple(dataclasses.replace(layer, min_coverage=_parse_fraction(rd, item, rd.at(rd.at(path, "layers"), i),
-                                                                             "min_coverage", None))
+    layers = tuple(dataclasses.replace(layer, min_coverage=_parse_fraction(rd, item, layer.label(i), "min_coverage",
+                                                                             None))
                    if isinstance(item, dict) and "min_coverage" in item else layer
                    for i, (layer, item) in enumerate(zip(layers, items)))
     tension = parse_tension(rd, m["tension"], rd.at(path, "tension"), job=True) if "tension" in m else None
-    check_tensions(rd, items, layers, tension, rd.at(path, "layers"))
+    check_tensions(rd, layers, tension)
     angle_tolerance = DEFAULT_ANGLE_TOLERANCE
     if "angle_tolerance" in m:
         key = rd.at(path, "angle_tolerance")
@@ -244,7 +270,7 @@ def _parse_fraction(rd: Reader, m: dict, path: str, key: str, default: float | N
     return value
 
 
-def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path: str,
+def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...],
                   region: tuple[float, float] | None) -> None:
     """A hoop taper must leave its traverses a length: 2 taper (P - 1) / P below the region's length
     (checked here where the region is given; on vessels and whole mandrels by the planner)."""
@@ -253,7 +279,7 @@ def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path
     for i, layer in enumerate(layers):
         inward = 2.0 * layer.taper * (layer.passes - 1) / layer.passes
         if layer.type is LayerType.HOOP and inward >= region[1] - region[0]:
-            key = rd.at(rd.at(path, i), "taper")
+            key = rd.at(layer.label(i), "taper")
             raise rd.error(key, f"steps the hoop's reversals in by {inward:g} mm in all, more than the region "
                            f"({region[1] - region[0]:g} mm)", items[i]["taper"])
 

@@ -106,7 +106,7 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
     need = perimeter * math.cos(math.radians(cfg.angle_deg)) / w.band_width
     if need > MAX_CIRCUITS:
         raise _refuse(job.source, "winding.band_width",
-                      f"layer {key} needs {need:.4g} circuits (perimeter {perimeter:.6g} mm x cos "
+                      f"{key} needs {need:.4g} circuits (perimeter {perimeter:.6g} mm x cos "
                       f"{cfg.angle_deg:g} deg / band width), more than the limit of {MAX_CIRCUITS} (a wider "
                       f"band needs fewer), got {w.band_width:g}")
     circuits = cfg.circuits or circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
@@ -283,7 +283,7 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
     t_a, t_b = prof.equator_t if isinstance(prof, VesselMeridian) else _region(surface, w)
     if isinstance(prof, VesselMeridian) and not t_b > t_a:  # hoops are laid on the cylinder alone
         raise _refuse(job.source, "mandrel.profile.cylinder_length",
-                      f"hoop layer {key} is laid on the vessel's cylinder: it must be longer than 0 mm, "
+                      f"{key} is laid on the vessel's cylinder: it must be longer than 0 mm, "
                       f"got {prof.cylinder_length:g}")
     perimeter = _largest_perimeter(surface, t_a, t_b)
     if cfg.passes > MAX_PASSES:
@@ -292,7 +292,7 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
         ratio = w.band_width / perimeter
         if ratio >= 1.0:  # the planner's own refusal (winding.layers.hoop), known from the config
             raise _refuse(job.source, "winding.band_width",
-                          f"wider than the perimeter where hoop layer {key} is laid ({perimeter:.6g} mm at "
+                          f"wider than the perimeter where {key} is laid ({perimeter:.6g} mm at "
                           f"most): a hoop cannot be laid, got {w.band_width:g}")
         # pitch = P / tan(acos(B / P)) = B / sqrt(1 - (B / P)^2): one band width per turn
         pitch = w.band_width / math.sqrt(1.0 - ratio * ratio) if ratio < 1.0 else math.inf
@@ -304,7 +304,7 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
     pass_points = int(math.ceil(turns * 360.0 / HOOP_STEP_DEG)) + 1 if math.isfinite(turns) else 3
     if pass_points > MAX_PASS_POINTS:
         raise _refuse(job.source, cause,
-                      f"layer {key} would lay {turns:.4g} turns of pitch {pitch:.3g} mm over {t_b - t_a:g} mm, "
+                      f"{key} would lay {turns:.4g} turns of pitch {pitch:.3g} mm over {t_b - t_a:g} mm, "
                       f"{pass_points:.4g} points per pass, more than the limit of {MAX_PASS_POINTS}, got {value}")
     # Between traverses the carriage turns back at one end or the other (winder.winding.turnaround).
     ends = tuple(float(v) for v in surface.s_of_t(np.array([t_a, t_b])))
@@ -324,7 +324,7 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     laminate = job.winding.has_laminate  # once: it looks at every layer
     total = 0
     for index, cfg in enumerate(job.winding.layers):
-        key = f"winding.layers[{index}]"
+        key = cfg.label(index)
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
                       else _helical(job, surface, cfg, key, index == 0 or not laminate))
         total += layers[-1].points
@@ -360,8 +360,9 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
         worst = max(range(len(budget.layers)), key=lambda i: budget.layers[i].points)
         layer = budget.layers[worst]
         hoop = job.winding.layers[worst].type is LayerType.HOOP
-        raise _refuse(job.source, f"winding.layers[{worst}].passes" if hoop else "winding.points",
-                      f"the job would plan {budget.points:.4g} points ({layer.points:.4g} in layer {worst + 1}: "
+        label = job.winding.layers[worst].label(worst)
+        raise _refuse(job.source, f"{label}.passes" if hoop else "winding.points",
+                      f"the job would plan {budget.points:.4g} points ({layer.points:.4g} in {label}: "
                       f"{layer.passes} passes of up to {layer.pass_points} points), more than the limit of "
                       f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
     if budget.memory_bytes > MAX_MEMORY_BYTES:
@@ -371,7 +372,7 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
         solver = budget.layers[largest].solve_points * per_point
         # A hoop's points come from its turns (band width and length), not from winding.points.
         hoop = job.winding.layers[largest].type is LayerType.HOOP
-        key = f"winding.layers[{largest}]" if hoop else "winding.points"
+        key = job.winding.layers[largest].label(largest) if hoop else "winding.points"
         raise _refuse(job.source, key if 2 * solver > budget.memory_bytes else "winding",
                       f"the job would need about {budget.memory_bytes / 1e9:.3g} GB of memory, more than the "
                       f"limit of {MAX_MEMORY_BYTES / 1e9:g} GB; fewer points or a wider band")

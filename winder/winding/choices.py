@@ -142,7 +142,7 @@ def pattern_choices(job: JobConfig, index: int, angle: float | None = None, with
     winding.plan.layer_contexts), when the caller has them."""
     cfg = job.winding.layers[index]
     if cfg.type is not LayerType.HELICAL:
-        raise ConfigError(f"{job.source}: winding.layers[{index}]: a hoop layer has no pattern to choose "
+        raise ConfigError(f"{job.source}: {cfg.label(index)}: a hoop layer has no pattern to choose "
                           f"(winder patterns lists helical layers)")
     if angle is not None:
         cfg = replace(cfg, angle_deg=float(angle))

@@ -63,7 +63,8 @@ class PlanContext:
     previous_turnaround: tuple[float, float] | None = None
 
     def key(self, index: int, field: str | None = None) -> str:
-        base = f"{self.job.source}: winding.layers[{index}]"
+        """`file: layer 5 (helical 16 deg)` (and `.field`): layer `index` (0-based) in a message."""
+        base = f"{self.job.source}: {self.winding.layers[index].label(index)}"
         return f"{base}.{field}" if field else base
 
     def bridging_tolerance(self, index: int) -> float:

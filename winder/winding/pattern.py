@@ -99,7 +99,7 @@ def close_open_pattern(circuits: int, natural: float, min_start: float, min_end:
     Five circuits whose passes and turnarounds advance 2.13 turns: skip 1 needs 0.07 turn more
     (2.2 = 11 / 5), shared by the two ends.
 
-    >>> closed = close_open_pattern(5, 2.13, 0.0, 0.0, None, "winding.layers[0]")
+    >>> closed = close_open_pattern(5, 2.13, 0.0, 0.0, None, "layer 1 (helical 30 deg).pattern")
     >>> closed.pattern, round(closed.dwell_start, 9), round(closed.advance % 1.0, 9)
     (1, 0.035, 0.2)
     """

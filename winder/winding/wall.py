@@ -136,8 +136,8 @@ class Buildup:
     def add(self, layer: LayerPlan, material: Material, key: str) -> tuple[LayerPlan, Buildup]:
         """The layer with its laminate record and surface, and the state for the next layer.
 
-        key : the layer's key path in messages (winding.layers[i]). Raises SolverError where the
-        grown mandrel is not a regular surface (a laminate folding over a concave region).
+        key : how messages name the layer (`job.yaml: layer 5 (helical 16 deg)`: PlanContext.key). Raises
+        SolverError where the grown mandrel is not a regular surface (a laminate folding over a concave region).
         """
         surf, band = self.surface, self.band_width
         area = material.composite_area(band)
