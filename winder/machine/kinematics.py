@@ -76,6 +76,12 @@ PROJECT_TOL = 1e-11  # mm: Newton stops when no station moves by more (the answe
 # ... and from a neighbour's station: quadratic from within ~1 mm, where the distance is stationary in
 # the station, so a remaining error of d moves it by about d^2 kappa
 WARM_NEWTON = 2
+# A warm start farther off than that (a lead's Newton step carries the eye tens of mm along the axis
+# from the station its line had: a dwell's fiber round a duct's end) leaves Newton short of the closest
+# point, and the distance found too large; points whose next step would still exceed WARM_SETTLED mm
+# are projected again from the tree. Else the lead's root was false: duct_4's dwell had eyes at
+# leads of 0.01 mm, inside the clearance by 14.6 mm.
+WARM_SETTLED = 1e-3
 
 
 # -- results ---------------------------------------------------------------------------------------
@@ -277,6 +283,12 @@ class Guide:
                 break
             z[active] = np.clip(z[active] + step, self.z[0], self.z[-1])
         rel = e - x
+        if start is not None:
+            slope = 1.0 - np.einsum("ij,ij->i", rel, kap)
+            left = np.abs(np.einsum("ij,ij->i", rel, tan) / np.where(slope > 0.1, slope, 1.0))
+            cold = np.flatnonzero(~(left <= WARM_SETTLED))
+            if cold.size:  # not settled from its start (WARM_SETTLED's comment): from the tree
+                z[cold], _, rel[cold], tan[cold], kap[cold] = self.project(e[cold], full=True)
         return (z, row_norms(rel), rel, tan, kap) if full else (z, row_norms(rel))
 
 
