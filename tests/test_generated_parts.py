@@ -25,7 +25,6 @@ SUITE_COUNT = 42  # seven of each class
 # The suite's parts that meet a defect of winder not mended yet: (class, seed) -> what and whose. They
 # are expected to fail (not strictly: the day one plans, the entry goes).
 KNOWN = {
-    ("tube", 6): "invariant: midpoints 0.26 mm off the tangent, 70.5 deg over 7.5 mm corners (issue 41 item 1)",
     ("duct", 4): "the eye at a dwell round a spline duct's end cuts 2.6 mm into the mandrel (eye planning)",
 }
 NIGHTLY_RUN = os.environ.get("WINDER_NIGHTLY") == "1"
