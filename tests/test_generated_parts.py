@@ -25,7 +25,6 @@ SUITE_COUNT = 42  # seven of each class
 # The suite's parts that meet a defect of winder not mended yet: (class, seed) -> what and whose. They
 # are expected to fail (not strictly: the day one plans, the entry goes).
 KNOWN = {
-    ("tube", 6): "invariant: midpoints 0.26 mm off the tangent, 70.5 deg over 7.5 mm corners (issue 41 item 1)",
     # its dwell mended (the eye's lead a false root next to the contact point, 2.6 mm inside the mandrel):
     # on a return pass the first crossing of the fiber line with the envelope jumps from 63.4 to 78.4 mm
     # between two dense poses, where the line grazes the envelope over the spline's first leg (reaching
