@@ -120,8 +120,8 @@ def test_urscript_structure_and_time(job_plan, programs) -> None:
     text = urscript.serialize(program)[".script"]
     lines = [line for line in text.splitlines() if line.strip() and not line.strip().startswith("#")]
     assert lines[0] == "def small_elbow():" and lines[-1] == "end"
-    moves = re.findall(r"^  movel\(p\[([^\]]*)\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=([0-9.]+)\)$", text, re.M)
-    assert moves and len(re.findall(r"^  ring\(", text, re.M)) == len(moves) + 1
+    moves = re.findall(r"^ +movel\(p\[([^\]]*)\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=([0-9.]+)\)$", text, re.M)
+    assert moves and len(re.findall(r"^ +ring\(", text, re.M)) == len(moves) + 1
     times = np.array([float(t) for _, t, _ in moves])
     radii = np.array([float(r) for _, _, r in moves])
     xyz = np.array([[float(v) for v in p.split(",")[:3]] for p, _, _ in moves])
@@ -175,7 +175,7 @@ def written_flanges(arm: str, program, cell: RobotCell) -> tuple[np.ndarray, lis
         text = urscript.serialize(program)[".script"]
         start = np.degrees([float(v) for v in re.search(r"^  movej\(\[([^\]]*)\]", text, re.M)[1].split(",")])
         flanges = []
-        for m in re.finditer(r"^  movel\(p\[([^\]]*)\]", text, re.M):
+        for m in re.finditer(r"^ +movel\(p\[([^\]]*)\]", text, re.M):
             v = [float(x) for x in m[1].split(",")]
             t = np.eye(4)
             t[:3, :3], t[:3, 3] = _rotvec_matrix(v[3:]), 1000.0 * np.array(v[:3])
@@ -317,13 +317,16 @@ def test_krl_structure(programs) -> None:
     _, program = programs["kuka_kr16"]
     texts = krl.serialize(program)
     statements = (r"&ACCESS RVP", r"&REL 1", r"DEF [A-Za-z_]\w{0,23}\( \)", r"BAS\(#INITMOV, 0\)", r"END",
+                  r"LAYER_\d+\( \)",
                   r"\$(TOOL|BASE) = \{X [-0-9.]+,Y [-0-9.]+,Z [-0-9.]+,A [-0-9.]+,B [-0-9.]+,C [-0-9.]+\}( +;.*)?",
                   r"\$IPO_MODE = #TCP", r"\$APO\.CDIS = [0-9.]+", r"\$VEL_EXTAX\[[1-6]\] = [0-9.]+", r"\$VEL\.CP = [0-9.]+",
                   r"PTP \{(A[1-6] [-0-9.]+,){6}(E[1-3] [-0-9.]+,){2}E3 [-0-9.]+\}( +;.*)?", r"LIN P\d+( C_DIS)?")
     src = [line.strip() for line in texts[".src"].splitlines() if line.strip() and not line.strip().startswith(";")]
     for line in src:
         assert any(re.fullmatch(s, line) for s in statements), line
-    assert src[2].startswith("DEF ") and src[-1] == "END" and src.count("END") == 1
+    assert src[2].startswith("DEF ") and src[-1] == "END"
+    defs = [line for line in src if line.startswith("DEF ")]
+    assert src.count("END") == len(defs) and len(defs) == 1 + sum(line.startswith("LAYER_") for line in src)
     dat = [line for line in texts[".dat"].splitlines() if line.strip()]
     assert dat[:3] == ["&ACCESS RVP", "&REL 1", "DEFDAT small_elbow PUBLIC"] and dat[-1] == "ENDDAT"
     keys = "X Y Z A B C S T E1 E2 E3 E4 E5 E6".split()

@@ -79,10 +79,18 @@ class RobotCell:
     ring_depth: float = DEFAULT_RING_DEPTH
 
 
+def subprogram_name(layer: int) -> str:
+    """The name of a layer's subprogram in every cell language (KRL's in capitals)."""
+    return f"layer_{layer}"
+
+
 def name_problem(name: str, language: str) -> str | None:
     """Why the job's name cannot name the language's module (letters, digits and _, starting with a
-    letter, at most NAME_LENGTH characters), or None."""
+    letter, at most NAME_LENGTH characters, not a layer's subprogram's), or None."""
     longest = NAME_LENGTH[language]
+    if re.fullmatch(r"(?i)layer_[0-9]+", name):
+        return (f"{LANGUAGE_TITLE[language]} programs name each layer's subprogram layer_N: rename the job (its "
+                f"module's name)")
     if re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", name):
         return None
     return (f"{LANGUAGE_TITLE[language]} needs a module name of letters, digits and _, starting with a letter, at "

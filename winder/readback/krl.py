@@ -18,6 +18,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, number, same_frame, seconds
+from winder.readback.subprograms import KRL, in_order
 
 MAX_CP = 3.0  # m/s: KRL's largest path speed
 _FRAME_KEYS = ("X", "Y", "Z", "A", "B", "C")
@@ -97,7 +98,7 @@ def read_krl(text: str, machine: MachineConfig, source: str) -> CellRead:  # noq
     top_e1 = machine.dynamics.rotation.speed / 60.0
     points_lin: list[tuple] = []  # (point, line, mode, $VEL.CP, $VEL_EXTAX[1], pass, kind) of each LIN
     bridges: dict[int, tuple[np.ndarray, int]] = {}
-    src = all_lines[:dat_at]
+    src = in_order(all_lines[:dat_at], KRL, source)  # each layer's subprogram where it is called
     for n, raw in src:
         line = raw.strip()
         if not line or rows.comment(line, n):

@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.config.robot import subprogram_name
 from winder.export.dialects.robot_text import (ANGLE_DECIMALS, BRIDGE_NOTE, JOINT_DECIMALS, POSITION_DECIMALS, abc_deg,
-                                               bridges_after, cell_of, cell_start, header, numbered_rows)
+                                               bridges_after, cell_of, cell_start, header, layer_rows)
 from winder.export.dialects.text import fmt, fmt_significant
 from winder.machine.configuration import kuka_status_turn
 from winder.machine.program import MotionProgram
@@ -59,7 +60,8 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     src.append(f"PTP {_axes(cell.reach.joints[0], ext[0])}  ; the first pose, joint by joint")
     dat = ["&ACCESS RVP", "&REL 1", f"DEFDAT {name} PUBLIC"]
     slow, prev = False, 0
-    for n, row in numbered_rows(program, src, ";"):
+    blocks: dict[int, list[str]] = {}
+    for lines, n, row in layer_rows(program, blocks, ";"):
         dat.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
                    f"Z {fmt(xyz[row, 2], POSITION_DECIMALS)},A {fmt(abc[row, 0], ANGLE_DECIMALS)},"
                    f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},"
@@ -69,18 +71,20 @@ def serialize(program: MotionProgram) -> dict[str, str]:
         if n > 1:
             if cell.tool_path[row] >= TOOL_STILL_MM:
                 if slow:
-                    src.append("$VEL_EXTAX[1] = 100")
+                    lines.append("$VEL_EXTAX[1] = 100")
                     slow = False
-                src.append(f"$VEL.CP = {fmt_significant(cell.tool_path[row] / time[row] / 1000.0)}")
+                lines.append(f"$VEL.CP = {fmt_significant(cell.tool_path[row] / time[row] / 1000.0)}")
             else:
                 share = 100.0 * abs(ext[row, 0] - ext[prev, 0]) / time[row] / top_e1
-                src.append(f"$VEL_EXTAX[1] = {fmt_significant(min(max(share, 1e-3), 100.0))}")
+                lines.append(f"$VEL_EXTAX[1] = {fmt_significant(min(max(share, 1e-3), 100.0))}")
                 slow = True
         if row in bridges:  # the arm stops at the point, then changes configuration
-            src += [f"LIN P{n}", f"; {BRIDGE_NOTE}", f"PTP {_axes(bridges[row].after, ext[row])}"]
+            lines += [f"LIN P{n}", f"; {BRIDGE_NOTE}", f"PTP {_axes(bridges[row].after, ext[row])}"]
         else:
-            src.append(f"LIN P{n} C_DIS")
+            lines.append(f"LIN P{n} C_DIS")
         prev = row
-    src.append("END")
+    src += [f"{subprogram_name(k).upper()}( )" for k in blocks] + ["END"]
+    for k, lines in blocks.items():  # each layer a local subprogram of the module
+        src += ["", f"DEF {subprogram_name(k).upper()}( )"] + lines + ["END"]
     dat.append("ENDDAT")
     return {".src": "\n".join(src) + "\n", ".dat": "\n".join(dat) + "\n"}

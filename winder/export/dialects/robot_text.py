@@ -105,6 +105,21 @@ BRIDGE_NOTE = ("bridge: the arm changes configuration by a joint move, winding s
                "eye holds the fiber (docs/math/10-robot-cell.md 10.5)")
 
 
+def layer_rows(program: MotionProgram, blocks: dict[int, list[str]], mark: str) -> Iterator[tuple[list[str], int, int]]:
+    """(its layer's lines, n, row) of every row of rows(program), n counted from 1: each layer is a
+    subprogram of its own (docs/math/10-robot-cell.md 10.10), its lines blocks[layer index], to which
+    each pass comment is appended, as `mark head`, before its row is given."""
+    layer_of = {}
+    for layer, segments in zip(program.layers, program.segments):
+        for seg in segments:
+            layer_of.update((row, layer.index) for row in range(seg.start, seg.stop))
+    for n, (head, row) in enumerate(rows(program), start=1):
+        lines = blocks.setdefault(layer_of[row], [])
+        if head is not None:
+            lines.append(f"{mark} {head}")
+        yield lines, n, row
+
+
 def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Iterator[tuple[int, int]]:
     """(n, row) of every row of rows(program), n counted from 1; each pass comment is appended to
     comments, as `mark head`, before its row is given."""

@@ -19,8 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.config.robot import subprogram_name
 from winder.export.dialects.robot_text import (BRIDGE_NOTE, TIME_DECIMALS, bridges_after, cell_start, header,
-                                               rotation_vectors, rows)
+                                               layer_rows, rotation_vectors, rows)
 from winder.export.dialects.text import fmt
 from winder.machine.blends import CYCLE_S, blend_radii, line_times, ring_targets
 from winder.machine.program import MotionProgram
@@ -82,21 +83,23 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     xyz = cell.mandrel[:, :3, 3]
     written, move_s, radii, pause, targets, spans = motion(program)
     bridges = bridges_after(program)
+    blocks: dict[int, list[str]] = {}
+    for lines, n, row in layer_rows(program, blocks, "    #"):
+        k = n - 1
+        t = fmt(move_s[k], TIME_DECIMALS)
+        lines.append("    ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
+                     + f", {fmt(spans[k], TIME_DECIMALS)})")
+        lines.append(f"    movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
+                     f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
+        if row in bridges:
+            lines += [f"    # {BRIDGE_NOTE}",
+                      f"    movej({_joints(bridges[row].after)}, a=1.0, v=1.0, t={fmt(pause[k], TIME_DECIMALS)}, r=0)"]
     lines = [f"def {name}():"] + header(program, "  #") + list(PROLOGUE)
+    for k, body in blocks.items():  # each layer a function of the script
+        lines += [f"  def {subprogram_name(k)}():"] + body + ["  end"]
     lines += [f"  set_tcp({_pose(tool[:3, 3], rotation_vectors(tool[None, :3, :3])[0])})",
               f"  movej({_joints(cell.reach.joints[0])}, a=0.5, v=0.5)",
               "  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[0]) + ", 0)",
               "  ring_wait()"]
-    for k, (head, row) in enumerate(rows(program)):
-        if head is not None:
-            lines.append(f"  # {head}")
-        t = fmt(move_s[k], TIME_DECIMALS)
-        lines.append("  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
-                     + f", {fmt(spans[k], TIME_DECIMALS)})")
-        lines.append(f"  movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
-                     f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
-        if row in bridges:
-            lines += [f"  # {BRIDGE_NOTE}",
-                      f"  movej({_joints(bridges[row].after)}, a=1.0, v=1.0, t={fmt(pause[k], TIME_DECIMALS)}, r=0)"]
-    lines.append("end")
+    lines += [f"  {subprogram_name(k)}()" for k in blocks] + ["end"]
     return {".script": "\n".join(lines) + "\n"}
