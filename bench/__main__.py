@@ -26,6 +26,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--speed", dest="speed_cap", type=int, default=None, metavar="LBFGS_CAP",
                    help="only the solver speed check: Newton vs L-BFGS (capped at LBFGS_CAP iterations), "
                         "growth with n")
+    p.add_argument("--parts", type=int, default=None, metavar="N",
+                   help="only the generated parts: N of them (tests/part_generator.py), tabled per class "
+                        "(bench/generated.py)")
+    p.add_argument("--seed", type=int, default=0, help="the first seed of --parts (default 0)")
     return p
 
 
@@ -44,6 +48,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         for n, secs in rep.growth:
             print(f"  newton n = {n:>7d}: {secs * 1e3:8.1f} ms ({secs / n * 1e6:.2f} us per point)")
         return 0
+    if args.parts is not None:
+        from bench.generated import main as generated  # noqa: PLC0415
+
+        return generated(args.parts, args.seed, Path(args.output_dir))
     if args.from_json:
         print(f"wrote {report_from_json(args.output_dir)}")
         return 0

@@ -1,6 +1,6 @@
 """Baselines that winder is measured against, all on winder's own surface code where they can be.
 
-- collocation: scipy.integrate.solve_bvp on the geodesic ODE (MATH.md 4), fixed end points,
+- collocation: scipy.integrate.solve_bvp on the geodesic ODE (docs/math/04-checks.md), fixed end points,
   parametrized by a normalized parameter tau in [0, 1]; the length is a fifth ODE component
   (L' = |J u'|, L(0) = 0), so the solver's error control covers it.
 - mesh: the surface triangulated on a regular (s, theta) grid (trimesh), then potpourri3d's

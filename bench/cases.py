@@ -1,6 +1,6 @@
 """The bench's mandrels (the paper's three radius cases, Table 1) and their ground-truth lengths.
 
-Closed forms (MATH.md 4) where they exist, written here from first principles and independent of
+Closed forms (docs/math/04-checks.md) where they exist, written here from first principles and independent of
 winder's surface code: a cone unrolls into a plane sector, a straight tube of any section into a
 plane strip. The bent tube has none: its truth is tight shooting (winder.paths.shooting.shoot, DOP853),
 cross-checked against the other methods on the results page.

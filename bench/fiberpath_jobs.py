@@ -1,6 +1,6 @@
 """Whole jobs against fiberpath on its own examples, and start-up (issue 14).
 
-Each example of shared/bench/fiberpath is a pair NAME.wind (fiberpath) and NAME.yaml (winder, the
+Each fiberpath example (the folder WINDER_FIBERPATH_EXAMPLES names; .ci/run sets it) is a pair NAME.wind (fiberpath) and NAME.yaml (winder, the
 same job). Per repeat the two tools run back to back as a user runs them (a fresh process, each its
 own console script, all of winder's output files written), alternating who goes first so that the
 machine's noise falls on both; figures are medians over the repeats. fiberpath is AGPL and is only
@@ -25,7 +25,8 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-EXAMPLES = Path(os.environ.get("WINDER_FIBERPATH_EXAMPLES", ROOT.parent / "shared" / "bench" / "fiberpath"))
+# fiberpath's examples are AGPL data, read where they lie: the environment names their folder.
+EXAMPLES = Path(os.environ.get("WINDER_FIBERPATH_EXAMPLES") or ROOT / "bench" / "no-fiberpath-examples")
 # fiberpath lives in its own environment (AGPL, a bench-only tool): WINDER_FIBERPATH, else on PATH.
 FIBERPATH = Path(os.environ.get("WINDER_FIBERPATH") or shutil.which("fiberpath") or "fiberpath")
 WINDER = Path(sys.executable).parent / "winder"
@@ -154,7 +155,8 @@ def _measure(repeats: int, names: list[str] | None, jobs: bool) -> dict[str, Any
         out["note"] = "whole jobs against fiberpath: not in this run's settings"
         return out
     if not (FIBERPATH.exists() and EXAMPLES.is_dir()):
-        out["note"] = f"fiberpath ({FIBERPATH}) or its examples ({EXAMPLES}) not found: whole jobs skipped"
+        out["note"] = (f"fiberpath ({FIBERPATH}) or its examples ({EXAMPLES}; set WINDER_FIBERPATH_EXAMPLES) not found: "
+                       "whole jobs skipped")
         return out
     names = names or sorted(p.stem for p in EXAMPLES.glob("*.wind") if p.with_suffix(".yaml").exists())
     out["jobs"] = [_job(name, repeats) for name in names]

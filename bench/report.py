@@ -171,7 +171,7 @@ def _table1(r: dict[str, Any]) -> list[str]:
     cases = r["cases"]
     lines = ["## Table 1 (the paper's layout)", "",
              "Time (median) and relative length error at n = 50, 500, 1000. The paper reports one error: that of "
-             "its polyline. winder's `length` is the smooth length through the vertices (MATH.md 2); "
+             "its polyline. winder's `length` is the smooth length through the vertices (docs/math/02-energy.md); "
              "the Richardson row includes the second solve at 2n+1 in its time.", ""]
     header = ["method", "n"] + [f"{c['title']}: time" for c in cases] + [f"{c['title']}: error" for c in cases]
     ns = sorted({row["n"] for c in cases for row in c["table1"]["rows"] if row["method"].startswith("newton")})

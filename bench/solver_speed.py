@@ -1,6 +1,6 @@
 """The solver's speed targets (issue 14), side by side in one process, medians of interleaved repeats.
 
-- The quarter bend (MATH.md's reference tube, 1 extra round) at n = 1000 and n = 100,000, to
+- The quarter bend (the reference tube of docs/math/02-energy.md, 1 extra round) at n = 1000 and n = 100,000, to
   convergence, without the 2n + 1 estimate solve (winder.paths.geodesic.geodesic(estimate=False)).
 - Against scipy's solve_bvp *with analytic Jacobians* (fun_jac and bc_jac), the strongest collocation
   baseline: the geodesic equations of the two reference mandrels in closed form (a torus section

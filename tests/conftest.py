@@ -1,4 +1,4 @@
-"""Shared fixtures: the reference mandrels of MATH.md and the issues."""
+"""Shared fixtures: the reference mandrels of docs/math/02-energy.md and the issues."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ def surface_of(axis, profile=None, section=None) -> SweepSurface:
 
 @pytest.fixture(scope="session")
 def quarter_bend() -> SweepSurface:
-    """Quarter bend: bend radius 150, tube radius 40 (MATH.md's reference tube)."""
+    """Quarter bend: bend radius 150, tube radius 40 (the reference tube of docs/math/02-energy.md)."""
     return surface_of(ArcAxis(150.0, 90.0), ConstantProfile(40.0))
 
 

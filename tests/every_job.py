@@ -35,7 +35,11 @@ def planned(path: Path) -> WindingPlan:
 
 @functools.cache
 def program_of(path: Path) -> MotionProgram:
-    return build_program(planned(path), job_of(path).machine)
+    """The job's motion program as `run` writes it (its passes' tensions included)."""
+    from winder.machine.tension import pass_tensions, with_tension  # noqa: PLC0415
+
+    plan = planned(path)
+    return with_tension(build_program(plan, job_of(path).machine), pass_tensions(job_of(path), plan))
 
 
 @functools.cache

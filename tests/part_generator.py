@@ -21,8 +21,9 @@ the bench (the ranges as shops wind them, within a few seconds of CPU each).
 
 Outcomes (outcome()): `planned` (exit 0, every invariant proved), `physical` (a refusal naming what is
 physically in the way and the key to change), `numerical` (no convergence, an integral that did not
-settle, an iteration limit, an internal error: a defect of winder), `other` (a refusal of neither
-kind: a defect too, until its words say what is in the way).
+settle, an iteration limit, an internal error: a defect of winder), `invariant` (a plan or program that
+broke an invariant it proves before it writes: a defect too), `other` (a refusal of none of these
+kinds: a defect until its words say what is in the way).
 """
 
 from __future__ import annotations
@@ -46,13 +47,18 @@ class Size:
     length: float
     points: int
     radius: float
+    bent: float  # the largest tube radius of a bent axis (elbows, ducts: their programs are robot poses)
 
 
-SUITE = Size(layers=3, circuits=24, length=1500.0, points=30, radius=200.0)
-NIGHTLY = Size(layers=12, circuits=80, length=12000.0, points=50, radius=600.0)
+SUITE = Size(layers=2, circuits=16, length=1000.0, points=30, radius=150.0, bent=35.0)
+NIGHTLY = Size(layers=12, circuits=80, length=12000.0, points=50, radius=600.0, bent=300.0)
 
-ROUND_POINTS = 4  # points a round of the mandrel a pass takes at least (winder asks for 3)
+ROUND_POINTS = 6  # points a round of the mandrel a pass takes at least (winder asks for 3)
 MOST_POINTS = 4000  # a pass's points, at most: past it the layer is refused for its points (physical enough)
+# A job refused by the invariants it proves before it writes (winder.machine.invariants): the plan or
+# the program of winder did not keep its promise, a defect like a numerical refusal.
+INVARIANT = re.compile(r"does not lay the planned path|of the part as wound so far|is written .* outside machine\.limits|"
+                       r"of its surface \(the widest gap")
 NUMERICAL = re.compile(r"converge|did not settle|iteration|internal error|not finite|nan\b|singular", re.I)
 PHYSICAL = re.compile(r"friction|bridg|lift-off|slip|clear|reach|fold|thick|band|angle|cover|limit|opening|"
                       r"bend|radius|turn", re.I)
@@ -80,11 +86,13 @@ def parts(count: int, seed: int = 0, size: Size = SUITE) -> list[tuple[str, int,
 
 
 def outcome(ok: bool, message: str) -> str:
-    """planned | physical | numerical | other (module docstring) of a job's result."""
+    """planned | physical | numerical | invariant | other (module docstring) of a job's result."""
     if ok:
         return "planned"
     if NUMERICAL.search(message):
         return "numerical"
+    if INVARIANT.search(message):
+        return "invariant"
     return "physical" if PHYSICAL.search(message) and KEY.search(message) else "other"
 
 
@@ -221,7 +229,7 @@ def _tube(rng, size: Size) -> dict:
 
 
 def _elbow(rng, size: Size) -> dict:
-    diameter = _round(_log_uniform(rng, 50.0, min(600.0, 2.0 * size.radius)), 5.0)
+    diameter = _round(_log_uniform(rng, 50.0, min(600.0, 2.0 * size.bent)), 5.0)
     bend = _round(rng.uniform(1.0, 5.0) * diameter, 5.0)
     angle = _round(rng.uniform(30.0, 90.0), 5.0)
     legs = [_round(rng.uniform(0.3, 1.5) * diameter, 5.0) for _ in range(2)]
@@ -238,8 +246,8 @@ def _elbow(rng, size: Size) -> dict:
 
 
 def _duct(rng, size: Size) -> dict:
-    radius = _round(_log_uniform(rng, 20.0, min(150.0, size.radius)), 0.5)
-    count = int(rng.integers(4, 7))
+    radius = _round(_log_uniform(rng, 20.0, min(150.0, size.bent)), 0.5)
+    count = int(rng.integers(4, 7 if size.bent > 100.0 else 5))
     step = _round(rng.uniform(3.0, 6.0) * radius, 5.0)
     drift = np.cumsum(rng.uniform(-0.25, 0.25, size=(count, 2)) * step, axis=0)
     drift[0] = 0.0

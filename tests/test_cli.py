@@ -1,4 +1,4 @@
-"""The command line (SPEC.md "Command line"): geodesic, check, run, regress, through click's CliRunner.
+"""The command line (docs/guide/commands.md): geodesic, check, run, regress, through click's CliRunner.
 
 Exit status: 0 success; 2 bad usage or an invalid config; 1 a job that could not be computed. Every
 error is one line starting with `Error:`; never a traceback.
@@ -144,7 +144,7 @@ def test_every_command_help_says_what_its_exit_status_means(command):
 def test_run_help_and_readme_name_every_format_run_accepts():
     from winder.export.registry import SELECTABLE  # noqa: PLC0415
 
-    shown = "|".join(SELECTABLE)  # csv|gcode|ply|layup|report: --format layup is SPEC.md's
+    shown = "|".join(SELECTABLE)  # csv|gcode|ply|layup|report: --format layup is docs/guide/conventions.md's
     assert f"--format {shown}" in invoke("run", "--help").stdout
     assert f"[--format {shown} ...]" in (ROOT / "docs" / "guide" / "commands.md").read_text(encoding="utf-8")
 

@@ -1,4 +1,4 @@
-"""The one error hierarchy of winder. Every error carries its exit status (SPEC.md), and where known
+"""The one error hierarchy of winder. Every error carries its exit status (docs/guide/commands.md), and where known
 the file and the key path it is about; the CLI prints format_message() and exits with exit_code."""
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ class ConfigError(WinderError):
 
 class InfeasibleConfigError(ConfigError):
     """A valid config whose winding no fiber can hold, refused from the config alone, before any
-    computation (SPEC.md "Winding with friction": exit 1)."""
+    computation (docs/guide/config.md: exit 1)."""
 
     exit_code = 1
 

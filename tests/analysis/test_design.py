@@ -1,5 +1,5 @@
-"""`winder design CONFIG [--json]` (SPEC.md "Structural analysis"): netting sizing before planning, against
-the closed forms of docs/math/09-structure.md 9.2 and MATH.md 8."""
+"""`winder design CONFIG [--json]` (docs/guide/will-it-hold.md): netting sizing before planning, against
+the closed forms of docs/math/09-structure.md 9.2 and docs/math/08-laminate-edges.md."""
 
 from __future__ import annotations
 
@@ -43,7 +43,7 @@ def test_design_json_sizes_each_helical_layer_and_gives_the_burst(tmp_path):
     assert hel["netting_stress_mpa"] == SIGMA and hel["allowable_source"] == "strand_strength"  # strand V_f
     assert abs(hel["helical_thickness_needed_mm"] - 1.0) < CLOSED_FORM  # the issue's sizing at 30 MPa, 30 deg
     assert abs(hel["hoop_thickness_needed_mm"] - 1.25) < CLOSED_FORM
-    # as configured: MATH.md 8's helical thickness with N_c = ceil(2 pi R cos a / B); hoops t_p per pass
+    # as configured: docs/math/08-laminate-edges.md's helical thickness with N_c = ceil(2 pi R cos a / B); hoops t_p per pass
     a = math.radians(30.0)
     n_c = math.ceil(2 * math.pi * R * math.cos(a) / 10.0)
     t_h = 2 * 0.5 * n_c * 10.0 / (2 * math.pi * R * math.cos(a))

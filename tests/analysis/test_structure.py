@@ -1,4 +1,4 @@
-"""The structural analysis of a planned job (SPEC.md "Structural analysis"): samples/vessel_laminate.yaml
+"""The structural analysis of a planned job (docs/guide/will-it-hold.md): samples/vessel_laminate.yaml
 reports its netting burst and first-ply failure pressures in the summary and the report; the cylinder's
 netting burst is the closed form over the layup CSV's layers there."""
 

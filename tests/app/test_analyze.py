@@ -1,4 +1,4 @@
-"""`winder analyze` (SPEC.md "Will it hold (additions)"; docs/math/09-structure.md 9.5, 9.9): the shell model
+"""`winder analyze` (docs/guide/will-it-hold.md; docs/math/09-structure.md 9.5, 9.9): the shell model
 solved by CalculiX and read back. A mesh study at the polar openings (the fiber stress there changes by
 under 5 % when the rows double, and the two openings of a symmetric vessel read within 2 %); mid-cylinder
 membrane strains against CLT within 2 %; a geodesic dome's ply strains against CLT within 10 % away from

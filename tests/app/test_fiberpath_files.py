@@ -1,4 +1,4 @@
-"""fiberpath's own examples (../shared/bench/fiberpath: each X.wind beside a hand-written X.yaml of the same
+"""fiberpath's own examples (the folder WINDER_FIBERPATH_EXAMPLES names, which .ci/run sets: each X.wind beside a hand-written X.yaml of the same
 job) through `winder run X.wind`, `fiberpath simulate` and `winder patterns X.wind`.
 
 The examples are fiberpath's (AGPL): they are read where they lie, never copied; the tests skip, saying
@@ -25,16 +25,15 @@ from winder.config.job import load_config
 from winder.winding.plan import plan
 
 ROOT = Path(__file__).resolve().parents[2]
-_PLACES = [os.environ.get("WINDER_FIBERPATH_EXAMPLES"), ROOT.parent / "shared" / "bench" / "fiberpath",
-           ROOT.parents[1] / "shared" / "bench" / "fiberpath"]
-EXAMPLES = next((Path(p) for p in _PLACES if p and Path(p).is_dir()), None)
+_FOLDER = os.environ.get("WINDER_FIBERPATH_EXAMPLES")
+EXAMPLES = Path(_FOLDER) if _FOLDER and Path(_FOLDER).is_dir() else None
 NAMES = sorted(p.stem for p in EXAMPLES.glob("*.wind") if p.with_suffix(".yaml").exists()) if EXAMPLES else []
 _EXE = [os.environ.get("WINDER_FIBERPATH"), shutil.which("fiberpath"), str(Path(sys.executable).parent / "fiberpath")]
 FIBERPATH = next((p for p in _EXE if p and Path(p).exists()), None)
 ANGLE_TOL = 0.01  # deg
 LENGTH_RTOL = 1e-3  # the issue's 0.1 %
 
-pytestmark = pytest.mark.skipif(not NAMES, reason="fiberpath's examples (../shared/bench/fiberpath) not found")
+pytestmark = pytest.mark.skipif(not NAMES, reason="fiberpath's examples not found: set WINDER_FIBERPATH_EXAMPLES to their folder")
 needs_fiberpath = pytest.mark.skipif(FIBERPATH is None, reason="fiberpath is not installed (the bench extra)")
 
 

@@ -113,5 +113,5 @@ def test_geodesic_elbow_refused_where_it_bridges(tmp_path):
     out.mkdir()
     result = CliRunner().invoke(main, ["run", str(config), "-o", str(out)])
     assert result.exit_code == 1
-    assert "winding.layers[0]" in result.output and "bridges" in result.output
+    assert "layer 1 (helical 45 deg)" in result.output and "bridges" in result.output
     assert not any(out.iterdir())

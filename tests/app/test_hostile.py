@@ -31,11 +31,11 @@ HANG_GUARD_S = 120  # generous: the machine may be busy; the issue's 20 s is mea
 REFUSED = {
     "band_1e-6": (2, 2, "winding.band_width"),
     "hoop_band_1e-4": (2, 2, "winding.band_width"),
-    "hoop_passes_1e6": (2, 2, "winding.layers[0].passes"),
-    "hoop_89_999": (2, 2, "winding.layers[0].angle"),
+    "hoop_passes_1e6": (2, 2, "layer 1 (hoop).passes"),
+    "hoop_89_999": (2, 2, "layer 1 (hoop 89.999 deg).angle"),
     "huge_cylinder": (2, 2, "mandrel.profile.cylinder_length"),
     "no_winding": (2, 2, "winding"),
-    "pattern_factor": (2, 2, "winding.layers[0].pattern"),
+    "pattern_factor": (2, 2, "layer 1 (helical 55 deg).pattern"),
     "long_name_240": (2, 2, "name"),
     "long_name_255": (2, 2, "name"),
     "long_name_300": (2, 2, "name"),
@@ -46,7 +46,7 @@ REFUSED = {
     "alias_bomb": (2, 2, "invalid YAML: its aliases expand it to more than 1,000,000 values"),
     "yaw_limit": (0, 1, "machine.limits.yaw"),
     # the geodesic bridges the tight bend (refused by the friction check); or the time limit stops it
-    "tight_spline": (0, {1}, ("winding.layers[0]: the fiber bridges", "time limit of 20 s")),
+    "tight_spline": (0, {1}, ("layer 1 (helical 50 deg): the fiber bridges", "time limit of 20 s")),
     "flat_ellipse": (2, 2, "mandrel.section.b"),
     "cross_feed_80": (0, 0, None),
     "slow_rotation": (0, 1, "machine.dynamics: a move's feed would be written F0.000"),
@@ -54,7 +54,7 @@ REFUSED = {
     "cyl0_hemisphere": (2, 2, "mandrel.profile.cylinder_length"),
     "cyl0_ellipsoid": (2, 2, "mandrel.profile.cylinder_length"),
     "cyl0_isotensoid": (2, 2, "mandrel.profile.cylinder_length"),
-    "cyl0_helical": (0, 1, "winding.layers[0].pattern"),
+    "cyl0_helical": (0, 1, "layer 1 (helical 22 deg).pattern"),
     # YAML complex keys: a sequence, a set (unhashable once constructed), nested
     "yaml_complex_key": (2, 2, "invalid YAML: found unhashable key"),
     "yaml_set_key": (2, 2, "invalid YAML: found unhashable key"),

@@ -1,4 +1,4 @@
-"""`winder patterns` on the command line (SPEC.md "Patterns and fiberpath files"): the JSON fields, the
+"""`winder patterns` on the command line (docs/guide/commands.md): the JSON fields, the
 table, and its refusals (one Error line, exit 2)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""`winder geodesic --json`'s `seconds` time the solve alone (SPEC.md): not the interpreter's start, not
+"""`winder geodesic --json`'s `seconds` time the solve alone (docs/guide/conventions.md): not the interpreter's start, not
 the first import of the routines the solver calls."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """winder.config.mandrel: valid job files parse to the right dataclasses; invalid ones are refused with
-messages naming the file, the key path and the value (SPEC.md, "Invalid mandrels")."""
+messages naming the file, the key path and the value (docs/guide/config.md)."""
 
 from __future__ import annotations
 

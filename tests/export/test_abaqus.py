@@ -1,4 +1,4 @@
-"""`--format abaqus` (SPEC.md "Structural analysis"; docs/math/09-structure.md 9.5): CalculiX solves winder's
+"""`--format abaqus` (docs/guide/will-it-hold.md; docs/math/09-structure.md 9.5): CalculiX solves winder's
 deck of a closed cylinder and its mid-length strains match CLT; a vessel's deck carries the layup CSV's plies.
 
 CalculiX (`ccx`, Debian's calculix-ccx) is the reader: the solve test is skipped, with the reason printed,
@@ -33,7 +33,7 @@ VESSEL_AGREEMENT = 0.02  # the issue's 2 % (measured +1.5 % hoop at the inner fa
 SOLVE_SECONDS = 60.0
 CSV_DECIMALS = 1e-6  # the layup CSV's and the deck's 6 decimals
 PLY_AVERAGE = 0.01  # an element's area mean of its layer's cells: the deck's trapezoids on 4 points a cell
-MIRROR = 1e-4  # mm: the sample laminate's two ends mirror each other to 1e-4 (its outer helical's cells)
+MIRROR = 1e-4  # mm: plies near the two openings mirror each other to this beyond their layer cells' own asymmetry
 ANGLE_DEG = 1e-3  # a ply's angle read back from its orientation vector (9 decimals) and the element's chords
 
 CYLINDER = """name: closed_cylinder
@@ -204,10 +204,20 @@ def test_vessel_plies_are_the_laminate_averaged_over_each_element(vessel):
             want = share * _cell_mean(lam, t0, t1, planned.surface)
             worst = max(worst, abs(model.ply_thickness[element, slot] - want) / max(want, 0.05))
     assert worst < PLY_AVERAGE, worst
-    # the openings' ends of the laminate mirror each other (the hoops' ends do not quite: one traverse starts
-    # where the other ends), and so do the meshes and plies there
-    near = slice(0, 30)
-    ply = model.ply_thickness[mer]
-    assert np.allclose(ply[near], ply[::-1][near], rtol=0, atol=MIRROR)
+    # the plies near the two openings mirror each other as far as the laminate's cells and the mesh do: the
+    # first helical's cells mirror to round-off; a hoop's traverse starts where the other ends, and a helical
+    # wound over it on the grown surface inherits that (its ends mirror to a few micrometres), which the
+    # mesh's grading by the wall's change follows some millimetres from the openings
     length = planned.surface.axial_length
-    assert np.allclose(model.t[mer][near], length - model.t[mer][::-1][near], rtol=0, atol=0.01)  # mm
+    t = model.t[mer]
+    mirrored = np.abs(t - (length - t[::-1])) < 0.01  # mm
+    near = slice(0, int(np.argmin(mirrored)) if not mirrored.all() else t.size // 2)
+    assert t[near].size >= 10 and t[near][-1] > 3.0  # the elements over the first millimetres from each boss
+    ply = model.ply_thickness[mer]
+    span = np.linspace(0.0, float(t[near].max()) + 1.0, 2001)
+    for slot, layer in enumerate(model.ply_layer):
+        lam = planned.layers[layer - 1].laminate
+        share = 0.5 if planned.layers[layer - 1].type.value == "helical" else 1.0
+        own = share * float(np.max(np.abs(np.interp(span, lam.t, lam.thickness, left=0.0, right=0.0)
+                                           - np.interp(length - span, lam.t, lam.thickness, left=0.0, right=0.0))))
+        assert np.allclose(ply[near, slot], ply[::-1][near, slot], rtol=0, atol=MIRROR + own), (slot, own)

@@ -1,4 +1,4 @@
-"""Every line of every program within MAX_LINE characters (SPEC.md "Machine dynamics and dialects":
+"""Every line of every program within MAX_LINE characters (docs/math/06-machine.md 6.4:
 LinuxCNC refuses a longer line, comments included), in every dialect, on every sample and config;
 a job name and a source path of any length shortened to fit."""
 

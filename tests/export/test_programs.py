@@ -14,7 +14,8 @@ import pytest
 from conftest import surface_of
 from plans import cylinder_plan
 from winder.app.jobs import render_outputs
-from winder.config.dialects import REGISTRY, register
+from winder.config import controllers
+from winder.config.dialects import REGISTRY
 from winder.config.machine import DIALECTS, MachineConfig
 from winder.config.mandrel import ConstantProfile, LineAxis
 from winder.errors import ExportError
@@ -73,9 +74,25 @@ def test_every_dialect_from_the_registry():
             assert callable(importlib.import_module(row.module).serialize)
 
 
-def test_a_new_dialect_is_one_register_line(monkeypatch):
-    monkeypatch.setitem(REGISTRY, "plain", REGISTRY["generic"])  # removed again after the test
-    register("plain", "winder.export.dialects.generic")
-    program = build_program(_plan(), MACHINE)
-    text = gcode_text(None, MACHINE, program=replace(program, machine=replace(MACHINE, dialect="plain")))
-    assert text == gcode_text(None, MACHINE, program=program)
+def test_a_new_dialect_is_one_file(tmp_path, monkeypatch):
+    """A built-in dialect is a post file in the package's posts folder: a file more, and the registry,
+    the config's machine.dialect and the writer know it (no code)."""
+    import shutil  # noqa: PLC0415
+
+    posts = tmp_path / "posts"
+    shutil.copytree(controllers.POSTS, posts)
+    (posts / "plain.post.yaml").write_text("extends: generic\nabout: the generic G-code under another name\n")
+    monkeypatch.setattr(controllers, "POSTS", posts)
+    monkeypatch.setattr(REGISTRY, "_rows", None)
+    for cached in (controllers.builtin_names, controllers.builtin):
+        cached.cache_clear()
+    try:
+        assert "plain" in REGISTRY and REGISTRY["plain"].module == REGISTRY["generic"].module
+        program = build_program(_plan(), MACHINE)
+        text = gcode_text(None, MACHINE, program=replace(program, machine=replace(MACHINE, dialect="plain")))
+        named = "; controller: plain (the generic G-code under another name)\n"  # the header names it
+        assert named in text and text.replace(named, "") == gcode_text(None, MACHINE, program=program)
+    finally:
+        for cached in (controllers.builtin_names, controllers.builtin):
+            cached.cache_clear()
+        REGISTRY._rows = None

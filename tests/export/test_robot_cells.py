@@ -372,3 +372,94 @@ def test_krl_serialized_once_per_program(monkeypatch, job_plan, programs) -> Non
     src = robot_programs.krl_src(plan, job, program)
     dat = robot_programs.krl_dat(plan, job, program)
     assert src.startswith("&ACCESS") and dat.startswith("&ACCESS") and len(calls) == 1
+
+
+def _limited(program, limit: int):
+    """The program with its cell's program limit set to limit bytes."""
+    cell = dataclasses.replace(program.cell, cell=dataclasses.replace(program.cell.cell, program_limit=limit))
+    return dataclasses.replace(program, cell=cell)
+
+
+def _joined(texts: dict[str, str]) -> str:
+    return "".join(texts[k] for k in sorted(texts, key=lambda s: s != ".src"))
+
+
+def _close(a, b, path: str = "") -> None:
+    """Two simulate summaries equal: numbers within 1e-9 relative (1e-6 absolute), line numbers aside."""
+    if isinstance(a, dict):
+        assert set(a) == set(b), path
+        for k in a:
+            if "line" not in k:
+                _close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, (list, tuple)):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b)):
+            _close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) and isinstance(b, (int, float)):
+        assert abs(a - b) <= 1e-6 + 1e-9 * abs(a), (path, a, b)
+    else:
+        assert a == b, (path, a, b)
+
+
+SPLIT = {  # language: (the main program's call of layer 1, its definition)
+    "krl": (r"^LAYER_1\( \)$", r"^DEF LAYER_1\( \)$"),
+    "rapid": (r"^    layer_1;$", r"^  PROC layer_1\(\)$"),
+    "urscript": (r"^  layer_1\(\)$", r"^  def layer_1\(\):$"),
+}
+
+
+@pytest.mark.parametrize(("arm", "language"), [("kuka_kr16", "krl"), ("abb_irb4600", "rapid"), ("ur10e", "urscript")])
+def test_split_reads_back_as_the_whole(job_plan, programs, arm: str, language: str) -> None:
+    """A limit below the program's size (docs/math/10-robot-cell.md 10.10) writes each layer as a
+    subprogram the main program calls once; simulate reads it as the whole program: the same summary
+    (fiber, time, deviations) but for the lines it names."""
+    from winder.config.robot import MIN_PROGRAM_LIMIT, PROGRAM_LIMIT  # noqa: PLC0415
+
+    machine, program = programs[arm]
+    module = {"krl": krl, "rapid": rapid, "urscript": urscript}[language]
+    whole = module.serialize(program)
+    assert sum(len(t) for t in whole.values()) <= PROGRAM_LIMIT[language]  # the small elbow fits
+    assert not any(re.search(SPLIT[language][0], t, re.M) for t in whole.values())
+    split = module.serialize(_limited(program, MIN_PROGRAM_LIMIT))
+    assert set(split) == set(whole)
+    main = next(t for k, t in split.items() if k != ".dat")
+    calls = re.findall(r"(?im)^\s*(?:layer_\d+)(?:\( \)|;|\(\))$", main)
+    assert len(calls) == len(program.layers) == 1
+    assert re.search(SPLIT[language][0], main, re.M) and re.search(SPLIT[language][1], main, re.M)
+    assert main.index(calls[0].strip()) > 0
+    if language == "krl":
+        assert split[".dat"] == whole[".dat"]  # the points stay in the module's one .dat
+    sims = [simulate(machine, job_plan[1], _joined(t), f"program.{language}") for t in (whole, split)]
+    _close(sims[0].summary(), sims[1].summary())
+    assert sims[1].time_s == pytest.approx(program.times.total_s, rel=TIME_TOL)
+
+
+@pytest.mark.parametrize(("language", "break_it", "message"), [
+    ("krl", lambda t: t.replace("\nLAYER_1( )\n", "\n"), "never called"),
+    ("krl", lambda t: t.replace("\nLAYER_1( )\n", "\nLAYER_1( )\nLAYER_1( )\n"), "called twice"),
+    ("rapid", lambda t: t.replace("    layer_1;", "    layer_2;"), "not defined"),
+    ("urscript", lambda t: t.replace("\n  layer_1()\n", "\n"), "never called"),
+])
+def test_split_program_miscalled_refused(job_plan, programs, language, break_it, message) -> None:
+    from winder.config.robot import MIN_PROGRAM_LIMIT  # noqa: PLC0415
+    from winder.errors import ConfigError  # noqa: PLC0415
+
+    arm = {"krl": "kuka_kr16", "rapid": "abb_irb4600", "urscript": "ur10e"}[language]
+    machine, program = programs[arm]
+    module = {"krl": krl, "rapid": rapid, "urscript": urscript}[language]
+    texts = module.serialize(_limited(program, MIN_PROGRAM_LIMIT))
+    text = break_it(_joined(texts))
+    with pytest.raises(ConfigError, match=message):
+        simulate(machine, job_plan[1], text, f"program.{language}")
+
+
+def test_program_limit_in_config(tmp_path) -> None:
+    """machine.robot.program_limit (bytes) is read, and one below MIN_PROGRAM_LIMIT refused."""
+    from winder.errors import ConfigError  # noqa: PLC0415
+
+    path = tmp_path / "small_elbow.yaml"
+    path.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, program_limit: 5000}"))
+    assert load_config(path).machine.cell.program_limit == 5000
+    path.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, program_limit: 10}"))
+    with pytest.raises(ConfigError, match="program_limit"):
+        load_config(path)

@@ -26,7 +26,7 @@ def _zero(v) -> bool:
 
 def _fields(surface: SweepSurface, s: np.ndarray, th: np.ndarray, radius: tuple, section: tuple) -> list[np.ndarray]:
     """Phi, Phi_s, Phi_th, Phi_ss, Phi_st, Phi_thth on a one-arc sweep, one field at a time, each
-    (3, m): the arithmetic the stacked passes must reproduce (MATH.md 1; K = kappa N, K'.n = 0).
+    (3, m): the arithmetic the stacked passes must reproduce (docs/math/01-surface.md; K = kappa N, K'.n = 0).
     radius : p, p1, p2 (the profile's radius and s-derivatives); section : q, q1, q2, as evaluate
     takes them (exact floats where they are constants)."""
     arc = surface.curve.pieces[0]

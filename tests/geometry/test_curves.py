@@ -1,6 +1,6 @@
 """Guide curves and their rotation-minimizing frames (winder/curves.py, winder/frames.py).
 
-Independent truths: SPEC.md's start conventions; closed-form arc geometry (centre of curvature,
+Independent truths: the start conventions of docs/guide/conventions.md; closed-form arc geometry (centre of curvature,
 end points, end frames); the RMF condition e2' . e3 = 0 by finite differences; the closed-form RMF
 of a helix (Frenet frame turned by minus the integrated torsion) for double reflection on a
 non-planar curve; a spline through samples of a circle against the circle itself.
@@ -182,7 +182,7 @@ def test_frames_orthonormal_and_right_handed(name):
 
 @pytest.mark.parametrize("name", list(CURVES))
 def test_frame_is_rotation_minimizing(name):
-    """RMF: e2' . e3 = 0 (no twist about e1), and e2' = -(T'. e2) T (MATH.md 1), by finite differences;
+    """RMF: e2' . e3 = 0 (no twist about e1), and e2' = -(T'. e2) T (docs/math/01-surface.md), by finite differences;
     also x' and T' = x'' against differences of x and x'."""
     cfg = CURVES[name]
     curve = make_curve(cfg, "t")
@@ -303,7 +303,7 @@ def test_spline_interpolates_its_points(cfg):
 
 @pytest.mark.parametrize("cfg", [SPLINE_CFG, WILD_SPLINE_CFG], ids=["mild", "wild"])
 def test_spline_is_parametrized_by_arc_length(cfg):
-    """t is arc length (SPEC): |x'| = 1, hence x' . x'' = 0 (the RMF formulas of MATH.md 1 rely on it).
+    """t is arc length (SPEC): |x'| = 1, hence x' . x'' = 0 (the RMF formulas of docs/math/01-surface.md rely on it).
     Regression: a Newton polish of u(z) against a *linear* interpolant of ell(u) left | |x'| - 1 | ~ 2e-5
     and x' . x'' ~ 1.4e-3 near the ends of the 'wild' spline (fixed: Gauss-Legendre partial integrals)."""
     curve = make_curve(cfg, "t")

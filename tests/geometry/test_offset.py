@@ -34,10 +34,10 @@ def test_hemisphere_grows_to_a_sphere():
     np.testing.assert_allclose(np.hypot(e.h, e.r), 102.5, atol=EXACT)
     assert np.max(np.abs(e.h1**2 + e.r1**2 - 1.0)) < UNIT_SPEED
     np.testing.assert_allclose(e.h1 * e.r2 - e.r1 * e.h2, -1.0 / 102.5, atol=1e-8)
-    # trimmed at the base's opening plane: same depth, the opening on the big sphere there
-    assert dome.depth == base.depth
-    assert dome.end_radius == pytest.approx(math.sqrt(102.5**2 - base.depth**2), abs=EXACT)
-    assert dome.length == pytest.approx(102.5 * math.asin(base.depth / 102.5), abs=1e-9)
+    # the laminate stands past the opening's plane: it ends on the big sphere's ray through the opening
+    assert dome.depth == pytest.approx(base.depth * 1.025, abs=EXACT)
+    assert dome.end_radius == pytest.approx(30.0 * 1.025, abs=EXACT)
+    assert dome.length == pytest.approx(base.length * 1.025, abs=1e-9)
 
 
 def test_grown_vessel_keeps_the_axial_frame():
@@ -45,8 +45,10 @@ def test_grown_vessel_keeps_the_axial_frame():
                                  "dome": {"type": "hemisphere", "polar_opening": 30}}})
     s = np.linspace(0.0, surf.length, 400)
     g = grow_surface(surf, s, np.full_like(s, 1.5))
-    assert g.profile.radius == 101.5 and g.axial_length == pytest.approx(surf.axial_length, abs=EXACT)
+    rise = 0.015 * surf.profile.dome.depth  # each dome's laminate past its opening's plane
+    assert g.profile.radius == 101.5 and g.axial_length == pytest.approx(surf.axial_length + rise, abs=EXACT)
     assert g.profile.equator_t == pytest.approx(surf.profile.equator_t, abs=EXACT)
+    assert g.t_start == pytest.approx(-rise, abs=EXACT)
     ss = np.linspace(0.0, g.length, 3001)
     th = np.linspace(0.0, 6.0, ss.size)
     p = g.points(ss, th)
@@ -54,7 +56,8 @@ def test_grown_vessel_keeps_the_axial_frame():
     centre = np.where(p[:, 2] < t1, t1, np.where(p[:, 2] > t2, t2, p[:, 2]))
     dist = np.hypot(np.hypot(p[:, 0], p[:, 1]), p[:, 2] - centre)
     np.testing.assert_allclose(dist, 101.5, atol=EXACT)
-    assert np.isclose(g.t_of_s(np.array([0.0]))[0], 0.0, atol=EXACT)
+    assert np.isclose(g.t_of_s(np.array([0.0]))[0], -rise, atol=EXACT)
+    assert g.s_of_t(np.array([-rise, 0.0]))[0] == pytest.approx(0.0, abs=1e-9)
 
 
 @pytest.mark.parametrize("profile", [{"type": "constant", "radius": 50},
@@ -106,6 +109,8 @@ def test_a_laminate_thicker_than_a_concave_radius_is_refused():
 
     with pytest.raises(OffsetError, match="folds"):
         OffsetDome(base, bump)
-    # the same laminate beyond the opening plane is trimmed off with the hook: no fold
+    # a laminate over the end hook ends where its surface would fold next to the opening: no fold
     dome = OffsetDome(base, _const(5.0))
-    assert dome.depth == base.depth and dome.end_radius > base.end_radius
+    assert dome.depth > base.depth and dome.end_radius > base.end_radius
+    e = dome.evaluate(np.linspace(0.0, dome.length, 4001))
+    assert np.all(e.h1 > 0.0) and np.all(np.diff(e.r) < 0.0)

@@ -1,6 +1,6 @@
 """The sweep surface (winder/surface.py): conventions, derivatives, normals, scaling, regularity.
 
-Independent truths: SPEC.md's straight-axis formula Phi = (r cos theta, r sin theta, t); the torus
+Independent truths: docs/guide/conventions.md's straight-axis formula Phi = (r cos theta, r sin theta, t); the torus
 equation for a circular tube on an arc; central finite differences of p for ps, pt and of ps, pt for
 pss, pst, ptt; the section scaled by profile(t) / profile(0); the bend-radius rule for self-intersection.
 """
@@ -33,7 +33,7 @@ H_TH = 1e-5  # rad, finite-difference step around
 DERIV_RTOL = 1e-7  # exact derivative formulas vs central differences, relative to the field's size
 #                    (measured worst 1.5e-9 over lines, arcs and paths: FD truncation and round-off)
 # Spline guides: x(z) is a quintic fit of the re-parametrized cubic and the frame is an interpolated
-# double-reflection grid, so the closed-form frame derivatives (MATH.md 1, which assume |x'| = 1 and an
+# double-reflection grid, so the closed-form frame derivatives (docs/math/01-surface.md, which assume |x'| = 1 and an
 # exact RMF) are consistent with the evaluated points only to the fit accuracy (~1e-8 by design).
 # Measured on SPLINE_POINTS: ps, pt to 2e-8; pss to 7e-7 (the third derivative of the quintic fit smooths the jump of
 # the cubic's third derivative at the middle data point: d3 vs differences of d2 off by 1.6e-7 there).

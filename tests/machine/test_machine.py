@@ -1,4 +1,4 @@
-"""Machine kinematics: the eye on the fiber's tangent line and on its envelope (MATH.md 6).
+"""Machine kinematics: the eye on the fiber's tangent line and on its envelope (docs/math/06-machine.md).
 
 Also home of the small plan builders the export tests share (the planner is not needed: passes are
 helices on a cylinder, exact geodesics of a developable surface, or solved two-point geodesics).

@@ -61,3 +61,16 @@ def test_arc_of_turned_copies_is_the_helix_length():
     for j in range(len(copies)):
         own = paths.offset[j] + np.arange(len(base.s))
         np.testing.assert_allclose(np.diff(paths.arc[own]), want, rtol=0.0, atol=ARC_TOL)
+
+
+def test_a_piece_keeps_moving_between_points_spaced_unevenly():
+    """Points 31 mm apart meeting points 0.45 mm apart: the short pieces' end slopes are held to
+    SLOPE_LIMIT chords, where the cubic's speed stays at half the chord's at least (at three chords it
+    vanished halfway and the fiber's direction there was round-off)."""
+    import numpy as np  # noqa: PLC0415
+
+    from winder.machine.smooth import SLOPE_LIMIT  # noqa: PLC0415
+
+    h = np.linspace(0.0, 1.0, 101)
+    speed = 6 * h * (1 - h) + SLOPE_LIMIT * (1 - 4 * h + 3 * h * h) + SLOPE_LIMIT * (3 * h * h - 2 * h)
+    assert speed.min() >= 0.5 - 1e-12  # the Hermite's derivative over a unit chord, both ends at the limit

@@ -2,8 +2,8 @@
 
 Truths: the cylinder's closed form sin(alpha(z)) = sin(alpha0) / (1 - lambda z sin(alpha0) / R); the
 variational geodesic solver (a different method) for lambda = 0; on a hemispherical dome an independent
-integration of MATH.md 7's surface-of-revolution ODE, written in z(alpha) so the turnaround is regular;
-on a torus MATH.md 7's k_n and constant-angle lambda(phi) closed forms.
+integration of docs/math/07-friction.md's surface-of-revolution ODE, written in z(alpha) so the turnaround is regular;
+on a torus docs/math/07-friction.md's k_n and constant-angle lambda(phi) closed forms.
 """
 
 from __future__ import annotations
@@ -113,7 +113,7 @@ def test_measured_slip_is_the_prescribed_lambda_on_any_sweep(make):
 
 # -- vessel dome: the turnaround moves with lambda ---------------------------------------------------------
 def dome_turnaround_radius(radius, half_cylinder, alpha0, lam):
-    """Independent: MATH.md 7's d(alpha)/dz on the cylinder (closed form), then on the hemisphere
+    """Independent: docs/math/07-friction.md's d(alpha)/dz on the cylinder (closed form), then on the hemisphere
     r = sqrt(R^2 - z^2) (z from the equator; there r r'' / (1 + r'^2) = -1 and r' = -z / r):
     d(alpha)/dz = lambda / (r cos(alpha)) + z tan(alpha) / r^2, integrated in the polar angle psi
     (z = R sin psi) up to 80 deg, then as dz/d(alpha) (regular at the turnaround, alpha = 90 deg)."""

@@ -3,7 +3,7 @@
 Every truth here is independent of winder: helices on a cylinder, the unrolled cone sector, the
 unrolled (developable) elliptic tube with the section's arc length by quadrature, great circles on a
 hemisphere, and Clairaut's relation. On the bent tube, which has no closed form, the shot length is
-compared with the variational solver's super-convergent length (MATH.md 2), a different method.
+compared with the variational solver's super-convergent length (docs/math/02-energy.md), a different method.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ LENGTH_TOL = 1e-9  # relative: shot length vs a closed form or the variational s
 # the nominal ray moves by that much when its fan neighbours change the step sequence).
 RESIDUAL_TOL = 1e-10
 GREAT_CIRCLE_TOL = 1e-9  # relative to R: dome points off the great circle's plane
-# Vertices of the variational polyline lie O(h^2) off the geodesic (MATH.md 2); measured on the bent
+# Vertices of the variational polyline lie O(h^2) off the geodesic (docs/math/02-energy.md); measured on the bent
 # tube: 5.7e-4 mm (no round) and 1.5e-3 mm (one round) at n = 200, i.e. about 6e-4 h^2 and 4e-4 h^2.
 VERTEX_H2_COEF = 1e-3  # 1/mm: vertex distance <= this * h^2 (h the segment length)
 VERTEX_ORDER = (3.5, 4.5)  # the distance ratio from n to 2n + 1 points (4 for second order)

@@ -25,6 +25,7 @@ from winder.errors import ConfigError
 from winder.export.summary import summary_dict
 from winder.report.bands import Crossings, band_counts, covered_fraction
 from winder.report.coverage_map import layer_coverage_map
+from winder.report.vessel import is_wound_vessel
 from winder.report.html import report_html
 from winder.report.profiles import angle_profile, profiles_figure
 from winder.report.tables import layer_table
@@ -244,7 +245,8 @@ def test_the_page_is_valid_self_contained_html_under_the_size_limit(planned):
     assert page.external == []  # no script, stylesheet or image from anywhere else
     assert not re.search(r"<script[^>]+src=", text)
     assert text.count("plotly.js v") == 1 or text.count("* plotly.js") == 1  # the bundle, once
-    assert text.count("Plotly.newPlot(") == 4  # four figures
+    # four figures, and the domes as wound on a vessel with a laminate (winder.report.vessel)
+    assert text.count("Plotly.newPlot(") == 4 + is_wound_vessel(plan)
     assert len(text.encode("utf-8")) < MAX_REPORT_BYTES
     assert plan.band_width == band_width  # the plan carries the band it was laid with
     assert report_html(plan, summary) == text  # same plan, same bytes
@@ -270,7 +272,7 @@ def test_without_plotly_the_report_says_how_to_install_it(planned, monkeypatch):
 
 
 # -- in a real browser --------------------------------------------------------------------------------
-READY = ("document.querySelectorAll('.js-plotly-plot').length === 4 && "
+READY = ("document.querySelectorAll('.js-plotly-plot').length === {figures} && "
          "document.querySelector('#winder-view3d canvas') !== null")
 MIN_3D_COLORS = 200  # a WebGL view that did not draw shows the page background and a few text pixels
 MIN_BAND_PIXELS = 200  # pixels of the first layer's +alpha color in the 3D view
@@ -322,7 +324,7 @@ def in_browser(planned, tmp_path_factory) -> dict[str, BrowserSeen]:
         for name, (plan, summary, band_width) in planned.items():
             page = folder / f"{name}.html"
             page.write_text(report_html(plan, summary, band_width), encoding="utf-8")
-            load = browser.load(page, READY, settle=SETTLE_S)
+            load = browser.load(page, READY.format(figures=4 + is_wound_vessel(plan)), settle=SETTLE_S)
             fit = browser.evaluate(FIT)
             for _ in range(DRAW_ATTEMPTS):  # software WebGL may still be drawing: look again
                 png = browser.screenshot(browser.rect("#winder-view3d"))

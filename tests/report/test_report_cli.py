@@ -1,4 +1,4 @@
-"""`winder report` and `winder run --report` (SPEC.md "Command line"), and a single job's progress bar.
+"""`winder report` and `winder run --report` (docs/guide/commands.md), and a single job's progress bar.
 
 Same conventions as `run`: one `Error:` line per problem, exit 2 for an invalid config (or the plot
 extra missing), 1 for a job that cannot be computed; a failing config does not stop the others; a

@@ -67,7 +67,7 @@ def test_a_bent_axis_is_left_to_the_tracer(quarter_bend):
 
 
 def test_gauss_rule_is_leggauss():
-    from winder.winding.advance import GAUSS_W, GAUSS_X  # noqa: PLC0415
+    from winder.winding.clairaut import GAUSS_W, GAUSS_X  # noqa: PLC0415
 
     x, w = np.polynomial.legendre.leggauss(GAUSS_X.size)
     assert_roundoff(GAUSS_X, x)

@@ -1,6 +1,6 @@
 """winder.winding.budget: the work of a job, from the config and the surface, before any path.
 
-Truths: the closed-form circuit count N_c = ceil(P cos(alpha) / B) with P = 2 pi r (MATH.md 5), the
+Truths: the closed-form circuit count N_c = ceil(P cos(alpha) / B) with P = 2 pi r (docs/math/05-winding.md), the
 hoop's turns (region length / pitch, one band width of advance per turn) and the planner's own
 result on the same job (the budget holds it from above).
 """
@@ -58,9 +58,9 @@ def test_pipe_budget_matches_the_closed_form_and_holds_the_plan() -> None:
 @pytest.mark.parametrize("name, key, limit", [
     ("band_1e-6", "winding.band_width", str(bud.MAX_CIRCUITS)),
     ("hoop_band_1e-4", "winding.band_width", str(bud.MAX_PASS_POINTS)),
-    ("hoop_89_999", "winding.layers[0].angle", str(bud.MAX_PASS_POINTS)),
-    ("hoop_passes_1e6", "winding.layers[0].passes", str(bud.MAX_PASSES)),
-    ("pattern_factor", "winding.layers[0].pattern", "19 circuits"),
+    ("hoop_89_999", "layer 1 (hoop 89.999 deg).angle", str(bud.MAX_PASS_POINTS)),
+    ("hoop_passes_1e6", "layer 1 (hoop).passes", str(bud.MAX_PASSES)),
+    ("pattern_factor", "layer 1 (helical 55 deg).pattern", "19 circuits"),
 ])
 def test_past_a_limit_is_refused_naming_key_and_limit(name: str, key: str, limit: str) -> None:
     with pytest.raises(ConfigError) as info:
@@ -77,7 +77,7 @@ def test_total_points_and_memory_are_held(tmp_path: Path) -> None:
     many.write_text(text.replace("{type: hoop, passes: 2}", "{type: hoop, passes: 2000}"), encoding="utf-8")
     with pytest.raises(ConfigError) as info:
         _budget(many)
-    assert info.value.key_path == "winding.layers[1].passes" and str(bud.MAX_TOTAL_POINTS) in info.value.message
+    assert info.value.key_path == "layer 2 (hoop).passes" and str(bud.MAX_TOTAL_POINTS) in info.value.message
     fine = tmp_path / "fine.yaml"
     # One circuit of 100,000 points per pass: few points in all, but the tangent solve of a pass
     # (4 times finer, with its Richardson twin) would need about 2 GB.
@@ -94,7 +94,7 @@ def test_total_points_and_memory_are_held(tmp_path: Path) -> None:
         encoding="utf-8")
     with pytest.raises(ConfigError) as info:
         _budget(hoops)
-    assert info.value.key_path == "winding.layers[0]" and "GB of memory" in info.value.message
+    assert info.value.key_path == "layer 1 (hoop)" and "GB of memory" in info.value.message
 
 
 def test_validate_refuses_what_run_needs() -> None:

@@ -1,11 +1,13 @@
 """The friction-held pieces of planning (bend_paths, dome_paths, slip) against independent truths.
 
-Truths: the torus closed forms of MATH.md 7 (constant angle, its lambda), the cylinder's
+Truths: the torus closed forms of docs/math/07-friction.md (constant angle, its lambda), the cylinder's
 sin(alpha(z)) closed form, the general friction ODE on the 3D surface (winder.paths.friction) for the
 surface-of-revolution legs, and curvatures measured from the points with the exact normal.
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import math
 
@@ -173,20 +175,41 @@ def test_vessel_slip_number_turns_where_the_3d_ode_does():
     assert layer.min_normal_curvature > 0.0 and layer.max_slip <= 0.2
 
 
-def test_vessel_auto_turns_just_outside_the_larger_opening():
+def test_vessel_auto_turns_each_dome_just_outside_its_own_opening():
     from winder.winding.plan import plan  # noqa: PLC0415
 
     layer = plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "slip": "auto"})).layers[0]
-    radii = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1)]
-    assert np.allclose(radii, 30.0 + 4.0, atol=1e-4)  # the opening plus half a band
+    first = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1) if p.t[k] < 100.0]
+    end = [float(np.hypot(*p.points[k, :2])) for p in layer.passes for k in (0, -1) if p.t[k] > 100.0]
+    assert np.allclose(first, 25.0 + 4.0, atol=1e-4) and np.allclose(end, 30.0 + 4.0, atol=1e-4)
+    assert layer.turnaround_radii == pytest.approx((29.0, 34.0), abs=1e-4)
     assert layer.max_slip <= 0.2
 
 
-def test_vessel_radius_beyond_the_friction_refused_with_the_least_mu():
+def test_vessel_turnaround_radius_per_dome():
     from winder.winding.plan import plan  # noqa: PLC0415
 
-    with pytest.raises(SolverError, match=r"winding.layers\[0\]: on the first dome: .*the least mu is 0\.23"):
-        plan(vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "turnaround_radius": 42}))
+    cfg = {"type": "helical", "angle": 14, "turnaround_radius": {"start": 33, "end": 36}}
+    layer = plan(vessel_job(25.0, 30.0, cfg)).layers[0]
+    assert layer.turnaround_radii == pytest.approx((33.0, 36.0), abs=1e-4)
+    first = {round(float(np.hypot(*p.points[k, :2])), 3) for p in layer.passes for k in (0, -1) if p.t[k] < 100.0}
+    assert first == {33.0}
+
+
+def test_vessel_radius_beyond_the_friction_refused_with_the_least_mu():
+    """The least friction named is the least that plans (to 0.01): it plans, 0.01 less does not."""
+    from dataclasses import replace  # noqa: PLC0415
+
+    from winder.winding.plan import plan  # noqa: PLC0415
+
+    job = vessel_job(25.0, 30.0, {"type": "helical", "angle": 12, "turnaround_radius": 42})
+    with pytest.raises(SolverError, match=r"layer 1 \(helical 12 deg\): on the first dome: .*needs \|k_g / k_n\| "
+                                          r"= 0\.234.*what plans it: winding\.friction: 0\.24") as info:
+        plan(job)
+    least = float(info.value.message.rsplit(" ", 1)[1])
+    assert plan(replace(job, winding=replace(job.winding, friction=least))).layers[0].max_slip <= least
+    with pytest.raises(SolverError):
+        plan(replace(job, winding=replace(job.winding, friction=least - 0.01)))
 
 
 def open_job(axis: dict, layer: dict, **winding):
@@ -223,7 +246,7 @@ def test_bend_at_the_end_of_the_region_reports_its_angle():
 
 def test_circuits_above_the_closed_form_are_explained():
     """Through a bend the bands part on its outside, so the planner winds more circuits than the straight
-    tube's N_c = ceil(2 pi a cos(alpha) / B) (MATH.md 5); the notes say so with both counts."""
+    tube's N_c = ceil(2 pi a cos(alpha) / B) (docs/math/05-winding.md); the notes say so with both counts."""
     from winder.winding.plan import plan  # noqa: PLC0415
 
     axis = {"type": "path", "segments": [{"line": 150}, {"arc": {"radius": 300, "angle": 90}}, {"line": 150}]}

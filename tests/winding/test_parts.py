@@ -27,6 +27,10 @@ from winder.winding.plan import plan
 PARTS = Path(__file__).resolve().parents[2] / "parts"
 ROOT = PARTS.parent
 BOSS_MODEL_REL = 0.03  # total wall near the boss vs the closed form (cell means of B / 16, pass polylines)
+WALL_MODEL_REL = 0.15  # the summary's wall (each layer read at the foot of the bare normal) vs the same model
+#                        (each layer at r on its own surface): with the pile-ups standing next to the boss as laid,
+#                        docs/math/17 17.8, the layers' surfaces run over them and the two readings part by up to
+#                        14 % at 40 mm on tank_20
 COVERED = 0.999
 LAID_REL = 1e-4  # simulate's laid fiber (arc length between contacts) against the plan's
 SAMPLES = 4001  # meridian samples of a dome to find a radius
@@ -160,13 +164,66 @@ def test_tank_20_wall_at_the_bosses_against_the_model(tank_20):
         s_bare = _first_dome_station(bare, radius)
         ev = bare.evaluate(np.array([s_bare]))
         got = float(wall_at(pl, np.column_stack([ev.z, ev.r]))[0])
-        model = sum(_model_thickness(pl.surface_of(layer.index).profile, layer.turnaround_radius, 2 * layer.circuits,
+        # every helical layer, each at its own turnaround on the first dome (a friction-held one's fiber
+        # keeps r sin(alpha) nearly constant away from its turnaround: the same law there)
+        model = sum(_model_thickness(pl.surface_of(layer.index).profile, layer.turnaround_radii[0], 2 * layer.circuits,
                                      area, band, _first_dome_station(pl.surface_of(layer.index).profile, radius))
-                    for layer in pl.layers
-                    if layer.type is not LayerType.HOOP and not any("friction-held" in n for n in layer.notes))
-        assert got == pytest.approx(model, rel=BOSS_MODEL_REL), radius
+                    for layer in pl.layers if layer.type is not LayerType.HOOP)
+        assert got == pytest.approx(model, rel=WALL_MODEL_REL), radius
         assert first.max_wall_mm >= got
     assert first.opening_radius_mm == pytest.approx(20.0) and end.opening_radius_mm == pytest.approx(25.0)
     for dome in (first, end):
         assert dome.opening_radius_mm < dome.max_wall_radius_mm < bare.radius
         assert dome.max_wall_mm > 2.0 * job.winding.material.ply_thickness * 10  # ten helical layers' pile-ups
+
+
+WOUND_BELOW = 0.9  # the wound surface's standoff from the bare dome against the wall the layers laid there:
+#                   the band-wide smoothing lowers a pile-up's crest by up to a tenth (the eye then passes that
+#                   much nearer the real crest than planned, 1.2 mm of a 15 mm wall)
+WOUND_ABOVE = 1.5  # the pole-side fill bridges the pile-ups' inner edges next to the grown dome's end (adds only)
+
+
+def _standoff(bare, grown, s: np.ndarray) -> np.ndarray:
+    """Distance (mm) from the bare meridian's points at stations s to the grown meridian along the bare
+    normal (NaN where the normal misses it: inside a grown dome's end radius)."""
+    g = grown.evaluate(np.linspace(0.0, grown.length, 200001))
+    ev = bare.evaluate(s)
+    out = np.full(s.size, np.nan)
+    for i in range(s.size):
+        n = np.array([-ev.r1[i], ev.z1[i]]) / np.hypot(ev.r1[i], ev.z1[i])
+        side = (g.z - ev.z[i]) * n[1] - (g.r - ev.r[i]) * n[0]
+        k = np.nonzero(np.diff(np.sign(side)) != 0)[0]
+        if k.size:
+            k = k[np.argmin(np.hypot(g.z[k] - ev.z[i], g.r[k] - ev.r[i]))]
+            w = side[k] / (side[k] - side[k + 1])
+            out[i] = np.hypot(g.z[k] + w * (g.z[k + 1] - g.z[k]) - ev.z[i], g.r[k] + w * (g.r[k + 1] - g.r[k]) - ev.r[i])
+    return out
+
+
+@pytest.mark.parametrize("after", [15, 20])
+def test_tank_20_wound_surface_stands_off_the_liner_by_the_wall(tank_20, after):
+    """What the payout eye must clear while layer `after + 1` is wound (issue 41 item 3: 13.8 mm from the
+    wound dome with clearance 30 at layer 15 of a tank, the eye having kept it from the bare liner): the
+    surface as wound so far (WindingPlan.surface_of) stands off each bare dome by the wall its layers
+    laid there (docs/math 8.11), pile-ups included (docs/math/17 17.8), on the whole dome between the
+    equator's fade and the grown dome's end next to the boss."""
+    from dataclasses import replace  # noqa: PLC0415
+
+    from winder.winding.dome_wall import wall_at  # noqa: PLC0415
+
+    _, pl = tank_20
+    bare = pl.surface.profile
+    grown = (pl.surface_of(after + 1) if after < len(pl.layers) else pl.outer_surface).profile
+    upto = replace(pl, layers=pl.layers[:after])
+    checked = 0
+    for lo, hi in (bare.dome_ranges.dome, bare.dome_ranges.end_dome):
+        s = np.linspace(lo, hi, 41)[1:-1]
+        ev = bare.evaluate(s)
+        wall = wall_at(upto, np.column_stack([ev.z, ev.r]))
+        away = np.abs(ev.r - bare.radius) > 4.0 * pl.band_width  # past the cylinder's fade into the dome
+        off = _standoff(bare, grown, s)
+        ok = away & np.isfinite(off) & (wall > 1.0)
+        ratio = off[ok] / wall[ok]
+        assert np.all(ratio > WOUND_BELOW) and np.all(ratio < WOUND_ABOVE), ratio
+        checked += int(ok.sum())
+    assert checked >= 24  # both domes, from the equator's fade to the grown end (r 40 to 100 of 120)

@@ -1,4 +1,4 @@
-"""Circuit pattern arithmetic (MATH.md 5): counts, skips, closure, slots."""
+"""Circuit pattern arithmetic (docs/math/05-winding.md): counts, skips, closure, slots."""
 
 from __future__ import annotations
 
@@ -45,7 +45,7 @@ def test_open_pattern_closes_with_least_extra_dwell(circuits, natural):
 
 def test_given_pattern_must_be_coprime():
     with pytest.raises(ConfigError, match="pattern 4 shares a factor with the 10 circuits"):
-        close_open_pattern(10, 0.3, 0.0, 0.0, 4, "winding.layers[0].pattern")
+        close_open_pattern(10, 0.3, 0.0, 0.0, 4, "layer 1 (helical 30 deg).pattern")
     assert close_open_pattern(10, 0.3, 0.0, 0.0, 3, "x").pattern == 3
 
 

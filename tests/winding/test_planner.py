@@ -127,7 +127,7 @@ def test_vessel_angle_moved_to_close_pattern(vessel_plan):
 
 
 def test_vessel_angle_below_polar_opening_refused():
-    with pytest.raises(SolverError, match=r"winding.layers\[0\].angle: 15 deg turns around at r = 25.882 mm, "
+    with pytest.raises(SolverError, match=r"layer 1 \(helical 15 deg\)\.angle: 15 deg turns around at r = 25.882 mm, "
                                           r"inside the polar opening"):
         plan(job(VESSEL, {"band_width": 10, "layers": [{"type": "helical", "angle": 15}]}))
 
@@ -165,7 +165,7 @@ ELBOW_AXIS = {"type": "path", "segments": [{"line": 100}, {"arc": {"radius": 150
 
 def test_tight_elbow_geodesics_refused_friction_covers():
     """Geodesics bunch toward the inside of a tight bend and bridge there: slip 0 is refused (the 30 deg
-    one from the config alone, MATH.md 7's 31.1 deg), slip auto covers evenly within the friction."""
+    one from the config alone, docs/math/07-friction.md's 31.1 deg), slip auto covers evenly within the friction."""
     tube = {"axis": ELBOW_AXIS, "profile": {"type": "constant", "radius": 40}}
     with pytest.raises(ConfigError, match="below 31.1 deg on this bend no friction holds it"):
         job(tube, {"band_width": 10, "points": 60, "layers": [{"type": "helical", "angle": 30}]})

@@ -1,4 +1,4 @@
-"""winder.winding.turnaround: the fiber past the winding region of an open mandrel, against MATH.md 7's
+"""winder.winding.turnaround: the fiber past the winding region of an open mandrel, against docs/math/07-friction.md's
 closed form on a cylinder, sin(alpha(z)) = sin(alpha0) / (1 - lambda z sin(alpha0) / R), and the plans
 that use it: continuous fiber and directions from pass to pass, friction within mu."""
 
@@ -154,3 +154,29 @@ def test_room_enough_turns_round_within_friction():
     for d in (p for p in layer.passes if p.kind is PassKind.DWELL):
         assert np.allclose(d.alpha_deg, 90.0) and np.ptp(d.t) == 0.0  # on the apex parallel
     assert all("friction turns the fiber round 61.3" in n for n in layer.notes[:2])
+
+
+def test_a_leg_over_a_tight_edge_is_sampled_finely():
+    """Past the region a laminate's edge is a few mm wide: the leg's points come at least LEG_CURVE_STEPS
+    a radius of the meridian's curvature there (2 mm steps read a slip of 0.31 off a leg traced at 0.18:
+    a generated cone of eight layers, refused), and LEG_STEP_MM apart on a plain cone."""
+    from winder.config.job import parse_config  # noqa: PLC0415
+    from winder.geometry.build import build_surface  # noqa: PLC0415
+    from winder.winding import turnaround  # noqa: PLC0415
+
+    def leg_of(points):
+        job = parse_config({"name": "e", "mandrel": {"axis": {"type": "line", "length": points[-1][0]},
+                                                     "profile": {"type": "table", "points": points}},
+                            "winding": {"band_width": 10, "layers": [{"type": "hoop"}]}}, "e.yaml")
+        surface = build_surface(job.mandrel, "e.yaml", "e")
+        return surface, turnaround.trace_leg(surface, 600.0, 40.0, 1.0, 0.2)
+
+    surface, leg = leg_of([[0, 100], [300, 100], [600, 100], [640, 100], [700, 100]])
+    assert math.isclose(float(np.max(np.diff(leg.s))), turnaround.LEG_STEP_MM * math.cos(math.radians(40.0)),
+                        rel_tol=0.05)
+    surface, leg = leg_of([[0, 100], [600, 100], [610, 100], [613, 101.5], [616, 103], [626, 103], [700, 103]])
+    ev = surface.profile.evaluate(leg.s)
+    kappa = float(np.max(np.abs(ev[5]) / (1.0 + ev[4] ** 2) ** 1.5))
+    assert 1.0 / (turnaround.LEG_CURVE_STEPS * kappa) < turnaround.LEG_STEP_MM  # the edge under the leg is tight
+    # the axial step is at most the step along the fiber
+    assert float(np.max(np.diff(leg.s))) <= 1.0 / (turnaround.LEG_CURVE_STEPS * kappa) * (1.0 + 1e-9)

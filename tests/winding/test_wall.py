@@ -72,7 +72,7 @@ def test_invalid_materials(material, message):
 def test_layer_material_override_and_missing():
     job = _job(PIPE, [{"type": "helical", "angle": 55}, {"type": "hoop", "material": {"ply_thickness": 0.5}}])
     assert job.winding.material_of(1).ply_thickness == 0.5 and job.winding.material_of(0).fiber_tex == 800
-    with pytest.raises(ConfigError, match=r"winding.layers\[0\]: needs a material"):
+    with pytest.raises(ConfigError, match=r"layer 1 \(helical 55 deg\): needs a material"):
         _job(PIPE, [{"type": "helical", "angle": 55}, {"type": "hoop", "material": {"ply_thickness": 0.5}}],
              material=None)
 

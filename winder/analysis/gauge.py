@@ -1,4 +1,4 @@
-"""Where the headline figures come from (SPEC.md "Will it hold (additions)", `analysis.gauge`;
+"""Where the headline figures come from (docs/guide/will-it-hold.md, `analysis.gauge`;
 docs/math/09-structure.md 9.6): the gauge section of the part, its end zones apart.
 
 - `cylinder`: a vessel's cylinder where the laminate is the one of mid-cylinder (every layer laid there at

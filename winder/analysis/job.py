@@ -11,7 +11,7 @@ from winder.errors import ConfigError
 def layer_laminae(job) -> tuple[Lamina | None, ...]:
     """Each layer's ply (None where its material gives no ply data); ConfigError for an unknown name or
     incomplete properties. The job's material key path is winding.material, a layer's own
-    winding.layers[i].material."""
+    `layer 5 (helical 16 deg).material` (winder.config.winding.layer_label)."""
     out = []
     for i, layer in enumerate(job.winding.layers):
         cfg = job.winding.material_of(i)
@@ -19,7 +19,7 @@ def layer_laminae(job) -> tuple[Lamina | None, ...]:
             out.append(None)
             continue
         own = layer.material is not None
-        path = f"winding.layers[{i}].material" if own else "winding.material"
+        path = f"{layer.label(i)}.material" if own else "winding.material"
         out.append(lamina_of(cfg.lamina.name, cfg.lamina.values, job.source, path))
     return tuple(out)
 
@@ -29,6 +29,11 @@ def check_analysis(job) -> tuple[Lamina | None, ...]:
     if job.winding is None:
         return ()
     plies = layer_laminae(job)
+    schedule = job.winding.tension is not None and job.winding.tension.schedule is not None
+    if schedule and (not job.winding.has_laminate or any(p is None for p in plies)):  # docs/math/16
+        raise ConfigError(f"{job.winding.tension.schedule} needs every layer's material with its ply stiffness (a "
+                          "name from winder's table, or E1 and E2) and its thickness (fiber_tex, tows, ... or "
+                          "ply_thickness)", file=job.source, key_path="winding.tension")
     if job.analysis is None:
         return plies
     if not job.winding.has_laminate:
@@ -41,7 +46,7 @@ def check_analysis(job) -> tuple[Lamina | None, ...]:
             raise ConfigError("the structural analysis needs the ply's stiffness and strength: a name from "
                               "winder's table or E1, E2, G12, nu12, Xt, Xc, Yt, Yc, S", file=job.source,
                               key_path="winding.material" if job.winding.layers[i].material is None
-                              else f"winding.layers[{i}].material")
+                              else f"{job.winding.layers[i].label(i)}.material")
     return plies
 
 

@@ -1,4 +1,4 @@
-"""The layup at its stations (SPEC.md "Laminate", `--format layup`): where each layer's rows are, and each
+"""The layup at its stations (docs/math/08-laminate-edges.md, `--format layup`): where each layer's rows are, and each
 layer's angle and thickness at any station, nearest row. The layup CSV, the station analysis and the
 shell model all read the laminate through here, so they see the same plies.
 """

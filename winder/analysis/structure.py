@@ -1,4 +1,4 @@
-"""A planned job's structural answer (SPEC.md "Structural analysis", "Will it hold (additions)"): netting
+"""A planned job's structural answer (docs/guide/will-it-hold.md): netting
 burst, first-ply failure by Tsai-Wu and by maximum stress, where, per layer and in total, from the gauge
 section with the end zones apart; the summary's `analysis` block (winder.analysis.verdict).
 """

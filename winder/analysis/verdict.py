@@ -1,4 +1,4 @@
-"""The summary's `analysis` block (SPEC.md "Structural analysis", "Will it hold (additions)"): the headline
+"""The summary's `analysis` block (docs/guide/will-it-hold.md): the headline
 figures from the gauge section, the end zones' apart and labelled, the ratios against the user's targets,
 and what the netting allowables rest on (docs/math/09-structure.md 9.2, 9.6, 9.7).
 """

@@ -1,4 +1,4 @@
-"""`winder analyze CONFIG [-o DIR] [--json]` (SPEC.md "Will it hold (additions)"; docs/math/09-structure.md
+"""`winder analyze CONFIG [-o DIR] [--json]` (docs/guide/will-it-hold.md; docs/math/09-structure.md
 9.9): plan the job, write its shell model, solve it with CalculiX `ccx`, read the meridian's ply stresses
 back and set them beside the laminate analysis; write `<name>.inp`, `<name>.frd` (ccx's results, for a
 viewer), `<name>.fe.dat` (its printed results), `<name>.summary.json` (with the `fe` block) and

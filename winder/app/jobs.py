@@ -3,7 +3,7 @@
 A job: load the config -> plan every layer -> render every requested output in memory -> only then
 write them all, each atomically. If anything fails, the files this call already renamed into place
 are removed again (and earlier outputs they replaced are put back), so a failed job leaves no file
-of its own behind, not even a partial one (SPEC.md). Timings go into the JobReport (the console), never into the files, so a job's outputs
+of its own behind, not even a partial one (docs/guide/conventions.md). Timings go into the JobReport (the console), never into the files, so a job's outputs
 are byte-identical from run to run and whatever the number of worker processes.
 
 No click here: the CLI (winder.cli) and the regression runner (winder.app.regress) both build on this.
@@ -162,8 +162,11 @@ def motion_program(job, plan):
         return None
     from winder.app.machine_pool import run_groups  # noqa: PLC0415
 
+    from winder.machine.tension import pass_tensions, with_tension  # noqa: PLC0415
+
+    tensions = pass_tensions(job, plan)
     try:
-        return build_program_in_groups(plan, job.machine, run_groups=run_groups)
+        return with_tension(build_program_in_groups(plan, job.machine, run_groups=run_groups), tensions)
     except ExportError as exc:
         return exc
 
@@ -171,9 +174,9 @@ def motion_program(job, plan):
 def proved(job, plan, program):
     """The program (or its build's error, or None) once the job's invariants hold, with their margins
     (winder.machine.invariants); SolverError naming the first one broken: nothing is written then."""
-    from winder.machine.invariants import prove  # noqa: PLC0415
+    from winder.machine.invariants import mended_and_proved  # noqa: PLC0415
 
-    found = prove(plan, job, program)
+    program, found = mended_and_proved(plan, job, program)
     return dataclasses.replace(program, invariants=found) if hasattr(program, "invariants") else program
 
 

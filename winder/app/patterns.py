@@ -18,7 +18,7 @@ __all__ = ["choice_yaml", "convert_file", "patterns_json", "patterns_output", "p
 
 
 def patterns_output(config: str, layer: int | None, angle: float | None, within: float, as_json: bool) -> str:
-    """What `winder patterns` prints: the tables, or the JSON list of SPEC.md."""
+    """What `winder patterns` prints: the tables, or the JSON list of docs/guide/commands.md."""
     tables = patterns_tables(config, layer, angle, within)
     return json.dumps(patterns_json(tables), allow_nan=False) if as_json else patterns_text(tables)
 
@@ -47,7 +47,9 @@ def choice_yaml(cfg: LayerConfig, angle: float, circuits: int, pattern: int) -> 
     elif cfg.slip:
         keys.append(f"slip: {_num(cfg.slip)}")
     if cfg.turnaround_radius is not None:
-        keys.append(f"turnaround_radius: {_num(cfg.turnaround_radius)}")
+        start, end = cfg.turnaround_radius
+        ends = ", ".join(f"{k}: {_num(v)}" for k, v in (("start", start), ("end", end)) if v is not None)
+        keys.append(f"turnaround_radius: {_num(start)}" if start == end else f"turnaround_radius: {{{ends}}}")
     return "{" + ", ".join(keys) + "}"
 
 
@@ -84,7 +86,7 @@ def patterns_tables(config: str, layer: int | None, angle: float | None, within:
 
 
 def patterns_json(tables: list) -> list[dict[str, Any]]:
-    """SPEC.md's objects: every field of each choice and its `yaml`."""
+    """The objects docs/guide/commands.md names: every field of each choice and its `yaml`."""
     rows = []
     for table, _, cfg in tables:
         for c in table.choices:

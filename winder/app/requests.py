@@ -45,7 +45,7 @@ def _finite(value: Any) -> Any:
 
 
 def geodesic_json(name: str, res, rounds: int) -> dict[str, Any]:
-    """The JSON object of `geodesic --json` (SPEC.md); a number that is not finite is null."""
+    """The JSON object of `geodesic --json` (docs/guide/conventions.md); a number that is not finite is null."""
     return {key: _finite(value) for key, value in {
         "name": name,
         "length_mm": res.length,

@@ -1,7 +1,7 @@
 """`winder simulate CONFIG PROGRAM`: what a winding program lays, read back from its text.
 
 The program (any dialect winder writes, winder.readback.gcode) gives the eye at every
-programmed point through the forward kinematics (SPEC.md: with the mandrel turned by A the eye is
+programmed point through the forward kinematics (docs/guide/conventions.md: with the mandrel turned by A the eye is
 at mandrel-frame (Z cos(-A), Z sin(-A), X); robot poses: the position). The free fiber runs from the
 eye to its contact point along the fiber's tangent there, so the contact point of an eye E is the
 point p(u) of the planned pass whose tangent ray p + lambda d, lambda > 0, passes closest to E;
@@ -11,7 +11,7 @@ hoop of many turns, within a band along it: winder.readback.contact_bands). The 
 the fiber the plan's points stand for: between two planned points of a geodesic the geodesic ODE
 from the first (winder.readback.exact_paths, scipy's solve_ivp, independent of the program writer's
 integration), elsewhere the smooth path through them (a cubic spline in (s, theta) over the point
-index, MATH.md 2; in (s, f), f the perimeter fraction, on a non-circular section: docs/math/12 12.2). Its
+index, docs/math/02-energy.md; in (s, f), f the perimeter fraction, on a non-circular section: docs/math/12 12.2). Its
 distance from that ray is the deviation: an eye off every tangent line of the planned path by e
 lays the fiber e off the planned path (to first order, the laid path follows the eye sideways).
 Samples: every programmed point and the midpoint of every move within a pass (the eye the
@@ -38,6 +38,7 @@ from winder.readback.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.readback.gcode import ParsedProgram, parse_program
+from winder.readback.parsed import layer_tensions
 from winder.readback.program_file import ProgramFile
 from winder.geometry.surface import SweepSurface
 from winder.machine.collision import move_distances
@@ -83,17 +84,19 @@ class Simulation:
     max_deviation_mm: float
     max_point_deviation_mm: float
     samples: dict
+    tensions: tuple = ()  # per layer the tension read back (winder.readback.parsed.layer_tensions)
 
     def summary(self) -> dict:
         return {"dialect": self.dialect, "moves": self.moves, "transitions": self.transitions,
                 "time_s": round(self.time_s, 2), "fiber_length_mm": round(self.fiber_length_mm, 3),
                 "planned_fiber_length_mm": round(self.planned_fiber_length_mm, 3),
                 "max_deviation_mm": round(self.max_deviation_mm, 6),
-                "max_point_deviation_mm": round(self.max_point_deviation_mm, 6)}
+                "max_point_deviation_mm": round(self.max_point_deviation_mm, 6),
+                **({"layers": list(self.tensions)} if self.tensions else {})}
 
 
 def eye_positions(parsed: ParsedProgram) -> np.ndarray:
-    """The eye in the mandrel frame for each row (SPEC.md forward kinematics; robot: the position)."""
+    """The eye in the mandrel frame for each row (docs/guide/conventions.md forward kinematics; robot: the position)."""
     v = parsed.values
     if parsed.robot:
         return v[:, :3].copy()
@@ -140,7 +143,8 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
     order = {key: j for j, key in enumerate(by_key)}
     passes = list(by_key.values())
     m = parsed.values.shape[0]
-    other = parsed.job is not None and parsed.job != plan.name
+    other = parsed.job is not None and (parsed.job.upper() != plan.name.upper() if parsed.case_blind
+                                        else parsed.job != plan.name)
     unknown = next((r for r, k in enumerate(parsed.keys) if tuple(k) not in order), None)
     if unknown is not None:
         layer, circuit, number = (int(v) for v in parsed.keys[unknown])
@@ -247,7 +251,7 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
                       fiber_length_mm=float(np.sum(fiber)),
                       planned_fiber_length_mm=plan.total_fiber_length_mm,
                       max_deviation_mm=float(np.nanmax(dev)), max_point_deviation_mm=float(np.nanmax(dev[:m])),
-                      samples=samples)
+                      samples=samples, tensions=layer_tensions(parsed))
 
 
 def simulation_csv(sim: Simulation) -> str:

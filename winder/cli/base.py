@@ -1,6 +1,6 @@
 """The command line's common ground: the group, the one `Error:` line per problem, shared options.
 
-Exit status (SPEC.md): 0 success; 2 bad usage or an invalid config; 1 a job that could not be
+Exit status (docs/guide/commands.md): 0 success; 2 bad usage or an invalid config; 1 a job that could not be
 computed. Every error is one line starting with `Error:`; the mapping lives in `_guard` alone.
 """
 

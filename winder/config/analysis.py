@@ -1,4 +1,4 @@
-"""The `analysis:` section of a job file (SPEC.md "Structural analysis", "Will it hold (additions)"): the
+"""The `analysis:` section of a job file (docs/guide/will-it-hold.md): the
 load case, where the headline figures come from, the user's targets, and the ply properties
 `winding.material` may carry (a name from winder's table, or the numbers themselves).
 

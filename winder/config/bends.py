@@ -1,4 +1,4 @@
-"""The closed-form refusal of a helical angle no friction can hold on a bend (MATH.md 7), checked with
+"""The closed-form refusal of a helical angle no friction can hold on a bend (docs/math/07-friction.md), checked with
 the config, before any computation.
 
 At the inside of a bend (phi = 0) a circular tube of radius a on bend radius R_b has
@@ -54,5 +54,5 @@ def check_bend_angles(mandrel: MandrelConfig, winding: WindingConfig | None, sou
         for i, layer in enumerate(winding.layers):
             if layer.type is LayerType.HELICAL and layer.slip == 0.0 and layer.angle_deg <= least:
                 raise InfeasibleConfigError(
-                    f"{source}: winding.layers[{i}]: the fiber bridges at the inside of the bend (t = {t_mid:.0f} "
+                    f"{source}: {layer.label(i)}: the fiber bridges at the inside of the bend (t = {t_mid:.0f} "
                     f"mm) at {layer.angle_deg:g} deg: below {least:.1f} deg on this bend no friction holds it")

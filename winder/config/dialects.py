@@ -1,35 +1,62 @@
 """The dialect registry: every way winder writes a machine program, by the name machine.dialect gives.
 
-One row per dialect: its name, the module (under winder.export.dialects) whose make(program,
-band_width) returns its serializer, and whether it writes robot poses (it needs machine.robot or a
-bent axis; a G-code dialect needs a straight axis). The table names modules without importing them,
-so that config validation knows the names and the export stage imports a serializer only when it
-writes one. A new dialect is a new module defining make() and one register() line below.
+Each built-in dialect is one file, winder/config/posts/<name>.post.yaml (winder.config.controllers):
+its description names its engine, whose writer is winder.export.dialects.<engine> (make(program,
+band_width) -> a Dialect; a robot cell's language: serialize(program) -> {suffix: text}) and whose
+reader is winder.readback (gcode.py for G-code, cells.py for the cells' languages). The table is
+built from the files' names and engines when it is first read, so that validation knows the names
+and the export stage imports a writer only when it writes one. A new dialect is a new file.
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterator, Mapping
+
+from winder.config.controllers import CELL_ENGINES, builtin, builtin_names
 
 
 @dataclasses.dataclass(frozen=True)
 class DialectEntry:
-    """One dialect: name (machine.dialect), module (defines make(program, band_width) -> Dialect),
-    robot (writes robot poses)."""
+    """One dialect: name (machine.dialect), module (its writer), robot (writes robot poses), cell (a
+    robot cell's own language, written as its own files: winder.export.robot_programs)."""
 
     name: str
     module: str
     robot: bool = False
-    cell: bool = False  # a robot cell's own language: written as its own files (winder.export.robot_programs)
+    cell: bool = False
 
 
-REGISTRY: dict[str, DialectEntry] = {}
+class _Registry(Mapping):
+    """name -> DialectEntry of every built-in post file, read on first use."""
+
+    def __init__(self) -> None:
+        self._rows: dict[str, DialectEntry] | None = None
+
+    def _table(self) -> dict[str, DialectEntry]:
+        if self._rows is None:
+            rows = {}
+            for name in builtin_names():
+                engine = builtin(name).engine
+                cell = engine in CELL_ENGINES
+                rows[name] = DialectEntry(name, f"winder.export.dialects.{engine}", cell or engine == "robot", cell)
+            self._rows = rows
+        return self._rows
+
+    def __getitem__(self, name: str) -> DialectEntry:
+        return self._table()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(builtin_names())
+
+    def __len__(self) -> int:
+        return len(builtin_names())
+
+    def __contains__(self, name: object) -> bool:
+        return name in builtin_names()
 
 
-def register(name: str, module: str, robot: bool = False, cell: bool = False) -> None:
-    """Add a dialect to the registry (module: a dotted module path, imported when it is used; cell: a
-    robot cell's language, whose module defines serialize(program) -> {suffix: text})."""
-    REGISTRY[name] = DialectEntry(name, module, robot or cell, cell)
+REGISTRY: Mapping[str, DialectEntry] = _Registry()
 
 
 def entry(name: str) -> DialectEntry:
@@ -40,12 +67,3 @@ def entry(name: str) -> DialectEntry:
 def robot_dialects() -> tuple[str, ...]:
     """The dialects that write robot poses (the pose listing first, then the cells' languages)."""
     return tuple(name for name, e in REGISTRY.items() if e.robot)
-
-
-register("generic", "winder.export.dialects.generic")
-register("marlin", "winder.export.dialects.marlin")
-register("linuxcnc", "winder.export.dialects.linuxcnc")
-register("robot", "winder.export.dialects.robot", robot=True)
-register("krl", "winder.export.dialects.krl", cell=True)
-register("rapid", "winder.export.dialects.rapid", cell=True)
-register("urscript", "winder.export.dialects.urscript", cell=True)

@@ -1,7 +1,7 @@
 """A whole job file (YAML) -> one validated, frozen JobConfig.
 
 Reads the file, refuses bad YAML, and hands each section to its parser (winder.config.mandrel,
-.winding, .machine); every problem is a ConfigError naming the file and the key path (SPEC.md).
+.winding, .machine); every problem is a ConfigError naming the file and the key path (docs/guide/commands.md).
 """
 
 from __future__ import annotations
@@ -37,11 +37,35 @@ class JobConfig:
     mandrel: MandrelConfig
     winding: WindingConfig | None = None
     machine: MachineConfig | None = field(default_factory=MachineConfig)
-    analysis: AnalysisConfig | None = None  # the load case (SPEC.md "Structural analysis")
+    analysis: AnalysisConfig | None = None  # the load case (docs/guide/will-it-hold.md)
 
 
 def load_config(path: str | Path) -> JobConfig:
-    """Read and validate a job file; every problem is a ConfigError starting with the path."""
+    """Read and validate a job file (YAML, or fiberpath's `.wind` JSON).
+
+    Parameters
+    ----------
+    path : str or Path
+        The job file. Its name starts every message; a `file:` inside it is read relative to its folder.
+
+    Returns
+    -------
+    JobConfig
+        The validated, frozen config: mandrel, winding (None without a `winding:`), machine (defaults
+        where left out) and analysis (None without an `analysis:`).
+
+    Raises
+    ------
+    ConfigError
+        For every problem, one line `<file>: <key.path>: <what>, got <value>` (exit status 2).
+
+    Examples
+    --------
+    >>> load_config("missing.yaml")
+    Traceback (most recent call last):
+    ...
+    winder.errors.ConfigError: missing.yaml: cannot read the file: No such file or directory
+    """
     source = str(path)
     if source.lower().endswith(".wind"):  # fiberpath's job format (JSON), read as the same job
         from winder.config.wind_file import read_wind  # noqa: PLC0415
@@ -70,7 +94,35 @@ _NAME = re.compile(r"[A-Za-z0-9_.-]+")
 
 
 def parse_config(data: dict, source: str) -> JobConfig:
-    """Validate the loaded YAML of a job file; source is the file name used in messages."""
+    """Validate the loaded YAML of a job file.
+
+    Parameters
+    ----------
+    data : dict
+        The file's data as YAML (winder.config.reader.load_yaml) or JSON reads it.
+    source : str
+        The file name every message starts with.
+
+    Returns
+    -------
+    JobConfig
+        As load_config.
+
+    Examples
+    --------
+    >>> job = parse_config({"name": "pipe",
+    ...                     "mandrel": {"axis": {"type": "line", "length": 500},
+    ...                                 "profile": {"type": "constant", "radius": 50}},
+    ...                     "winding": {"band_width": 10, "layers": [{"type": "helical", "angle": 55}]}},
+    ...                    "pipe.yaml")
+    >>> job.winding.layers[0].label(0), job.machine.feed
+    ('layer 1 (helical 55 deg)', 3000.0)
+    >>> parse_config({"name": "pipe", "mandrel": {"axis": {"type": "line", "length": 500},
+    ...                                           "profile": {"type": "constant", "raduis": 50}}}, "pipe.yaml")
+    Traceback (most recent call last):
+    ...
+    winder.errors.ConfigError: pipe.yaml: mandrel.profile.raduis: unknown key for a constant profile; did you mean 'radius'? allowed: type, radius
+    """
     rd = Reader(source)
     top = rd.mapping(data, "", ("name", "mandrel", "winding", "machine", "analysis"), required=("name", "mandrel"))
     name = rd.text(top["name"], "name")

@@ -11,6 +11,7 @@ from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from winder.config.arms import ARMS
+from winder.config.controllers import Controller, builtin
 from winder.config.dialects import REGISTRY as DIALECT_REGISTRY
 from winder.config.robot import RobotCell, language_problem, parse_robot_cell
 
@@ -27,7 +28,7 @@ MAX_EYE_CLEARANCE = 2000.0
 
 MACHINE_ROLES = ("carriage", "rotation", "cross_feed", "yaw")
 DIALECTS = tuple(DIALECT_REGISTRY)  # the dialect registry's names (winder.config.dialects)
-# A shop winder's axes (speed in mm/min or deg/min, acceleration in mm/s^2 or deg/s^2): SPEC.md's example.
+# A shop winder's axes (speed in mm/min or deg/min, acceleration in mm/s^2 or deg/s^2): the example of docs/guide/config.md.
 DEFAULT_DYNAMICS = {"carriage": (30000.0, 1500.0), "rotation": (20000.0, 3000.0),
                     "cross_feed": (10000.0, 1000.0), "yaw": (20000.0, 3000.0)}
 # Axis words of G-code (ISO 6983 / RS-274); any other letter (F, G, M, N, ...) would change the
@@ -133,10 +134,16 @@ class MachineConfig:
     eye_size: float = 0.0
     dynamics: MachineDynamics = field(default_factory=MachineDynamics)
     cell: RobotCell | None = None  # machine.robot as a mapping: the robot cell (winder.config.robot)
+    post: Controller | None = None  # machine.post: a controller described by a post file (None: the dialect's)
+
+    @property
+    def controller(self) -> Controller:
+        """The description of the controller the program is written for (winder.config.controllers)."""
+        return self.post if self.post is not None else builtin(self.dialect)
 
 
 # -- machine ---------------------------------------------------------------------------------------
-_MACHINE_KEYS = ("axes", "eye", "feed", "chord_tolerance", "limits", "robot", "dialect", "dynamics")
+_MACHINE_KEYS = ("axes", "eye", "feed", "chord_tolerance", "limits", "robot", "dialect", "dynamics", "post")
 
 
 def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
@@ -194,10 +201,34 @@ def parse_machine(rd: Reader, value: Any, path: str, *, bent: bool,
         if bent and not robot:
             raise rd.error(rd.at(path, "robot"), "must be true for a bent mandrel axis: a straight-axis "
                            "winder cannot follow it, so winder writes eye poses for a robot", m["robot"])
-    robot, dialect = _parse_dialect(rd, m, path, robot, bent, cell)
+    post = _parse_post(rd, m, path) if "post" in m else None
+    robot, dialect = _parse_dialect(rd, m if post is None else {**m, "dialect": post.dialect}, path, robot, bent, cell)
     dynamics = _parse_dynamics(rd, m["dynamics"], rd.at(path, "dynamics")) if "dynamics" in m else MachineDynamics()
     return MachineConfig(axes, eye_radius, eye_clearance, feed, chord_tolerance, limits, robot, dialect,
-                         eye_size, dynamics, cell)
+                         eye_size, dynamics, cell, post)
+
+
+def _parse_post(rd: Reader, m: dict, path: str) -> Controller:
+    """machine.post: a post file, read relative to the config's folder; machine.dialect, when given too,
+    must be the built-in dialect the post extends."""
+    from pathlib import Path  # noqa: PLC0415
+
+    from winder.config.controllers import read_post  # noqa: PLC0415
+    from winder.errors import ConfigError  # noqa: PLC0415
+
+    where = rd.at(path, "post")
+    name = rd.text(m["post"], where)
+    if not name.strip():
+        raise rd.error(where, "must name a post file (a controller described as data)", m["post"])
+    file = Path(name) if Path(name).is_absolute() else Path(rd.source).parent / name
+    try:
+        post = read_post(file, name, None)
+    except ConfigError as exc:  # named as the post file's: the config's key path first
+        raise rd.error(where, exc.format_message()) from exc
+    if "dialect" in m and m["dialect"] != post.dialect:
+        raise rd.error(rd.at(path, "dialect"), f"must be left out or be {post.dialect}, the dialect the post file "
+                       f"{name} extends", m["dialect"])
+    return post
 
 
 def _parse_dialect(rd: Reader, m: dict, path: str, robot: bool, bent: bool,

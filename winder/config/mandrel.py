@@ -1,7 +1,7 @@
 """The `mandrel:` section of a job file -> validated, frozen dataclasses.
 
 Everything a user can get wrong in the mandrel is refused here, before any computation, with one
-ConfigError naming the file, the key path and the value (SPEC.md). Checks that need the built surface
+ConfigError naming the file, the key path and the value (docs/guide/commands.md). Checks that need the built surface
 (a table's interpolation dipping, a spline bending too tightly, a bend folding the surface onto
 itself, dome fits) are left to winder.geometry.build, which knows the key paths as well.
 

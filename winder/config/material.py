@@ -1,8 +1,9 @@
-"""The `material:` of a winding plan (SPEC.md "Laminate"): per job, and per layer as an override.
+"""The `material:` of a winding plan (docs/math/08-laminate-edges.md): per job, and per layer as an override.
 
     material: {fiber_tex: 800, tows: 4, fiber_density: 1.78, resin_density: 1.15,
                fiber_volume_fraction: 0.6}
     material: {ply_thickness: 0.25}      # mm per band; densities and fraction only for masses
+    fiber_price_per_kg, resin_price_per_kg   # optional: the traveller's and the summary's material costs
 """
 
 from __future__ import annotations
@@ -41,11 +42,15 @@ class MaterialConfig:
     resin_density: float | None = None
     fiber_volume_fraction: float | None = None
     ply_thickness: float | None = None
-    lamina: LaminaConfig | None = None  # ply stiffness and strength (SPEC.md "Structural analysis")
+    lamina: LaminaConfig | None = None  # ply stiffness and strength (docs/guide/will-it-hold.md)
+    fiber_price_per_kg: float | None = None  # the fiber's price per kg, in the shop's currency (the traveller's costs)
+    resin_price_per_kg: float | None = None  # the resin's
 
 
+PRICE_KEYS = ("fiber_price_per_kg", "resin_price_per_kg")
+MAX_PRICE = 1.0e6  # per kg: past this a price was typed per tonne, or in the wrong unit
 _KEYS = ("fiber_tex", "tows", "fiber_density", "resin_density", "fiber_volume_fraction", "ply_thickness",
-         *LAMINA_KEYS)
+         *LAMINA_KEYS, *PRICE_KEYS)
 
 
 def parse_material(rd: Reader, value: Any, path: str, band_width: float) -> MaterialConfig:
@@ -96,6 +101,13 @@ def parse_material(rd: Reader, value: Any, path: str, band_width: float) -> Mate
     lamina = parse_lamina(rd, m, path)
     if lamina is not None:
         out["lamina"] = lamina
+    for key in PRICE_KEYS:
+        if key in m:
+            price = rd.number(m[key], rd.at(path, key))
+            if not 0.0 <= price <= MAX_PRICE:
+                raise rd.error(rd.at(path, key), f"must be in [0, {MAX_PRICE:g}] (a price per kg, in your currency)",
+                               m[key])
+            out[key] = price
     return MaterialConfig(**out)
 
 
@@ -110,12 +122,12 @@ def parse_materials(rd: Reader, value: Any, items: list[Any], layers: tuple, pat
     out = []
     for i, (item, layer) in enumerate(zip(items, layers)):
         if isinstance(item, dict) and "material" in item:
-            where = rd.at(rd.at(rd.at(path, "layers"), i), "material")
+            where = rd.at(layer.label(i), "material")
             layer = replace(layer, material=parse_material(rd, item["material"], where, band_width))
         out.append(layer)
     if material is None and any(x.material is not None for x in out):
         missing = next((i for i, x in enumerate(out) if x.material is None), None)
         if missing is not None:
-            raise rd.error(rd.at(rd.at(path, "layers"), missing), "needs a material: other layers have one "
+            raise rd.error(out[missing].label(missing), "needs a material: other layers have one "
                            "and winding.material (the default for all layers) is not given")
     return material, tuple(out)

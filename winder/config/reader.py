@@ -1,7 +1,7 @@
 """Reading a job file's values: a YAML 1.2 loader and the Reader that checks each value.
 
 Every error a Reader raises is a ConfigError reading `<file>: <key.path>: <what is wrong>, got
-<value>` (SPEC.md); the parsers of winder.config.mandrel and winder.config.winding use nothing else.
+<value>` (docs/guide/commands.md, "Exit status"); the parsers of winder.config.mandrel and winder.config.winding use nothing else.
 """
 
 from __future__ import annotations

@@ -7,8 +7,6 @@ message), plus the few facts about the mandrel it checks against; winder.config.
 from __future__ import annotations
 
 import dataclasses
-import math
-from enum import Enum
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -16,80 +14,16 @@ if TYPE_CHECKING:
 
 from winder.config.material import MaterialConfig, parse_materials
 from winder.config.reader import LENGTH_SLACK
+from winder.config.layers import (MAX_LAYER_CIRCUITS, MIN_HOOP_ANGLE, SLIP_AUTO, LayerConfig, LayerType,  # noqa: F401
+                                  layer_key, layer_label, parse_layer)
+from winder.config.tension import TensionConfig, check_tensions, parse_tension
 
 DEFAULT_POINTS = 200
 # A pass is solved in O(points); beyond this the result is no more accurate, only slower.
 MAX_POINTS = 100_000
 DEFAULT_FRICTION = 0.2
-# Hoop layers below this angle lay a visibly helical band; such a layer is a helical one.
-MIN_HOOP_ANGLE = 70.0
+DEFAULT_ANGLE_TOLERANCE = 0.5  # deg: how far closing a pattern may move a layer's angle from the one asked
 MIN_COVERAGE = 0.999  # winding.min_coverage's default: the covered fraction every layer proves
-MAX_LAYER_CIRCUITS = 20_000  # YAML `circuits:`; = winder.winding.budget.MAX_CIRCUITS (the work budget)
-SLIP_AUTO = "auto"
-
-
-class LayerType(Enum):
-    """How a layer is wound."""
-
-    HELICAL = "helical"
-    HOOP = "hoop"
-
-
-def layer_label(index: int, kind: str | None = None, angle_deg: float | None = None) -> str:
-    """How every message and output names layer `index` (0-based): from 1, with its type and angle.
-
-    Examples
-    --------
-    >>> layer_label(4, "helical", 16.0)
-    'layer 5 (helical 16 deg)'
-    >>> layer_label(1, "hoop")
-    'layer 2 (hoop)'
-    """
-    words = " ".join(w for w in (kind, f"{angle_deg:g} deg" if angle_deg is not None else None) if w)
-    return f"layer {index + 1} ({words})" if words else f"layer {index + 1}"
-
-
-@dataclasses.dataclass(frozen=True)
-class LayerConfig:
-    """One layer of the plan (YAML: an entry of `winding.layers`).
-
-    type: `helical` (a full-coverage pattern of circuits, each a forward and a return pass laying
-        +angle and -angle bands) or `hoop` (near-circumferential turns on the cylindrical region).
-    angle_deg: YAML `angle`, the winding angle from the meridian in degrees (0 = along the axis,
-        90 = circumferential). Helical: required, in (0, 90). Hoop: optional, in [70, 90); when
-        left out (None) the planner derives it from the band width (one band width of advance per
-        mandrel turn).
-    pattern: helical only. YAML `pattern: auto` (None: the planner picks the skip k needing the least
-        angle or dwell adjustment) or an integer k >= 1 (the circuit advance is 2 pi k / N_c; the
-        planner refuses k sharing a factor with N_c).
-    passes: hoop only (helical layers always 1): the number of traverses over the region; each
-        traverse lays one ply, so 2 is there and back.
-    slip: helical only. 0 (geodesic, the default), a number lambda = k_g / k_n in [0, friction] (its
-        sign follows the pass direction; on vessels the domes' lambda, on bent tubes the largest
-        |lambda| the passes through the bends may use), or SLIP_AUTO (friction-held where geodesics
-        cannot cover or turn: bent tubes, vessels whose Clairaut turnaround is inside an opening).
-    turnaround_radius: helical on vessels only: turn around on the domes at this radius (mm), lambda
-        solved for (|lambda| <= friction); None: where the slip leads (Clairaut for slip 0).
-    circuits: helical only. YAML `circuits: N` (whole, >= 1): wind exactly N circuits instead of the
-        planner's count (the fewest that cover, raised where passes bunch); `winder patterns` lists
-        the choices. None: the planner's count.
-    """
-
-    type: LayerType
-    angle_deg: float | None = None
-    pattern: int | None = None
-    passes: int = 1
-    slip: float | str = 0.0
-    turnaround_radius: float | None = None
-    material: MaterialConfig | None = None  # this layer's own (config.material), else the job's
-    circuits: int | None = None
-    taper: float = 0.0  # hoop: mm over which the layer's reversals step in at each end (math 8.9)
-    step_back: float = 0.0  # helical on vessels: mm its turnarounds move toward the equator (math 8.8)
-    min_coverage: float | None = None  # the covered fraction it proves (None: winding.min_coverage)
-
-    def label(self, index: int) -> str:
-        """`layer 5 (helical 16 deg)`: layer_label of this layer at 0-based position `index`."""
-        return layer_label(index, self.type.value, self.angle_deg)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -100,7 +34,8 @@ class WindingConfig:
     region: YAML `region: {start, end}`: the axial station range (t, mm) wound on an open mandrel,
         0 <= start < end <= T; None (the default) is the whole mandrel. Not for vessels, whose
         turnarounds lie on the domes.
-    points: points per pass, the accuracy of each geodesic solve, integer >= 3 (default 200).
+    points: points per pass, the accuracy of each geodesic solve, integer >= 3 (default 200, and more for a
+        pass of many rounds: winder.winding.passes.pass_points).
     tolerance: instead of points: refine each pass until its estimated length error is below this
         (mm, > 0). Exclusive with points; when tolerance is given, points is None.
     dwell_start_deg, dwell_end_deg: YAML `dwell: {start, end}`: the least mandrel turn (deg) while the
@@ -109,6 +44,9 @@ class WindingConfig:
     friction: fiber-mandrel friction coefficient for the slip check of non-geodesic paths, in [0, 1]
         (default 0.2; typical wet epoxy rovings 0.1 to 0.3).
     layers: the layers, wound in this order, at least one.
+    angle_tolerance: how far (deg, >= 0) closing a vessel layer's pattern may move its angle from the one
+        asked (default 0.5); beyond it another circuit count, a friction-held closure at the angle, or a
+        refusal listing the choices (docs/math/17 17.7).
     """
 
     band_width: float
@@ -122,11 +60,19 @@ class WindingConfig:
     material: MaterialConfig | None = None  # config.material; None: no laminate, no build-up
     bridging_tolerance: float | None = None  # mm of lift-off (math 8.10); None: one ply (0 without a material)
     min_coverage: float = MIN_COVERAGE  # the covered fraction every layer proves unless it asks another
+    tension: TensionConfig | None = None  # N per band (winder.config.tension); None: none programmed
+    angle_tolerance: float = DEFAULT_ANGLE_TOLERANCE  # deg a pattern's closing may move an angle (docs/math/17 17.7)
+    # Whether `points` was written: the default grows with a pass's rounds (winder.winding.passes.pass_points)
+    points_given: bool = False
 
     def min_coverage_of(self, index: int) -> float:
         """The covered fraction layer `index` (0-based) must prove: its own, else the job's."""
         own = self.layers[index].min_coverage
         return self.min_coverage if own is None else own
+
+    def tension_of(self, index: int) -> TensionConfig | None:
+        """The tension of layer `index` (0-based): its own, else the job's."""
+        return self.layers[index].tension or self.tension
 
     @property
     def has_laminate(self) -> bool:
@@ -140,12 +86,7 @@ class WindingConfig:
 
 # -- winding ---------------------------------------------------------------------------------------
 _WINDING_KEYS = ("band_width", "layers", "region", "points", "tolerance", "dwell", "friction", "material",
-                 "bridging_tolerance", "min_coverage")
-_LAYER_KINDS = {
-    "helical": (("angle",), ("pattern", "slip", "turnaround_radius", "material", "circuits", "step_back",
-                             "min_coverage")),
-    "hoop": ((), ("angle", "passes", "material", "taper", "min_coverage")),
-}
+                 "bridging_tolerance", "min_coverage", "tension", "angle_tolerance")
 
 
 def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | None,
@@ -186,8 +127,7 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
                            m["friction"])
 
     items = rd.listing(m["layers"], rd.at(path, "layers"), 1, "layer")
-    layers = tuple(_parse_layer(rd, item, rd.at(rd.at(path, "layers"), i), friction, vessel)
-                   for i, item in enumerate(items))
+    layers = tuple(parse_layer(rd, item, layer_key(i, item), friction, vessel) for i, item in enumerate(items))
     material, layers = parse_materials(rd, m.get("material"), items, layers, path, band_width)
     bridging = None
     if "bridging_tolerance" in m:
@@ -195,14 +135,25 @@ def parse_winding(rd: Reader, value: Any, path: str, *, axis_length: float | Non
         if bridging < 0.0:
             raise rd.error(rd.at(path, "bridging_tolerance"), "must be >= 0 (mm of lift-off a fiber may stand "
                            "off the mandrel over a concave stretch)", m["bridging_tolerance"])
-    _check_tapers(rd, items, layers, rd.at(path, "layers"), region)
+    _check_tapers(rd, items, layers, region)
     least = _parse_fraction(rd, m, path, "min_coverage", MIN_COVERAGE)
-    layers = tuple(dataclasses.replace(layer, min_coverage=_parse_fraction(rd, item, rd.at(rd.at(path, "layers"), i),
-                                                                             "min_coverage", None))
+    layers = tuple(dataclasses.replace(layer, min_coverage=_parse_fraction(rd, item, layer.label(i), "min_coverage",
+                                                                             None))
                    if isinstance(item, dict) and "min_coverage" in item else layer
                    for i, (layer, item) in enumerate(zip(layers, items)))
-    return WindingConfig(band_width, region, points, tolerance, dwell[0], dwell[1], friction, layers, material,
-                         bridging, least)
+    tension = parse_tension(rd, m["tension"], rd.at(path, "tension"), job=True) if "tension" in m else None
+    check_tensions(rd, layers, tension)
+    angle_tolerance = DEFAULT_ANGLE_TOLERANCE
+    if "angle_tolerance" in m:
+        key = rd.at(path, "angle_tolerance")
+        angle_tolerance = rd.number(m["angle_tolerance"], key)
+        if not 0.0 <= angle_tolerance <= 90.0:
+            raise rd.error(key, "must be in [0, 90] degrees (how far closing a pattern may move a layer's angle)",
+                           m["angle_tolerance"])
+    return WindingConfig(band_width=band_width, region=region, points=points, tolerance=tolerance,
+                         dwell_start_deg=dwell[0], dwell_end_deg=dwell[1], friction=friction, layers=layers,
+                         material=material, bridging_tolerance=bridging, min_coverage=least, tension=tension,
+                         angle_tolerance=angle_tolerance, points_given="points" in m)
 
 
 def _parse_fraction(rd: Reader, m: dict, path: str, key: str, default: float | None) -> float | None:
@@ -215,7 +166,7 @@ def _parse_fraction(rd: Reader, m: dict, path: str, key: str, default: float | N
     return value
 
 
-def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path: str,
+def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...],
                   region: tuple[float, float] | None) -> None:
     """A hoop taper must leave its traverses a length: 2 taper (P - 1) / P below the region's length
     (checked here where the region is given; on vessels and whole mandrels by the planner)."""
@@ -224,7 +175,7 @@ def _check_tapers(rd: Reader, items: list, layers: tuple[LayerConfig, ...], path
     for i, layer in enumerate(layers):
         inward = 2.0 * layer.taper * (layer.passes - 1) / layer.passes
         if layer.type is LayerType.HOOP and inward >= region[1] - region[0]:
-            key = rd.at(rd.at(path, i), "taper")
+            key = rd.at(layer.label(i), "taper")
             raise rd.error(key, f"steps the hoop's reversals in by {inward:g} mm in all, more than the region "
                            f"({region[1] - region[0]:g} mm)", items[i]["taper"])
 
@@ -259,83 +210,3 @@ def _parse_dwell(rd: Reader, value: Any, path: str) -> tuple[float, float]:
             raise rd.error(rd.at(path, key), "must be >= 0 (degrees of mandrel turn)", m[key])
         ends.append(dwell)
     return (ends[0], ends[1])
-
-
-def _parse_slip(rd: Reader, m: dict, path: str, friction: float, vessel: bool) -> tuple[float | str, float | None]:
-    """The helical layer's slip and turnaround_radius (SPEC.md "Winding with friction")."""
-    slip: float | str = 0.0
-    if "slip" in m and m["slip"] != SLIP_AUTO:
-        slip = rd.number(m["slip"], rd.at(path, "slip"))
-        if not 0.0 <= slip <= friction:
-            raise rd.error(rd.at(path, "slip"), f"must be auto or a number in [0, {friction:g}] (|k_g / k_n| "
-                           f"within winding.friction; its sign follows the pass direction)", m["slip"])
-    elif "slip" in m:
-        slip = SLIP_AUTO
-    radius = None
-    if "turnaround_radius" in m:
-        key = rd.at(path, "turnaround_radius")
-        if not vessel:
-            raise rd.error(key, "applies to vessels only (the fiber turns around on the domes)",
-                           m["turnaround_radius"])
-        if isinstance(slip, float) and slip > 0.0:
-            raise rd.error(key, "give slip or turnaround_radius, not both (the slip is solved for the radius)",
-                           m["turnaround_radius"])
-        radius = rd.positive(m["turnaround_radius"], key)
-    return slip, radius
-
-
-def _parse_circuits(rd: Reader, m: dict, path: str, pattern: int | None) -> int | None:
-    """A helical layer's `circuits: N`, the pattern (when given) coprime with it."""
-    if "circuits" not in m:
-        return None
-    circuits = rd.integer(m["circuits"], rd.at(path, "circuits"), minimum=1, maximum=MAX_LAYER_CIRCUITS)
-    if pattern is not None and circuits > 1 and math.gcd(pattern, circuits) != 1:
-        raise rd.error(rd.at(path, "pattern"), f"shares a factor with circuits: {circuits}, so some slots would be "
-                       f"wound twice and others never (winder patterns lists the skips that close)", pattern)
-    return circuits
-
-
-def _parse_layer(rd: Reader, value: Any, path: str, friction: float, vessel: bool) -> LayerConfig:
-    kind, m = rd.typed(value, path, "layer", _LAYER_KINDS)
-    angle_path = rd.at(path, "angle")
-    if kind == "helical":
-        angle = rd.number(m["angle"], angle_path)
-        if not 0.0 < angle < 90.0:
-            raise rd.error(angle_path, "must be in (0, 90) degrees from the meridian (0 is along the "
-                           "axis, 90 is a hoop)", m["angle"])
-        pattern = None
-        if "pattern" in m and m["pattern"] != "auto":
-            pattern = rd.integer(m["pattern"], rd.at(path, "pattern"), minimum=1,
-                                 what="must be auto or a whole number >= 1")
-        slip, radius = _parse_slip(rd, m, path, friction, vessel)
-        step_back = 0.0
-        if "step_back" in m:
-            key = rd.at(path, "step_back")
-            step_back = rd.number(m["step_back"], key)
-            if step_back < 0.0:
-                raise rd.error(key, "must be >= 0 (mm toward the equator from the previous helical layer's "
-                               "turnaround)", m["step_back"])
-            if not vessel:
-                raise rd.error(key, "applies to vessels only (the fiber turns around on the domes)", m["step_back"])
-            if slip != SLIP_AUTO or radius is not None:
-                raise rd.error(key, "needs slip: auto (friction moves the turnaround; a geodesic turns where "
-                               "its angle leads) and no turnaround_radius", m["step_back"])
-        circuits = _parse_circuits(rd, m, path, pattern)
-        return LayerConfig(LayerType.HELICAL, angle, pattern, 1, slip, radius, circuits=circuits,
-                           step_back=step_back)
-
-    angle_deg = None
-    if "angle" in m:
-        angle_deg = rd.number(m["angle"], angle_path)
-        if not MIN_HOOP_ANGLE <= angle_deg < 90.0:
-            raise rd.error(angle_path, f"must be in [{MIN_HOOP_ANGLE:g}, 90) degrees for a hoop layer "
-                           "(leave it out to derive it from the band width; lower angles are a helical "
-                           "layer)", m["angle"])
-    passes = rd.integer(m.get("passes", 1), rd.at(path, "passes"), minimum=1)
-    taper = 0.0
-    if "taper" in m:
-        taper = rd.number(m["taper"], rd.at(path, "taper"))
-        if taper < 0.0:
-            raise rd.error(rd.at(path, "taper"), "must be >= 0 (mm over which the hoop layer's thickness runs "
-                           "out at each end)", m["taper"])
-    return LayerConfig(LayerType.HOOP, angle_deg, None, passes, taper=taper)

@@ -1,5 +1,5 @@
-"""`--format abaqus`: `<name>.inp`, an Abaqus / CalculiX input deck of the wound part (SPEC.md "Structural
-analysis"; docs/math/09-structure.md 9.5): the shell model of winder.analysis.shell_model written out.
+"""`--format abaqus`: `<name>.inp`, an Abaqus / CalculiX input deck of the wound part (docs/guide/will-it-hold.md;
+docs/math/09-structure.md 9.5): the shell model of winder.analysis.shell_model written out.
 
 S8R shells on the mandrel surface (OFFSET = -0.5: the nodes on the laminate's inner face, the plies
 outward along the element normal); per element a *SHELL SECTION, COMPOSITE with each ply's thickness,

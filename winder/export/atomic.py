@@ -1,6 +1,6 @@
 """Atomic file writes: a temporary file beside the target, then a rename (docs/guide/output-files.md).
 
-A job that fails leaves no output file of its own behind, not even a partial one (SPEC.md). Where an
+A job that fails leaves no output file of its own behind, not even a partial one. Where an
 output path leads decides how it is written:
 
 - a device, a FIFO or a socket (`-o /dev/null`), or a link to an open descriptor (`/dev/stdout`,

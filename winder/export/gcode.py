@@ -1,4 +1,4 @@
-"""The winding program `<name>.gcode` (SPEC.md "Output files", MATH.md 6): the motion program of
+"""The winding program `<name>.gcode` (docs/guide/conventions.md, docs/math/06-machine.md): the motion program of
 winder.machine.program, serialized by the dialect machine.dialect names in the dialect registry
 (winder.config.dialects; the serializers in winder.export.dialects): generic G-code, marlin,
 linuxcnc, or robot poses (always for a robot). The program is built once per job by the caller
@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib
 
+from winder.config.controllers import builtin
 from winder.config.dialects import entry, robot_dialects
 from winder.config.machine import MachineConfig
 from winder.export.dialects.text import Dialect, Move, serialize
@@ -21,6 +22,9 @@ def dialect_for(program: MotionProgram, band_width: float = 0.0) -> Dialect:
     found = entry(program.machine.dialect)
     if found.cell or (program.robot and not found.robot):  # a cell's language is written beside, as its own files
         found = entry(robot_dialects()[0])
+        dialect = importlib.import_module(found.module).make(program, band_width)
+        dialect.controller = builtin(found.name)
+        return dialect
     return importlib.import_module(found.module).make(program, band_width)
 
 

@@ -1,4 +1,4 @@
-"""The job CSV `<name>.csv` of `winder run` (SPEC.md "Output files"): every point of every pass.
+"""The job CSV `<name>.csv` of `winder run` (docs/guide/conventions.md): every point of every pass.
 
 Columns: layer,circuit,pass,i,t,theta_deg,x,y,z,alpha_deg,kind
 - layer, circuit: 1-based; pass: FiberPass.number (1-based, the pass within its layer, in winding

@@ -1,4 +1,4 @@
-"""The layup `<name>.layup.csv` of `winder run --format layup` (SPEC.md "Laminate"), for
+"""The layup `<name>.layup.csv` of `winder run --format layup` (docs/math/08-laminate-edges.md), for
 finite-element models: each layer's thickness and fiber angle over the surface it was wound on.
 
 Columns: layer,t,theta_deg,x,y,z,angle_deg,thickness_mm
@@ -8,7 +8,7 @@ Columns: layer,t,theta_deg,x,y,z,angle_deg,thickness_mm
 - angle_deg: the fiber's winding angle from the meridian there (deg, [0, 90]): the layer is a
   +angle / -angle pair of plies (one ply direction for hoops); the mean over the bands crossing
   the station, weighted by fiber length.
-- thickness_mm: the layer's thickness there (MATH.md 8; at a vessel turnaround the band-width
+- thickness_mm: the layer's thickness there (docs/math/08-laminate-edges.md; at a vessel turnaround the band-width
   average). On surfaces of revolution it is the same all around a section; on others (bends,
   non-circular sections) the section's mean times the share of bands over that angle
   (buildup.share_around), so its mean around the section is the section's.

@@ -1,4 +1,4 @@
-"""The path CSV of `winder geodesic`: i,t,theta_deg,x,y,z (SPEC.md), fixed precision."""
+"""The path CSV of `winder geodesic`: i,t,theta_deg,x,y,z (docs/guide/conventions.md), fixed precision."""
 
 from __future__ import annotations
 

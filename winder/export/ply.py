@@ -1,4 +1,4 @@
-"""The 3D view `<name>.ply` (SPEC.md "Output files"): binary little-endian PLY written by trimesh's
+"""The 3D view `<name>.ply` (docs/guide/conventions.md): binary little-endian PLY written by trimesh's
 exporter; `--format stl|obj|glb` write the same mesh through trimesh in those formats.
 
 One triangle mesh with per-vertex RGBA colors (readable by trimesh and MeshLab):

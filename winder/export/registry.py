@@ -33,6 +33,23 @@ class Format:
     program: bool = False  # its export takes the job's motion program (program=, built once per job)
 
     def render(self, plan, job, program=None) -> bytes:
+        """This format's file: its exporter's text or bytes for a planned job.
+
+        Parameters
+        ----------
+        plan : WindingPlan
+            The planned job (winder.winding.plan.plan).
+        job : JobConfig
+            Its config.
+        program : MotionProgram, optional
+            The job's motion program (winder.machine.program.build_program), built once per job, for the
+            formats that take it (`program`).
+
+        Returns
+        -------
+        bytes
+            The file's content, UTF-8 for text formats.
+        """
         export = getattr(importlib.import_module(self.module), self.function)
         data = export(plan, job, program=program) if self.program else export(plan, job)
         return data.encode("utf-8") if isinstance(data, str) else bytes(data)
@@ -70,14 +87,48 @@ def suffix_of(name: str) -> str:
 
 
 def format_of(file_name: str) -> Format | None:
-    """The format of an output file by its suffix (the longest that matches), or None."""
+    """The format of an output file by its suffix (the longest that matches), or None.
+
+    Examples
+    --------
+    >>> format_of("tank.layup.csv").name, format_of("tank.csv").name, format_of("tank.txt")
+    ('layup', 'csv', None)
+    """
     hits = [f for f in FORMATS if file_name.endswith(f.suffix)]
     return max(hits, key=lambda f: len(f.suffix)) if hits else None
 
 
 def chosen(names: Iterable[str], always: bool = True) -> tuple[Format, ...]:
-    """The formats a job writes for the selectable names given (plus those always written, unless
-    always is False), in writing order; an unknown name is a ConfigError."""
+    """The formats a job writes for the names given, in writing order.
+
+    Parameters
+    ----------
+    names : iterable of str
+        Selectable format names (SELECTABLE: `--format` of `winder run`).
+    always : bool
+        Add the formats every job writes (the summary).
+
+    Returns
+    -------
+    tuple of Format
+        In writing order, with the files a named format writes beside its own (KRL's .dat).
+
+    Raises
+    ------
+    ConfigError
+        An unknown name, listing the allowed ones.
+
+    Examples
+    --------
+    >>> [f.name for f in chosen(["gcode", "csv"])]
+    ['csv', 'gcode', 'summary']
+    >>> [f.suffix for f in chosen(["krl"], always=False)]
+    ['.src', '.dat']
+    >>> chosen(["pdf"])
+    Traceback (most recent call last):
+    ...
+    winder.errors.ConfigError: unknown output format 'pdf'; allowed: csv, gcode, ply, stl, obj, glb, layup, abaqus, report, krl, rapid, urscript
+    """
     wanted = set(names)
     unknown = wanted - set(SELECTABLE)
     if unknown:

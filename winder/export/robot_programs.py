@@ -21,9 +21,9 @@ def _texts(plan: WindingPlan, job, language: str, program: MotionProgram | Excep
     if isinstance(program, Exception):  # the build's error (an unreachable pose, a limit)
         raise program
     if program is None:
-        from winder.machine.program import build_program  # noqa: PLC0415
+        from winder.machine.tension import job_program  # noqa: PLC0415
 
-        program = build_program(plan, job.machine)
+        program = job_program(plan, job)
     written = _WRITTEN.setdefault(program, {})
     if language not in written:
         written[language] = importlib.import_module(f"winder.export.dialects.{language}").serialize(program)

@@ -1,4 +1,4 @@
-"""The job summary `<name>.summary.json` (SPEC.md "Output files").
+"""The job summary `<name>.summary.json` (docs/guide/conventions.md).
 
 One JSON object, keys sorted, indent 2, newline-terminated. Floats are rounded to fixed decimals
 (LENGTH_DECIMALS for mm, ANGLE_DECIMALS for degrees, FRACTION_DECIMALS for fractions, TIME_DECIMALS
@@ -8,7 +8,7 @@ wall-clock timings: estimated times are the planner's, at the machine feed.
 Keys: name, source, total_fiber_length_mm, estimated_time_s, layer_count, and layers: one object per
 layer with index, type, angle_deg, requested_angle_deg, angle_change_deg, circuits, pattern (as planned),
 passes (the layer's passes in the job CSV: turnarounds and dwells included), fiber_length_mm, dwell_start_deg, dwell_end_deg, turnaround_radius_mm (null
-when the fiber does not turn on a dome), alpha_range_deg [min, max], time_s, coverage
+when the fiber does not turn on a dome) and turnaround_radii_mm [first dome, end dome] (each dome's own), alpha_range_deg [min, max], time_s, coverage
 {covered_fraction, max_gap_mm, max_overlap_mm, min_layers, max_layers}, notes (list of text),
 max_slip (largest |k_g / k_n| the fibers need) and min_normal_curvature_per_mm (least k_n, > 0),
 max_lift_off_mm (how far the fiber stands off a concave stretch it bridges, 0 where it presses
@@ -28,6 +28,10 @@ no program can be built (an axis limit). estimated_time_s / time_s stay the fibe
 And axis_travel: each logical axis's [least, largest] value over the program as written (carriage,
 rotation, cross_feed, yaw; for robot poses x, y, z, i, j, k), to set against the machine's travel;
 null when no program can be built, and then program_error: why (the axis, the value and the limit).
+With a programmed tension (winding.tension, a layer's own), each layer has tension_n (N per band, its
+first pass's) and tension_range_n [least, largest] over its passes, as the program writes them.
+With prices in the materials (fiber_price_per_kg, resin_price_per_kg), material_cost {fiber, resin,
+total}: the layers' masses at their materials' prices.
 With an `analysis:` section, the `analysis` block (winder.analysis.verdict.summary_block): the load
 case, the gauge section the headline figures come from (gauge, gauge_t_mm), burst_pressure_netting_mpa
 (and where, which layer, how), first_ply_failure_pressure_mpa (Tsai-Wu) with its layer and t,
@@ -62,6 +66,8 @@ TIME_DECIMALS = 2
 MASS_DECIMALS = 6  # kg: to the milligram
 VOLUME_DECIMALS = 6  # litres: to the cubic millimetre
 THICKNESS_DECIMALS = LENGTH_DECIMALS + 1  # a wall grows by tenths of a millimetre a layer
+TENSION_DECIMALS = 3  # N per band
+COST_DECIMALS = 2  # the config's currency
 DEVIATION_DECIMALS = LENGTH_DECIMALS + 1  # the program's points and moves off the fiber: tenths of a micrometre
 # The decimals each number is written with, by the end of its key: what `winder regress` compares
 # at (one unit in the last place). Keys written otherwise are named in DECIMALS_BY_NAME (a looser
@@ -73,7 +79,8 @@ DECIMALS_BY_NAME = {"max_slip": FRACTION_DECIMALS, "min_normal_curvature_per_mm"
                     "thickness_mm": THICKNESS_DECIMALS, "max_thickness_mm": THICKNESS_DECIMALS,
                     "ply_thickness_mm": THICKNESS_DECIMALS, "outer_radius_mm": THICKNESS_DECIMALS,
                     "max_wall_mm": THICKNESS_DECIMALS, "max_point_deviation_mm": DEVIATION_DECIMALS,
-                    "max_midpoint_deviation_mm": DEVIATION_DECIMALS, "volume_l": VOLUME_DECIMALS}
+                    "max_midpoint_deviation_mm": DEVIATION_DECIMALS, "volume_l": VOLUME_DECIMALS,
+                    "tension_n": TENSION_DECIMALS, "tension_range_n": TENSION_DECIMALS}
 _DIRECTIONS = ("i", "j", "k")  # a robot pose's direction components
 DECIMALS_BY_NAME.update(STRUCTURE_DECIMALS)  # the `analysis` block's keys (winder.analysis.verdict)
 
@@ -113,6 +120,8 @@ def _layer(layer: LayerPlan) -> dict[str, Any]:
         "dwell_start_deg": _num(layer.dwell_start_deg, ANGLE_DECIMALS),
         "dwell_end_deg": _num(layer.dwell_end_deg, ANGLE_DECIMALS),
         "turnaround_radius_mm": _num(layer.turnaround_radius, LENGTH_DECIMALS),
+        "turnaround_radii_mm": (None if layer.turnaround_radii is None
+                                else [_num(r, LENGTH_DECIMALS) for r in layer.turnaround_radii]),
         "max_slip": _num(layer.max_slip, FRACTION_DECIMALS),
         "min_normal_curvature_per_mm": _num(layer.min_normal_curvature, CURVATURE_DECIMALS),
         "alpha_range_deg": [_num(layer.alpha_min_deg, ANGLE_DECIMALS), _num(layer.alpha_max_deg, ANGLE_DECIMALS)],
@@ -140,7 +149,7 @@ def _lift_off(layer: LayerPlan) -> dict[str, Any]:
 
 
 def _laminate(layer: LayerPlan) -> dict[str, Any]:
-    """A layer's wall keys (SPEC.md "Laminate"); none without a material, so such summaries stay as
+    """A layer's wall keys (docs/math/08-laminate-edges.md); none without a material, so such summaries stay as
     they were."""
     lam = layer.laminate
     if lam is None:
@@ -200,16 +209,10 @@ def _shop_figures(plan: WindingPlan, job) -> dict[str, Any]:
                         "mass_per_metre_kg": _num(mass / (span[1] - span[0]) * 1000.0, MASS_DECIMALS)}}
 
 
-def _winding_times(plan: WindingPlan, machine, program: MotionProgram | Exception | None = None
+def _program_times(plan: WindingPlan, program: MotionProgram | Exception
                    ) -> tuple[float | None, list[float | None], dict | None, str | None]:
     """(total, per layer) machine time from the dynamics, the axis travel and None; None, None and
-    why where no program can be built. program: the job's program (or its build's error), built
-    here when not given."""
-    if program is None:
-        try:
-            program = build_program(plan, machine)
-        except ExportError as exc:
-            program = exc
+    why where no program could be built (program: the build's ExportError)."""
     if isinstance(program, ExportError):
         return None, [None] * len(plan.layers), None, str(program)
     if isinstance(program, Exception):
@@ -249,20 +252,66 @@ def summary_dict(plan: WindingPlan, machine=None, program: MotionProgram | Excep
         **_totals(plan),
         **_shop_figures(plan, job),
     }
+    if machine is not None and program is None:
+        from winder.machine.tension import job_program  # noqa: PLC0415
+
+        try:
+            program = job_program(plan, job) if job is not None else build_program(plan, machine)
+        except ExportError as exc:
+            program = exc
+    _tensions(out["layers"], plan, program, job)
     if machine is not None:
-        total, layers, travel, why = _winding_times(plan, machine, program)
+        total, layers, travel, why = _program_times(plan, program)
         out["winding_time_s"] = _num(total, TIME_DECIMALS)
         out["axis_travel"] = travel
         if why is not None:
             out["program_error"] = why
         for entry, seconds in zip(out["layers"], layers):
             entry["winding_time_s"] = _num(seconds, TIME_DECIMALS)
+    cost = material_cost(out["layers"], job)
+    if cost is not None:
+        out["material_cost"] = cost
     out["invariants"] = _invariants(plan, program)
     if job is not None and getattr(job, "analysis", None) is not None:
         from winder.analysis.structure import analyze, summary_block  # noqa: PLC0415
 
         out["analysis"] = summary_block(analyze(plan, job), job)
     return out
+
+
+def _tensions(entries: list[dict], plan: WindingPlan, program, job) -> None:
+    """tension_n (the layer's first pass's, N per band) and tension_range_n [least, largest] of each
+    layer with a programmed tension: the program's, else the job's (no program built)."""
+    if isinstance(program, MotionProgram):
+        found = program.layer_tensions
+    elif job is not None and getattr(job, "winding", None) is not None:
+        from winder.machine.tension import pass_tensions  # noqa: PLC0415
+
+        per_pass = pass_tensions(job, plan) or ()
+        found = tuple((v[0], min(v), max(v)) if v else None for v in per_pass)
+    else:
+        return
+    for entry, tension in zip(entries, found):
+        if tension is not None:
+            entry["tension_n"] = _num(tension[0], TENSION_DECIMALS)
+            entry["tension_range_n"] = [_num(tension[1], TENSION_DECIMALS), _num(tension[2], TENSION_DECIMALS)]
+
+
+def material_cost(entries: list[dict], job) -> dict[str, float] | None:
+    """{fiber, resin, total}: each layer's fiber and resin mass at its material's price per kg (in the
+    config's currency; a mass or price not given counts nothing); None when no material has a price."""
+    winding = getattr(job, "winding", None)
+    materials = [winding.material_of(i) for i in range(len(winding.layers))] if winding is not None else []
+    if not any(m is not None and (m.fiber_price_per_kg is not None or m.resin_price_per_kg is not None)
+               for m in materials):
+        return None
+    sums = {"fiber": 0.0, "resin": 0.0}
+    for entry, m in zip(entries, materials):
+        for part in sums:
+            mass, price = entry.get(f"{part}_mass_kg"), getattr(m, f"{part}_price_per_kg", None) if m else None
+            if mass is not None and price is not None:
+                sums[part] += mass * price
+    return {**{k: _num(v, COST_DECIMALS) for k, v in sums.items()}, "total": _num(sum(sums.values()), COST_DECIMALS)}
 
 
 def _invariants(plan: WindingPlan, program) -> dict[str, float | None]:

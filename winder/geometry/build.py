@@ -89,10 +89,12 @@ def make_section(cfg: object) -> Section:
 def make_dome(dome: Dome, radius: float, source: str, key: str) -> DomeMeridian:
     """One dome's meridian (key: its key path, e.g. "mandrel.profile.dome"). Refuses what only the
     geometry knows: an ellipsoid too flat or too deep to be a dome, an isotensoid opening outside what
-    netting theory can shape."""
+    netting theory can shape, a contour whose smooth meridian folds or cannot follow its points. A closed
+    end's wound surface ends at its shaft (docs/math/17-vessels-as-built.md 17.5)."""
     from winder.config.vessel import DomeType  # noqa: PLC0415
 
-    R, r0 = float(radius), float(dome.polar_opening)
+    R, r0 = float(radius), float(dome.wound_opening) if dome.wound_opening is not None else None
+    opening_key = f"{key}.shaft_radius" if dome.closed else f"{key}.polar_opening"
     if dome.type is DomeType.HEMISPHERE:
         return Hemisphere(R, r0)
     if dome.type is DomeType.ELLIPSOID:
@@ -102,15 +104,36 @@ def make_dome(dome: Dome, radius: float, source: str, key: str) -> DomeMeridian:
                               f"{ELLIPSOID_MAX_DEPTH:g} times mandrel.profile.radius "
                               f"({ELLIPSOID_MIN_DEPTH * R:g} to {ELLIPSOID_MAX_DEPTH * R:g}), got {d:g}")
         return Ellipsoid(R, r0, d)
+    if dome.type is DomeType.TORISPHERICAL:
+        from winder.geometry.domes_torispherical import Torispherical  # noqa: PLC0415
+
+        return Torispherical(R, dome.crown_radius, dome.knuckle_radius, r0)
+    if dome.type is DomeType.CONTOUR:
+        return _contour(dome, R, r0, source, key)
     lo, hi = ISOTENSOID_MIN_OPENING * R, ISOTENSOID_MAX_OPENING * R
     if not lo <= r0 <= hi:
-        raise ConfigError(f"{source}: {key}.polar_opening: an isotensoid dome needs polar_opening "
+        raise ConfigError(f"{source}: {opening_key}: an isotensoid dome needs its opening "
                           f"between {ISOTENSOID_MIN_OPENING:g} and {ISOTENSOID_MAX_OPENING:g} times "
                           f"mandrel.profile.radius ({lo:g} to {hi:g}; netting theory has no dome at "
                           f"or beyond sqrt(2/3) times the radius), got {r0:g}")
     from winder.geometry.isotensoid import Isotensoid  # noqa: PLC0415 - its integrator loads with it
 
     return Isotensoid(R, r0)
+
+
+def _contour(dome: Dome, R: float, r0: float | None, source: str, key: str) -> DomeMeridian:
+    """A contour dome; the smoothing's refusals name the point (docs/math/17 17.1)."""
+    from winder.geometry.domes_contour import ContourDome, ContourError  # noqa: PLC0415 - contour domes only
+
+    pts = np.asarray(dome.points, dtype=float)
+    try:
+        return ContourDome(R, pts, dome.tolerance, r0)
+    except ContourError as exc:
+        label = dome.labels[exc.index]
+        z, r = pts[exc.index]
+        if label.startswith("mandrel."):
+            raise ConfigError(f"{source}: {label}: {exc}, got [{z:g}, {r:g}]") from exc
+        raise ConfigError(f"{source}: {key}.file: {label} (z = {z:.6g}, r = {r:.6g}): {exc}") from exc
 
 
 def make_vessel(cfg: VesselProfile, source: str) -> VesselMeridian:
@@ -211,7 +234,40 @@ def _refuse_spline_fold(mandrel: MandrelConfig, section: Section, source: str) -
 
 
 def build_surface(mandrel: MandrelConfig, source: str = "", name: str = "") -> SweepSurface:
-    """The sweep surface of a validated mandrel config; geometric refusals raise ConfigError."""
+    """The sweep surface of a validated mandrel config (docs/math/01-surface.md).
+
+    Parameters
+    ----------
+    mandrel : MandrelConfig
+        The config's mandrel (winder.config.job.JobConfig.mandrel).
+    source : str
+        The config file's name, for messages.
+    name : str
+        The job's name, kept on the surface.
+
+    Returns
+    -------
+    SweepSurface
+        Phi(s, theta) with exact first and second derivatives; `length` the internal station range,
+        `axial_length` the axis length T (mm).
+
+    Raises
+    ------
+    ConfigError
+        What only the geometry shows, with its key path: a fold (a section reaching the centre of a
+        bend), parts of the mandrel inside each other, a table profile dipping to r <= 0, dome fits.
+
+    Examples
+    --------
+    >>> from winder.config.job import parse_config
+    >>> job = parse_config({"name": "pipe", "mandrel": {"axis": {"type": "line", "length": 500},
+    ...                                                 "profile": {"type": "constant", "radius": 50}}}, "pipe.yaml")
+    >>> surface = build_surface(job.mandrel, job.source)
+    >>> surface.axial_length
+    500.0
+    >>> surface.points([100.0], [0.0])  # (t, theta) -> xyz: (r cos theta, r sin theta, t) on a straight axis
+    array([[ 50.,   0., 100.]])
+    """
     section = make_section(mandrel.section)
     axis_cfg = mandrel.axis
     _refuse_spline_fold(mandrel, section, source)

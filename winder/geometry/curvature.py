@@ -1,4 +1,4 @@
-"""Normal and geodesic curvature of a path on the surface, and the torus closed forms (MATH.md 7).
+"""Normal and geodesic curvature of a path on the surface, and the torus closed forms (docs/math/07-friction.md).
 
 A fiber's curvature vector splits in the Darboux frame (T, N, nu = N x T) as dT/dl = k_n N + k_g nu.
 N is the unit normal Phi_s x Phi_theta / |Phi_s x Phi_theta|, which points into the mandrel (toward
@@ -90,7 +90,7 @@ def slip_and_margin(k_n: np.ndarray, k_g: np.ndarray) -> tuple[float, float]:
     return float(np.max(np.abs(k_g / k_n))), k_min
 
 
-# -- torus (an elbow): MATH.md 7 ------------------------------------------------------------------
+# -- torus (an elbow): docs/math/07-friction.md ------------------------------------------------------------------
 def torus_normal_curvature(alpha: np.ndarray, phi: np.ndarray, bend_radius: float,
                            tube_radius: float) -> np.ndarray:
     """k_n (1/mm) on a torus, alpha from the pipe axis, phi around the tube from the inside of the bend:

@@ -1,6 +1,6 @@
 """Guide curves x(t), t the arc length, with their rotation-minimizing frames.
 
-SPEC.md conventions: x(0) = origin, x'(0) = +z, e2(0) = +x, e3 = e1 x e2. Every curve evaluates,
+Conventions (docs/guide/conventions.md): x(0) = origin, x'(0) = +z, e2(0) = +x, e3 = e1 x e2. Every curve evaluates,
 vectorized over stations z (m,), the point, its first three derivatives and the frame (e2, e3).
 The line is here; arcs and chains of lines and arcs are in winder.geometry.arcs, the spline in
 winder.geometry.spline_curves (loaded only for the mandrels that have them).

@@ -96,6 +96,27 @@ def with_derivatives(pieces: list[PPoly]) -> PPoly:
     return jet([(p, 2) for p in pieces])
 
 
+def table_grid(lo: float, hi: float, step: float, knots: np.ndarray) -> np.ndarray:
+    """A Hermite table's sites on [lo, hi]: the knots given (where a base's own pieces join, its higher
+    derivatives jumping) and, between them, even sites at most `step` apart. Sites are never added
+    next to a knot (two nearly equal sites would amplify the data's last bits by 1 / dx^2 in the
+    piece's curvature), and a table built on a table keeps its size (the grown domes, layer on layer)."""
+    sites = np.unique(np.concatenate([[lo, hi], np.clip(np.asarray(knots, dtype=float), lo, hi)]))
+    gaps = np.diff(sites)
+    # knots closer than a thousandth of the step to the one before are dropped (the same site)
+    keep = np.concatenate([[True], gaps > 1e-3 * step])
+    keep[-1] = True
+    sites = sites[keep]
+    if sites.size > 2 and sites[-1] - sites[-2] <= 1e-3 * step:
+        sites = np.delete(sites, -2)
+    gaps = np.diff(sites)
+    parts = np.maximum(1, np.ceil(gaps / step - 1e-9)).astype(int)
+    frac = np.concatenate([np.arange(m) / m for m in parts])
+    start = np.repeat(sites[:-1], parts)
+    width = np.repeat(gaps, parts)
+    return np.append(start + frac * width, sites[-1])
+
+
 class DomeMeridian:
     """One dome's meridian from its equator (sigma = 0) to its polar opening (sigma = length).
 
@@ -117,6 +138,7 @@ class DomeMeridian:
     """
 
     kind: str
+    joints: tuple[float, ...] = ()  # sigma where the meridian's curvature jumps inside the dome
     radius: float
     polar_opening: float
     length: float

@@ -1,4 +1,4 @@
-"""Cubic splines against the vertex index: uniform knots, not-a-knot ends (MATH.md 2).
+"""Cubic splines against the vertex index: uniform knots, not-a-knot ends (docs/math/02-energy.md).
 
 A path's converged vertices are equally spaced in 3D, so the index is a good arc-length proxy; the
 spline through (s_i, theta_i) against i resamples a path between solver levels and carries the

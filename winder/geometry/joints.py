@@ -1,4 +1,4 @@
-"""The smooth length across the joints of a guide curve made of pieces (MATH.md 2).
+"""The smooth length across the joints of a guide curve made of pieces (docs/math/02-energy.md).
 
 Where a path's line meets its arc the guide's curvature K jumps, and with it Phi_s = z1 (1 - R K.n) T:
 the surface is C1 (its tangent plane is continuous) but its parametrization is not. A geodesic's

@@ -1,4 +1,4 @@
-"""Measurements of a path given by parameter points: lengths and quality checks (MATH.md 2, 4)."""
+"""Measurements of a path given by parameter points: lengths and quality checks (docs/math/02-energy.md, docs/math/04-checks.md)."""
 
 from __future__ import annotations
 

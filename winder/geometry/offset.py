@@ -1,6 +1,6 @@
 """The grown mandrel: a sweep surface offset along its normal by a laminate thickness h(s).
 
-The next layer is planned on the mandrel grown by the layers below (MATH.md 8), so the grown mandrel
+The next layer is planned on the mandrel grown by the layers below (docs/math/08-laminate-edges.md), so the grown mandrel
 must be a sweep surface of the same kind, with exact, consistent derivatives:
 
 - Axial profiles (constant, cone, table; s = t): the radius grows by g(t) = h(t) sqrt(1 + r'(t)^2),
@@ -14,9 +14,11 @@ must be a sweep surface of the same kind, with exact, consistent derivatives:
   quintic Hermite pieces through exact values, unit tangents and curvatures at the knots (as the
   isotensoid is), so it is a DomeMeridian and the grown vessel a VesselMeridian: the planner, Clairaut
   turnarounds and advances work on it unchanged. A constant g on a hemisphere gives the sphere of
-  radius R + g. The offset passes the polar-opening plane outward (the normal there points away from
-  the equator), so it is trimmed at that plane: the grown vessel keeps the axial frame (t = 0 at the
-  first opening, the equators at the same t), hence the same machine coordinates.
+  radius R + g. A laminate piled up next to a boss rises past the opening's plane (as it does along the
+  boss's neck): the grown dome ends where its surface would turn back toward the equator or fold next
+  to the opening (the pile-up's inner edge; an isotensoid's end hook under it), and the grown vessel
+  keeps the axial frame (the equators at the same t, hence the same machine coordinates) with its near
+  end at t = origin <= 0 (docs/math/17 17.8).
 - Non-circular sections scale with the profile (R = p(s) q(theta)), so their mean radius grows by g;
   a uniform offset of a flat side is then approximate, exact on circles.
 """
@@ -28,7 +30,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from winder.geometry.domes import DomeMeridian, _quintic_hermite, with_derivatives
+from winder.geometry.domes import DomeMeridian, _quintic_hermite, table_grid, with_derivatives
 from winder.geometry.profiles import AxialProfile, linear
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
@@ -39,7 +41,9 @@ Growth = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 FOLD_MARGIN = 0.05  # 1 - g k must stay above this: a layer thicker than a concave radius folds
 KNOT_SPACING = 0.25  # mm, the offset dome's knot spacing (plus the base dome's own knots)
 AFFINE_TOL = 1e-12  # mm: a growth this close to affine keeps a one-piece profile (Horner path)
-TRIM_TOL = 1e-13  # mm: where a grown dome is trimmed at its opening plane (brentq on the exact offset)
+END_ZONE_SHARE = 0.15  # of a dome's length next to its opening where the laminate's surface may end early
+END_COS = 1e-3  # the grown meridian ends before its tangent turns within this cosine of radial
+TRIM_STEPS = 48  # bisections of where it ends
 
 
 class OffsetError(ValueError):
@@ -68,29 +72,23 @@ def grow_axial(profile: AxialProfile, s: np.ndarray, h: np.ndarray) -> AxialProf
 
 class OffsetDome(DomeMeridian):
     """A dome meridian offset along its normal by g(sigma) (sigma the base arc length from the
-    equator), re-parametrized by its own arc length and trimmed at the base's opening plane."""
+    equator), re-parametrized by its own arc length, ending where the laminate's surface ends next to
+    the opening (it may rise past the opening's plane: the grown vessel's frame follows, VesselMeridian
+    .origin)."""
 
     def __init__(self, base: DomeMeridian, growth: Growth):
         L = base.length
-        grid = np.union1d(np.linspace(0.0, L, max(65, int(np.ceil(L / KNOT_SPACING)) + 1)),
-                          np.clip(base._tab_sigma, 0.0, L))
-        # trim where the offset crosses the opening plane first (an end hook beyond it is cut off)
-        H = self._position(base, growth, grid)[0]
-        if np.any(H[:-1] > base.depth):
-            i = int(np.argmax(H > base.depth))
-            from scipy.optimize import brentq  # noqa: PLC0415 - a grown dome only
-
-            cut = brentq(lambda x: self._position(base, growth, np.array([x]))[0][0] - base.depth,
-                         grid[i - 1], grid[i], xtol=TRIM_TOL)
-            grid = np.append(grid[:i], cut)
+        grid = table_grid(0.0, L, min(KNOT_SPACING, L / 64.0), np.union1d(base._tab_sigma, base.joints))
+        grid = self._trimmed(base, growth, grid)
         H, R, psi, kap, speed = self._offset(base, growth, grid)
-        H[-1] = base.depth
         sig = self._arc_length(base, growth, grid)
         self.kind = base.kind
+        # the base's curvature joints are table sites: the offset's own arc length there
+        self.joints = tuple(float(sig[np.argmin(np.abs(grid - j))]) for j in base.joints if j < grid[-1])
         self.radius = float(R[0])
         self.semi_axis = None
         self.length = float(sig[-1])
-        self.depth = float(base.depth)
+        self.depth = float(H[-1])
         self.end_radius = float(R[-1])
         self.polar_opening = self.end_radius
         k = kap / speed  # curvature in the offset's own arc length
@@ -100,12 +98,31 @@ class OffsetDome(DomeMeridian):
         self._pp = with_derivatives([hh, rr])  # h, h', h'', r, r', r'' (both pieces share the knots)
         self._tab_sigma, self._tab_h = sig, H
 
+    @classmethod
+    def _trimmed(cls, base: DomeMeridian, growth: Growth, grid: np.ndarray) -> np.ndarray:
+        """The grid up to where the laminate's surface ends next to the opening: where the offset would
+        turn back toward the equator or fold (a pile-up's inner edge against the boss, an isotensoid's
+        end hook under the laminate), found by bisection. Anywhere else that is a refusal (_offset)."""
+        bad = ~cls._regular(base, growth, grid)
+        if not np.any(bad):
+            return grid
+        i = int(np.argmax(bad))
+        if i == 0 or grid[i] < base.length * (1.0 - END_ZONE_SHARE):
+            return grid  # _offset refuses it with the reason
+        lo, hi = grid[i - 1], grid[i]
+        for _ in range(TRIM_STEPS):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if cls._regular(base, growth, np.array([lo, mid]))[-1] else (lo, mid)
+        return np.append(grid[:i], lo)
+
     @staticmethod
-    def _position(base: DomeMeridian, growth: Growth, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Offset point (H, R) at base sigma."""
+    def _regular(base: DomeMeridian, growth: Growth, sigma: np.ndarray) -> np.ndarray:
+        """Where the offset is a regular meridian still moving toward the pole (bool per sigma)."""
         ev = base.evaluate(sigma)
-        g = growth(sigma)[0]
-        return ev.h - g * ev.r1, ev.r + g * ev.h1
+        g, g1, _ = growth(sigma)
+        k = ev.h1 * ev.r2 - ev.r1 * ev.h2
+        a = 1.0 - g * k
+        return (a >= FOLD_MARGIN) & (np.cos(np.arctan2(ev.r1, ev.h1) + np.arctan2(g1, a)) > END_COS)
 
     @staticmethod
     def _offset(base: DomeMeridian, growth: Growth, sigma: np.ndarray):
@@ -174,8 +191,11 @@ def vessel_growths(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> tupl
 def grow_vessel(vessel: VesselMeridian, s: np.ndarray, h: np.ndarray) -> VesselMeridian:
     """A vessel meridian offset by the thickness h at vessel stations s ((m,) float each)."""
     g_cyl, first, end = vessel_growths(vessel, s, h)
-    return VesselMeridian(vessel.radius + g_cyl, vessel.cylinder_length,
-                          OffsetDome(vessel.dome, first), OffsetDome(vessel.end_dome, end))
+    near = OffsetDome(vessel.dome, first)
+    # the equators keep their t (the machine's frame): the near end moves by the first dome's rise
+    origin = vessel.origin + vessel.dome.depth - near.depth
+    return VesselMeridian(vessel.radius + g_cyl, vessel.cylinder_length, near, OffsetDome(vessel.end_dome, end),
+                          origin)
 
 
 def grow_surface(surface: SweepSurface, s: np.ndarray, h: np.ndarray) -> SweepSurface:

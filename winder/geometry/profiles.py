@@ -39,7 +39,7 @@ class Profile(Protocol):
 
     length: float  # internal station range: s in [0, length]
     axial_length: float  # T, the axial length covered
-    reference_radius: float  # profile(0) in SPEC.md terms, scales a non-circular section
+    reference_radius: float  # profile(0) (docs/math/01-surface.md 1.5), scales a non-circular section
 
     def evaluate(self, s: np.ndarray) -> ProfileEval: ...
 

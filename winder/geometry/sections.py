@@ -1,6 +1,6 @@
 """Cross-section shapes as polar radius functions rho(theta), with two derivatives.
 
-Every section is star-shaped around the axis (SPEC.md), so each theta names one point:
+Every section is star-shaped around the axis (docs/math/01-surface.md 1.5), so each theta names one point:
 the section point is rho(theta) (cos theta, sin theta) in the (e2, e3) plane. The circle is here; the
 other sections are in winder.geometry.outlines.
 """

@@ -1,6 +1,6 @@
 """A spline axis's bend radius against the mandrel's largest section radius, from numpy alone.
 
-A spline axis bent tighter than the section is wide folds the mandrel onto itself (MATH.md 2: the
+A spline axis bent tighter than the section is wide folds the mandrel onto itself (docs/math/01-surface.md 1.6: the
 sweep is regular while 1 - R (K . n) > 0). find_fold (winder.geometry.surface) tells it on the built
 surface, but building a spline curve loads scipy.interpolate (over a second on a busy machine) and a
 folded mandrel must be refused at once. The chord-length cubic through the points (the interpolant

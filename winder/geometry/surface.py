@@ -5,7 +5,7 @@ z(s) the axial station of the internal station s (z = s except on vessels, see p
 R(s, theta) = p(s) q(theta): the profile radius times the section shape. One code path serves the
 paper's three radius cases; a case only changes which derivatives vanish.
 
-Derivatives (MATH.md 1), with T = x', K = x'', K' = x''' at z and m = dn/dtheta:
+Derivatives (docs/math/01-surface.md), with T = x', K = x'', K' = x''' at z and m = dn/dtheta:
   n_z = -(K.n) T,   m_z = -(K.m) T,   n_zz = -(K'.n) T - (K.n) K
   Phi_s   = z1 T + R_s n + R z1 n_z
   Phi_th  = R_th n + R m
@@ -77,8 +77,13 @@ class SweepSurface:
     # -- stations ---------------------------------------------------------------------------------
     @property
     def axial_length(self) -> float:
-        """T: the user-facing station t runs over [0, T]."""
+        """T: the user-facing station t runs over [t_start, T] ([0, T] on every bare mandrel)."""
         return self.profile.axial_length if self.profile is not None else self.length
+
+    @property
+    def t_start(self) -> float:
+        """t at s = 0: 0, except on a grown vessel whose laminate rises past its first boss's plane."""
+        return float(getattr(self.profile, "t_start", 0.0))
 
     def t_of_s(self, s: np.ndarray) -> np.ndarray:
         s = np.asarray(s, dtype=float)

@@ -3,7 +3,9 @@
 Vessel: VesselMeridian implements the Profile protocol of winder.geometry.profiles. Its internal station s is
 the meridian arc length from the first polar opening: the first dome reversed, then the cylinder, then
 the end dome. The axial station t = z(s) is 0 in the plane of the first dome's polar opening
-(SPEC.md), so T = depth(dome) + cylinder_length + depth(end_dome).
+(docs/guide/conventions.md), so T = depth(dome) + cylinder_length + depth(end_dome). A grown vessel keeps the bare one's
+frame (its equators at the same t): where the laminate rises past the first boss's plane, its near end
+is at t = origin < 0.
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ class VesselMeridian:
     cylinder_length: float
     dome: DomeMeridian
     end_dome: DomeMeridian
+    origin: float = 0.0  # t at s = 0: 0 on the bare vessel, below 0 where a laminate rises past its boss
 
     @property
     def length(self) -> float:
@@ -52,7 +55,13 @@ class VesselMeridian:
 
     @property
     def axial_length(self) -> float:
-        return self.dome.depth + self.cylinder_length + self.end_dome.depth
+        """t at the far end (T on the bare vessel)."""
+        return self.origin + self.dome.depth + self.cylinder_length + self.end_dome.depth
+
+    @property
+    def t_start(self) -> float:
+        """t at the near end (0 on the bare vessel)."""
+        return self.origin
 
     @property
     def reference_radius(self) -> float:
@@ -64,7 +73,14 @@ class VesselMeridian:
 
     @property
     def equator_t(self) -> tuple[float, float]:
-        return (self.dome.depth, self.dome.depth + self.cylinder_length)
+        return (self.origin + self.dome.depth, self.origin + self.dome.depth + self.cylinder_length)
+
+    @property
+    def joints(self) -> tuple[float, ...]:
+        """Stations s where a dome's own meridian curvature jumps (a torispherical head's knuckle
+        meeting its crown), increasing; the equators are not among them."""
+        a, b = self.equator_s
+        return tuple(sorted([a - j for j in self.dome.joints] + [b + j for j in self.end_dome.joints]))
 
     @property
     def dome_ranges(self) -> VesselRanges:
@@ -76,7 +92,7 @@ class VesselMeridian:
         shape = s.shape
         s = s.ravel()
         a, b = self.equator_s
-        d1, C = self.dome.depth, self.cylinder_length
+        d1, C = self.origin + self.dome.depth, self.cylinder_length
         out = np.empty((6, s.size))
         # cylinder (also the default at the junctions)
         out[0] = d1 + (s - a)
@@ -85,14 +101,14 @@ class VesselMeridian:
         m = s < a
         if np.any(m):
             g, e = self.dome.drop_and_evaluate_from_opening(s[m])
-            out[:, m] = (g, e.h1, -e.h2, e.r, -e.r1, e.r2)
+            out[:, m] = (g + self.origin, e.h1, -e.h2, e.r, -e.r1, e.r2)
         m = s > b
         if np.any(m):
             e = self.end_dome.evaluate(s[m] - b)
             out[:, m] = (d1 + C + e.h, e.h1, e.h2, e.r, e.r1, e.r2)
         # round-off guard: t stays within [0, T] on [0, length]
         inside = (s >= 0.0) & (s <= self.length)
-        out[0, inside] = np.clip(out[0, inside], 0.0, self.axial_length)
+        out[0, inside] = np.clip(out[0, inside], self.origin, self.axial_length)
         return ProfileEval(*(o.reshape(shape) for o in out))
 
     def t_of_s(self, s: np.ndarray) -> np.ndarray:
@@ -100,7 +116,7 @@ class VesselMeridian:
 
     def s_of_t(self, t: np.ndarray) -> np.ndarray:
         """Internal station s of the axial station t (clipped to [0, axial_length])."""
-        t = np.clip(np.asarray(t, dtype=float), 0.0, self.axial_length)
+        t = np.clip(np.asarray(t, dtype=float), self.origin, self.axial_length)
         shape = t.shape
         t = t.ravel()
         a, b = self.equator_s
@@ -108,7 +124,7 @@ class VesselMeridian:
         s = a + (t - ta)
         m = t < ta
         if np.any(m):
-            s[m] = self.dome.u_of_drop(t[m])
+            s[m] = self.dome.u_of_drop(t[m] - self.origin)
         m = t > tb
         if np.any(m):
             s[m] = b + self.end_dome.sigma_of_h(t[m] - tb)

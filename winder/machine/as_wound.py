@@ -8,7 +8,8 @@ along the axis there: the laminate stands out past the opening plane, where the 
 nothing, and an eye kept its clearance from the bare boss region instead (13.8 mm of 30 from the
 wound dome of a 22-layer tank). So the part as wound is taken as the larger of
 
-- the grown surface's largest section radius r_max(t) over [0, T], and
+- the grown surface's largest section radius r_max(t) over [t_start, T] (a grown vessel's domes stand
+  past the opening planes too, docs/math/17 17.8, but the smoothing lowers a pile-up's crest), and
 - on a vessel of revolution with a laminate, the bare meridian moved out along its normal by the wall
   wound so far (winder.winding.dome_wall: the layers' thicknesses summed at the foot of each bare
   point on each layer's own surface, the summary's dome wall), not trimmed: it runs past the
@@ -47,10 +48,10 @@ class WoundProfile:
     @property
     def span(self) -> tuple[float, float]:
         """The stations the part covers: [0, T] and wherever the wall stands past them."""
-        T = float(self.surface.axial_length)
+        T, t0 = float(self.surface.axial_length), float(self.surface.t_start)
         if self.wall_z.size == 0:
-            return 0.0, T
-        return min(0.0, float(self.wall_z.min())), max(T, float(self.wall_z.max()))
+            return t0, T
+        return min(t0, float(self.wall_z.min())), max(T, float(self.wall_z.max()))
 
     def beyond(self, stations: np.ndarray) -> np.ndarray:
         """The wall's largest radius at the stations (k,), -inf where it has none."""
@@ -62,7 +63,7 @@ class WoundProfile:
         lo, hi = self.span
         n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil((hi - lo) / step) + 1)))
         stations = np.linspace(lo, hi, n)
-        inside = (stations >= 0.0) & (stations <= self.surface.axial_length)
+        inside = (stations >= self.surface.t_start) & (stations <= self.surface.axial_length)
         r = np.maximum(self.beyond(stations), 0.0)
         r[inside] = np.maximum(r[inside], section_top(self.surface, stations[inside]))
         return stations, r

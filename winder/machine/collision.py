@@ -14,7 +14,9 @@ Robot poses (a bent axis, or machine.robot): the eye moves linearly in the mandr
 poses, and the part is the tube of radius r_max(t) around the guide curve, its ends closed by discs
 square to the end tangents: a point at distance rho from its closest guide point x(t*) lies
 (rho - r_max(t*)) / sqrt(1 + r_max'(t*)^2) from it (exact where r_max is constant; to first order in
-the tube's taper otherwise), and past an end as far as from that end's disc.
+the tube's taper otherwise), and past an end as far as from that end's disc. Around a straight guide
+(machine.robot on a straight axis: a vessel) the part is the solid of revolution above, measured as
+such: its ends those of the table, which a vessel's laminate carries past 0 and T.
 """
 
 from __future__ import annotations
@@ -124,10 +126,16 @@ def tube_distance(points: np.ndarray, env: EyeEnvelope, guide: Guide, near: np.n
     """Distance (mm, < 0 inside) of points (m, 3) in the mandrel frame from the part around a guide
     curve (module docstring: robot poses); near : (m,) stations close to their closest ones."""
     station, rho = guide.project(points, start=near)
-    T = guide.T
+    if guide.curve.is_straight:
+        # A straight axis (a vessel wound by a robot): the part is the solid of revolution of r_max, and
+        # a point's distance from it that of (rho, station) from the meridian, exactly; the tube's first
+        # order in the taper errs by millimetres against a dome's pile-ups (a wall nearly square to the axis).
+        return part_distance(rho, station, env)
+    # The part's ends: the table's (a vessel's laminate stands past 0 and T), not the guide's.
+    lo, hi = env.stations[0], env.stations[-1]
     r = env.mandrel_at(station)
-    slope = np.interp(np.clip(station, 0.0, T), env.stations, np.gradient(env.mandrel_radius, env.stations))
-    beyond = np.maximum(-station, 0.0) + np.maximum(station - T, 0.0)
+    slope = np.interp(np.clip(station, lo, hi), env.stations, np.gradient(env.mandrel_radius, env.stations))
+    beyond = np.maximum(lo - station, 0.0) + np.maximum(station - hi, 0.0)
     past = np.hypot(beyond, np.maximum(rho - r, 0.0))  # from the end disc or its rim
     return np.where(beyond > 0.0, past, (rho - r) / np.sqrt(1.0 + slope * slope))
 

@@ -1,5 +1,5 @@
-"""How far the written program's eye lies from the fiber it lays (SPEC.md "Invariants every job proves
-before it writes"): every programmed point and every move's midpoint against the exact tangent ray of
+"""How far the written program's eye lies from the fiber it lays (docs/guide/conventions.md,
+what a job proves): every programmed point and every move's midpoint against the exact tangent ray of
 the planned path at its contact.
 
 The free fiber runs from its contact point p on the mandrel along the path's unit tangent d to the
@@ -13,12 +13,13 @@ row as the program writes it (its decimals), by the forward kinematics of the ma
 
 Between two rows the controller moves the axes linearly, and the eye at the move's midpoint lays the
 fiber from a contact between the rows' two: its deviation is the least distance from the rays of the
-contacts u in [u0, u1]. That is sought on the chord of the two rows' own contacts (p and d linear in
-the move, MIDPOINT_SAMPLES points and a parabola through the least three of the squared distance,
+contacts u in [u0, u1]. That is sought on the cubic Hermite of the two rows' own contacts and
+directions (MIDPOINT_SAMPLES points and a parabola through the least three of the squared distance,
 which is smooth in u), then read on the exact path at the contact found: an upper bound of the least
 distance. Where that bound is past REFINE_SHARE of the tolerance the search is repeated on the exact
-path itself (REFINE_PER_POINT points a planned interval, then the parabola), so a coarse chord never
-condemns a good move: a move over a flat of a rectangular tube's section runs many planned intervals
+path itself (nine points, then REFINE_PER_POINT a planned interval with golden-section steps and the
+tangent plane's sign changes: docs/math/15-invariants.md), so a coarse model never condemns a good
+move: a move over a flat of a rectangular tube's section runs many planned intervals
 (the eye hardly moves while the contact runs along the flat, whose tangent rays are one line), and its
 midpoint's contact lies near one end.
 """
@@ -35,12 +36,13 @@ from winder.machine.smooth import SmoothPaths
 from winder.winding.results import WindingPlan
 
 MIDPOINT_SAMPLES = 9  # points of a move's chord of contacts where the midpoint's contact is sought
-REFINE_PER_POINT = 8  # ... and of the exact path a planned interval, where the chord's answer is in doubt
+REFINE_PER_POINT = 3  # ... and of the exact path a planned interval, where the chord's answer is in doubt
 REFINE_MOST = 1024  # samples of a move, at most
 REPORT_TOP = 64  # a layer's largest midpoint bounds sought again too, a round at a time
 REPORT_ROUNDS = 8
-FALSI_STEPS = 30  # regula falsi steps closing a bracket of the tangent plane through the eye
-GOLDEN_STEPS = 20  # golden-section steps around the least sample (its bracket shrinks 0.618^20 ~ 7e-5)
+BRACKET_REACH, BRACKET_MM = 4.0, 5.0  # a bracket is closed where it starts within this of the least sample
+FALSI_STEPS = 14  # regula falsi steps closing a bracket of the tangent plane through the eye
+GOLDEN_STEPS = 16  # golden-section steps around the least sample (its bracket shrinks 0.618^16 ~ 5e-4)
 REFINE_SHARE = 1.0  # of the chord tolerance: a midpoint whose bound is past this is sought again on the path
 
 
@@ -130,6 +132,10 @@ def _refined(e: np.ndarray, plane, u0: np.ndarray, u1: np.ndarray) -> np.ndarray
         lo[sub], hi[sub] = u[rows, k_min] - step, u[rows, k_min] + step
         best[sub] = dist[rows, k_min]
         i, j = np.nonzero(np.signbit(h[:, :-1]) != np.signbit(h[:, 1:]))
+        # Only brackets whose nearer end lies within BRACKET_REACH of the move's least sample: the eye
+        # is on a tangent plane there, but far off its ray a step away is far off it at the root too.
+        near = np.minimum(dist[i, j], dist[i, j + 1]) <= BRACKET_REACH * dist[i, k_min[i]] + BRACKET_MM
+        i, j = i[near], j[near]
         roots.append((sub[i], u[i, j], u[i, j + 1], h[i, j], h[i, j + 1]))
     lo, hi = np.maximum(lo, np.minimum(u0, u1)), np.minimum(hi, np.maximum(u0, u1))
     best = np.minimum(best, _golden(e, at, lo, hi, GOLDEN_STEPS)[1])
@@ -183,9 +189,10 @@ def _golden(e: np.ndarray, at, lo: np.ndarray, hi: np.ndarray, steps: int) -> tu
     return np.where(better, c, d_), np.where(better, fc, fd)
 
 
-def layer_deviations(paths: SmoothPaths, eyes: np.ndarray, midway: np.ndarray, u: np.ndarray, move: np.ndarray,
-                     tol: float) -> tuple[np.ndarray, np.ndarray]:
-    """(point (m,), midpoint (m,)) deviations of one layer's fiber rows: eyes (m, 3) written, midway
+def layer_deviations(paths: SmoothPaths, planned: np.ndarray, eyes: np.ndarray, midway: np.ndarray, u: np.ndarray,
+                     move: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """(point (m,), midpoint (m,)) deviations of one layer's fiber rows: planned (n, 3) the layer's planned
+    points (the paths' nodes), eyes (m, 3) written, midway
     (m, 3) the eye halfway along the move to each row, u (m,) their global parameters on the layer's
     paths, move (m,) bool: the move to the row lays fiber from the row before (the midpoint's NaN
     elsewhere); tol the chord tolerance (module docstring)."""
@@ -204,6 +211,10 @@ def layer_deviations(paths: SmoothPaths, eyes: np.ndarray, midway: np.ndarray, u
     # Every interval's geodesic run at once, kept in the memo for the searches below (each reads a few).
     exact(np.arange(paths.s.size - 1) + 0.5)
     p, d = exact(u)
+    # A planned point's contact is the plan's own point and direction (where a joint of the guide
+    # falls on it, the smooth path's side of the joint is not the plan's).
+    node = np.flatnonzero(u == np.floor(u))
+    p[node], d[node] = planned[u[node].astype(np.int64)], paths.d[u[node].astype(np.int64)]
     point = ray_distance(eyes, p, d)
     mid = np.full(u.size, np.nan)
     k = np.flatnonzero(move)
@@ -212,14 +223,19 @@ def layer_deviations(paths: SmoothPaths, eyes: np.ndarray, midway: np.ndarray, u
     e_mid = midway[k]
     p0, p1, d0, d1 = p[k - 1], p[k], d[k - 1], d[k]
 
+    span = row_norms(p1 - p0)[:, None]  # the cubic's end tangents: the contacts' directions, the chord long
+
     def chord(at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        # at: each move's parameters in a run (as _least_on asks them), the contacts linear between its rows'
+        # at: each move's parameters in a run (as _least_on asks them); the contact on the cubic Hermite
+        # of the rows' two contacts and directions, its direction the cubic's tangent
         reps = at.size // k.size
         lo, hi = np.repeat(u[k - 1], reps), np.repeat(u[k], reps)
         g = ((at - lo) / np.where(hi != lo, hi - lo, 1.0))[:, None]
-        pp = np.repeat(p0, reps, axis=0) * (1.0 - g) + np.repeat(p1, reps, axis=0) * g
-        dd = np.repeat(d0, reps, axis=0) * (1.0 - g) + np.repeat(d1, reps, axis=0) * g
-        return pp, dd / row_norms(dd)[:, None]
+        a0, a1, m0, m1 = (np.repeat(x, reps, axis=0) for x in (p0, p1, span * d0, span * d1))
+        g2, g3 = g * g, g * g * g
+        pp = (2 * g3 - 3 * g2 + 1) * a0 + (g3 - 2 * g2 + g) * m0 + (3 * g2 - 2 * g3) * a1 + (g3 - g2) * m1
+        dd = (6 * g2 - 6 * g) * a0 + (3 * g2 - 4 * g + 1) * m0 + (6 * g - 6 * g2) * a1 + (3 * g2 - 2 * g) * m1
+        return pp, dd / np.maximum(row_norms(dd), 1e-300)[:, None]
 
     found, _ = _least_on(e_mid, chord, u[k - 1], u[k], MIDPOINT_SAMPLES)
     p_f, d_f = exact(found)
@@ -229,12 +245,14 @@ def layer_deviations(paths: SmoothPaths, eyes: np.ndarray, midway: np.ndarray, u
     # REPORT_ROUNDS rounds.
     bound, done = mid[k], np.zeros(k.size, dtype=bool)
     doubt = np.flatnonzero(bound > REFINE_SHARE * tol)
-    for _ in range(REPORT_ROUNDS):
+    for round_ in range(REPORT_ROUNDS):
         if doubt.size:
             bound[doubt] = np.minimum(bound[doubt], _least_on(e_mid[doubt], exact, u[k - 1][doubt], u[k][doubt],
                                                               MIDPOINT_SAMPLES)[1])
             done[doubt] = True
-            still = doubt[bound[doubt] > REFINE_SHARE * tol]
+            # The largest are reported: sought to the end whatever their bound (the figure then holds
+            # from run to run, not one search's bound).
+            still = doubt[bound[doubt] > REFINE_SHARE * tol] if round_ == 0 else doubt
             if still.size:
                 bound[still] = np.minimum(bound[still], _refined(e_mid[still], plane, u[k - 1][still], u[k][still]))
         top = np.argsort(bound)[-REPORT_TOP:]
@@ -272,7 +290,8 @@ def program_deviations(plan: WindingPlan, program, tol: float) -> Deviations:
         offsets = [paths.offset[j] for j, seg in enumerate(segments) if seg.stop > seg.start + seg.approach]
         r = np.concatenate(rows)
         u = np.concatenate([o + x for o, x in zip(offsets, us)])
-        point[r], mid[r] = layer_deviations(paths, eyes[r], _midway(values, program.robot, r), u,
+        planned = np.concatenate([np.asarray(fp.points, dtype=float).reshape(-1, 3) for fp in layer.passes])
+        point[r], mid[r] = layer_deviations(paths, planned, eyes[r], _midway(values, program.robot, r), u,
                                             np.concatenate(moves), tol)
     return Deviations(point, mid)
 

@@ -28,10 +28,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.machine.reduce import reduce_points
+
 LIFT_FRACTIONS = (0.25, 0.5, 0.75)  # where each table segment's chord is held against the dilation
 LIFT_TOL = 1e-4  # mm: a deficit this small is far below the program's last decimal (1 um): left as it is
 BLOCK = 1 << 20  # query-vertex pairs per block (memory stays bounded)
 STRAIGHT_TOL = 1e-11  # mm: a vertex this close to its neighbours' chord is inside a straight run
+SIMPLIFY_TOL = 1e-6  # mm: a long profile is simplified within this (Douglas-Peucker) before it is dilated
+SIMPLIFY_FROM = 2000  # vertices: shorter profiles are dilated as they are
 
 
 def turn(x: np.ndarray, z: np.ndarray, a, b, c):
@@ -60,6 +64,12 @@ def polyline_dilation(xq: np.ndarray, t: np.ndarray, r: np.ndarray, c: float) ->
     t, r = without_straight_runs(np.asarray(t, dtype=float), np.asarray(r, dtype=float))
     if t.size == 0:
         return out
+    if t.size > SIMPLIFY_FROM:
+        # A laminate's profile is straight but for its bands' overlaps (1e-6 mm): no run is straight
+        # to STRAIGHT_TOL and every query reached hundreds of vertices (6 s of a 3 m strut's 21). The
+        # polyline within SIMPLIFY_TOL of it, dilated by c + SIMPLIFY_TOL, lies above the true dilation.
+        keep = reduce_points(np.column_stack([t, r]), SIMPLIFY_TOL)
+        t, r, c = t[keep], r[keep], c + SIMPLIFY_TOL
     lo = np.searchsorted(t, xq - c, side="left")
     need = np.searchsorted(t, xq + c, side="right") - lo + 2
     widths = np.left_shift(1, np.ceil(np.log2(need)).astype(np.int64))  # padded (module docstring)

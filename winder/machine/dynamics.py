@@ -1,5 +1,5 @@
-"""Axis dynamics: how long the machine takes over each move of a motion program (SPEC.md "Machine
-dynamics and dialects").
+"""Axis dynamics: how long the machine takes over each move of a motion program (docs/math/06-machine.md
+ 6.4).
 
 A move is the straight line in axis space from one programmed point to the next, all axes
 synchronous. Its speed is a scalar sigma along that line in the speed-scaled axis space

@@ -10,13 +10,16 @@ import numpy as np
 
 from winder.config.machine import MachineConfig
 from winder.geometry.surface import SweepSurface
-from winder.machine.dilation import lift_table, turn
+from winder.machine.dilation import LIFT_TOL, lift_table, polyline_dilation, turn
 
 SECTION_SAMPLES = 3601  # angles scanned for the section's largest radius
 ENVELOPE_STEP = 0.25  # mm, station step of the tabulated envelope (finer for small clearances)
 ENVELOPE_MAX_SAMPLES = 65537
 SKIP_MARGIN = 1e-9  # relative: the dilation's skipped steps are no-ops with this much to spare
 HULL_SWEEPS = 64  # vectorized pruning sweeps of the upper hull before the monotone chain finishes it
+CAP_CUT = 2  # samples of a dilated end cap the table stops short of (where its continuation clears)
+CONTINUATION_SAMPLES = 257  # points between a table's end and its cap's rim its continuation is held at
+RIM_EXCESS = 1e-4  # mm: the circumscribed polygon of an end's disc lies at most this far outside it
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -106,7 +109,7 @@ def _largest_section_angle(surface: SweepSurface) -> float:
 
 
 def section_top(surface: SweepSurface, stations: np.ndarray) -> np.ndarray:
-    """r_max (k,) at the uniform stations (k,) inside [0, T]: the largest section radius, sampled in
+    """r_max (k,) at the uniform stations (k,) inside [t_start, T]: the largest section radius, sampled in
     the internal station (arc length on domes) at least as finely, then put on the stations."""
     th_max = _largest_section_angle(surface)
     s = np.linspace(0.0, surface.length, max(stations.size, 2049))
@@ -118,16 +121,16 @@ def eye_envelope(surface: SweepSurface, machine: MachineConfig, wound=None) -> E
     """The eye envelope of a machine around a mandrel (module docstring); computed once per job.
     wound : the part as wound (winder.machine.as_wound.WoundProfile) where its laminate stands
     beyond the surface (past a vessel's opening planes): the envelope clears both."""
-    T = surface.axial_length
+    T, t0 = surface.axial_length, surface.t_start
     clearance = machine.eye_clearance if machine.eye_radius is None else None
     step = ENVELOPE_STEP if clearance is None else min(ENVELOPE_STEP, clearance / 16.0)
-    lo, hi = (0.0, T) if wound is None else wound.span
+    lo, hi = (t0, T) if wound is None else wound.span
     n = int(min(ENVELOPE_MAX_SAMPLES, max(257, np.ceil((hi - lo) / step) + 1)))
     stations = np.linspace(lo, hi, n)
     if wound is None:
         r_max = section_top(surface, stations)
     else:
-        inside = (stations >= 0.0) & (stations <= T)
+        inside = (stations >= t0) & (stations <= T)
         r_max = np.maximum(wound.beyond(stations), 0.0)
         r_max[inside] = np.maximum(r_max[inside], section_top(surface, stations[inside]))
     if machine.eye_radius is not None:
@@ -146,12 +149,59 @@ def eye_envelope(surface: SweepSurface, machine: MachineConfig, wound=None) -> E
         return EyeEnvelope(stations, _lifted(stations, plain, r_max, c), r_max, None, c)
     dil, x = _dilate(stations, r_max, c, h, k_max, caps)
     # The cap's last samples run nearly vertical, where a chord between samples falls inside the circle:
-    # stop the table two samples short; the straight continuation (a secant's) stays outside it.
-    cut = slice(2 if caps[0] else 0, x.size - (2 if caps[1] else 0))
+    # stop the table CAP_CUT samples short; the straight continuation (a secant's) stays outside it where
+    # the cap's first samples lie on the end's own disc. Where they lie on a neighbour's (a grown
+    # vessel's end: its boss corner past the opening plane, low, the pile-up's wall steep behind it,
+    # docs/math/17 17.8), the secant runs steeper than the end's disc and cuts into it (0.33 mm of 25 on
+    # tank_20): that end's cap is then taken down to its rim along the end disc's circumscribed polygon.
+    cut = slice(CAP_CUT if caps[0] else 0, x.size - (CAP_CUT if caps[1] else 0))
     x, dil = x[cut], dil[cut]
     z = _lifted(x, _concave_majorant(x, dil), r_max, c, stations)
-    slopes = tuple(((z[1] - z[0]) / h if caps[0] else 0.0, (z[-1] - z[-2]) / h if caps[1] else 0.0))
+    slopes = ((z[1] - z[0]) / h if caps[0] else 0.0, (z[-1] - z[-2]) / h if caps[1] else 0.0)
+    short = [end for end in (0, 1) if caps[end] and _continuation_cuts(x, z, slopes, stations, r_max, c, end)]
+    if short:
+        x, dil = _with_rims(x, dil, stations, r_max, c, short)
+        z = _lifted(x, _concave_majorant(x, dil), r_max, c, stations)
+        slopes = ((z[1] - z[0]) / (x[1] - x[0]) if 0 in short else slopes[0],
+                  (z[-1] - z[-2]) / (x[-1] - x[-2]) if 1 in short else slopes[1])
     return EyeEnvelope(stations, z, r_max, None, c, x, slopes)
+
+
+def _continuation_cuts(x: np.ndarray, z: np.ndarray, slopes: tuple[float, float], stations: np.ndarray,
+                       r_max: np.ndarray, c: float, end: int) -> bool:
+    """Whether the table's straight continuation past its end (0: first, 1: last) comes nearer the
+    profile's polyline (stations, r_max) than c before the cap's rim, c past the profile's end (the
+    polyline's dilation, winder.machine.dilation; an end disc's top is its end vertex's disc)."""
+    sign = 1.0 if end == 0 else -1.0
+    rim = stations[0] - c if end == 0 else stations[-1] + c
+    x0, z0, slope = (x[0], z[0], slopes[0]) if end == 0 else (x[-1], z[-1], slopes[1])
+    if (x0 - rim) * sign <= 0.0:
+        return False
+    q = np.linspace(rim, x0, CONTINUATION_SAMPLES)
+    line = np.maximum(z0 + slope * (q - x0), 0.0)
+    return bool(np.any(polyline_dilation(q, stations, r_max, c) > line + LIFT_TOL))
+
+
+def _with_rims(x: np.ndarray, dil: np.ndarray, stations: np.ndarray, r_max: np.ndarray, c: float,
+               ends: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """The samples (x, dil) with, at each end of ends, the polygon circumscribing its end vertex's disc
+    over the quarter from the rim (the disc's point c past the end, its tangent along the radius) to its
+    top: every edge touches the disc, every vertex within RIM_EXCESS of it. The upper hull of a union of
+    discs leaves the leftmost (rightmost) one at its rim, whatever its neighbours do: so the table's
+    concave majorant, taken over these too, clears the end's disc however steep the cap's samples run,
+    and past the rim (the table's new end) nothing of the part lies within c."""
+    k = int(np.ceil(0.5 * np.pi / (2.0 * np.arccos(1.0 / (1.0 + RIM_EXCESS / c)))))
+    psi = (np.arange(k) + 0.5) * (0.5 * np.pi / k)  # between the tangent points 0, pi/2k, .., pi/2
+    reach = c / np.cos(0.25 * np.pi / k)
+    for end in ends:
+        t0, r0, sign = (stations[0], r_max[0], -1.0) if end == 0 else (stations[-1], r_max[-1], 1.0)
+        px, pz = t0 + sign * reach * np.cos(psi), max(r0, 0.0) + reach * np.sin(psi)
+        x, dil = np.concatenate([x, px]), np.concatenate([dil, pz])
+    order = np.argsort(x, kind="stable")
+    x, dil = x[order], dil[order]
+    keep = np.concatenate([[True], np.diff(x) > 0.0])  # a station met twice keeps its larger value
+    dil = np.maximum.reduceat(dil, np.flatnonzero(keep))
+    return x[keep], dil
 
 
 def _lifted(x: np.ndarray, z: np.ndarray, r_max: np.ndarray, c: float, stations: np.ndarray | None = None) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""What every job proves before it writes (SPEC.md "Invariants every job proves before it writes").
+"""What every job proves before it writes (docs/guide/conventions.md).
 
 A job's plan and its program are checked against truths of their own, not against the numbers that
 built them, so that a defect anywhere upstream (a spline, a contact, a clearance model) is caught
@@ -31,6 +31,7 @@ from winder.machine.collision import move_distances
 from winder.machine.deviation import program_deviations
 from winder.machine.envelope import EyeEnvelope
 from winder.machine.limits import ROLE_UNITS, as_written
+from winder.machine.mend import MEND_ROUNDS, mend
 from winder.machine.program import AXES, MotionProgram
 from winder.winding.results import WindingPlan
 
@@ -53,17 +54,30 @@ def prove(plan: WindingPlan, job, program: MotionProgram | Exception | None) -> 
     """Check every invariant of a planned job and its program (module docstring); SolverError naming
     the first one broken. A program that could not be built (an Exception) is not checked here: the
     outputs that need it say why."""
+    return mended_and_proved(plan, job, program, mending=False)[1]
+
+
+def mended_and_proved(plan: WindingPlan, job, program: MotionProgram | Exception | None,
+                      mending: bool = True) -> tuple[MotionProgram | Exception | None, Invariants]:
+    """(the program, its invariants): prove's, the moves whose midpoints stray cut finer first
+    (winder.machine.mend) where mending."""
     covered = prove_coverage(plan, job)
     if not isinstance(program, MotionProgram) or program.values.shape[0] == 0:
-        return Invariants(covered)
+        return program, Invariants(covered)
     machine = program.machine
     tol = float(machine.chord_tolerance)
     dev = program_deviations(plan, program, tol)
+    for _ in range(MEND_ROUNDS if mending else 0):
+        stray = np.flatnonzero(dev.midpoint > tol + DEVIATION_SLACK)
+        if stray.size == 0 or program.cell is not None:
+            break
+        program = mend(plan, program, stray)
+        dev = program_deviations(plan, program, tol)
     _refuse_deviation(plan, job, program, dev.point, tol, "programmed point")
     _refuse_deviation(plan, job, program, dev.midpoint, tol, "midpoint of the move to")
     clearance = _prove_clearance(plan, job, program)
     _prove_limits(plan, job, program)
-    return Invariants(covered, _largest(dev.point), _largest(dev.midpoint), clearance)
+    return program, Invariants(covered, _largest(dev.point), _largest(dev.midpoint), clearance)
 
 
 def _largest(values: np.ndarray) -> float | None:
@@ -137,7 +151,7 @@ def _prove_clearance(plan: WindingPlan, job, program: MotionProgram) -> float:
         if program.robot:  # a robot's pass-to-pass joins need only keep off the part
             firsts = np.array([seg.start - lo for seg in segments if seg.stop > seg.start and seg.approach == 0])
             dist_need = np.full(dist.size, need)
-            dist_need[firsts[firsts > 0]] = 0.0
+            dist_need[firsts] = 0.0  # a layer's first move too: from the last layer's last pose
         else:
             dist_need = np.full(dist.size, need)
         bad = np.flatnonzero(dist < dist_need - 1e-9)
@@ -146,7 +160,8 @@ def _prove_clearance(plan: WindingPlan, job, program: MotionProgram) -> float:
             raise SolverError(f"{_where(plan, job, program, lo + k)}: the payout eye's body comes within "
                               f"{dist[k]:.3f} mm of the part as wound so far (layers 1 to {i + 1}), closer than "
                               f"machine.eye.clearance allows ({max(dist_need[k], 0.0):.3f} mm)")
-        least = min(least, float(dist.min()))
+        kept = dist[dist_need > 0.0] if np.any(dist_need > 0.0) else dist  # a robot's joins need only keep off
+        least = min(least, float(kept.min())) if kept.size else least
     return float(least) if np.isfinite(least) else None
 
 

@@ -1,6 +1,6 @@
-"""Machine kinematics: where the payout eye sits while the fiber is laid (MATH.md 6, SPEC.md).
+"""Machine kinematics: where the payout eye sits while the fiber is laid (docs/math/06-machine.md, docs/guide/conventions.md).
 
-Conventions (mandrel frame, SPEC.md): a straight mandrel axis is +z through the origin.
+Conventions (mandrel frame, docs/guide/conventions.md): a straight mandrel axis is +z through the origin.
 
 Eye on the tangent line. d is the unit fiber direction in laying order: it points from the contact
 point p toward the part of the path not yet laid. The fiber not yet laid is exactly the free span
@@ -28,7 +28,7 @@ Where the tangent line does not reach the envelope within MAX_LEAD_FACTOR times 
 radius (a fiber running almost parallel to the axis), the eye is held at that lead on the tangent
 line (EyePath.on_envelope is False there).
 
-Axes (straight-axis winder, SPEC.md "<name>.gcode"):
+Axes (straight-axis winder, docs/guide/conventions.md):
 - X  carriage = E_z.
 - Z  cross-feed = |E_xy|.
 - A  mandrel rotation = -phi_E in degrees, phi_E = atan2(E_y, E_x) made continuous: phi_E is the

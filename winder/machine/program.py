@@ -1,4 +1,4 @@
-"""One motion program on logical axes: what the machine does to lay a winding plan (MATH.md 6).
+"""One motion program on logical axes: what the machine does to lay a winding plan (docs/math/06-machine.md).
 
 Straight-axis winder: per kept contact point the four logical axes carriage (mm), rotation (deg,
 cumulative over the whole program), cross_feed (mm) and yaw (deg, continuous), from
@@ -81,6 +81,7 @@ class Segment:
     capped: int = 0
     max_lead: float = 0.0
     approach: int = 0  # leading rows that bring the eye from another pass clear of the part (no fiber)
+    tension: float | None = None  # N per band while this pass is wound (winder.machine.tension); None: none set
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -129,6 +130,15 @@ class MotionProgram:
     @property
     def axes(self) -> tuple[str, ...]:
         return POSE_AXES if self.robot else AXES
+
+    @property
+    def layer_tensions(self) -> tuple[tuple[float, float, float] | None, ...]:
+        """Per layer (its first pass's, least, largest) tension (N), None where none is programmed."""
+        out = []
+        for segs in self.segments:
+            values = [seg.tension for seg in segs if seg.tension is not None]
+            out.append((values[0], min(values), max(values)) if values else None)
+        return tuple(out)
 
 
 def approach(last: np.ndarray, first: np.ndarray, clear: float) -> np.ndarray | None:
@@ -257,9 +267,43 @@ def _kept_clear(q: np.ndarray, sizes: np.ndarray, tols: np.ndarray, laid: tuple,
 
 
 def build_program(plan: WindingPlan, machine: MachineConfig, part=finished_part) -> MotionProgram:
-    """The motion program of a plan on a machine (module docstring); ExportError where the eye
-    cannot clear the mandrel or an axis would leave its limits. part : the finished part's
-    WoundProfile (winder.machine.as_wound) or None, or the function of the plan giving it."""
+    """The motion program of a plan on a machine (module docstring; docs/math/06-machine.md).
+
+    Parameters
+    ----------
+    plan : WindingPlan
+        The planned layers (winder.winding.plan.plan).
+    machine : MachineConfig
+        The winder: axes, eye envelope, feed, chord tolerance, limits, dynamics, robot mode.
+    part : WoundProfile, None or callable
+        The finished part (winder.machine.as_wound), which the eye clears, or the function of the
+        plan giving it.
+
+    Returns
+    -------
+    MotionProgram
+        `values` (m, 4): carriage (mm), rotation (deg, cumulative), cross-feed (mm), yaw (deg) per
+        move, or (m, 6) eye poses for a robot; the feed, the fiber each move lays, the moves' times,
+        and the passes each layer's rows belong to.
+
+    Raises
+    ------
+    ExportError
+        Where the eye cannot clear the mandrel or an axis would leave machine.limits, naming the pass.
+
+    Examples
+    --------
+    >>> from winder.config.job import parse_config
+    >>> from winder.winding.plan import plan
+    >>> hoops = {"band_width": 10, "layers": [{"type": "hoop", "passes": 2}]}
+    >>> tube = {"axis": {"type": "line", "length": 300}, "profile": {"type": "constant", "radius": 50}}
+    >>> job = parse_config({"name": "tube", "mandrel": tube, "winding": hoops}, "tube.yaml")
+    >>> program = build_program(plan(job), job.machine)
+    >>> program.values.shape[1]  # carriage, rotation, cross-feed, yaw
+    4
+    >>> round(float(program.values[:, 2].min()), 6)  # the eye keeps the default 20 mm clearance: radius 50 + 20
+    70.0
+    """
     robot = robot_poses(machine, plan.surface)  # a bent axis or machine.robot
     surface = plan.outer_surface  # the eye clears the finished part, laminate included
     env = eye_envelope(surface, machine, part(plan) if callable(part) else part)

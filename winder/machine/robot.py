@@ -4,7 +4,8 @@ A robot moves the eye linearly in the mandrel frame from pose to pose, while the
 planned points lies on the envelope around the guide curve: a chord between poses spaced like the
 fiber's points (several mm, around an envelope of radius R) cuts into the clearance by about
 L^2 / (8 R) (on the elbow sample 0.13 mm, with a chord tolerance of 0.05 mm). As on a straight
-machine (winder.machine.densify), the poses at the interval midpoints, on the smooth path, give each
+machine (winder.machine.densify), the poses at the interval midpoints, on the exact fiber
+(winder.machine.exact), give each
 pass's bow in the scaled pose space of the point reduction (position, angle_scale x direction); a
 pass bowing more than DENSE_SHARE of the tolerance is resampled at dense_factor points per interval,
 which leaves the rest of the tolerance to the point reduction.
@@ -21,6 +22,7 @@ from winder.geometry.measure import row_norms
 from winder.machine.batch import all_poses, batch_poses
 from winder.machine.densify import dense_factor, dense_u
 from winder.machine.envelope import EyeEnvelope
+from winder.machine.exact import exact_points
 from winder.machine.kinematics import Guide, RobotPoses
 from winder.machine.smooth import SmoothPaths
 from winder.winding.results import FiberPass, WindingPlan
@@ -121,7 +123,10 @@ def _poses_at(plan: WindingPlan, machine: MachineConfig, env: EyeEnvelope, guide
         return []
     points, directions = [], []
     for _, (layer, j), u in requests:
-        _, _, p, d = smooth[layer].point(smooth[layer].offset[j] + u)
+        # The exact fiber between the planned points (a geodesic's ODE where it stands for the fiber), as
+        # the straight winder's dense points: next to a joint of the guide the smooth path's direction was
+        # 1.3e-3 rad off a hoop's on an elbow's straight leg, its eye 125 mm out 0.17 mm off the fiber.
+        _, _, p, d = exact_points(smooth[layer], smooth[layer].offset[j] + u)
         points.append(p)
         directions.append(d)
     guess = np.concatenate([np.interp(u, np.arange(lead.size), lead) for (_, _, u), lead in zip(requests, leads)])

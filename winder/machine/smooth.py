@@ -1,4 +1,4 @@
-"""The smooth path of planned passes between their points (MATH.md 2): positions, tangents and arc
+"""The smooth path of planned passes between their points (docs/math/02-energy.md): positions, tangents and arc
 length at any fractional point index, for all passes of a plan in one batch. The motion program
 densifies along it; `winder simulate` finds contact points on it."""
 
@@ -22,7 +22,11 @@ SIDE_STEP = 1e-7  # how far into an interval (of its length) the surface is read
 # back, a cusp where the planned points' spacing jumps (20 mm steps on a cylinder meeting 1.3 mm on a
 # dome: the spline's slope at the junction is the average of both), and the eye, on the tangent, would
 # swing from one side of the part to the other in one move.
-SLOPE_LIMIT = 3.0
+# Three chords is the edge of that bound: with both ends at it the piece's speed vanishes halfway
+# (p'(1/2) = 3/2 - (3 + 3)/4 = 0) and its direction there is round-off (a slip-held helical on a vessel,
+# its points 31 mm apart on the cylinder and 0.45 mm near the equator: the tangent swung 180 deg inside
+# one interval and the eye jumped 55 mm). Two keeps the speed at half the chord's at least.
+SLOPE_LIMIT = 2.0
 # Intervals whose stations and theta steps agree within ARC_COPY_MM (mm, rad) and end slopes (mm and
 # rad per point index) within ARC_COPY_SLOPE share one arc-length quadrature (SmoothPaths.arc): their
 # lengths then agree within about a picometre.

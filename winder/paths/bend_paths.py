@@ -1,8 +1,8 @@
-"""Friction-held passes through the bends of a line-and-arc mandrel, laid out for even bands (MATH.md 7).
+"""Friction-held passes through the bends of a line-and-arc mandrel, laid out for even bands (docs/math/07-friction.md).
 
 Why this design. Geodesics on a torus keep rho cos(alpha) constant and bunch toward the inside of
 the bend, whatever their number. A fiber at constant alpha through an arc is held by the lambda(phi)
-of MATH.md 7, and all such fibers are translates of one another along the bend (the torus is a
+of docs/math/07-friction.md, and all such fibers are translates of one another along the bend (the torus is a
 surface of revolution about the bend axis): in the tube angle phi (from the inside) they follow one
 autonomous flow dphi/dt = (1 - e cos phi) tan(alpha) / a, e = a / R_b, of period
 T(alpha) = 2 pi a / (tan(alpha) sqrt(1 - e^2)). When the arc is a whole number m of periods,
@@ -12,7 +12,7 @@ closes with the dwells as on a straight tube. Inside the arc the spacing varies 
 (1 + e) / (1 - e) (the flow is slowest at the inside), which the circuit count covers.
 On the straight pieces the passes are rotated copies (a tube is a surface of revolution) that turn
 from one piece's angle to the next with a constant lambda: on a cylinder
-1 / sin(alpha) = 1 / sin(alpha0) - lambda z / a (MATH.md 7), whose theta(z) is
+1 / sin(alpha) = 1 / sin(alpha0) - lambda z / a (docs/math/07-friction.md), whose theta(z) is
 (acosh(w0) - acosh(w(z))) / lambda with w = 1 / sin(alpha): the least max |lambda| for that turn.
 Every curve here is in closed form (no ODE, no solve), so a whole elbow layer costs milliseconds.
 

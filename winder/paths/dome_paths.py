@@ -1,4 +1,4 @@
-"""Friction-held turnarounds on vessel domes (MATH.md 7): the turnaround radius a geodesic cannot reach.
+"""Friction-held turnarounds on vessel domes (docs/math/07-friction.md): the turnaround radius a geodesic cannot reach.
 
 On a surface of revolution, with s the meridian arc length, r(s), z(s), and alpha the heading from
 the meridian (toward increasing theta), a fiber of slippage lambda obeys, per unit fiber length l,
@@ -6,7 +6,7 @@ the meridian (toward increasing theta), a fiber of slippage lambda obeys, per un
     ds/dl = cos(alpha),  dtheta/dl = sin(alpha) / r,  dalpha/dl = lambda k_n - r' sin(alpha) / r,
     k_n = kappa_m cos^2(alpha) + z' sin^2(alpha) / r,  kappa_m = r' z'' - z' r'' (convex: > 0),
 
-(MATH.md 7's d(alpha)/dz per unit length; lambda = 0 keeps r sin(alpha), Clairaut). It is regular
+(docs/math/07-friction.md's d(alpha)/dz per unit length; lambda = 0 keeps r sin(alpha), Clairaut). It is regular
 at the turnaround (cos(alpha) = 0), where it stops. The profile alone is evaluated, never the 3D
 surface, so a leg costs a few milliseconds. A leg runs from an equator toward the pole; the pass
 leaves the turnaround along its mirror image (the dome is symmetric about the turnaround meridian,
@@ -151,8 +151,10 @@ def _constant(lam: float) -> Callable[[np.ndarray], np.ndarray]:
     return lambda l: np.full(np.shape(l), lam) if np.ndim(l) else lam
 
 
-def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) -> tuple[float, Leg]:
-    """The constant lambda (|lambda| <= SLIP_BOUND) whose leg turns at r = c, and that leg."""
+def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float,
+               bound: float = SLIP_BOUND) -> tuple[float, Leg]:
+    """The constant lambda (|lambda| <= bound) whose leg turns at r = c, and that leg. A bound of the
+    friction fails fast (three traces) where the friction cannot turn it there."""
     trace = functools.cache(lambda lam: trace_leg(meridian, s_eq, heading, _constant(lam)))
 
     def miss(lam: float) -> float:
@@ -161,18 +163,18 @@ def solve_slip(meridian: DomeMeridian, s_eq: float, heading: float, c: float) ->
         # turning further in than any radius: the bracket then holds the root.
         return leg.radius - c if leg.turned else -c - 1.0
 
-    f_lo, f_0, f_hi = miss(-SLIP_BOUND), miss(0.0), miss(SLIP_BOUND)
-    no_root = SolverError(f"no slippage |k_g / k_n| <= {SLIP_BOUND:g} turns the fiber at r = {c:.4g} mm on this dome")
+    f_lo, f_0, f_hi = miss(-bound), miss(0.0), miss(bound)
+    no_root = SolverError(f"no slippage |k_g / k_n| <= {bound:g} turns the fiber at r = {c:.4g} mm on this dome")
     if f_lo * f_hi > 0.0:
         raise no_root
-    for lam, f in ((0.0, f_0), (-SLIP_BOUND, f_lo), (SLIP_BOUND, f_hi)):
+    for lam, f in ((0.0, f_0), (-bound, f_lo), (bound, f_hi)):
         if abs(f) < RADIUS_TOL:
             return lam, trace(lam)
     from scipy.optimize.elementwise import find_root  # noqa: PLC0415 - slow to import: only vessels
 
     # The half of the bracket whose ends differ in sign (each end's trace is kept by the cache). It
     # stops once the radius is within the tolerance: closer, the traces' own error decides.
-    bracket = (-SLIP_BOUND, 0.0) if f_lo * f_0 < 0.0 else (0.0, SLIP_BOUND)
+    bracket = (-bound, 0.0) if f_lo * f_0 < 0.0 else (0.0, bound)
     res = find_root(np.vectorize(miss, otypes=[float]), bracket,
                     tolerances={"xatol": 1e-12, "xrtol": 1e-12, "fatol": 0.25 * RADIUS_TOL})
     lam = float(res.x)

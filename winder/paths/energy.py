@@ -1,4 +1,4 @@
-"""The paper's discrete energy (Eq. 14; MATH.md 2) evaluated exactly on the surface, with its
+"""The paper's discrete energy (Eq. 14; docs/math/02-energy.md) evaluated exactly on the surface, with its
 gradient and its block-tridiagonal Hessian, and the Hessian's banded Cholesky solve: what the
 variational solvers of winder.paths.geodesic minimize.
 

@@ -1,4 +1,4 @@
-"""Friction-held fiber paths on the sweep surface (MATH.md 7): the geodesic ODE plus a sideways force.
+"""Friction-held fiber paths on the sweep surface (docs/math/07-friction.md): the geodesic ODE plus a sideways force.
 
 A fiber under tension stays where it is laid while |k_g| <= mu k_n (Coulomb friction, k_n > 0: it
 presses). With the slippage coefficient lambda = k_g / k_n prescribed, a unit-speed path

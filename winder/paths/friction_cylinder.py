@@ -1,4 +1,4 @@
-"""The friction-held path on a circular cylinder in closed form (docs/math/07-held-angle-on-revolution.md).
+"""The friction-held path on a circular cylinder in closed form (docs/math/07-friction.md 7.4).
 
 On a cylinder of radius R the normal curvature along heading alpha (from the meridian) is
 k_n = sin^2(alpha) / R, and unrolled the cylinder is a plane, where the geodesic curvature is the

@@ -1,11 +1,11 @@
-"""Two-point, N-round friction-held paths (MATH.md 7) by shooting the friction ODE (winder.paths.friction).
+"""Two-point, N-round friction-held paths (docs/math/07-friction.md) by shooting the friction ODE (winder.paths.friction).
 
 Formulation (and why). A geodesic between two points (with N rounds) is isolated: its ODE has two
 free start data (heading, length) for two end conditions. A prescribed lambda(l) keeps that count,
 so every lambda(l) gives its own path through the two points: the problem has a whole function of
 freedom and needs a criterion. Friction paths are not minimizers of a length-like energy
-(k_g = lambda k_n has no Lagrangian in general), so the variational method of MATH.md 2-3 does not
-extend to them; shooting (MATH.md 4) does. lambda is a low-degree Legendre polynomial in the
+(k_g = lambda k_n has no Lagrangian in general), so the variational method of docs/math/02-energy.md, docs/math/03-newton.md does not
+extend to them; shooting (docs/math/04-checks.md) does. lambda is a low-degree Legendre polynomial in the
 normalized arc length l / L (degree 0: constant lambda per pass, what a shop sets and what `slip:`
 means); among the paths that hit the end point we take the one of least mean lambda^2 over the pass:
 - it is zero exactly on the geodesic, so where a geodesic joins the points it is the answer; it is
@@ -215,8 +215,9 @@ def _solve(shooter: _Shooter, z: np.ndarray, free: np.ndarray, tol: float) -> tu
 
 
 def _check_station(surface: SweepSurface, t: float, what: str) -> None:
-    if not (np.isfinite(t) and -1e-9 <= t <= surface.axial_length + 1e-9):
-        raise ConfigError(f"{what}: t must lie on the mandrel, in [0, {surface.axial_length:.6g}] mm, got {t:g}")
+    if not (np.isfinite(t) and surface.t_start - 1e-9 <= t <= surface.axial_length + 1e-9):
+        raise ConfigError(f"{what}: t must lie on the mandrel, in [{surface.t_start:.6g}, "
+                          f"{surface.axial_length:.6g}] mm, got {t:g}")
 
 
 def friction_path(surface: SweepSurface, start: tuple[float, float], end: tuple[float, float], *,

@@ -1,4 +1,4 @@
-"""Geodesic fiber paths by the variational method (paper Eq. 14; MATH.md 2-3).
+"""Geodesic fiber paths by the variational method (paper Eq. 14; docs/math/02-energy.md, docs/math/03-newton.md).
 
 A path is a polyline of n interior points u_i = (s_i, theta_i) on the surface between two fixed
 end points; it minimizes E = sum |y_{i+1} - y_i|^2 with y_i = Phi(u_i). Minimizers are equally
@@ -163,8 +163,9 @@ def extrapolate_vertices(coarse: PathSolve, fine: PathSolve) -> tuple[np.ndarray
 
 # -- the user-facing geodesic ---------------------------------------------------------------------------
 def _check_station(surface: SweepSurface, t: float, what: str) -> None:
-    if not (np.isfinite(t) and -1e-9 <= t <= surface.axial_length + 1e-9):
-        raise ConfigError(f"t must lie on the mandrel, in [0, {surface.axial_length:.6g}] mm, got {t:g}",
+    if not (np.isfinite(t) and surface.t_start - 1e-9 <= t <= surface.axial_length + 1e-9):
+        raise ConfigError(f"t must lie on the mandrel, in [{surface.t_start:.6g}, {surface.axial_length:.6g}] mm, "
+                          f"got {t:g}",
                           key_path=what)
 
 
@@ -292,13 +293,58 @@ def geodesic(surface: SweepSurface, start: tuple[float, float], end: tuple[float
              rounds: int = 0, n: int | None = None, tolerance: float | None = None,
              method: Method = Method.NEWTON, init: tuple[np.ndarray, np.ndarray] | None = None,
              estimate: bool = True, max_points: int = MAX_POINTS) -> GeodesicResult:
-    """The geodesic from start to end, each (t mm, theta rad), end angle + 2 pi rounds.
+    """The geodesic from start to end on a surface (docs/math/02-energy.md, 03-newton.md).
 
-    n : interior points (default: default_points(rounds)). tolerance : choose n so that the reported
-    length's error bound (smooth_error_estimate) is below it (mm), starting from min(n, the coarsest
-    level). init : a previous path (s, theta) to warm-start from (any number of points).
-    estimate : also solve at 2n + 1 for the error estimates (about doubles the work).
-    max_points : the largest n solved (memory and time grow linearly in n); beyond it, an error.
+    Parameters
+    ----------
+    surface : SweepSurface
+        The mandrel (winder.geometry.build.build_surface).
+    start, end : tuple of float
+        (t mm, theta rad) of the two end points.
+    rounds : int
+        Extra full turns: the end angle is end[1] + 2 pi rounds (an N-round helix).
+    n : int, optional
+        Interior points (default: default_points(rounds), 200 and at least 48 a round).
+    tolerance : float, optional
+        Choose n so that the reported length's error bound (smooth_error_estimate) is below it (mm),
+        starting from min(n, the coarsest level).
+    method : Method
+        NEWTON (the block-tridiagonal Newton, default) or LBFGS (the paper's method, for comparison).
+    init : tuple of ndarray, optional
+        A previous path (s, theta), any number of points, to warm-start from.
+    estimate : bool
+        Also solve at 2n + 1 for the error estimates (about doubles the work).
+    max_points : int
+        The largest n solved (memory and time grow linearly in n); beyond it, an error.
+
+    Returns
+    -------
+    GeodesicResult
+        The vertices (t, s, theta: (n + 2,); points: (n + 2, 3)), the smooth `length` (mm) with its
+        bound `smooth_error_estimate`, the polyline length and Richardson's estimate, convergence.
+
+    Raises
+    ------
+    ConfigError
+        An end point off the mandrel, too few points for the rounds.
+    SolverError
+        No convergence, a path that would leave the mandrel, a tolerance past double precision.
+
+    Examples
+    --------
+    A quarter turn over 100 mm of a tube of radius 50: the tube unrolls flat, so the geodesic is a
+    straight line there, sqrt(100^2 + (50 pi / 2)^2) long.
+
+    >>> import math
+    >>> from winder.config.job import parse_config
+    >>> from winder.geometry.build import build_surface
+    >>> job = parse_config({"name": "tube", "mandrel": {"axis": {"type": "line", "length": 500},
+    ...                                                 "profile": {"type": "constant", "radius": 50}}}, "tube.yaml")
+    >>> result = geodesic(build_surface(job.mandrel), (0.0, 0.0), (100.0, math.pi / 2))
+    >>> result.converged, result.points.shape
+    (True, (202, 3))
+    >>> abs(result.length - math.hypot(100.0, 25.0 * math.pi)) < 1e-9
+    True
     """
     _check_station(surface, start[0], "start")
     _check_station(surface, end[0], "end")

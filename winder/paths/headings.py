@@ -3,7 +3,7 @@
 The winding angle alpha (heading) is the angle in the tangent plane from the direction of increasing
 s (the meridian, Phi_s) toward increasing theta. The orthonormal tangent basis is e1 = Phi_s / |Phi_s|
 and e2 = the unit part of Phi_theta orthogonal to e1. clairaut_constant: r sin(alpha) on a surface of
-revolution, conserved along every geodesic (MATH.md 4).
+revolution, conserved along every geodesic (docs/math/04-checks.md).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Newton on the chain energy's block-tridiagonal Hessian (MATH.md 3), one level of the solver.
+"""Newton on the chain energy's block-tridiagonal Hessian (docs/math/03-newton.md), one level of the solver.
 
 One surface evaluation per step: the accepted full step's evaluation (with second derivatives) serves
 the next iteration. A step below 1e-3 of a segment lets the next one reuse the Cholesky factor (a

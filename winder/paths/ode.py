@@ -1,4 +1,4 @@
-"""The geodesic ODE in the parameter domain (MATH.md 4); friction-held paths (MATH.md 7) belong here too.
+"""The geodesic ODE in the parameter domain (docs/math/04-checks.md); friction-held paths (docs/math/07-friction.md) belong here too.
 
 This is the paper's Runge-Kutta baseline ("one point, one direction") and an independent check of
 the variational solver in winder.paths.geodesic. A curve u(l) = (s(l), theta(l)) on the surface,

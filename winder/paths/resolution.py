@@ -1,5 +1,5 @@
 """How many points a path gets: the default, the coarsest solver level, the least its rounds allow, and
-the hint when a solve had too few (MATH.md 3). A helix needs its points per round, not per path."""
+the hint when a solve had too few (docs/math/03-newton.md). A helix needs its points per round, not per path."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Two-point geodesic shooting (MATH.md 4): the paper's Runge-Kutta baseline and the independent
+"""Two-point geodesic shooting (docs/math/04-checks.md): the paper's Runge-Kutta baseline and the independent
 check of the variational solver in winder.paths.geodesic.
 
 shoot: the two-point geodesic with N extra rounds by root finding on (heading, length). The Jacobian

@@ -42,4 +42,4 @@ def parse_cell(text: str, machine: MachineConfig, source: str, dialect: str) -> 
                          np.full(len(rows.keys), np.nan), np.array(rows.lines, dtype=int), rows.job,
                          job_line=rows.job_line,
                          mids=read.mids if read.mids is not None else midpoints(read.frames, read.external),
-                         move_s=move_s)
+                         move_s=move_s, tension=np.array(rows.tensions, dtype=float))

@@ -1,7 +1,9 @@
 """Reading a robot cell's program back (KRL .src + .dat, RAPID .mod, URScript .script), as strictly as
 the G-code reader: each language's reader (winder.readback.krl, rapid, urscript) understands every line
-or refuses it naming it; this module holds what they share and checks what they read against the
-config (docs/math/10-robot-cell.md 10.8):
+or refuses it naming it (the controller's tension command, its description's `tension`, read as a
+line of its own wherever it stands: each row runs at the tension last set before its move's line);
+this module holds what they share and checks what they read against the config
+(docs/math/10-robot-cell.md 10.8):
 
 - numbers in ASCII digits only, finite, within the cell's size; times finite, positive, at most
   MAX_MOVE_S; the pass comments' numbers of at most 9 digits;
@@ -27,6 +29,7 @@ from collections.abc import Callable
 import numpy as np
 
 from winder.config.arms import ARMS
+from winder.config.controllers import read_pattern
 from winder.config.machine import MachineConfig
 from winder.config.robot import MAX_CELL_SIZE, Pose
 from winder.errors import ConfigError
@@ -102,9 +105,25 @@ class Rows:
     kinds: list = dataclasses.field(default_factory=list)
     lines: list = dataclasses.field(default_factory=list)
     times: list = dataclasses.field(default_factory=list)
+    controller: object = None  # the machine's controller description: how it sets the tension
+    tension_line: re.Pattern | None = None  # its tension command, read as the lines pass
+    tension: float = float("nan")  # N: the tension set so far (nan before the first command)
+    tensions: list = dataclasses.field(default_factory=list)
+
+    @classmethod
+    def of(cls, source: str, machine: MachineConfig) -> "Rows":
+        """The rows of a program written for `machine` (its controller's tension command read)."""
+        controller = machine.controller
+        command = controller.tension if controller is not None else None
+        return cls(source=source, controller=controller, tension_line=read_pattern(command) if command else None)
 
     def comment(self, line: str, number_: int) -> bool:
-        """Whether the line is a comment (read as it passes: pass and job comments)."""
+        """Whether the line is a comment or the tension command (read as they pass: pass and job
+        comments, the tension set)."""
+        set_to = self.tension_line.match(line) if self.tension_line is not None else None
+        if set_to:
+            self.tension = self.controller.newtons(set_to.groupdict())
+            return True
         hit = _PASS.match(line)
         if hit:
             self.key, self.kind = (int(hit[1]), int(hit[2]), int(hit[3])), hit[4]
@@ -125,6 +144,7 @@ class Rows:
         self.kinds.append(self.kind)
         self.lines.append(number_)
         self.times.append(secs)
+        self.tensions.append(self.tension)
 
 
 @dataclasses.dataclass(frozen=True)

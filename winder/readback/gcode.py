@@ -19,6 +19,8 @@ import re
 import numpy as np
 
 from winder.config.machine import MachineConfig
+from winder.readback.gcode_syntax import DETECTED as _DETECTED
+from winder.readback.gcode_syntax import syntax_of, unwrap
 from winder.readback.parsed import ParsedProgram
 from winder.readback.program_file import GCODE_LINES, ProgramFile
 from winder.errors import ConfigError
@@ -26,7 +28,7 @@ from winder.export.dialects import marlin
 from winder.export.dialects import robot as poses
 from winder.export.dialects.text import JOB_LINE
 
-_PASS = re.compile(r"^;\s*layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$", re.ASCII)
+_PASS = re.compile(r"^layer\s+(\d+)\s+circuit\s+(\d+)\s+pass\s+(\d+)\s+(\w+)\s*$", re.ASCII | re.I)  # a comment's text
 MAX_PASS_NUMBER = 10**9  # of a layer, circuit or pass in a pass comment: far past any plan (int64 keys)
 _END = ("M2", "M30")  # either ends a program (M30 also rewinds it)
 # (...) anywhere (never nested: RS274 refuses it; [^()] keeps a line of 200,000 `(` linear), ; to the end
@@ -94,6 +96,10 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
         dialect = detect(text)
     if machine.robot:  # a robot's poses are G-code too: the config says whose program it is
         dialect = "robot"
+    syntax = syntax_of(machine, dialect, _code)
+    own = syntax.controller.name not in _DETECTED  # read by the config's own controller, not by its text
+    if own:
+        dialect = syntax.controller.engine
     ax = machine.axes
     if dialect == "robot":
         letters, prefixes = poses.LETTERS, ("G1", "G0")
@@ -107,21 +113,31 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
     job, job_line = None, None
     fixed_z = None
     end = None
+    tension, turns = np.nan, 0.0  # the tension set so far (N); whole turns a reset took off the rotation
     for number, raw in enumerate(text.lines() if isinstance(text, ProgramFile) else text.splitlines(), start=1):
         line = raw.strip()
-        if line.startswith(";"):
-            hit = _PASS.match(line)
-            if hit:
-                key, kind = tuple(_pass_number(hit[i], line, number, source) for i in (1, 2, 3)), hit[4]
-            elif line.startswith(JOB_LINE) and job is None:
-                job, job_line = line[len(JOB_LINE):].strip(), number
-            elif line.upper().startswith(marlin.FIXED_EYE.upper()):
-                fixed_z = _fixed_eye(line, number, source)
-            continue
+        bare = syntax.bare(line)
+        if not bare.startswith(("G1 ", "G0 ")):  # a move's line is read as before: the rest may be the controller's
+            if (read := syntax.tension(bare)) is not None:
+                tension = read
+                continue
+            if (said := syntax.comment(bare)) is not None:
+                hit = _PASS.match(said)
+                if hit:
+                    key, kind = tuple(_pass_number(hit[i], line, number, source) for i in (1, 2, 3)), hit[4].lower()
+                elif said.lower().startswith(JOB_LINE[1:].strip()) and job is None:
+                    job, job_line = said[len(JOB_LINE[1:].strip()):].strip(), number
+                elif ("; " + said).upper().startswith(marlin.FIXED_EYE.upper()):
+                    fixed_z = _fixed_eye("; " + said, number, source)
+                continue
+            if (position := syntax.reset(bare)) is not None:
+                turns = (rows.last_rotation - position) if rows.count else 0.0
+                continue
         code = _code(line)
-        if not code or code in _SKIP or (code.startswith("G64 P") and dialect == "linuxcnc"):  # linuxcnc's alone
+        if not code or code in _SKIP or (code.startswith("G64 P") and dialect == "linuxcnc") or (
+                not code.startswith(("G1 ", "G0 ")) and syntax.skip(code)):  # linuxcnc's, or the controller's own
             continue
-        if code in _END and dialect != "marlin":
+        if (code in _END or code == syntax.end) and dialect != "marlin":
             end = number
             continue
         if end is not None:
@@ -143,15 +159,20 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
         if key == (0, 0, 0):  # winder writes a pass comment before a pass's first move
             raise ConfigError(f"{source}: line {number}: a move before any '; layer L circuit C pass P kind' "
                               f"comment, which winder writes before each pass and simulate reads, got {line[:60]!r}")
-        rows.add([values[c] for c in letters], key, values.get("F", np.nan), number)
+        row = [values[c] for c in letters]
+        if turns and dialect != "robot":
+            row[1] += turns
+        rows.add(row, key, values.get("F", np.nan), number, tension)
         kinds.append(kind)
     if not rows.count:  # an empty file, or comments only: there is no last move to name a line by
         raise ConfigError(f"{source}: the program has no moves")
-    if end is None and dialect != "marlin":
+    if end is None and dialect != "marlin" and syntax.needs_end:
         last = rows.last_line
-        raise ConfigError(f"{source}: line {last}: the program stops without its end (M2): cut short? "
-                          f"got {rows.count} moves, the last on line {last}")
-    written, keys_arr, feeds_arr, lines = rows.arrays()
+        raise ConfigError(f"{source}: line {last}: the program stops without its end "
+                          f"({syntax.end or 'M2'}): cut short? got {rows.count} moves, the last on line {last}")
+    written, keys_arr, feeds_arr, lines, tensions = rows.arrays()
+    if syntax.wrap and dialect != "robot":  # a modulo axis: each move the shortest way
+        written[:, 1] = unwrap(written[:, 1])
     table = written
     if dialect == "marlin":
         if fixed_z is None:
@@ -162,13 +183,16 @@ def parse_program(text: str | ProgramFile, machine: MachineConfig, source: str =
     if dialect == "marlin":  # a move cut at full turns of A is one programmed move: its pieces joined
         keep = ~marlin_cuts(written, keys_arr)
         table, lines, keys_arr, feeds_arr = table[keep], lines[keep], keys_arr[keep], feeds_arr[keep]
+        tensions = tensions[keep]
         kinds_t = tuple(k for k, ok in zip(kinds_t, keep.tolist()) if ok)
     if dialect == "robot":
         table = np.column_stack([table[:, :3], poses.directions(table[:, 3:5])])
     else:
         _check_limits(table, lines, machine, letters if dialect != "marlin" else (ax.carriage, ax.rotation,
                                                                                   ax.cross_feed, ax.yaw), source)
-    return ParsedProgram(dialect, table, keys_arr, kinds_t, feeds_arr, lines, job, job_line=job_line)
+    name = syntax.controller.name if own else dialect
+    return ParsedProgram(name, table, keys_arr, kinds_t, feeds_arr, lines, job, job_line=job_line,
+                         tension=tensions, case_blind=syntax.case_blind)
 
 
 class _Rows:
@@ -176,13 +200,15 @@ class _Rows:
     Python lists of floats took about 400): (values, pass key, feed, line number) per move."""
 
     def __init__(self, width: int) -> None:
-        self.width, self.count, self.last_line = width, 0, 0
+        self.width, self.count, self.last_line, self.last_rotation = width, 0, 0, 0.0
         self._blocks: list[np.ndarray] = []
         self._open: list[tuple] = []
 
-    def add(self, values: list[float], key: tuple[int, int, int], feed: float, number: int) -> None:
-        self._open.append((*values, *key, feed, number))
+    def add(self, values: list[float], key: tuple[int, int, int], feed: float, number: int,
+            tension: float = np.nan) -> None:
+        self._open.append((*values, *key, feed, number, tension))
         self.count, self.last_line = self.count + 1, number
+        self.last_rotation = values[1] if len(values) > 1 else 0.0
         if len(self._open) == BLOCK_ROWS:
             self._close()
 
@@ -191,15 +217,16 @@ class _Rows:
             self._blocks.append(np.array(self._open, dtype=float))
             self._open = []
 
-    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """(values (m, width) float, keys (m, 3) int, feeds (m,) float, lines (m,) int); keys and line
-        numbers are exact in float64 (below MAX_PASS_NUMBER and 2^53)."""
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(values (m, width) float, keys (m, 3) int, feeds (m,) float, lines (m,) int, tensions (m,)
+        float, N, nan before any); keys and line numbers are exact in float64 (below MAX_PASS_NUMBER
+        and 2^53)."""
         self._close()
         block = np.concatenate(self._blocks) if len(self._blocks) != 1 else self._blocks[0]
         self._blocks = []
         w = self.width
         return (block[:, :w].copy(), block[:, w:w + 3].astype(np.int64), block[:, w + 3].copy(),
-                block[:, w + 4].astype(np.int64))
+                block[:, w + 4].astype(np.int64), block[:, w + 5].copy())
 
 
 def marlin_cuts(written: np.ndarray, keys: np.ndarray) -> np.ndarray:

@@ -92,11 +92,11 @@ def read_krl(text: str, machine: MachineConfig, source: str) -> CellRead:  # noq
         raise ConfigError(f"{source}: a KRL program needs its .dat (DEFDAT ... ENDDAT) beside the .src")
     while dat_at > 0 and all_lines[dat_at - 1][1].strip() in ("&ACCESS RVP", "&REL 1"):
         dat_at -= 1
-    rows = Rows(source)
+    rows = Rows.of(source, machine)
     name, ended, start, start_line = None, False, None, 0
     speed, share, mode = np.nan, 100.0, "cp"
     top_e1 = machine.dynamics.rotation.speed / 60.0
-    points_lin: list[tuple] = []  # (point, line, mode, $VEL.CP, $VEL_EXTAX[1], pass, kind) of each LIN
+    points_lin: list[tuple] = []  # (point, line, mode, $VEL.CP, $VEL_EXTAX[1], pass, kind, tension) of each LIN
     bridges: dict[int, tuple[np.ndarray, int]] = {}
     src = in_order(all_lines[:dat_at], KRL, source)  # each layer's subprogram where it is called
     for n, raw in src:
@@ -147,14 +147,15 @@ def read_krl(text: str, machine: MachineConfig, source: str) -> CellRead:  # noq
                 raise ConfigError(f"{source}: line {n}: a LIN before the start PTP")
             if rows.key == (0, 0, 0):
                 raise ConfigError(f"{source}: line {n}: a move before any 'layer L circuit C pass P kind' comment")
-            points_lin.append((hit[1], n, mode, speed, share, rows.key, rows.kind))
+            points_lin.append((hit[1], n, mode, speed, share, rows.key, rows.kind, rows.tension))
         else:
             raise ConfigError(f"{source}: line {n}: not a statement of winder's KRL programs, got {line[:60]!r}")
     if not ended:
         raise ConfigError(f"{source}: the .src stops without END: cut short?")
     points = _dat(all_lines[dat_at:], name or "", source)
     table = []
-    for k, (point, n, mode, speed, share, rows.key, rows.kind) in enumerate(points_lin):
+    # the rows are added once the .dat is read: each with the pass and the tension set where its LIN stands
+    for k, (point, n, mode, speed, share, rows.key, rows.kind, rows.tension) in enumerate(points_lin):
         if point not in points:
             raise ConfigError(f"{source}: line {n}: {point} is not declared in the .dat")
         p = points[point]

@@ -62,7 +62,7 @@ def _external(body: str, source: str, line: int, what: str) -> list[float]:
 def read_rapid(text: str, machine: MachineConfig, source: str) -> CellRead:  # noqa: C901, PLR0912
     """The program's rows, frames and ring axes (module docstring)."""
     cell = machine.cell
-    rows = Rows(source)
+    rows = Rows.of(source, machine)
     lines = text.splitlines()
     if not lines or lines[-1].strip() != "ENDMODULE":
         raise ConfigError(f"{source}: the module does not end with ENDMODULE: cut short?")

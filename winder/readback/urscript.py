@@ -50,7 +50,7 @@ def _prologue() -> set[str]:
 def read_urscript(text: str, machine: MachineConfig, source: str) -> CellRead:  # noqa: C901, PLR0912, PLR0915
     """The program's rows, frames and ring axes (module docstring)."""
     cell = machine.cell
-    rows = Rows(source)
+    rows = Rows.of(source, machine)
     lines = text.splitlines()
     if not lines or lines[-1].strip() != "end":
         raise ConfigError(f"{source}: the script does not end with its function's end: cut short?")

@@ -7,7 +7,7 @@ is the same at every station and a band keeps its place when the mandrel narrows
 
 A pass crosses the station t once (it is monotone in t); its band, B wide across the fiber, covers
 B / sin(beta) of the perimeter there, beta the angle between the fiber and the section curve, centred on
-the crossing (MATH.md 5, the definition winder.coverage measures). The crossing and the fiber direction
+the crossing (docs/math/05-winding.md, the definition winder.coverage measures). The crossing and the fiber direction
 come from winder.winding.coverage.crossings_many, the same crossings the summary's coverage counts.
 """
 

@@ -7,6 +7,7 @@ import numpy as np
 from winder.export.summary import summary_dict
 from winder.progress import Progress
 from winder.report.html import report_html
+from winder.report.traveller import traveller_html
 from winder.winding.results import WindingPlan
 
 
@@ -24,5 +25,15 @@ def export(plan: WindingPlan, job, progress: Progress | None = None, program=Non
 
         guide = plan.surface.curve.evaluate(np.linspace(0.0, plan.surface.axial_length, 200)).x
         cell = cell_figure(program.cell, guide)
-    return report_html(plan, summary_dict(plan, job.machine, program, job), progress=progress, structure=structure,
-                       cell=cell)
+    summary = summary_dict(plan, job.machine, program, job)
+    return report_html(plan, summary, progress=progress, structure=structure, cell=cell,
+                       traveller=traveller_html(summary, job, _program_file(job)))
+
+
+def _program_file(job) -> str:
+    """The name of the program file the job's machine is wound by (its dialect's suffix)."""
+    machine = getattr(job, "machine", None)
+    if machine is None:
+        return ""
+    suffix = {"krl": ".src", "rapid": ".mod", "urscript": ".script"}.get(machine.dialect, ".gcode")
+    return job.name + suffix

@@ -17,6 +17,7 @@ from winder.report.coverage_map import LayerCoverageMap, coverage_figure, layer_
 from winder.report.plotting import figure_html, require_plotly
 from winder.report.profiles import profiles_figure
 from winder.report.tables import job_table, layer_table
+from winder.report.traveller import PRINT_STYLE
 from winder.report.unrolled import unrolled_figure
 from winder.report.view3d import view3d_figure
 from winder.geometry.sections import arc_map
@@ -79,7 +80,7 @@ def _agreement(maps: tuple[LayerCoverageMap, ...], summary: dict[str, Any]) -> s
 
 def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | None = None,
                 progress: Progress | None = None, structure=None, cell: dict[str, Any] | None = None,
-                fe=None) -> str:
+                fe=None, traveller: str = "") -> str:
     """The whole report page of a planned job.
 
     Parameters
@@ -90,6 +91,7 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     structure : the job's winder.analysis.structure.Structure (a job with `analysis:`), for its section.
     cell : a robot cell's figure (winder.report.cell_view), shown after the 3D view.
     fe : `winder analyze`'s winder.analysis.fe_compare.Comparison, drawn beside the laminate analysis.
+    traveller : the traveller section (winder.report.traveller), last: the page prints as it alone.
 
     Raises ConfigError (exit 2) when plotly, the `plot` extra, is not installed.
     """
@@ -134,6 +136,14 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     ]
     links = [("summary", "Summary"), ("unrolled", "Unrolled pattern"), ("coverage", "Coverage map"),
              ("profiles", "Along the mandrel"), ("view3d", "3D view")]
+    from winder.report.vessel import is_wound_vessel  # noqa: PLC0415
+
+    if is_wound_vessel(plan):  # the domes as wound (issue 42)
+        from winder.report.vessel import HOW as VESSEL_HOW, turnaround_table, vessel_figure  # noqa: PLC0415
+        HOW.setdefault("vessel", VESSEL_HOW)
+        body = figure_html(vessel_figure(plan), "winder-vessel", include_plotlyjs=False) + turnaround_table(summary)
+        sections.append(_section("vessel", "The domes as wound", body))
+        links.append(("vessel", "Domes"))
     if "analysis" in summary:  # the structure (issue 32)
         from winder.report.structure import HOW as STRUCTURE_HOW, structure_figure, structure_table  # noqa: PLC0415
 
@@ -146,9 +156,13 @@ def report_html(plan: WindingPlan, summary: dict[str, Any], band_width: float | 
     if cell is not None:
         sections.append(_section("cell", "Robot cell", figure_html(cell, "winder-cell", include_plotlyjs=False)))
         links.append(("cell", "Robot cell"))
+    if traveller:
+        sections.append(traveller)
+        links.append(("traveller", "Traveller"))
     nav = "".join(f'<a href="#{k}">{t}</a>' for k, t in links)
     return (f"<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8><title>{name}: winding report</title>"
-            f"<meta name=viewport content='width=device-width, initial-scale=1'><style>{STYLE}</style></head>"
+            f"<meta name=viewport content='width=device-width, initial-scale=1'><style>{STYLE}{PRINT_STYLE}</style>"
+            "</head>"
             f"<body><header><h1>{name}: winding report</h1><p>winder {html.escape(__version__)} · "
             f"{len(plan.layers)} layer(s) · self-contained page, opens offline</p></header><nav>{nav}</nav>"
             f"<main>{''.join(sections)}</main></body></html>\n")

@@ -96,6 +96,7 @@ COLUMNS: tuple[Column, ...] = (
     ("widest overlap", "mm", lambda l: _num(_cov(l, "max_overlap_mm"), 3), "coverage"),
     ("band layers", "min – max", lambda l: _pair([_cov(l, "min_layers"), _cov(l, "max_layers")], 0), "coverage"),
     ("friction used", "|k_g / k_n|", lambda l: _num(l.get("max_slip"), 4), "max_slip"),
+    ("tension", "N", lambda l: _pair(l.get("tension_range_n"), 1), "tension_n"),
     ("thickness", "mm", lambda l: _num(l.get("thickness_mm"), 3), "thickness_mm"),
     ("fiber mass", "kg", lambda l: _num(l.get("fiber_mass_kg"), 4), "fiber_mass_kg"),
     ("resin mass", "kg", lambda l: _num(l.get("resin_mass_kg"), 4), "resin_mass_kg"),

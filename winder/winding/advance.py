@@ -2,7 +2,7 @@
 
 On two kinds of open mandrel the metric is diagonal, E ds^2 + G dtheta^2, with E and G each a function
 of one variable, and the geodesic's theta at a station is one integral, evaluated in a few vectorized
-surface evaluations instead of thousands of single-point ones (MATH.md 4):
+surface evaluations instead of thousands of single-point ones (docs/math/04-checks.md):
 
 - a surface of revolution (straight axis, circular section, any profile r(s)): Clairaut, sqrt(G) sin(alpha)
   = c along the path, so dtheta/ds = c sqrt(E) / (sqrt(G) sqrt(G - c^2)); composite Gauss-Legendre,
@@ -22,23 +22,20 @@ import math
 
 import numpy as np
 
-from winder.errors import SolverError
+from winder.winding.clairaut import turn, turnaround_error
+from winder.geometry.sections import ArcMap
 from winder.geometry.surface import SweepSurface
 from winder.geometry.measure import row_norms
 
-GAUSS_X, GAUSS_W = np.polynomial.legendre.leggauss(8)
-CLAIRAUT_PANELS = 16  # first level; doubled until two levels agree
-CLAIRAUT_MAX_PANELS = 1 << 15
-CLAIRAUT_TOL = 1e-13  # relative agreement of two levels (radians)
 ARC_SAMPLES = 1 << 18  # per turn: trapezoid error ~ h^2 w'' / 12, about 1e-10 of the perimeter
 CONSTANT_GRID = 257  # stations where a profile must be flat for the section to be the same everywhere
-
-
-def turnaround_error(surface: SweepSurface, s_turn: float, heading_deg: float) -> SolverError:
-    turn = float(surface.t_of_s(np.array([s_turn]))[0])
-    return SolverError(f"the geodesic at {heading_deg:.4g} deg turns around at t = {turn:.4g} mm before "
-                       f"reaching the end of the winding region (Clairaut: r sin(alpha) is constant, so "
-                       f"it cannot reach a smaller radius); lower the angle or shorten the region")
+# The relative spread of a section's size over a region within which the mandrel is wound as a cylinder
+# (near_cylinder): a laminate's thickness varies by the bands' overlaps, a taper by far more.
+NEAR_CYLINDER_SPREAD = 1e-4
+# A laminate grown on a straight tube changes its size by a ply or two near a layer's edge: within this
+# spread the passes stay unrolled lines, their slip measured exactly (a solve over such an edge on a box
+# section stalled), beyond it (a taper) they are solved.
+LAMINATE_SPREAD = 1e-2
 
 
 def is_cylinder(surface: SweepSurface) -> bool:
@@ -53,33 +50,27 @@ def is_cylinder(surface: SweepSurface) -> bool:
     return bool(np.all(ev[4] == 0.0) and np.all(ev[1] == 1.0))
 
 
+def near_cylinder(surface: SweepSurface, t_a: float, t_b: float, spread: float = NEAR_CYLINDER_SPREAD) -> bool:
+    """A straight axis whose section keeps its size over [t_a, t_b] within NEAR_CYLINDER_SPREAD: a
+    cylinder, or one grown by a laminate whose thickness varies only by the bands' overlaps (2e-6 of
+    the section on a box tube). On such a mandrel the unrolled line (cylinder_pass) is the geodesic, or
+    a path whose geodesic curvature is of the order of that spread, held by any friction (the slip
+    check measures it)."""
+    if is_cylinder(surface):
+        return True
+    if not (surface.curve.is_straight and surface.is_axial_parameter):
+        return False
+    p = surface.profile.evaluate(surface.s_of_t(np.linspace(t_a, t_b, CONSTANT_GRID)))[3]
+    return bool(np.ptp(p) <= spread * float(np.max(p)))
+
+
 def _clairaut(surface: SweepSurface, s0: float, s1: float, alpha: float, heading_deg: float) -> float:
     """theta(s1) - theta(s0) along the geodesic leaving station s0 at winding angle alpha (rad, toward s1)."""
     ev0 = surface.evaluate(np.array([s0]), np.array([0.0]), order=1)
     c = float(np.linalg.norm(ev0.pt[0])) * math.sin(alpha)
-    prev = None
-    panels = CLAIRAUT_PANELS
-    while True:
-        edges = np.linspace(s0, s1, panels + 1)
-        half = 0.5 * (edges[1:] - edges[:-1])
-        nodes = (0.5 * (edges[1:] + edges[:-1]))[:, None] + half[:, None] * GAUSS_X
-        s = nodes.reshape(-1)
-        ev = surface.evaluate(s, np.zeros_like(s), order=1)
-        g = np.einsum("ij,ij->i", ev.pt, ev.pt)
-        e = np.einsum("ij,ij->i", ev.ps, ev.ps)
-        room = g - c * c
-        if np.any(room <= 0.0):
-            k = int(np.argmax(room <= 0.0))
-            raise turnaround_error(surface, float(s[k]), heading_deg)
-        f = c * np.sqrt(e / (g * room))
-        value = float(np.sum((f.reshape(panels, -1) * GAUSS_W).sum(axis=1) * half))
-        if prev is not None and abs(value - prev) <= CLAIRAUT_TOL * (1.0 + abs(value)):
-            return value
-        if panels >= CLAIRAUT_MAX_PANELS:
-            raise SolverError(f"the geodesic's turn integral did not settle ({abs(value - prev):.2g} rad apart "
-                              f"at {panels} panels): the profile is too rough near the turnaround")
-        prev = value
-        panels *= 2
+    if c == 0.0:
+        return 0.0
+    return math.copysign(1.0, c) * turn(surface, s0, s1, abs(c), heading_deg)
 
 
 def _cylinder_theta(surface: SweepSurface, s0: float, theta0: np.ndarray, run: float) -> np.ndarray:
@@ -128,8 +119,36 @@ def reach_theta(surface: SweepSurface, s0: float, theta0: np.ndarray, heading_de
         # theta grows with s on both legs of the same helix: the integral from s0 to s1 carries the sign
         return theta0 + _clairaut(surface, s0, s1, lean, heading_deg)
     if is_cylinder(surface):
-        ev = surface.evaluate(np.array([s0]), theta0[:1], order=1)
-        axial = float(np.linalg.norm(ev.ps[0])) * abs(s1 - s0)
-        run = math.tan(lean) * axial * (1.0 if forward else -1.0)
-        return _cylinder_theta(surface, s0, theta0, run)
+        return cylinder_reach(surface, s0, theta0, lean, s1)
     return None
+
+
+def cylinder_reach(surface: SweepSurface, s0: float, theta0: np.ndarray, lean: float, s1: float) -> np.ndarray:
+    """theta where the unrolled line from (s0, theta0) (k,) leaning `lean` (rad, from the direction of
+    travel along s toward increasing theta) reaches station s1: the geodesic on a cylinder (near_cylinder)."""
+    ev = surface.evaluate(np.array([s0]), theta0[:1], order=1)
+    axial = float(np.linalg.norm(ev.ps[0])) * abs(s1 - s0)
+    run = math.tan(lean) * axial * (1.0 if s1 > s0 else -1.0)
+    return _cylinder_theta(surface, s0, theta0, run)
+
+
+def cylinder_pass(surface: SweepSurface, arcs: ArcMap, a: tuple[float, float], b: tuple[float, float],
+                  n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """The geodesic from a to b ((t, theta) each) on a general cylinder (near_cylinder), exactly: unrolled,
+    the surface is a plane in which the station and the section's arc length are Cartesian coordinates,
+    so the geodesic is the straight line between the ends and its points at equal steps of the station
+    and of the arc-length fraction are equally spaced along it (docs/math/04-checks.md; docs/math/12-exact-eye.md
+    12.2). No iteration: the variational solver's answer at any n tends to this.
+
+    n : interior points. Returns s, theta (n + 2,) float, the unit tangents (n + 2, 3) float (the line's
+    one direction carried onto the surface at each point) and the length (mm).
+    """
+    s0, s1 = (float(v) for v in surface.s_of_t(np.array([a[0], b[0]])))
+    f0, f1 = (float(v) for v in arcs.fraction(np.array([a[1], b[1]])))
+    u = np.linspace(0.0, 1.0, n + 2)
+    s, theta = s0 + (s1 - s0) * u, arcs.theta(f0 + (f1 - f0) * u)
+    ev = surface.evaluate(s, theta, order=1, with_point=False)
+    d = ev.ps * (s1 - s0) + ev.pt * ((f1 - f0) * arcs.dtheta_dfrac(theta))[:, None]
+    axial = float(row_norms(ev.ps[:1])[0]) * abs(s1 - s0)
+    run = float(np.mean(surface.perimeter(s))) * abs(f1 - f0)  # the section's, constant on a cylinder
+    return s, theta, d / row_norms(d)[:, None], math.hypot(axial, run)

@@ -1,4 +1,4 @@
-"""Bands on a circle (MATH.md 5): the covered length, longest gap, widest overlap, least and most bands
+"""Bands on a circle (docs/math/05-winding.md): the covered length, longest gap, widest overlap, least and most bands
 over a section of perimeter P, for one set of bands (union_stats) or many sets at once (union_stats_many,
 the same numbers to round-off).
 

@@ -1,7 +1,7 @@
 """The work a job will do, decided from the config and the built surface before any path is solved.
 
 The planner's sizes follow from a few numbers: the circuits of a helical layer N_c = ceil(P cos(alpha)
-/ B) (MATH.md 5, P the perimeter, so the surface is needed), the turns of a hoop layer (region length
+/ B) (docs/math/05-winding.md, P the perimeter, so the surface is needed), the turns of a hoop layer (region length
 over pitch, HOOP_STEP_DEG per point), the dwells (DWELL_STEP_DEG per point) and the points per pass.
 From them: circuits, passes, points per pass, points in total and a memory estimate
 (winder.winding.memory_model: docs/math/14-work-estimates.md 14.2), each held against a limit. A job
@@ -28,7 +28,7 @@ from winder.winding.layers.helical_vessel import PIECE_MIN_POINTS, turnaround_re
 from winder.winding.layers.hoop import HOOP_STEP_DEG
 from winder.winding.layer_batches import robot_poses, whole_plan
 from winder.winding.memory_model import PROGRAM_CHUNK_POINTS, peak_bytes, solve_bytes_per_point
-from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext
+from winder.winding.passes import DWELL_STEP_DEG, REFINE_MAX_POINTS, TANGENT_REFINE, PlanContext, pass_points
 from winder.winding.pattern import circuits_for_coverage, coprime_skips
 from winder.winding.turnaround import turnaround_points
 
@@ -106,7 +106,7 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
     need = perimeter * math.cos(math.radians(cfg.angle_deg)) / w.band_width
     if need > MAX_CIRCUITS:
         raise _refuse(job.source, "winding.band_width",
-                      f"layer {key} needs {need:.4g} circuits (perimeter {perimeter:.6g} mm x cos "
+                      f"{key} needs {need:.4g} circuits (perimeter {perimeter:.6g} mm x cos "
                       f"{cfg.angle_deg:g} deg / band width), more than the limit of {MAX_CIRCUITS} (a wider "
                       f"band needs fewer), got {w.band_width:g}")
     circuits = cfg.circuits or circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
@@ -133,10 +133,13 @@ def _helical(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, 
         _check_pass_points(job, surface, cfg, key, vessel, (t_a, t_b))
     if not vessel and slip not in (0.0, SLIP_AUTO):
         from winder.winding.layers.friction_open import is_bent_tube  # noqa: PLC0415 - friction jobs only
+        from winder.winding.layers.slip_revolution import tapers  # noqa: PLC0415
         ctx = PlanContext(job, w, surface, arc_map(surface.section), job.machine.feed)
-        if not is_bent_tube(ctx):  # as winder.winding.layers.friction refuses it, before any path
-            raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels and to bent tubes of lines and "
-                          f"arcs; geodesics cover this mandrel evenly: use 0 or auto, got {slip:g}")
+        # as winder.winding.layers.friction refuses it, before any path
+        if not is_bent_tube(ctx) and not (surface.curve.is_straight and tapers(surface, t_a, t_b)):
+            raise _refuse(job.source, f"{key}.slip", f"a number applies to vessels, bent tubes of lines and arcs, "
+                          f"and tapered surfaces of revolution (cones, poles); geodesics cover this mandrel "
+                          f"evenly: use 0 or auto, got {slip:g}")
     grows = not vessel and not surface.is_revolution and cfg.pattern is None and cfg.circuits is None
     most = circuits * (MAX_CIRCUIT_FACTOR if grows else 1)
     n = w.points or DEFAULT_POINTS
@@ -173,25 +176,32 @@ def _held_by_friction(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, k
         return False
     mu = job.winding.friction
     need, at, presses = held_need(surface, *region, cfg.angle_deg)
-    why = need_message(cfg.angle_deg, mu, need, at, presses)
+    why = need_message(surface, region, cfg.angle_deg, mu, need, at, presses)
     if why is not None:  # a bridge is the angle's; too little friction, the friction's
         raise _refuse(job.source, "winding.friction" if presses else f"{key}.angle",
                       f"{key}: {why}, got {mu if presses else cfg.angle_deg:g}")
     return True
 
 
-def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radius: float, key: str) -> None:
-    """A turnaround_radius the friction-held planner (winding.layers.friction_vessel) can lay on the
-    bare vessel: below the cylinder's radius, and clear of both polar openings by half a band."""
-    where = f"{key}.turnaround_radius"
-    if radius >= prof.radius:
-        raise _refuse(job.source, where, f"must be smaller than the vessel's radius ({prof.radius:g} mm): the "
-                      f"fiber turns around on the domes, got {radius:g}")
-    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
-    c_min = r_open + 0.5 * job.winding.band_width
-    if radius < c_min - 1e-9:  # the planner's own comparison
-        raise _refuse(job.source, where, f"must be at least the larger polar opening ({r_open:.3f} mm) plus half a "
-                      f"band ({c_min:.3f} mm), or the band runs off the dome, got {radius:g}")
+def _check_turnaround_radius(job: JobConfig, prof: VesselMeridian, radii: tuple[float | None, float | None],
+                             key: str) -> None:
+    """turnaround_radius the friction-held planner (winding.layers.friction_vessel) can lay on the bare
+    vessel: each dome's below the cylinder's radius and clear of its own polar opening by half a band."""
+    half = 0.5 * job.winding.band_width
+    same = radii[0] == radii[1]
+    for end, radius, dome in zip(("start", "end"), radii, (prof.dome, prof.end_dome)):
+        if radius is None:
+            continue
+        where = f"{key}.turnaround_radius" + ("" if same else f".{end}")
+        if radius >= prof.radius:
+            raise _refuse(job.source, where, f"must be smaller than the vessel's radius ({prof.radius:g} mm): the "
+                          f"fiber turns around on the domes, got {radius:g}")
+        c_min = dome.end_radius + half
+        if radius < c_min - 1e-9:  # the planner's own comparison
+            which = "first" if end == "start" else "end"
+            raise _refuse(job.source, where, f"must be at least the {which} dome's polar opening "
+                          f"({dome.end_radius:.3f} mm) plus half a band ({c_min:.3f} mm), or the band runs off the "
+                          f"dome, got {radius:g}")
 
 
 def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str, vessel: bool,
@@ -226,7 +236,10 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
                     return
                 ends.append(th)
         except SolverError as exc:  # the geodesic turns around on a narrowing mandrel
-            raise _refuse(job.source, f"{key}.angle", f"{exc.message}, got {cfg.angle_deg:g}") from exc
+            from winder.winding.layers.friction_revolution import is_open_revolution, turn_remedies  # noqa: PLC0415
+
+            hint = turn_remedies(surface, region, cfg.angle_deg, w.friction) if is_open_revolution(surface) else ""
+            raise _refuse(job.source, f"{key}.angle", f"{exc.message}{hint}, got {cfg.angle_deg:g}") from exc
         natural = float(np.mean(ctx.arcs.fraction(ends[0]) - ctx.arcs.fraction(ends[1])))
         # A pass spans natural turns of the perimeter from where it starts; on a non-circular section
         # its angle's span depends on that start: the narrowest, so that what is refused here every
@@ -234,6 +247,7 @@ def _check_pass_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
         starts = np.linspace(0.0, 1.0, START_SAMPLES)
         span = ctx.arcs.theta(starts + natural) - ctx.arcs.theta(starts)
         rounds = float(np.min(np.abs(span))) / (2.0 * math.pi)
+    n = pass_points(w, rounds) or n  # the planner's own: more than the default for a pass of many rounds
     try:
         check_points(n, rounds, max(REFINE_MAX_POINTS, n))
     except ConfigError as exc:
@@ -250,10 +264,10 @@ def _check_bent_points(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, 
 
     if not surface.section.is_circle:
         return
-    n = job.winding.points or DEFAULT_POINTS
     t = np.linspace(*region, REGION_STATIONS)
     per = np.asarray(surface.perimeter(surface.s_of_t(t)), dtype=float)
     rounds = math.tan(math.radians(cfg.angle_deg)) * float(np.mean(1.0 / per)) * (region[1] - region[0])
+    n = pass_points(job.winding, BENT_ROUNDS_SHARE * rounds) or DEFAULT_POINTS
     least = math.ceil(MIN_SEGMENTS_PER_ROUND * BENT_ROUNDS_SHARE * rounds) - 1
     if n < least:
         raise _refuse(job.source, "winding.points",
@@ -269,7 +283,7 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
     t_a, t_b = prof.equator_t if isinstance(prof, VesselMeridian) else _region(surface, w)
     if isinstance(prof, VesselMeridian) and not t_b > t_a:  # hoops are laid on the cylinder alone
         raise _refuse(job.source, "mandrel.profile.cylinder_length",
-                      f"hoop layer {key} is laid on the vessel's cylinder: it must be longer than 0 mm, "
+                      f"{key} is laid on the vessel's cylinder: it must be longer than 0 mm, "
                       f"got {prof.cylinder_length:g}")
     perimeter = _largest_perimeter(surface, t_a, t_b)
     if cfg.passes > MAX_PASSES:
@@ -278,7 +292,7 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
         ratio = w.band_width / perimeter
         if ratio >= 1.0:  # the planner's own refusal (winding.layers.hoop), known from the config
             raise _refuse(job.source, "winding.band_width",
-                          f"wider than the perimeter where hoop layer {key} is laid ({perimeter:.6g} mm at "
+                          f"wider than the perimeter where {key} is laid ({perimeter:.6g} mm at "
                           f"most): a hoop cannot be laid, got {w.band_width:g}")
         # pitch = P / tan(acos(B / P)) = B / sqrt(1 - (B / P)^2): one band width per turn
         pitch = w.band_width / math.sqrt(1.0 - ratio * ratio) if ratio < 1.0 else math.inf
@@ -290,7 +304,7 @@ def _hoop(job: JobConfig, surface: SweepSurface, cfg: LayerConfig, key: str) -> 
     pass_points = int(math.ceil(turns * 360.0 / HOOP_STEP_DEG)) + 1 if math.isfinite(turns) else 3
     if pass_points > MAX_PASS_POINTS:
         raise _refuse(job.source, cause,
-                      f"layer {key} would lay {turns:.4g} turns of pitch {pitch:.3g} mm over {t_b - t_a:g} mm, "
+                      f"{key} would lay {turns:.4g} turns of pitch {pitch:.3g} mm over {t_b - t_a:g} mm, "
                       f"{pass_points:.4g} points per pass, more than the limit of {MAX_PASS_POINTS}, got {value}")
     # Between traverses the carriage turns back at one end or the other (winder.winding.turnaround).
     ends = tuple(float(v) for v in surface.s_of_t(np.array([t_a, t_b])))
@@ -310,7 +324,7 @@ def job_budget(job: JobConfig, surface: SweepSurface) -> Budget:
     laminate = job.winding.has_laminate  # once: it looks at every layer
     total = 0
     for index, cfg in enumerate(job.winding.layers):
-        key = f"winding.layers[{index}]"
+        key = cfg.label(index)
         layers.append(_hoop(job, surface, cfg, key) if cfg.type is LayerType.HOOP
                       else _helical(job, surface, cfg, key, index == 0 or not laminate))
         total += layers[-1].points
@@ -346,8 +360,9 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
         worst = max(range(len(budget.layers)), key=lambda i: budget.layers[i].points)
         layer = budget.layers[worst]
         hoop = job.winding.layers[worst].type is LayerType.HOOP
-        raise _refuse(job.source, f"winding.layers[{worst}].passes" if hoop else "winding.points",
-                      f"the job would plan {budget.points:.4g} points ({layer.points:.4g} in layer {worst + 1}: "
+        label = job.winding.layers[worst].label(worst)
+        raise _refuse(job.source, f"{label}.passes" if hoop else "winding.points",
+                      f"the job would plan {budget.points:.4g} points ({layer.points:.4g} in {label}: "
                       f"{layer.passes} passes of up to {layer.pass_points} points), more than the limit of "
                       f"{MAX_TOTAL_POINTS}; fewer passes, fewer points per pass or a wider band")
     if budget.memory_bytes > MAX_MEMORY_BYTES:
@@ -357,7 +372,7 @@ def check_budget(job: JobConfig, surface: SweepSurface) -> Budget:
         solver = budget.layers[largest].solve_points * per_point
         # A hoop's points come from its turns (band width and length), not from winding.points.
         hoop = job.winding.layers[largest].type is LayerType.HOOP
-        key = f"winding.layers[{largest}]" if hoop else "winding.points"
+        key = job.winding.layers[largest].label(largest) if hoop else "winding.points"
         raise _refuse(job.source, key if 2 * solver > budget.memory_bytes else "winding",
                       f"the job would need about {budget.memory_bytes / 1e9:.3g} GB of memory, more than the "
                       f"limit of {MAX_MEMORY_BYTES / 1e9:g} GB; fewer points or a wider band")

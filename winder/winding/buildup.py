@@ -1,4 +1,4 @@
-"""A layer's thickness from the bands actually laid, and the mandrel grown by it (MATH.md 8).
+"""A layer's thickness from the bands actually laid, and the mandrel grown by it (docs/math/08-laminate-edges.md).
 
 The station range is cut into cells (uniform within each smooth piece: a vessel's first dome,
 cylinder and end dome, so no cell straddles an equator). Each pass puts the composite volume of its
@@ -33,6 +33,7 @@ if TYPE_CHECKING:
 CELLS_PER_BAND = 16  # station cells per band width (the law's cell averages, the zone edges)
 MAX_CELLS = 4000  # over the whole station range
 AREA_THETA_NODES = 96  # periodic rule for A'(s) on non-circular sections
+SPACING_JUMP = 4.0  # neighbouring sample spacings further apart than this: a monotone interpolant
 NEWTON_STEPS = 4  # index of a station along a pass (from a linear first guess; quadratic)
 
 
@@ -95,16 +96,31 @@ def _arc_lengths(surface: SweepSurface, s_spline, th_spline, m: int) -> np.ndarr
     return np.concatenate([[0.0], np.cumsum(0.5 * speed.reshape(m - 1, -1) @ GAUSS_W)])
 
 
+def _station_fit(s: np.ndarray):
+    """How a pass's samples are interpolated against their index: the not-a-knot cubic, or where the
+    samples' spacing jumps by more than SPACING_JUMP between neighbours (a friction-held pass: dense
+    dome legs meeting a sparse cylinder) the monotone cubic (PCHIP), which does not overshoot there
+    (the cubic did by a cell's width and put the volume of 14 mm of laminate in the equator's cell)."""
+    ds = np.abs(np.diff(s))
+    ratio = ds[1:] / np.maximum(ds[:-1], 1e-300)
+    if ds.size < 2 or (np.max(ratio) <= SPACING_JUMP and np.min(ratio) >= 1.0 / SPACING_JUMP):
+        return interp_spline
+    from scipy.interpolate import PchipInterpolator  # noqa: PLC0415 - friction-held passes only
+
+    return PchipInterpolator
+
+
 def pass_volumes(cells: StationCells, p: FiberPass, area: float, surface: SweepSurface) -> np.ndarray:
     """Composite volume (mm^3) of one pass in each cell, (k,) float."""
     out = np.zeros(cells.centres.size)
     if p.kind is PassKind.DWELL or np.ptp(p.s) <= 0.0:
         return out
     idx = np.arange(p.s.size, dtype=float)
-    s_spline = interp_spline(idx, p.s)
-    ell = _arc_lengths(surface, s_spline, interp_spline(idx, p.theta), p.s.size)
+    fit = _station_fit(p.s)
+    s_spline = fit(idx, p.s)
+    ell = _arc_lengths(surface, s_spline, fit(idx, p.theta), p.s.size)
     ell *= p.length / ell[-1] if ell[-1] > 0.0 else 0.0  # the volume of the pass's own length, kept
-    l_spline = interp_spline(idx, ell)
+    l_spline = fit(idx, ell)
     lo, hi = min(p.s[0], p.s[-1]), max(p.s[0], p.s[-1])
     e = np.clip(cells.edges, lo, hi)
     at = l_spline(index_of(s_spline, p.s, e))
@@ -173,7 +189,7 @@ def share_around(surface: SweepSurface, passes: tuple[FiberPass, ...], band_widt
     weighted), so that thickness(s, theta) = mean thickness(s) x share. 1 where no band crosses.
 
     A pass crossing a station covers B / sin(beta) of the section (beta between fiber and section
-    curve), B / (2 sin(beta) |Phi_theta|) of angle on either side of its crossing (MATH.md 5).
+    curve), B / (2 sin(beta) |Phi_theta|) of angle on either side of its crossing (docs/math/05-winding.md).
     """
     s, theta = np.asarray(s, float), np.asarray(theta, float)
     count = np.zeros((s.size, theta.size))

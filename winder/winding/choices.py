@@ -129,7 +129,7 @@ def _geodesic_kind(ctx: PlanContext, cfg: LayerConfig) -> str:
         return "vessel" if geodesic else "other"
     if slip == 0.0 or (slip == SLIP_AUTO and surf.curve.is_straight):
         # a surface of revolution, or a straight tube of one section (no profile): unrolled, its passes
-        # are the same lines moved along the section (docs/math/11-pattern-choices.md 10.2)
+        # are the same lines moved along the section (docs/math/11-pattern-choices.md 11.2)
         cylinder = surf.curve.is_straight and surf.profile is None
         return "open" if surf.is_revolution or cylinder else "other"
     return "other"
@@ -142,7 +142,7 @@ def pattern_choices(job: JobConfig, index: int, angle: float | None = None, with
     winding.plan.layer_contexts), when the caller has them."""
     cfg = job.winding.layers[index]
     if cfg.type is not LayerType.HELICAL:
-        raise ConfigError(f"{job.source}: winding.layers[{index}]: a hoop layer has no pattern to choose "
+        raise ConfigError(f"{job.source}: {cfg.label(index)}: a hoop layer has no pattern to choose "
                           f"(winder patterns lists helical layers)")
     if angle is not None:
         cfg = replace(cfg, angle_deg=float(angle))

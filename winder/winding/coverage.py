@@ -1,4 +1,4 @@
-"""Coverage of a layer (MATH.md 5): where the bands cross stations along the winding region.
+"""Coverage of a layer (docs/math/05-winding.md): where the bands cross stations along the winding region.
 
 At a station t each pass crosses the section once; its band covers B / sin(beta) of the perimeter,
 beta the angle between the fiber and the section curve (B / cos(alpha) on a surface of revolution),

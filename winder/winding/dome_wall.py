@@ -44,23 +44,25 @@ def _foot(points: np.ndarray, prof: VesselMeridian) -> np.ndarray:
     return station
 
 
+def layer_walls(plan: WindingPlan, bare: np.ndarray) -> np.ndarray:
+    """Each layer's reported thickness (mm), (layers, m), at points (m, 2) as (z, r) of the bare mandrel's
+    meridian: read at the foot of each point on the surface the layer was wound on."""
+    out = np.zeros((len(plan.layers), bare.shape[0]))
+    for k, layer in enumerate(plan.layers):
+        lam = layer.laminate
+        out[k] = np.interp(_foot(bare, plan.surface_of(layer.index).profile), lam.s, lam.thickness, left=0.0, right=0.0)
+    return out
+
+
 def wall_at(plan: WindingPlan, bare: np.ndarray) -> np.ndarray:
     """W (m,) (mm) at points (m, 2) as (z, r) of the bare mandrel's meridian (module docstring)."""
-    wall = np.zeros(bare.shape[0])
-    for wall in walls_by_layer(plan, bare):
-        pass
-    return wall
+    return layer_walls(plan, bare).sum(axis=0)
 
 
 def walls_by_layer(plan: WindingPlan, bare: np.ndarray) -> Iterator[np.ndarray]:
     """The wall (m,) (mm) at the bare points (m, 2) as (z, r) after each layer in turn: layers 1..k
     for k = 1, 2, .. (wall_at's sum, one layer more each time)."""
-    wall = np.zeros(bare.shape[0])
-    for layer in plan.layers:
-        lam = layer.laminate
-        wall = wall + np.interp(_foot(bare, plan.surface_of(layer.index).profile), lam.s, lam.thickness,
-                                left=0.0, right=0.0)
-        yield wall
+    yield from np.cumsum(layer_walls(plan, bare), axis=0)
 
 
 def dome_walls(plan: WindingPlan) -> tuple[DomeWall, DomeWall] | None:

@@ -7,18 +7,15 @@ reported thickness:
 - open mandrels: the thickness continues at its end values beyond the fibered stretch (the next
   layer winds inside the same region; a laminate edge there would make hoops slip on the ramp);
 - vessels: each dome is smoothed on its own (mirrored at its equator, matched to the cylinder's
-  constant thickness there by a Gaussian taper one band wide) so the grown meridian stays C1 at the
+  constant thickness there by a quintic fade EQUATOR_BLEND_BANDS bands long) so the grown meridian stays C1 at the
   equators; a laminate edge falling toward the pole faster than the dome can carry is filled
-  (_limit_pole_slope), and the whole stays below the bare dome's boss cone (BossCone, docs/math/08
-  8.7: the frame keeps the opening plane, so a pile-up taller than the dome rises there is lowered,
-  blended in by a soft minimum); over a concave stretch tighter than the laminate (an isotensoid's end hook)
-  the growth is held below the radius of curvature, so the offset does not fold (the next layer
-  bridges such a stretch anyway).
+  (_limit_pole_slope), and a pile-up next to a boss stands as laid, rising past the opening's plane
+  (docs/math/17 17.8: the grown vessel's frame follows); over a concave stretch tighter than the
+  laminate (an isotensoid's end hook) the growth is held below the radius of curvature, so the offset
+  does not fold (the next layer bridges such a stretch anyway).
 """
 
 from __future__ import annotations
-
-import dataclasses
 
 import numpy as np
 
@@ -28,59 +25,16 @@ from winder.geometry.vessel import VesselMeridian
 from winder.winding.buildup import StationCells, area_rate
 from winder.winding.laminate import smooth_density
 
-SOFT_MIN_SHARE = 0.25  # band widths over which the cap and the thickness are blended (no crease)
-BOSS_CONE_SHARE = 0.5  # share of the bare dome's angle to the radial at its opening the boss cone keeps
-CHORD_SAMPLES = 4001  # stations of a bare dome where the boss cone must pass above it
 POLE_SLOPE_SHARE = 0.7  # share of the meridian's angle to the radial a falling laminate edge may use
-
-
-@dataclasses.dataclass(frozen=True)
-class BossCone:
-    """The cone through a bare dome's polar opening circle (r0 in its opening plane, H = depth) that
-    every grown dome stays below (docs/math/08-laminate-edges.md 8.7): H <= depth - slope (r - r0).
-
-    Fixed from the bare mandrel, so the limit does not shrink layer by layer."""
-
-    r0: float
-    depth: float
-    slope: float
-
-    @classmethod
-    def of(cls, dome) -> BossCone:
-        ev = dome.evaluate(np.array([dome.length]))
-        angle = float(np.arctan2(abs(ev.h1[0]), abs(ev.r1[0])))  # the meridian's angle to the radial
-        r0, depth = float(dome.end_radius), float(dome.depth)
-        # Above the whole bare dome: an isotensoid turns axial at its opening (angle 90 deg) but is
-        # nearly radial just outside it, where a cone of half that angle would cut it (docs/math 8.7).
-        bare = dome.evaluate(np.linspace(0.0, dome.length, CHORD_SAMPLES)[:-1])
-        apart = bare.r - r0
-        chords = (depth - bare.h[apart > 0.0]) / apart[apart > 0.0]
-        flattest = float(chords.min()) if chords.size else np.inf
-        return cls(r0, depth, min(float(np.tan(BOSS_CONE_SHARE * angle)), BOSS_CONE_SHARE * flattest))
-
-    def cap(self, dome, sigma: np.ndarray) -> np.ndarray:
-        """The largest growth along the normal at sigma ((m,) float) that keeps the grown point below
-        the cone (0 where the dome is on or above it already)."""
-        ev = dome.evaluate(sigma)
-        room = self.depth - ev.h - self.slope * (ev.r - self.r0)
-        rate = -ev.r1 + self.slope * ev.h1  # d(H + slope r) / dg along the outward normal (-r1, h1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            out = np.where(rate > 0.0, room / rate, np.inf)
-        return np.clip(out, 0.0, None)
-
-
-def boss_cones(surface: SweepSurface) -> tuple[BossCone, BossCone] | None:
-    """The boss cones of a bare vessel's two domes (None for other mandrels)."""
-    prof = surface.profile
-    if not isinstance(prof, VesselMeridian):
-        return None
-    return BossCone.of(prof.dome), BossCone.of(prof.end_dome)
+# Band widths of dome over which the cylinder's thickness (its hoops' above all, which end on the cylinder)
+# fades into the dome's: the grown meridian meets the grown cylinder tangentially, and layer on layer
+# the fade's curvature (at most 5.8 times its height over its length squared) adds up at the same place.
+EQUATOR_BLEND_BANDS = 4.0
 
 
 def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.ndarray,
-                     band_width: float, cones: tuple[BossCone, BossCone] | None = None) -> np.ndarray:
-    """The smooth mean thickness (mm) the next layer winds on, per cell centre, (k,) float. cones: the
-    bare vessel's boss cones (boss_cones), which the grown domes stay below."""
+                     band_width: float) -> np.ndarray:
+    """The smooth mean thickness (mm) the next layer winds on, per cell centre, (k,) float."""
     rate = area_rate(surface, cells.centres)
     if not isinstance(surface.profile, VesselMeridian) or len(cells.pieces) < 2:
         return _open(cells.centres, density, rate, band_width)
@@ -95,31 +49,23 @@ def smooth_thickness(surface: SweepSurface, cells: StationCells, density: np.nda
         s = cells.centres[i0:i1]
         sm = smooth_density(s, density[i0:i1], 0.5 * band_width, mirror) / rate[i0:i1]
         sm = _limit_pole_slope(surface, s, sm, -1.0 if j == 0 else 1.0, 0.5 * band_width)
-        cap = np.full(s.size, np.inf)
-        if cones is not None:
-            dome = (surface.profile.dome, surface.profile.end_dome)[j]
-            sigma = cells.edges[i1] - s if j == 0 else s - cells.edges[i0]
-            cap = cones[j].cap(dome, sigma)
-        sm = _below_concave_radius(surface, s, _soft_min(sm, cap, SOFT_MIN_SHARE * band_width))
         sm = _below_concave_radius(surface, s, smooth_density(s, sm, 0.5 * band_width, mirror))
-        sm = _below_concave_radius(surface, s, _soft_min(sm, cap, SOFT_MIN_SHARE * band_width))
         if cyl is None:
             out[i0:i1] = sm
             continue
         eq = cells.edges[i1] if j == 0 else cells.edges[i0]
         at_eq = sm[-1] if j == 0 else sm[0]
         dist = np.abs(cells.centres[i0:i1] - eq)
-        out[i0:i1] = sm + (t_cyl - at_eq) * np.exp(-(dist / band_width) ** 2)
+        span = min(EQUATOR_BLEND_BANDS * band_width, 0.5 * (cells.edges[i1] - cells.edges[i0]))
+        out[i0:i1] = np.maximum(sm + (t_cyl - at_eq) * _fade(dist / span), 0.0)
     return out
 
 
-def _soft_min(a: np.ndarray, b: np.ndarray, eps: float) -> np.ndarray:
-    """-eps log(exp(-a / eps) + exp(-b / eps)): below both, within eps log 2 of the lesser, smooth where
-    they cross (a min would leave a crease the next offset folds over); b may be inf."""
-    lo = np.minimum(a, b)
-    with np.errstate(invalid="ignore"):
-        gap = np.where(np.isfinite(b), np.abs(a - b), np.inf)
-    return np.clip(lo - eps * np.log1p(np.exp(-gap / eps)), 0.0, None)
+def _fade(x: np.ndarray) -> np.ndarray:
+    """1 at x = 0 falling to 0 at x >= 1, C2 with zero slope and curvature at both ends (the quintic
+    smoothstep): the dome's share of the cylinder's thickness next to the equator."""
+    x = np.clip(x, 0.0, 1.0)
+    return 1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x)
 
 
 def _open(s: np.ndarray, density: np.ndarray, rate: np.ndarray, band_width: float) -> np.ndarray:
@@ -153,9 +99,9 @@ def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, towar
     longer a vessel). The next layer cannot follow such an edge anyway (its fiber bridges it), so the
     grown shape fills it: the thickness may fall toward the pole at most at the slope that uses
     POLE_SLOPE_SHARE of the angle the dome's meridian has left to the radial direction (the least
-    dilation of t by a cone of that slope). Filled all the way, a pile-up next to a small opening
-    would reach past the opening's plane and hide it (the next layer could not turn around there):
-    the bare dome's boss cone (BossCone) holds it down. The slope limit at each station is the least
+    dilation of t by a cone of that slope). A pile-up next to a small opening is then carried to the
+    boss and rises past the opening's plane, as the laminate does against a boss's neck (the grown
+    dome ends there, winder.geometry.offset). The slope limit at each station is the least
     over +-window around it, so that the smoothing after it (that half-width), which averages slopes
     there, keeps within it. Only the shape the next layer winds on changes, never a reported
     thickness.
@@ -177,11 +123,10 @@ def _limit_pole_slope(surface: SweepSurface, s: np.ndarray, t: np.ndarray, towar
 
 def grown(surface: SweepSurface, cells: StationCells, thickness: np.ndarray) -> SweepSurface:
     """The mandrel grown by a smooth mean thickness given at the cell centres ((k,) float), extended
-    to the range ends so the growth covers [0, length]: by its end values on open mandrels, by zero
-    at a vessel's polar openings (the laminate ends at the boss; _limit_pole_slope brought it down
-    there already)."""
-    vessel = isinstance(surface.profile, VesselMeridian)
-    ends = (0.0, 0.0) if vessel else (thickness[0], thickness[-1])
+    to the range ends by its end values so the growth covers [0, length] (on a vessel the laminate
+    piled up against a boss stands there; the grown dome ends where its surface turns back,
+    winder.geometry.offset)."""
+    ends = (thickness[0], thickness[-1])
     s = np.concatenate([[cells.edges[0]], cells.centres, [cells.edges[-1]]])
     h = np.concatenate([[ends[0]], thickness, [ends[1]]])
     return grow_surface(surface, s, h)

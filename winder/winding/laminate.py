@@ -1,4 +1,4 @@
-"""Laminate math (MATH.md 8): a band's material, ply thickness, masses, and the thickness a layer
+"""Laminate math (docs/math/08-laminate-edges.md): a band's material, ply thickness, masses, and the thickness a layer
 builds along the mandrel.
 
 Units: lengths in mm, tex in g/km (= 1e-6 g/mm), densities in g/cm^3 (= 1e-3 g/mm^3), masses in kg.

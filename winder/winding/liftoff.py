@@ -55,14 +55,20 @@ def upper_envelope(l: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.maximum(env, z) + chord
 
 
-def pass_lift_off(points: np.ndarray, k_n: np.ndarray) -> LiftOff:
+def pass_lift_off(points: np.ndarray, k_n: np.ndarray, judged: np.ndarray | None = None) -> LiftOff:
     """The largest lift-off of one pass: points (m, 3) float its vertices, k_n (m - 2,) float the
-    normal curvature at its interior vertices (winder.geometry.curvature.polyline_curvatures)."""
+    normal curvature at its interior vertices (winder.geometry.curvature.polyline_curvatures);
+    judged (m - 2,) bool: where it counts (the wound region; a fiber bridging in a trimmed end is cut
+    away with it), everywhere when None. The taut fiber's envelope is the whole pass's."""
     seg = np.sqrt(np.sum(np.diff(points, axis=0) ** 2, axis=1))
     l = np.cumsum(seg)[:-1]  # arc length at the interior vertices 1 .. m - 2
     if l.size < 3 or not np.all(np.isfinite(k_n)):
         return LiftOff(0.0, 0)
     y = heights(l, k_n)
     lift = upper_envelope(l, y) - y
+    if judged is not None:
+        if not np.any(judged):
+            return LiftOff(0.0, 0)
+        lift = np.where(judged, lift, -np.inf)
     i = int(np.argmax(lift))
     return LiftOff(max(float(lift[i]), 0.0), i)

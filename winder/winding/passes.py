@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from winder.config.job import JobConfig
-from winder.config.winding import LayerConfig, WindingConfig
+from winder.config.winding import DEFAULT_POINTS, LayerConfig, WindingConfig
 from winder.winding.coverage import layer_coverage
 from winder.errors import ConfigError, SolverError
 from winder.progress import Progress
@@ -17,6 +17,7 @@ from winder.winding.results import Coverage, FiberPass, LayerPlan, PassKind, win
 from winder.winding.slip import LayerSlip, check as check_held
 from winder.winding.turnaround import HOOP_HEADING_TOL, Leg, directions_of_heading, leg_way, swing_headings
 from winder.geometry.interp import interp_spline
+from winder.paths.resolution import POINTS_PER_ROUND
 from winder.winding.advance import is_cylinder
 from winder.geometry.sections import ArcMap, polar_arcs
 from winder.geometry.surface import SurfaceEval, SweepSurface
@@ -58,10 +59,12 @@ class PlanContext:
     arcs: ArcMap
     feed: float  # mm/min
     progress: Progress | None = None  # (fraction of the whole job, label); see winder.progress
-    previous_turnaround: float | None = None  # the last helical layer's turnaround radius c (mm), for step_back
+    # the last helical layer's turnaround radius on each dome (first, end) (mm), for step_back
+    previous_turnaround: tuple[float, float] | None = None
 
     def key(self, index: int, field: str | None = None) -> str:
-        base = f"{self.job.source}: winding.layers[{index}]"
+        """`file: layer 5 (helical 16 deg)` (and `.field`): layer `index` (0-based) in a message."""
+        base = f"{self.job.source}: {self.winding.layers[index].label(index)}"
         return f"{base}.{field}" if field else base
 
     def bridging_tolerance(self, index: int) -> float:
@@ -158,6 +161,15 @@ def turned_copies(surface: SweepSurface, heads: list[tuple[int, int, int, PassKi
                        (theta + np.array(shifts)[:, None]).reshape(-1), turned)
 
 
+def pass_points(w: WindingConfig, rounds: float) -> int:
+    """Interior points of a pass sweeping `rounds` turns: winding.points where the config writes it
+    (or None in tolerance mode: the solver chooses), else DEFAULT_POINTS and at least POINTS_PER_ROUND a
+    round, so that a long thin pass is not refused for the points winder chose itself."""
+    if w.points_given or w.points is None:
+        return w.points
+    return max(DEFAULT_POINTS, math.ceil(POINTS_PER_ROUND * abs(rounds)))
+
+
 def solve_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float],
                warm: tuple[np.ndarray, np.ndarray] | None, n: int | None = None) -> SolvedPass:
     """A two-point geodesic pass at n points (default: the config's), with exact-to-print tangents.
@@ -175,8 +187,8 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
     from winder.paths.geodesic import geodesic  # noqa: PLC0415 - the solver loads with the first geodesic pass
 
     w = ctx.winding
-    n = n or w.points or 200
-    if warm is None and not ctx.arcs.identity and is_cylinder(ctx.surface):
+    n = n or pass_points(w, (b[1] - a[1]) / (2.0 * math.pi)) or DEFAULT_POINTS
+    if warm is None and not ctx.arcs.identity and ctx.surface.curve.is_straight:
         warm = unrolled_line(ctx, a, b, n)
     res = _solve(ctx, a, b, n, warm, max(REFINE_MAX_POINTS, n))
     for _ in range(2):
@@ -194,7 +206,7 @@ def fine_geodesic(ctx: PlanContext, a: tuple[float, float], b: tuple[float, floa
 
 def unrolled_line(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], n: int) -> tuple[np.ndarray, np.ndarray]:
     """The geodesic from a to b ((t, theta) each) on a general cylinder, n interior points: unrolled,
-    a straight line, so the section's arc-length fraction runs linearly with the station (MATH.md 4;
+    a straight line, so the section's arc-length fraction runs linearly with the station (docs/math/04-checks.md;
     winder.winding.advance). A start path the solver only polishes: from the straight (s, theta)
     segment a long pass over a rounded rectangle's corners (five turns over 1900 mm) did not converge."""
     s0, s1 = (float(v) for v in ctx.surface.s_of_t(np.array([a[0], b[0]])))
@@ -347,7 +359,7 @@ def finish_layer(ctx: PlanContext, cfg: LayerConfig, index: int, alpha: float, c
         coverage = layer_coverage(ctx.surface, ctx.arcs, passes, ctx.winding.band_width, stations)
     if held is None:
         held = check_held(ctx.surface, laid, ctx.winding.friction, ctx.key(index), float(alpha),
-                          ctx.bridging_tolerance(index))
+                          ctx.bridging_tolerance(index), wound=ctx.winding.region)
     return LayerPlan(index=index + 1, type=cfg.type, angle_deg=float(alpha),
                      requested_angle_deg=float(cfg.angle_deg if cfg.angle_deg is not None else alpha),
                      circuits=int(circuits), pattern=int(pattern), dwell_start_deg=float(dwell_a),

@@ -1,4 +1,4 @@
-"""The circuit pattern of a helical layer (MATH.md 5): how many circuits, which skip, how it closes.
+"""The circuit pattern of a helical layer (docs/math/05-winding.md): how many circuits, which skip, how it closes.
 
 A circuit is a forward and a return pass; the mandrel turns one way throughout. With N_c circuits
 and a circuit advance of k / N_c of a turn (gcd(k, N_c) = 1), circuit j starts in slot j k mod N_c
@@ -18,13 +18,41 @@ from winder.errors import ConfigError, SolverError
 
 
 def circuits_for_coverage(perimeter: float, angle_rad: float, band_width: float) -> int:
-    """N_c = ceil(P cos(alpha) / B): the fewest circuits whose bands cover the perimeter."""
+    """N_c = ceil(P cos(alpha) / B): the fewest circuits whose bands cover the perimeter.
+
+    Parameters
+    ----------
+    perimeter : float
+        P, the reference section's perimeter (mm).
+    angle_rad : float
+        The winding angle alpha from the meridian (rad).
+    band_width : float
+        B (mm).
+
+    Returns
+    -------
+    int
+        At least 1.
+
+    Examples
+    --------
+    A 55 deg layer of 10 mm bands on a tube of radius 50: 2 pi 50 cos(55 deg) / 10 = 18.02.
+
+    >>> circuits_for_coverage(2 * math.pi * 50, math.radians(55), 10)
+    19
+    """
     need = perimeter * math.cos(angle_rad) / band_width
     return max(1, math.ceil(need - 1e-9))
 
 
 def coprime_skips(circuits: int) -> list[int]:
-    """The skips k in [1, N_c) with gcd(k, N_c) = 1 (k = 1 alone for a single circuit)."""
+    """The skips k in [1, N_c) with gcd(k, N_c) = 1 (k = 1 alone for a single circuit).
+
+    Examples
+    --------
+    >>> coprime_skips(12)
+    [1, 5, 7, 11]
+    """
     if circuits == 1:
         return [1]
     return [k for k in range(1, circuits) if math.gcd(k, circuits) == 1]
@@ -65,6 +93,15 @@ def close_open_pattern(circuits: int, natural: float, min_start: float, min_end:
 
     The extra dwell is the least non-negative amount that closes the pattern; it is shared equally
     by the two ends. pattern: a given k, or None for the k needing the least extra dwell.
+
+    Examples
+    --------
+    Five circuits whose passes and turnarounds advance 2.13 turns: skip 1 needs 0.07 turn more
+    (2.2 = 11 / 5), shared by the two ends.
+
+    >>> closed = close_open_pattern(5, 2.13, 0.0, 0.0, None, "layer 1 (helical 30 deg).pattern")
+    >>> closed.pattern, round(closed.dwell_start, 9), round(closed.advance % 1.0, 9)
+    (1, 0.035, 0.2)
     """
     best = None
     for k in _check_skip(pattern, circuits, key):
@@ -113,11 +150,45 @@ def close_vessel_pattern(advance: Callable[[np.ndarray], np.ndarray], c0: float,
     return best
 
 
+def vessel_closures(advance: Callable[[np.ndarray], np.ndarray], c0: float, c_lo: float, c_hi: float,
+                    counts: list[int], pattern: int | None) -> list[tuple[int, int, float]]:
+    """Every (N, k, c) closing a pattern of N circuits (N in counts) at the turnaround radius c in
+    [c_lo, c_hi] nearest c0 from above and from below, for each skip k (or the given pattern): the
+    choices a vessel layer has (winder patterns lists them); solved together (one quadrature of all
+    per step of the root finder)."""
+    a_lo, a_hi, a0 = (float(v) for v in advance(np.array([c_lo, c_hi, c0])))
+    wanted = []
+    for n in counts:
+        for k in (coprime_skips(n) if pattern is None else ([pattern % n or 1] if math.gcd(pattern, n) == 1 else [])):
+            up = a0 + (k / n - a0) % 1.0
+            wanted += [(n, k, t) for t in (up, up - 1.0) if a_lo <= t <= a_hi]
+    if not wanted:
+        return []
+    from scipy.optimize.elementwise import find_root  # noqa: PLC0415
+
+    target = np.array([t for _, _, t in wanted])
+    lo, hi = np.where(target > a0, c0, c_lo), np.where(target > a0, c_hi, c0)
+    res = find_root(lambda x, t: advance(x) - t, (lo, hi), args=(target,),
+                    tolerances={"xatol": 1e-13, "xrtol": 1e-14})
+    return [(n, k, float(c)) for (n, k, _), c, ok in zip(wanted, res.x, res.success) if ok]
+
+
 def slot_of_circuit(circuit: int, circuits: int, pattern: int) -> int:
     """The slot (0 .. N_c - 1) that circuit j (0-based) starts in."""
     return (circuit * pattern) % circuits
 
 
 def slots_filled(circuits: int, pattern: int) -> np.ndarray:
-    """How many circuits start in each slot: all ones for a closed, even pattern. (N_c,) int."""
+    """How many circuits start in each slot: all ones for a closed, even pattern. (N_c,) int.
+
+    Examples
+    --------
+    A skip coprime with the circuits fills every slot once; one sharing a factor winds some slots
+    several times and others never.
+
+    >>> slots_filled(12, 5).tolist()
+    [1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1]
+    >>> slots_filled(12, 4).tolist()
+    [4, 0, 0, 0, 4, 0, 0, 0, 4, 0, 0, 0]
+    """
     return np.bincount([slot_of_circuit(j, circuits, pattern) for j in range(circuits)], minlength=circuits)

@@ -55,7 +55,7 @@ class FiberPass:
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Coverage:
-    """Coverage of a layer at stations along its winding region (MATH.md 5).
+    """Coverage of a layer at stations along its winding region (docs/math/05-winding.md).
 
     stations : (k,) float, the t where it was measured.
     covered_fraction : covered perimeter / perimeter, the least over the stations.
@@ -80,7 +80,8 @@ class LayerPlan:
     angle_deg : the winding angle laid at the reference section (after any pattern adjustment);
         requested_angle_deg the config's. circuits N_c, pattern k (circuit advance 2 pi k / N_c).
     dwell_start_deg, dwell_end_deg : mandrel turn at each end of an open mandrel per circuit.
-    turnaround_radius : vessels: the Clairaut constant c where the fiber turns on the domes (mm).
+    turnaround_radius : vessels: the Clairaut constant c where the fiber turns on the domes (mm); where
+        friction turns each dome at its own radius, their mean, and turnaround_radii each (first, end).
     alpha_min_deg, alpha_max_deg : range of the winding angle (folded to [0, 90]) over the wound
         passes, their ends included (turnarounds and dwells left out).
     time_s : estimated winding time at the machine feed.
@@ -111,6 +112,7 @@ class LayerPlan:
     max_lift_off_mm: float = 0.0  # largest lift-off of its fiber over a concave stretch (docs/math 8.10)
     lift_off_t: float = 0.0  # where: station t (mm) and pass number
     lift_off_pass: int = 0
+    turnaround_radii: tuple[float, float] | None = None  # vessels: (first dome, end dome) radii (mm)
 
     @property
     def angle_change_deg(self) -> float:
@@ -143,7 +145,10 @@ class WindingPlan:
         return self.outer if self.outer is not None else self.surface
 
     def surface_of(self, layer: int) -> SweepSurface:
-        """The surface layer `layer` (1-based) was wound on: the mandrel grown by the layers below."""
+        """The surface layer `layer` (1-based) was wound on: the mandrel grown by the layers below, the
+        part as wound so far, which the payout eye must clear while this layer is wound (on a vessel's
+        domes the pile-ups stand as laid, past the bosses' planes: docs/math/17 17.8; its t runs over
+        [t_start, axial_length])."""
         own = self.layers[layer - 1].surface
         return own if own is not None else self.surface
 

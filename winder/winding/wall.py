@@ -1,4 +1,4 @@
-"""The laminate wall of a job, layer on layer (SPEC.md "Laminate"; MATH.md 8).
+"""The laminate wall of a job, layer on layer (docs/math/08-laminate-edges.md; docs/math/08-laminate-edges.md).
 
 After each layer is planned, `Buildup.add` measures what it laid (thickness per station from its
 bands, volume, masses, the winding angle per station), grows the mandrel by it, and hands the grown
@@ -21,7 +21,7 @@ from winder.geometry.offset import OffsetError
 from winder.geometry.surface import SweepSurface
 from winder.geometry.vessel import VesselMeridian
 from winder.winding.buildup import StationCells, area_rate, index_of, layer_density, station_cells
-from winder.winding.growth import BossCone, boss_cones, grown, smooth_thickness
+from winder.winding.growth import grown, smooth_thickness
 from winder.winding.laminate import Material
 from winder.winding.passes import PlanContext, winding_region
 from winder.winding.results import LayerPlan, PassKind
@@ -132,13 +132,12 @@ class Buildup:
     band_width: float
     t_ref: float
     source: str = ""
-    cones: tuple[BossCone, BossCone] | None = None  # the bare vessel's (growth.boss_cones)
 
     def add(self, layer: LayerPlan, material: Material, key: str) -> tuple[LayerPlan, Buildup]:
         """The layer with its laminate record and surface, and the state for the next layer.
 
-        key : the layer's key path in messages (winding.layers[i]). Raises SolverError where the
-        grown mandrel is not a regular surface (a laminate folding over a concave region).
+        key : how messages name the layer (`job.yaml: layer 5 (helical 16 deg)`: PlanContext.key). Raises
+        SolverError where the grown mandrel is not a regular surface (a laminate folding over a concave region).
         """
         surf, band = self.surface, self.band_width
         area = material.composite_area(band)
@@ -151,7 +150,7 @@ class Buildup:
         # shape it winds on leaves them out (hoops would slip on them), the wall keeps them
         laid = layer_density(surf, cells, layer.passes, area, band, turns, dwells=False, seen=volumes)
         try:
-            nxt = grown(surf, cells, smooth_thickness(surf, cells, laid, band, self.cones))
+            nxt = grown(surf, cells, smooth_thickness(surf, cells, laid, band))
         except OffsetError as exc:
             raise SolverError(f"{key}: the mandrel grown by this layer is not a smooth surface: {exc}") from exc
         s_ref = float(surf.s_of_t(np.array([self.t_ref]))[0])
@@ -179,5 +178,4 @@ def start_buildup(ctx: PlanContext) -> Buildup:
     """The build-up state before the first layer (ctx: the planner's PlanContext)."""
     region = winding_region(ctx)
     band = ctx.winding.band_width
-    return Buildup(ctx.surface, band, reference_station(ctx.surface, region, band), ctx.job.source,
-                   boss_cones(ctx.surface))
+    return Buildup(ctx.surface, band, reference_station(ctx.surface, region, band), ctx.job.source)

@@ -1,17 +1,29 @@
-"""The generic G-code dialect of a straight-axis winder (SPEC.md "<name>.gcode").
+"""The G-code of a straight-axis winder (docs/guide/conventions.md): the generic and the linuxcnc
+dialects, and the posts that extend them (Sinumerik, Fanuc, a shop's own).
 
 `G1` moves of the four axes, letters from machine.axes, in the order carriage, rotation, cross-feed,
-yaw, with the feed F (mm/min) on every move; values with 3 decimals (mm, deg); the preamble G21 G90
-G94 and M2 at the end. The axis values are the motion program's (winder.machine.program), whose
-docstring and winder.machine.kinematics define them.
+yaw. The controller's description (winder.config.controllers) says the rest: its decimals, the lines
+around the moves, and its feed,
+
+- `fiber` (generic): F the fiber's feed (mm/min, G94) on every move;
+- `inverse_time` (linuxcnc): the first move, to the program's start, a rapid `G0`; then `G93`: every
+  `G1` carries F = 60 / t, t the move's planned time (s) from machine.dynamics (axis speeds and
+  accelerations: the trapezoidal profile), so the controller runs each move in its planned time
+  whatever mix of linear and rotary axes it has (at G94 a rotary-heavy move would run at the wrong
+  surface speed), and the moves' times add up to winding_time_s.
+
+The axis values are the motion program's (winder.machine.program), whose docstring and
+winder.machine.kinematics define them.
 """
 
 from __future__ import annotations
 
-from winder.export.dialects.text import DECIMALS, BaseDialect
+from winder.export.dialects.text import BaseDialect, fmt_significant
 from winder.machine.program import MotionProgram
 
 PREFIX = "G1"
+MIN_MOVE_S = 1e-4  # s: an inverse-time move is never asked to be faster than this
+INVERSE_TIME = "inverse_time"
 
 
 class GenericGcode(BaseDialect):
@@ -24,7 +36,8 @@ class GenericGcode(BaseDialect):
         return (ax.carriage, ax.rotation, ax.cross_feed, ax.yaw)
 
     def decimals(self, program: MotionProgram) -> tuple[int, ...]:
-        return (DECIMALS,) * 4
+        c = self.controller
+        return (c.linear, c.angular, c.linear, c.angular)
 
     def describe(self, program: MotionProgram) -> list[str]:
         ax = program.machine.axes
@@ -40,9 +53,20 @@ class GenericGcode(BaseDialect):
                 f"tan({ax.yaw}) = {ax.cross_feed} / (R tan(alpha)), alpha the winding angle on the mandrel",
                 "; F: the fiber's feed along its path on the mandrel (machine.feed), not the axes' speed",
                 "; F: for a controller that reads F as the axes' speed (G94) use the linuxcnc dialect (inverse "
-                "time, from the machine dynamics)"]
+                "time, from the machine dynamics)"] + ([
+            "; feed: G93 inverse time, F = 60 / (the move's time in s), from the machine dynamics (acceleration included)"]
+            if self.controller.feed == INVERSE_TIME else [])
+
+    def move_lines(self, program: MotionProgram, row: int, words: str,
+                   prev: tuple[float, ...] | None, cur: tuple[float, ...]) -> list[str]:
+        if self.controller.feed != INVERSE_TIME:
+            return super().move_lines(program, row, words, prev, cur)
+        seconds = self.elapsed(program, row)
+        if prev is None:
+            return [f"G0 {words}", "G93"]
+        return [f"G1 {words} F{fmt_significant(60.0 / max(seconds, MIN_MOVE_S))}"]
 
 
 def make(program: MotionProgram, band_width: float = 0.0) -> GenericGcode:
     """The dialect registry's entry (winder.config.dialects)."""
-    return GenericGcode()
+    return GenericGcode(program.machine.controller)

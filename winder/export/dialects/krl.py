@@ -17,7 +17,8 @@ import numpy as np
 
 from winder.config.robot import subprogram_name
 from winder.export.dialects.robot_text import (ANGLE_DECIMALS, BRIDGE_NOTE, JOINT_DECIMALS, POSITION_DECIMALS, abc_deg,
-                                               bridges_after, cell_of, cell_start, header, layer_rows)
+                                               bridges_after, cell_of, cell_start, header, layer_rows,
+                                               split_if_large)
 from winder.export.dialects.text import fmt, fmt_significant
 from winder.machine.configuration import kuka_status_turn
 from winder.machine.program import MotionProgram
@@ -44,7 +45,13 @@ def _axes(q: np.ndarray, ext: np.ndarray) -> str:
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
-    """The .src and .dat texts of the program."""
+    """The .src and .dat texts of the program: past the cell's program limit, the .src's main program
+    calls a local subprogram per layer, `LAYER_N( )` (docs/math/10-robot-cell.md 10.10)."""
+    return split_if_large(program, "krl", _write)
+
+
+def _write(program: MotionProgram, split: bool) -> dict[str, str]:
+    """The .src and .dat texts of the program, split per layer or not."""
     cell, name, xyz, ext, time = cell_start(program, "KRL")
     c = cell.cell
     abc = abc_deg(cell.frames[:, :3, :3])
@@ -60,8 +67,8 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     src.append(f"PTP {_axes(cell.reach.joints[0], ext[0])}  ; the first pose, joint by joint")
     dat = ["&ACCESS RVP", "&REL 1", f"DEFDAT {name} PUBLIC"]
     slow, prev = False, 0
-    blocks: dict[int, list[str]] = {}
-    for lines, n, row in layer_rows(program, blocks, ";"):
+    blocks: dict[int, list[str]] | None = {} if split else None
+    for lines, n, row in layer_rows(program, src, blocks, ";"):
         dat.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
                    f"Z {fmt(xyz[row, 2], POSITION_DECIMALS)},A {fmt(abc[row, 0], ANGLE_DECIMALS)},"
                    f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},"
@@ -83,8 +90,8 @@ def serialize(program: MotionProgram) -> dict[str, str]:
         else:
             lines.append(f"LIN P{n} C_DIS")
         prev = row
-    src += [f"{subprogram_name(k).upper()}( )" for k in blocks] + ["END"]
-    for k, lines in blocks.items():  # each layer a local subprogram of the module
+    src += [f"{subprogram_name(k).upper()}( )" for k in blocks or {}] + ["END"]
+    for k, lines in (blocks or {}).items():  # each layer a local subprogram of the module
         src += ["", f"DEF {subprogram_name(k).upper()}( )"] + lines + ["END"]
     dat.append("ENDDAT")
     return {".src": "\n".join(src) + "\n", ".dat": "\n".join(dat) + "\n"}

@@ -31,7 +31,6 @@ from winder.export.dialects.text import DECIMALS, BaseDialect, fmt, fmt_signific
 from winder.machine.program import MotionProgram
 
 LETTERS = ("X", "A", "B")
-PREAMBLE = ("G21", "G90", "G94")
 HEADER = "; Parameters "
 FIXED_EYE = "; fixed eye: cross-feed Z"
 MIN_MOVE_S = 1e-4  # s: a move is never asked to be faster than this
@@ -52,7 +51,8 @@ class MarlinGcode(BaseDialect):
 
     prefix = "G1"
 
-    def __init__(self, band_width: float = 0.0, thickness: float = 0.0) -> None:
+    def __init__(self, controller, band_width: float = 0.0, thickness: float = 0.0) -> None:
+        super().__init__(controller)
         self.band_width = band_width
         self.thickness = thickness
 
@@ -60,7 +60,7 @@ class MarlinGcode(BaseDialect):
         return LETTERS
 
     def decimals(self, program: MotionProgram) -> tuple[int, ...]:
-        return (DECIMALS,) * 3
+        return (self.controller.linear, self.controller.angular, self.controller.angular)
 
     def fixed_eye(self, program: MotionProgram) -> float:
         z = program.values[:, 2]
@@ -75,7 +75,7 @@ class MarlinGcode(BaseDialect):
 
     def first_lines(self, program: MotionProgram) -> list[str]:
         text = json.dumps(parameters(program, self.band_width, self.thickness), separators=(",", ":"))
-        return [HEADER + text]
+        return [HEADER + text] + super().first_lines(program)
 
     def describe(self, program: MotionProgram) -> list[str]:
         return ["; machine: Marlin X A B winder (fiberpath axes); X carriage (mm), A mandrel rotation (deg, "
@@ -85,12 +85,6 @@ class MarlinGcode(BaseDialect):
                 f"{FIXED_EYE}{fmt(self.fixed_eye(program))} mm from the mandrel axis",
                 "; B = -(eye yaw from the hoop orientation): -(90 - alpha') forward, +(90 - alpha') return",
                 "; F: mm/min over X when X moves, else deg/min over A and B: the move's planned time"]
-
-    def preamble(self, program: MotionProgram) -> list[str]:
-        return list(PREAMBLE)
-
-    def end(self, program: MotionProgram) -> list[str]:
-        return []
 
     def columns(self, program: MotionProgram) -> np.ndarray:
         v = program.values
@@ -144,4 +138,4 @@ def turn_cuts(a0: float, a1: float) -> np.ndarray:
 
 def make(program: MotionProgram, band_width: float = 0.0) -> MarlinGcode:
     """The dialect registry's entry (winder.config.dialects): band_width (mm) for the header."""
-    return MarlinGcode(band_width)
+    return MarlinGcode(program.machine.controller, band_width)

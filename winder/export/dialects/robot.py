@@ -55,4 +55,4 @@ class RobotPoses(BaseDialect):
 
 def make(program: MotionProgram, band_width: float = 0.0) -> RobotPoses:
     """The dialect registry's entry (winder.config.dialects)."""
-    return RobotPoses()
+    return RobotPoses(program.machine.controller)

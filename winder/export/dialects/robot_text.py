@@ -63,6 +63,12 @@ def _pose_text(pose) -> str:
 def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
     """(a pass comment to write before the row, or None; the row) of every row worth a move: the first,
     and every later one that takes time (a row the program repeats is no move)."""
+    for head, row, _ in _rows_and_tensions(program):
+        yield head, row
+
+
+def _rows_and_tensions(program: MotionProgram) -> Iterator[tuple[str | None, int, float | None]]:
+    """rows(program) with each row's pass's tension (N, None: none programmed)."""
     cell = cell_of(program)
     time = cell.times.time_s
     first = True
@@ -73,7 +79,7 @@ def rows(program: MotionProgram) -> Iterator[tuple[str | None, int]]:
             for row in range(seg.start, seg.stop):
                 if not first and time[row] <= 0.0:
                     continue
-                yield (None if told else head), row
+                yield (None if told else head), row, seg.tension
                 told, first = True, False
 
 
@@ -105,28 +111,47 @@ BRIDGE_NOTE = ("bridge: the arm changes configuration by a joint move, winding s
                "eye holds the fiber (docs/math/10-robot-cell.md 10.5)")
 
 
-def layer_rows(program: MotionProgram, blocks: dict[int, list[str]], mark: str) -> Iterator[tuple[list[str], int, int]]:
-    """(its layer's lines, n, row) of every row of rows(program), n counted from 1: each layer is a
-    subprogram of its own (docs/math/10-robot-cell.md 10.10), its lines blocks[layer index], to which
-    each pass comment is appended, as `mark head`, before its row is given."""
-    layer_of = {}
-    for layer, segments in zip(program.layers, program.segments):
-        for seg in segments:
-            layer_of.update((row, layer.index) for row in range(seg.start, seg.stop))
-    for n, (head, row) in enumerate(rows(program), start=1):
-        lines = blocks.setdefault(layer_of[row], [])
+def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Iterator[tuple[int, int]]:
+    """(n, row) of every row of rows(program), n counted from 1; each pass comment is appended to
+    comments, as `mark head`, before its row is given, and after it the controller's tension command
+    (an analog output: its description's `tension`) where the tension as written changes."""
+    for _, n, row in layer_rows(program, comments, None, mark):
+        yield n, row
+
+
+def layer_rows(program: MotionProgram, main: list[str], blocks: dict[int, list[str]] | None,
+               mark: str) -> Iterator[tuple[list[str], int, int]]:
+    """(the lines its move goes to, n, row) of every row of rows(program), n counted from 1: main, or
+    where blocks is a dict, blocks[its layer's index] (each layer a subprogram of its own,
+    docs/math/10-robot-cell.md 10.10). Each pass comment is appended to those lines, as `mark head`,
+    before its row is given, and after it the controller's tension command where it changes."""
+    controller = program.machine.controller
+    indent = mark[:len(mark) - len(mark.lstrip())]
+    layer_of: dict[int, int] = {}
+    if blocks is not None:
+        for layer, segments in zip(program.layers, program.segments):
+            for seg in segments:
+                layer_of.update((row, layer.index) for row in range(seg.start, seg.stop))
+    said = None
+    for n, (head, row, tension) in enumerate(_rows_and_tensions(program), start=1):
+        lines = main if blocks is None else blocks.setdefault(layer_of[row], [])
         if head is not None:
             lines.append(f"{mark} {head}")
+            if tension is not None and controller.tension and (line := controller.tension_line(tension)) != said:
+                lines.append(indent + line)
+                said = line
         yield lines, n, row
 
 
-def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Iterator[tuple[int, int]]:
-    """(n, row) of every row of rows(program), n counted from 1; each pass comment is appended to
-    comments, as `mark head`, before its row is given."""
-    for n, (head, row) in enumerate(rows(program), start=1):
-        if head is not None:
-            comments.append(f"{mark} {head}")
-        yield n, row
+def split_if_large(program: MotionProgram, language: str, write) -> dict[str, str]:
+    """write(program, split=False)'s texts, or where their bytes pass the cell's limit for the language
+    (winder.config.robot.program_limit), write(program, split=True)'s: a main program calling one
+    subprogram per layer (docs/math/10-robot-cell.md 10.10)."""
+    from winder.config.robot import program_limit  # noqa: PLC0415
+
+    texts = write(program, False)
+    size = sum(len(t.encode("utf-8")) for t in texts.values())
+    return write(program, True) if size > program_limit(cell_of(program).cell, language) else texts
 
 
 def abc_deg(r: np.ndarray) -> np.ndarray:

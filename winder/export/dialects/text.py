@@ -13,8 +13,10 @@ from typing import Protocol
 
 import numpy as np
 
+from winder.config.controllers import Controller
 from winder.errors import ExportError
 from winder.escape import gcode_comment
+from winder.export.dialects.post_text import check_digits, controller_lines, render, reset_line, template_lines
 from winder.export.fixed_text import fixed_rows, printed
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.program import APPROACH, MotionProgram
@@ -22,8 +24,6 @@ from winder.winding.results import LayerPlan, PassKind
 
 JOB_LINE = "; job:"  # the header line naming the job (simulate reads it back)
 DECIMALS = AXIS_DECIMALS  # mm and deg: the limits hold for the values as written
-PREAMBLE = ("G21", "G90", "G94")
-END = "M2"
 MAX_LINE = 255  # characters (bytes as UTF-8) of a program line: LinuxCNC's limit, comments included
 ELLIPSIS = "..."
 _NEG_ZERO = re.compile(r"(?<![0-9])-(0\.0+)(?![0-9])")
@@ -50,6 +50,7 @@ class Dialect(Protocol):
     """How one controller spells a program."""
 
     prefix: str  # the word starting a move line
+    controller: Controller  # its description: header, preamble, footer, decimals, comments, tension
 
     def describe(self, program: MotionProgram) -> list[str]: ...  # machine comment lines
 
@@ -70,19 +71,24 @@ class Dialect(Protocol):
 
 
 class BaseDialect:
-    """What a dialect does unless it says otherwise: the generic G-code's preamble, end, columns
-    and `PREFIX words F<feed>` move lines."""
+    """What a dialect does unless it says otherwise: its controller's header, preamble and footer
+    (winder.config.controllers), the program's columns and `PREFIX words F<feed>` move lines."""
 
     prefix = "G1"
 
+    def __init__(self, controller: Controller) -> None:
+        self.controller = controller
+
     def first_lines(self, program: MotionProgram) -> list[str]:
-        return []
+        return template_lines(self.controller.header, program)
 
     def preamble(self, program: MotionProgram) -> list[str]:
-        return list(PREAMBLE)
+        return template_lines(self.controller.preamble, program)
 
     def end(self, program: MotionProgram) -> list[str]:
-        return [END]
+        rotary = self.controller.rotary
+        cancel = [rotary.cancel] if rotary.mode.startswith("reset") and rotary.cancel else []
+        return cancel + template_lines(self.controller.footer, program)
 
     def columns(self, program: MotionProgram) -> np.ndarray:
         return program.values
@@ -198,7 +204,8 @@ def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
     room = MAX_LINE - len(JOB_LINE) - 1
     lines = ["; winder filament-winding program", f"{JOB_LINE} {shortened(clean(program.name), room)}",
              f"; source: {shortened(clean(program.source), MAX_LINE - len('; source: '), keep_end=True)}"]
-    lines += [part for line in dialect.describe(program) for part in wrapped(line)]
+    lines += [part for line in dialect.describe(program) + controller_lines(program, dialect.controller)
+              for part in wrapped(line)]
     if program.envelope_radius is not None:
         lines.append(f"; eye envelope: radius {fmt(program.envelope_radius)} mm around the axis")
     else:
@@ -212,21 +219,16 @@ def _header(program: MotionProgram, dialect: Dialect) -> list[str]:
 
 def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> tuple[list[str], list[Move]]:
     """The program's lines (without newlines) and the moves they write, in order (moves=False: the
-    lines alone, the moves list left empty)."""
-    letters, decimals = dialect.letters(program), dialect.decimals(program)
-    columns = dialect.columns(program)
-    # Every row's words as written, all at once; the values as written read back.
-    written = fixed_rows([(columns[:, j], n) for j, n in enumerate(decimals)], list(letters)) if len(columns) else []
-    if written is None:  # a value that is not finite: one number at a time
-        texts = [fmt_column(columns[:, j], n) for j, n in enumerate(decimals)]
-        written = list(map(" ".join, zip(*[[c + t for t in col] for c, col in zip(letters, texts)])))
-        values = np.array(texts, dtype=float).T.tolist()
-    else:
-        values = np.column_stack([printed(columns[:, j], n) for j, n in enumerate(decimals)]).tolist()
-    lines = dialect.first_lines(program) + _header(program, dialect) + dialect.preamble(program)
+    lines alone, the moves list left empty), in the form of the dialect's controller (its rotary
+    axis, tension command, comments and block numbers: winder.export.dialects.post_text)."""
+    controller = dialect.controller
+    program, written, values, shown, resets = _rows_as_written(program, dialect)
+    first = dialect.first_lines(program)
+    lines = first + _header(program, dialect) + dialect.preamble(program)
     found: list[Move] = []
     last_words: str | None = None
     last: tuple[float, ...] | None = None
+    tension: list[str | None] = [None]
     for layer, segments in zip(program.layers, program.segments):
         lines += wrapped(f"; {layer_line(layer)}")
         circuit = None
@@ -235,10 +237,7 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
                 circuit = seg.circuit
                 lines.append(f"; layer {layer.index} circuit {circuit}")
             head = f"; layer {layer.index} circuit {circuit} pass {seg.number}"
-            lines.append(f"{head} {APPROACH if seg.approach else seg.kind.value}")
-            if seg.capped:
-                lines.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is "
-                             f"held at the largest lead, {fmt(seg.max_lead)} mm, off the envelope")
+            lines += _pass_start(head, seg, controller, dialect.letters(program)[1], resets, tension)
             for row in range(seg.start, seg.stop):
                 if seg.approach and row == seg.start + seg.approach:
                     lines.append(f"{head} {seg.kind.value}")
@@ -247,19 +246,72 @@ def serialize(program: MotionProgram, dialect: Dialect, moves: bool = True) -> t
                     continue
                 last_words = words
                 cur = tuple(values[row])
-                lines += dialect.move_lines(program, row, words, last, cur)
+                lines += dialect.move_lines(program, row, shown[row], last, cur)
                 last = cur
                 if moves:
                     u = float(program.index[row])
                     found.append(Move(seg.layer, seg.circuit, seg.number, seg.kind, int(round(u)), cur, u))
     lines += dialect.end(program)
-    _refuse_long(lines)
+    lines = render(lines, controller, len(first))
+    _refuse_long(lines, controller.max_line_length)
     return lines, found
 
 
-def _refuse_long(lines: list[str]) -> None:
-    """ExportError for a line past MAX_LINE (a move's words: a value past any machine's travel)."""
+def _rows_as_written(program: MotionProgram, dialect: Dialect) -> tuple:
+    """(the program, cut at half turns where the controller wraps its rotary axis; every row's words
+    as the moves are made (rows repeating them are left out); their values read back; the words as
+    written, the rotation less the whole turns a wrap or reset takes off; resets: row -> the position
+    the axis is set to before it). ExportError for a value past the controller's digits."""
+    from winder.machine.rotary import rotary_shifts, split_turns  # noqa: PLC0415
+
+    controller = dialect.controller
+    if controller.rotary.mode == "wrap":
+        program = split_turns(program)
+    letters, decimals = dialect.letters(program), dialect.decimals(program)
+    columns = dialect.columns(program)
+    rotation = columns[:, 1] if columns.ndim == 2 and columns.shape[1] > 1 else np.zeros(0)
+    turns, resets = rotary_shifts(rotation, program, controller.rotary.mode, decimals[1] if len(decimals) > 1 else 3)
+    written, values = _words(columns, letters, decimals)
+    shown = written
+    if resets or np.any(turns):
+        columns = columns.copy()
+        columns[:, 1] -= turns
+        shown, _ = _words(columns, letters, decimals)
+    check_digits(columns, letters, decimals, controller)
+    return program, written, values, shown, resets
+
+
+def _pass_start(head: str, seg, controller: Controller, rotary_letter: str, resets: dict[int, float],
+                tension: list[str | None]) -> list[str]:
+    """The lines before a pass's moves: its comment, the tension command where the tension as written
+    changes (tension[0]: the last written), the rotary axis' reset, a note of capped points."""
+    out = [f"{head} {APPROACH if seg.approach else seg.kind.value}"]
+    if seg.tension is not None and controller.tension:
+        said = controller.tension_line(seg.tension)
+        if said != tension[0]:
+            out.append(said)
+            tension[0] = said
+    if seg.start in resets:
+        out.append(reset_line(controller, rotary_letter, resets[seg.start]))
+    if seg.capped:
+        out.append(f"; note: {seg.capped} points of this pass run nearly along the axis: the eye is held at the "
+                   f"largest lead, {fmt(seg.max_lead)} mm, off the envelope")
+    return out
+
+
+def _words(columns: np.ndarray, letters: tuple[str, ...], decimals: tuple[int, ...]) -> tuple[list[str], list]:
+    """Every row's words as written, all at once, and the values as written read back."""
+    written = fixed_rows([(columns[:, j], n) for j, n in enumerate(decimals)], list(letters)) if len(columns) else []
+    if written is None:  # a value that is not finite: one number at a time
+        texts = [fmt_column(columns[:, j], n) for j, n in enumerate(decimals)]
+        written = list(map(" ".join, zip(*[[c + t for t in col] for c, col in zip(letters, texts)])))
+        return written, np.array(texts, dtype=float).T.tolist()
+    return written, np.column_stack([printed(columns[:, j], n) for j, n in enumerate(decimals)]).tolist()
+
+
+def _refuse_long(lines: list[str], longest: int = MAX_LINE) -> None:
+    """ExportError for a line past `longest` (a move's words: a value past any machine's travel)."""
     for number, line in enumerate(lines, 1):
-        if len(line) > MAX_LINE // 4 and len(line.encode("utf-8")) > MAX_LINE:  # 4 bytes a character at most
+        if len(line) > longest // 4 and len(line.encode("utf-8")) > longest:  # 4 bytes a character at most
             raise ExportError(f"line {number} of the program would have {len(line.encode('utf-8'))} characters, "
-                              f"past a controller's {MAX_LINE}: {line[:60]!r}")
+                              f"past a controller's {longest}: {line[:60]!r}")

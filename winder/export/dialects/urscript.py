@@ -12,7 +12,9 @@ reach them to output float registers 0-3 and counts the line on output integer r
 ring's drive moves linearly to the targets in that time from when the count changes, and echoes the
 count on input integer register 0 when it is there: the program waits for that echo at the start
 (`ring_wait()`), after the movej to the start joints, whose flange is the first pose (the first movel,
-one cycle long, moves nowhere). One serialize(program) entry point.
+one cycle long, moves nowhere). After a pass comment, the controller's tension command
+(set_standard_analog_out, robot_text.numbered_rows) where the tension changes. One serialize(program)
+entry point.
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ import numpy as np
 
 from winder.config.robot import subprogram_name
 from winder.export.dialects.robot_text import (BRIDGE_NOTE, TIME_DECIMALS, bridges_after, cell_start, header,
-                                               layer_rows, rotation_vectors, rows)
+                                               layer_rows, rotation_vectors, rows,
+                                               split_if_large)
 from winder.export.dialects.text import fmt
 from winder.machine.blends import CYCLE_S, blend_radii, line_times, ring_targets
 from winder.machine.program import MotionProgram
@@ -76,30 +79,40 @@ def motion(program: MotionProgram):
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
-    """The .script text of the program."""
+    """The .script text of the program: past the cell's program limit, the main function calls a
+    function per layer, `layer_N()`, each defined within it before the calls
+    (docs/math/10-robot-cell.md 10.10)."""
+    return split_if_large(program, "urscript", _write)
+
+
+def _write(program: MotionProgram, split: bool) -> dict[str, str]:
+    """The .script text of the program, split per layer or not."""
     cell, name, _, _, _ = cell_start(program, "URScript")
     tool = cell.cell.tool.matrix()
     rv = rotation_vectors(cell.mandrel[:, :3, :3])
     xyz = cell.mandrel[:, :3, 3]
     written, move_s, radii, pause, targets, spans = motion(program)
     bridges = bridges_after(program)
-    blocks: dict[int, list[str]] = {}
-    for lines, n, row in layer_rows(program, blocks, "    #"):
-        k = n - 1
-        t = fmt(move_s[k], TIME_DECIMALS)
-        lines.append("    ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
-                     + f", {fmt(spans[k], TIME_DECIMALS)})")
-        lines.append(f"    movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
-                     f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
-        if row in bridges:
-            lines += [f"    # {BRIDGE_NOTE}",
-                      f"    movej({_joints(bridges[row].after)}, a=1.0, v=1.0, t={fmt(pause[k], TIME_DECIMALS)}, r=0)"]
     lines = [f"def {name}():"] + header(program, "  #") + list(PROLOGUE)
-    for k, body in blocks.items():  # each layer a function of the script
-        lines += [f"  def {subprogram_name(k)}():"] + body + ["  end"]
+    body: list[str] = []
+    blocks: dict[int, list[str]] | None = {} if split else None
+    pad = "    " if split else "  "  # a layer's function's lines one level in
+    # each pass comment, and after it the controller's tension command where it changes, before its row
+    for moves, n, row in layer_rows(program, body, blocks, pad + "#"):
+        k = n - 1  # motion()'s rows are rows(program)'s, as layer_rows gives them
+        t = fmt(move_s[k], TIME_DECIMALS)
+        moves.append(pad + "ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
+                     + f", {fmt(spans[k], TIME_DECIMALS)})")
+        moves.append(pad + f"movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
+                      f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
+        if row in bridges:
+            moves += [f"{pad}# {BRIDGE_NOTE}",
+                      f"{pad}movej({_joints(bridges[row].after)}, a=1.0, v=1.0, t={fmt(pause[k], TIME_DECIMALS)}, r=0)"]
+    for k, inner in (blocks or {}).items():  # each layer a function of the script, defined before its call
+        lines += [f"  def {subprogram_name(k)}():"] + inner + ["  end"]
     lines += [f"  set_tcp({_pose(tool[:3, 3], rotation_vectors(tool[None, :3, :3])[0])})",
               f"  movej({_joints(cell.reach.joints[0])}, a=0.5, v=0.5)",
               "  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[0]) + ", 0)",
               "  ring_wait()"]
-    lines += [f"  {subprogram_name(k)}()" for k in blocks] + ["end"]
+    lines += body + [f"  {subprogram_name(k)}()" for k in blocks or {}] + ["end"]
     return {".script": "\n".join(lines) + "\n"}

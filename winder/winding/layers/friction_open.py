@@ -3,7 +3,7 @@
 The passes are the closed-form curves of bend_paths: slots evenly spaced on the end sections, the
 angle turned on the straight pieces to each arc's whole-period angle, constant through the arcs.
 Every forward (and every return) pass advances alike, so the dwells close the pattern as on a straight
-tube (MATH.md 5). The circuit count covers the widest spacing inside the arcs; coverage is measured.
+tube (docs/math/05-winding.md). The circuit count covers the widest spacing inside the arcs; coverage is measured.
 """
 
 from __future__ import annotations
@@ -84,7 +84,7 @@ def bend_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
             or pat.dwell_end * 360.0 > max(w.dwell_end_deg, SWING_MIN_DEG) + 1e-9):
         notes.append(f"dwells lengthened to {pat.dwell_start * 360:.3f} / {pat.dwell_end * 360:.3f} deg to close "
                      f"the pattern (k = {pat.pattern} of {n_c})")
-    n_c0 = max(1, math.ceil(perimeter * math.cos(min(ends)) / w.band_width - 1e-9))  # MATH.md 5, straight tube
+    n_c0 = max(1, math.ceil(perimeter * math.cos(min(ends)) / w.band_width - 1e-9))  # docs/math/05-winding.md, straight tube
     if n_c > n_c0:
         # Without this a count above the closed form the engineer checks against reads as an error.
         notes.append(f"{n_c} circuits instead of {n_c0}: the bands spread apart on the outside of a bend, so "

@@ -3,12 +3,14 @@
 A cone, a table profile or a tapered pole: where the geodesic at the layer's angle turns around
 inside the winding region (Clairaut), `slip: auto` holds the angle over the whole region with the
 slip lambda(t) that cancels the Clairaut drift. Every pass is a rotated copy of one quadrature, so
-forward and return passes advance alike and the pattern closes with the dwells (MATH.md 5).
+forward and return passes advance alike and the pattern closes with the dwells (docs/math/05-winding.md).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+
 import numpy as np
 
 from winder.config.winding import LayerConfig
@@ -29,6 +31,7 @@ NEED_SAMPLES = 2001  # stations where the closed-form lambda(t) is taken over th
 COVERED_TARGET = 0.999
 GAP_TARGET = 0.02  # of the band width
 MAX_EXTRA_CIRCUITS = 8
+ANGLE_SEARCH_STEPS = 30  # bisection steps for the least angle friction holds
 
 
 def is_open_revolution(surface: SweepSurface) -> bool:
@@ -73,23 +76,73 @@ def held_need(surface: SweepSurface, t_a: float, t_b: float, angle_deg: float) -
     return float(abs(lam[k])), float(t[k]), True
 
 
-def need_message(angle_deg: float, mu: float, need: float, at: float, presses: bool) -> str | None:
-    """Why friction mu cannot hold angle_deg on the region (None where it can)."""
+def need_message(surface: SweepSurface, region: tuple[float, float], angle_deg: float, mu: float, need: float,
+                 at: float, presses: bool) -> str | None:
+    """Why friction mu cannot hold angle_deg on the region (None where it can), with what would: a
+    steeper angle presses harder (k_n grows with sin(alpha) tan(alpha)) and needs less friction (on a
+    cone lambda = r' / sin(alpha)), so the remedy is the least angle above that holds, and the friction
+    the angle needs (exact: the held path does not depend on it)."""
+    fixes = [] if not presses or need > 1.0 else [f"winding.friction: {math.ceil(need * 100.0 - 1e-9) / 100.0:.2f}"]
+    steeper = least_held_angle(surface, region, angle_deg, mu)
+    if steeper is not None:
+        fixes.append(f"angle: {steeper:g} (friction {mu:g} holds it)")
+    hint = "; what plans it: " + "; ".join(fixes) if fixes else "; no angle below 89 deg holds it"
     if not presses:
         return (f"held at {angle_deg:g} deg the fiber bridges at t = {at:.4g} mm (the profile curves away faster "
-                f"than the fiber): no friction holds it; lower the angle")
+                f"than the fiber): no friction holds it{hint}")
     if need > mu:
         return (f"slip: auto holds {angle_deg:g} deg where the geodesic cannot reach (Clairaut) only with friction "
-                f"{need:.3g} (|k_g / k_n| at t = {at:.4g} mm), above winding.friction {mu:g}; raise the friction or "
-                f"lower the angle")
+                f"{need:.3g} (|k_g / k_n| at t = {at:.4g} mm), above winding.friction {mu:g}{hint}")
     return None
 
 
-def _pass(surface: SweepSurface, t_a: float, t_b: float, angle_deg: float, points: int, forward: bool):
-    """(t (m,) in travel order, theta - theta0 (m,), dtheta/dt (m,)): one held-angle pass."""
+def turn_remedies(surface: SweepSurface, region: tuple[float, float], angle_deg: float, mu: float) -> str:
+    """What lays a layer whose geodesic at angle_deg turns around inside the region (Clairaut, on the
+    widest section), each from a closed form: the largest angle whose geodesic reaches every station,
+    slip: auto where friction holds the angle (the friction it needs), the region ended short of the
+    turnaround."""
+    t = np.linspace(*region, NEED_SAMPLES)
+    r = _profile(surface, t)[0]
+    k = int(np.argmax(r))
+    reach = math.degrees(math.asin(min(1.0, float(np.min(r)) / float(r[k]))))
+    fixes = [f"angle: {math.floor(reach * 10.0 - 1e-6) / 10.0:g} (its geodesic reaches both ends)"]
+    need, _, presses = held_need(surface, *region, angle_deg)
+    if presses and need <= 1.0:
+        fixes.append("slip: auto" + (f" (friction {need:.3g} holds {angle_deg:g} deg)" if need <= mu else
+                                     f" with winding.friction: {math.ceil(need * 100.0 - 1e-9) / 100.0:.2f}"))
+    c = float(r[k]) * math.sin(math.radians(angle_deg))
+    beyond = np.flatnonzero(r <= c)  # stations past a turnaround, on either side of the widest
+    after, before = beyond[beyond > k], beyond[beyond < k]
+    ends = ([f"start at t = {t[before[-1] + 1]:.5g}"] if before.size else []) + (
+        [f"end at t = {t[after[0] - 1]:.5g}"] if after.size else [])
+    if ends:
+        fixes.append("winding.region " + " and ".join(ends) + " (short of the turnaround)")
+    return "; what plans it: " + "; ".join(fixes)
+
+
+def least_held_angle(surface: SweepSurface, region: tuple[float, float], angle_deg: float, mu: float) -> float | None:
+    """The least angle above angle_deg (to 0.1 deg, rounded up) that friction mu holds over the region
+    and at which the fiber presses everywhere; None below 89 deg."""
+    def holds(a: float) -> bool:
+        need, _, presses = held_need(surface, *region, a)
+        return presses and need <= mu
+
+    lo, hi = angle_deg, 89.0
+    if not holds(hi):
+        return None
+    for _ in range(ANGLE_SEARCH_STEPS):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if holds(mid) else (mid, hi)
+    return math.ceil(hi * 10.0) / 10.0
+
+
+def _pass(surface: SweepSurface, t_a: float, t_b: float, alpha: Callable[[np.ndarray], np.ndarray], points: int,
+          forward: bool):
+    """(t (m,) in travel order, theta - theta0 (m,), dtheta/dt (m,)): one pass at the winding angle
+    alpha(t) (rad, of stations (k,))."""
     fine = np.linspace(t_a, t_b, FINE * (points - 1) + 1)
     r, r1, _ = _profile(surface, fine)
-    rate = math.tan(math.radians(angle_deg)) * np.sqrt(1.0 + r1 * r1) / r
+    rate = np.tan(alpha(fine)) * np.sqrt(1.0 + r1 * r1) / r
     theta = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(fine))])[::FINE]
     t, d1 = fine[::FINE], rate[::FINE]
     if not forward:  # theta increases along the travel either way
@@ -110,17 +163,29 @@ def _length(surface: SweepSurface, t: np.ndarray, th: np.ndarray, d1: np.ndarray
 
 def held_angle_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, mu: float) -> LayerPlan:
     """The layer at its angle over the whole region, friction-held (module docstring)."""
-    surf, w = ctx.surface, ctx.winding
     t_a, t_b = winding_region(ctx)
-    need, at, presses = held_need(surf, t_a, t_b, cfg.angle_deg)
-    why = need_message(cfg.angle_deg, mu, need, at, presses)
+    need, at, presses = held_need(ctx.surface, t_a, t_b, cfg.angle_deg)
+    why = need_message(ctx.surface, (t_a, t_b), cfg.angle_deg, mu, need, at, presses)
     if why is not None:
         raise SolverError(f"{ctx.key(index)}: {why}")
-    points = max(MIN_POINTS, (w.points or 0) + 2)
     a = math.radians(cfg.angle_deg)
-    r_max = float(np.max(_profile(surf, np.linspace(t_a, t_b, NEED_SAMPLES))[0]))
-    n_c = max(1, math.ceil(2.0 * math.pi * r_max * math.cos(a) / w.band_width - 1e-9))
-    curves = {fwd: _pass(surf, t_a, t_b, cfg.angle_deg, points, fwd) for fwd in (True, False)}
+    notes = [f"friction-held at {cfg.angle_deg:g} deg over the region (the geodesic turns around before the "
+             f"narrow end: Clairaut); designed |k_g / k_n| <= {need:.3f} at t = {at:.4g} mm (friction {mu:g})"]
+    return revolution_layer(ctx, cfg, index, theta0, lambda t: np.full_like(t, a), notes)
+
+
+def revolution_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float,
+                     alpha: Callable[[np.ndarray], np.ndarray], notes: list[str]) -> LayerPlan:
+    """A layer on an open surface of revolution whose passes lie at the winding angle alpha(t) (rad),
+    every pass a rotated copy of one quadrature (module docstring)."""
+    surf, w = ctx.surface, ctx.winding
+    t_a, t_b = winding_region(ctx)
+    points = max(MIN_POINTS, (w.points or 0) + 2)
+    t = np.linspace(t_a, t_b, NEED_SAMPLES)
+    # the bands must span the perimeter where it is widest across the fiber
+    across = float(np.max(_profile(surf, t)[0] * np.cos(alpha(t))))
+    n_c = max(1, math.ceil(2.0 * math.pi * across / w.band_width - 1e-9))
+    curves = {fwd: _pass(surf, t_a, t_b, alpha, points, fwd) for fwd in (True, False)}
     adv = curves[True][1][-1] + curves[False][1][-1]
     stations = np.linspace(t_a, t_b, COVERAGE_STATIONS + 2)[1:-1]
     for _ in range(MAX_EXTRA_CIRCUITS + 1):
@@ -132,8 +197,6 @@ def held_angle_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: flo
                 and cov.max_gap_mm <= GAP_TARGET * w.band_width):
             break
         n_c += 1
-    notes = [f"friction-held at {cfg.angle_deg:g} deg over the region (the geodesic turns around before the "
-             f"narrow end: Clairaut); designed |k_g / k_n| <= {need:.3f} at t = {at:.4g} mm (friction {mu:g})"]
     return finish_layer(ctx, cfg, index, cfg.angle_deg, n_c, pat.pattern, pat.dwell_start * 360.0,
                         pat.dwell_end * 360.0, None, passes, stations, notes, cov)
 

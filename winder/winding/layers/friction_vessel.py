@@ -1,5 +1,5 @@
 """Helical layers on domed vessels held by friction on the domes: a given cylinder angle turning at a
-given radius (`turnaround_radius`), or at the radius a given slip leads to (MATH.md 7).
+given radius (`turnaround_radius`), or at the radius a given slip leads to (docs/math/07-friction.md).
 
 On the cylinder the fiber is the geodesic helix at the layer angle; on each dome it is friction-held
 (dome_paths) so that it turns at r = c, which a geodesic reaches only at c = R sin(alpha). The
@@ -10,6 +10,7 @@ or c: each dome's lambda gets a small linear term in the fiber length that chang
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -34,6 +35,11 @@ def _pattern(advance: float, circuits: int, pattern: int | None) -> tuple[int, f
     return best
 
 
+def _up(value: float) -> str:
+    """A friction to suggest: value rounded up to 3 decimals (so that it holds, not just rounds near)."""
+    return f"{math.ceil(value * 1000.0 - 1e-9) / 1000.0:g}"
+
+
 def _leg_points(surface, leg: Leg, s_eq: float, theta_eq: float, outward: bool, m: int):
     """(s, theta, alpha) of a leg from the equator (outward False) or its mirror back to it (True)."""
     l = np.linspace(0.0, leg.length, m)
@@ -52,8 +58,10 @@ def _directions(surface, s: np.ndarray, th: np.ndarray, alpha: np.ndarray) -> np
 
 
 def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float, mu: float,
-                          radius: float | None, slip: float | None) -> LayerPlan:
-    """radius set: turn around there, lambda solved per dome; else lambda = +-slip on the domes."""
+                          radii: tuple[float | None, float | None], slip: float, least_mu: bool = True) -> LayerPlan:
+    """Each dome turns at its radius in radii (lambda solved for), or where lambda = +-slip leads where
+    its radius is None (slip 0: a geodesic dome, docs/math/17 17.6). least_mu: where a dome needs more
+    than the friction, find how much for the message (a full solve); else fail fast."""
     surf, w = ctx.surface, ctx.winding
     prof = surf.profile
     big_r, alpha = prof.radius, math.radians(cfg.angle_deg)
@@ -63,14 +71,19 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
     domes = ((e1, math.pi - alpha), (e2, alpha))
     meridians = (dome_meridian(prof, False), dome_meridian(prof, True))
     legs, slips = [], []
+    over = None  # the first dome needing more than the friction: the least mu follows the pattern's closing
     for d, (s_eq, heading) in enumerate(domes):
         where = f"{ctx.key(index)}: on the {'first' if d == 0 else 'end'} dome"
-        if radius is not None:
-            c = radius
+        if radii[d] is not None:
             try:
-                lam, leg = solve_slip(meridians[d], s_eq, heading, c)
+                lam, leg = solve_slip(meridians[d], s_eq, heading, radii[d], mu + 1e-12)
             except SolverError as exc:
-                raise SolverError(f"{where}: {exc}") from exc
+                if not least_mu:
+                    raise SolverError(f"{where}: {exc}") from exc
+                try:  # beyond the friction: how far, for the message below
+                    lam, leg = solve_slip(meridians[d], s_eq, heading, radii[d])
+                except SolverError as exc2:
+                    raise SolverError(f"{where}: {exc2}") from exc2
         else:
             lam = slip if d == 1 else -slip  # the sign follows the pass direction
             leg = trace_leg(meridians[d], s_eq, heading, lambda l, lam=lam: lam)
@@ -81,11 +94,10 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
         if leg.radius < c_min - 1e-9:
             raise SolverError(f"{where}: the fiber turns around at r = {leg.radius:.3f} mm, inside the polar opening "
                               f"({openings[d]:.4g} mm) plus half a band ({c_min:.3f} mm)")
-        if abs(lam) > mu + 1e-12:
+        if abs(lam) > mu + 1e-12 and over is None:
             t_turn = float(surf.t_of_s(np.array([leg.state(leg.length)[0]]))[0])
-            raise SolverError(f"{where}: turning at r = {leg.radius:.3f} mm (t = {t_turn:.1f} mm) needs |k_g / k_n| = "
-                              f"{abs(lam):.3g}, above the friction {mu:g} (winding.friction); the least mu is "
-                              f"{abs(lam):.3g}")
+            over = (f"{where}: turning at r = {leg.radius:.3f} mm (t = {t_turn:.1f} mm) needs |k_g / k_n| = "
+                    f"{abs(lam):.3g}, above the friction {mu:g} (winding.friction)")
         legs.append(leg)
         slips.append(lam)
     cyl = prof.cylinder_length * math.tan(alpha) / big_r
@@ -105,17 +117,21 @@ def friction_vessel_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0
                                   "hold on the advance: lower the angle, or give turnaround_radius)") from exc
             slips[d] = max(abs(lam0 - 0.5 * lam1), abs(lam0 + lam1 * (legs[d].length / leg.length - 0.5)))
     worst = max(abs(x) for x in slips)
+    if over is not None:
+        raise SolverError(f"{over}; the least mu is {_up(worst)} with the pattern closed")
     if worst > mu + 1e-12:
         raise SolverError(f"{ctx.key(index)}: closing the pattern needs |k_g / k_n| up to {worst:.3g} on the domes, "
-                          f"above the friction {mu:g}; the least mu is {worst:.3g}")
+                          f"above the friction {mu:g} (winding.friction); the least mu is {_up(worst)}")
     passes = _passes(ctx, index, legs, domes, theta0, n_c, cyl)
     c = 0.5 * (legs[0].radius + legs[1].radius)
-    notes = [f"friction-held turnarounds: r = {legs[0].radius:.3f} / {legs[1].radius:.3f} mm on the first / end "
-             f"dome (Clairaut would turn at {big_r * math.sin(alpha):.3f} mm), |k_g / k_n| up to {worst:.3f} "
-             f"(friction {mu:g}); pattern k = {k} of {n_c} closed on the domes, the angle kept"]
+    how = ["geodesic" if radii[d] is None and slip == 0.0 else "friction-held" for d in range(2)]
+    notes = [f"turnarounds: r = {legs[0].radius:.3f} mm on the first dome ({how[0]}), {legs[1].radius:.3f} mm on "
+             f"the end dome ({how[1]}) (Clairaut would turn at {big_r * math.sin(alpha):.3f} mm), |k_g / k_n| up to "
+             f"{worst:.3f} (friction {mu:g}); pattern k = {k} of {n_c} closed on the domes, the angle kept"]
     t1, t2 = prof.equator_t
     stations = np.linspace(t1, t2, COVERAGE_STATIONS + 2)[1:-1]
-    return finish_layer(ctx, cfg, index, cfg.angle_deg, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+    done = finish_layer(ctx, cfg, index, cfg.angle_deg, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+    return replace(done, turnaround_radii=(legs[0].radius, legs[1].radius))
 
 
 def _passes(ctx: PlanContext, index: int, legs: list[Leg], domes, theta0: float, n_c: int,

@@ -2,7 +2,7 @@
 
 Each circuit is a forward and a return pass, two-point (N-round) geodesics solved by the variational
 method between slot end points evenly spaced by arc length along the end sections; dwells at the
-ends close the pattern (MATH.md 5, paper 6.1). On a surface of revolution the circuits are rotated
+ends close the pattern (docs/math/05-winding.md, paper 6.1). On a surface of revolution the circuits are rotated
 copies of the first; elsewhere every pass is solved on its own.
 """
 
@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from winder.config.winding import LayerConfig
+from winder.config.winding import DEFAULT_POINTS, LayerConfig
 from winder.winding.coverage import layer_coverage
 from winder.errors import SolverError
 from winder.winding.passes import (
@@ -25,6 +25,8 @@ from winder.winding.passes import (
     turned_copies,
     reference_section,
     fine_geodesic,
+    pass_points,
+    SolvedPass,
     solved_passes,
     winding_region,
 )
@@ -32,8 +34,11 @@ from winder.winding.pattern import OpenPattern, circuits_for_coverage, close_ope
 from winder.winding.results import FiberPass, LayerPlan, PassKind
 from winder.winding.slip import check as check_held
 from winder.geometry.surface import SweepSurface
+from winder.winding.clairaut import revolution_pass
+from winder.winding.layers.friction_revolution import is_open_revolution, turn_remedies
 from winder.winding.turnaround import SWING_MIN_DEG, Leg, end_note, heading_deg, trace_leg
-from winder.winding.advance import reach_theta, turnaround_error
+from winder.winding.advance import (LAMINATE_SPREAD, cylinder_pass, cylinder_reach, near_cylinder, reach_theta,
+                                    turnaround_error)
 
 TRACE_RTOL = 1e-10
 
@@ -63,8 +68,14 @@ def _natural_advance(ctx: PlanContext, s_ref: float, s_a: float, s_b: float, alp
     span = 4.0 * (s_b - s_a) / max(math.cos(math.radians(alpha_deg)), 0.05) + 10.0
     starts = np.array([0.0] if surf.is_revolution else [0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi])
     ends = []
+    cylinder = near_cylinder(surf, *(float(v) for v in surf.t_of_s(np.array([s_a, s_b]))), LAMINATE_SPREAD)
     for heading, s_end in ((alpha_deg, s_b), (alpha_deg + 180.0, s_a)):
-        th = reach_theta(surf, s_ref, starts, heading, s_end) if s_end != s_ref else starts
+        if s_end == s_ref:
+            th = starts
+        elif cylinder:
+            th = cylinder_reach(surf, s_ref, starts, math.radians(alpha_deg), s_end)
+        else:
+            th = reach_theta(surf, s_ref, starts, heading, s_end)
         if th is None:
             th = _reach(surf, s_ref, starts, heading, s_end, span)
         ends.append(th)
@@ -86,10 +97,27 @@ def _end_headings(surf: SweepSurface, solved: list) -> np.ndarray:
     return heading_deg(surf, s, th, d).reshape(-1, 2)
 
 
+def _exact_pass(ctx: PlanContext, a: tuple[float, float], b: tuple[float, float], clairaut: tuple[float, float],
+                cylinder: bool, rounds: float) -> SolvedPass | None:
+    """The pass from a to b ((t, theta) each) where its geodesic is known without a solve: on a surface
+    of revolution by Clairaut's quadrature (clairaut: its constant c and the layer's angle, deg), on a
+    cylinder the unrolled line; None elsewhere."""
+    surf = ctx.surface
+    n = pass_points(ctx.winding, rounds) or DEFAULT_POINTS
+    if surf.is_revolution:
+        s0, s1 = (float(v) for v in surf.s_of_t(np.array([a[0], b[0]])))
+        return SolvedPass(*revolution_pass(surf, s0, s1, a[1], clairaut[0], n, clairaut[1]), None)
+    if cylinder:
+        return SolvedPass(*cylinder_pass(surf, ctx.arcs, a, b, n), None)
+    return None
+
+
 def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: float, theta0: float,
-                 ends: tuple[float, float, float, float], legs: tuple[Leg, Leg]) -> list[FiberPass]:
+                 ends: tuple[float, float, float, float], legs: tuple[Leg, Leg],
+                 clairaut: tuple[float, float]) -> list[FiberPass]:
     """The passes of an open-mandrel helical layer with the pattern `pat`, in winding order: per
-    circuit forward, the far end's turnaround, return, the near end's turnaround."""
+    circuit forward, the far end's turnaround, return, the near end's turnaround. clairaut: the
+    geodesic's Clairaut constant (mm) and the layer's angle (deg), for a surface of revolution."""
     surf = ctx.surface
     t_a, t_b, s_a, s_b = ends
     leg_a, leg_b = legs
@@ -97,6 +125,7 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
     f0 = float(ctx.arcs.fraction(np.array([theta0]))[0])
     layer = index + 1
     solved = []
+    cylinder = near_cylinder(surf, t_a, t_b, LAMINATE_SPREAD)
     for j in range(pat.circuits if not surf.is_revolution else 1):
         ctx.report(index, j / pat.circuits, f"circuit {j + 1} of {pat.circuits}")
         f_start = f0 + j * pat.advance
@@ -104,12 +133,17 @@ def _open_passes(ctx: PlanContext, index: int, pat: OpenPattern, natural_fwd: fl
         f_ret_start = f_fwd_end + 2.0 * half_b + pat.dwell_end
         f_ret_end = f_ret_start + natural_fwd
         th = ctx.arcs.theta(np.array([f_start, f_fwd_end, f_ret_start, f_ret_end]))
+        exact = [_exact_pass(ctx, a, b, clairaut, cylinder, natural_fwd)
+                 for a, b in (((t_a, th[0]), (t_b, th[1])), ((t_b, th[2]), (t_a, th[3])))]
+        if exact[0] is not None:  # known without a solve: its points and tangents as they are
+            solved += exact
+            continue
         # Cold starts: consecutive circuits lie k / N_c of a turn apart, where the geodesic can look
         # nothing alike (inside vs outside of a bend); coarse-to-fine is robust and as fast.
         solved += [fine_geodesic(ctx, (t_a, th[0]), (t_b, th[1]), None),
                    fine_geodesic(ctx, (t_b, th[2]), (t_a, th[3]), None)]
     # The tangents of all the passes together (solved_passes).
-    done = solved_passes(surf, solved)
+    done = solved if isinstance(solved[0], SolvedPass) else solved_passes(surf, solved)
     solved = list(zip(done[0::2], done[1::2]))
     # Where an end holds the fiber, the swing there runs between the passes' own end headings.
     ends_at = _end_headings(surf, done if not (leg_a.s.size and leg_b.s.size) else []).tolist()
@@ -210,7 +244,10 @@ def open_closure(ctx: PlanContext, cfg: LayerConfig, index: int) -> OpenClosure:
     try:
         natural_fwd = _natural_advance(ctx, s_ref, s_a, s_b, cfg.angle_deg)
     except SolverError as exc:
-        raise SolverError(f"{ctx.key(index, 'angle')}: {exc}") from exc
+        hint = ""
+        if "turns around" in exc.message and is_open_revolution(ctx.surface):
+            hint = turn_remedies(ctx.surface, (t_a, t_b), cfg.angle_deg, ctx.winding.friction)
+        raise SolverError(f"{ctx.key(index, 'angle')}: {exc}{hint}") from exc
     legs = _legs(ctx, s_ref, s_a, s_b, cfg.angle_deg)
     return OpenClosure(t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, _least_dwells(ctx, legs))
 
@@ -224,6 +261,7 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     closure = open_closure(ctx, cfg, index)
     t_a, t_b, s_a, s_b, s_ref, perimeter, natural_fwd, legs, least = closure
     alpha = cfg.angle_deg
+    clairaut = (float(surf.radius(np.array([s_ref]), np.zeros(1))[0]) * math.sin(math.radians(alpha)), alpha)
     n_c0 = n_c = circuits_for_coverage(perimeter, math.radians(alpha), w.band_width)
     notes: list[str] = []
     if cfg.circuits is not None:  # the engineer's count (winder patterns): wound as given, never raised
@@ -236,12 +274,15 @@ def open_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: f
     last_cov = None
     cov = None
     held = None
+    # passes known without a solve (_exact_pass) are geodesics: the slip check takes their curvature exactly
+    lines = not surf.is_revolution and near_cylinder(surf, t_a, t_b, LAMINATE_SPREAD)
+    exact = frozenset((PassKind.FORWARD, PassKind.RETURN)) if surf.is_revolution or lines else frozenset()
     while True:
         pat = close_open_pattern(n_c, closure.natural, *least, cfg.pattern, ctx.key(index, "pattern"))
-        passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs)
+        passes = _open_passes(ctx, index, pat, natural_fwd, theta0, ends, legs, clairaut)
         # A fiber that bridges or slips is refused before more circuits are tried (they would too).
         held = check_held(surf, [p for p in passes if p.kind is not PassKind.DWELL], w.friction, ctx.key(index),
-                          alpha, ctx.bridging_tolerance(index))
+                          alpha, ctx.bridging_tolerance(index), exact, w.region, lines)
         if surf.is_revolution or cfg.pattern is not None or cfg.circuits is not None:
             break
         cov = layer_coverage(surf, ctx.arcs, passes, w.band_width, stations)

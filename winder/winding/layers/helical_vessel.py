@@ -2,13 +2,14 @@
 
 A geodesic on a surface of revolution keeps r sin(alpha) = c; it turns around on each dome where
 r = c, tangent to that parallel. The circuit advance is a function of c (by quadrature); c is moved
-slightly from R sin(alpha) so the pattern closes, and the angle change is reported (MATH.md 5).
+slightly from R sin(alpha) so the pattern closes, and the angle change is reported (docs/math/05-winding.md).
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from dataclasses import replace
 from typing import Callable
 
 import numpy as np
@@ -24,7 +25,8 @@ from winder.winding.passes import (
     solve_pass,
 )
 from winder.winding.pattern import circuits_for_coverage, close_vessel_pattern
-from winder.winding.layers.vessel_advance import advances, circuit_advance, half_advance, turnaround_stations
+from winder.winding.layers.vessel_advance import (advances, circuit_advance, dome_advance_to, half_advance,
+                                                  turnaround_stations)
 from winder.winding.results import LayerPlan, PassKind
 from winder.geometry.measure import row_norms
 
@@ -33,24 +35,20 @@ PIECE_MIN_POINTS = 5  # the least points of a pass's piece (a dome or the cylind
 
 def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool,
                  theta0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """One pole-to-pole pass, solved piece by piece between the equators.
+    """One pole-to-pole pass, solved piece by piece between the equators (and a dome's own joints).
 
-    The meridian's curvature jumps where a dome meets the cylinder; a polyline vertex straddling
+    The meridian's curvature jumps where a dome meets the cylinder (and inside a torispherical head); a polyline vertex straddling
     the jump carries an O(h^3) error that Richardson cannot remove and that tilts the whole helix on
     the cylinder (1e-5 of the Clairaut constant at 200 points). The geodesic's equator crossings
     are known by quadrature, so each smooth piece is solved on its own, with vertices on the joints.
     Returns s, theta ((m,) float, laying order), the unit directions ((m, 3) float, from each piece's
     own spline) and the length.
     """
-    s1, s2 = turnaround_stations(prof, c)
-    e1, e2 = prof.equator_s
-    d1, cyl, d2 = advances(prof, c)
-    knots, steps = ([s1, e1, e2, s2], [d1, cyl, d2]) if forward else ([s2, e2, e1, s1], [d2, cyl, d1])
-    thetas = theta0 + np.concatenate([[0.0], np.cumsum(steps)])
+    knots, thetas, cyl_piece = _pass_knots(prof, c, forward, theta0)
     guide_s, guide_th = clairaut_path(prof, c, knots[0], knots[-1], theta0, m=4001)
     n_total = ctx.winding.points or 200
     s_out, th_out, d_out, length = [], [], [], 0.0
-    for i in range(3):
+    for i in range(len(knots) - 1):
         lo, hi = sorted((knots[i], knots[i + 1]))
         if hi - lo <= 1e-12:
             continue  # no cylinder
@@ -60,7 +58,7 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
                 np.concatenate([[thetas[i]], guide_th[inside], [thetas[i + 1]]]))
         t_a, t_b = (float(v) for v in prof.t_of_s(np.array([knots[i], knots[i + 1]])))
         s, th, d, ln, _ = solve_pass(ctx, (t_a, thetas[i]), (t_b, thetas[i + 1]), warm, n_i)
-        if i == 1 and d_out:
+        if i == cyl_piece and d_out:
             # The first joint's direction from the cylinder's piece (a helix: a line in (t, theta),
             # which its spline holds exactly; the second joint's already is), not from a dome's spline
             # end: on a 2.5:1 ellipsoid that end is 3e-5 rad off, past the exact eye's landing test
@@ -78,6 +76,24 @@ def _vessel_pass(ctx: PlanContext, prof: VesselMeridian, c: float, forward: bool
     pt = ctx.surface.evaluate(s[[0, -1]], th[[0, -1]], order=1).pt
     d[[0, -1]] = pt / row_norms(pt)[:, None]
     return s, th, d, length
+
+
+def _pass_knots(prof: VesselMeridian, c: float, forward: bool, theta0: float) -> tuple[list, np.ndarray, int]:
+    """(stations, thetas, index of the cylinder's piece) where a pass's smooth pieces meet: the
+    turnarounds, the equators and the domes' own curvature joints (a torispherical head's knuckle and
+    crown) between them, each theta by the Clairaut advance (vessel_advance)."""
+    s1, s2 = turnaround_stations(prof, c)
+    e1, e2 = prof.equator_s
+    d1, cyl, d2 = advances(prof, c)
+    j1 = sorted(j for j in prof.joints if s1 < j < e1)
+    j2 = sorted(j for j in prof.joints if e2 < j < s2)
+    stations = [s1, *j1, e1, e2, *j2, s2]
+    th = np.concatenate([[0.0], [dome_advance_to(prof, c, s1, j) for j in j1], [d1, d1 + cyl],
+                         [d1 + cyl + d2 - dome_advance_to(prof, c, s2, j) for j in j2], [d1 + cyl + d2]])
+    cyl_piece = len(j1) + 1
+    if not forward:
+        stations, th, cyl_piece = stations[::-1], th[-1] - th[::-1], len(j2) + 1
+    return stations, theta0 + th, cyl_piece
 
 
 def clairaut_path(prof: VesselMeridian, c: float, s_from: float, s_to: float, theta0: float,
@@ -134,11 +150,11 @@ def vessel_closure(ctx: PlanContext, cfg: LayerConfig, index: int) -> tuple[Call
             big_r * math.sin(math.radians(89.0)))
 
 
-def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) -> LayerPlan:
-    surf, w = ctx.surface, ctx.winding
-    prof = surf.profile
-    big_r = prof.radius
-    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
+def vessel_closed_pattern(ctx: PlanContext, cfg: LayerConfig, index: int) -> tuple[int, int, float]:
+    """(N_c, k, c): the circuits, skip and turnaround radius that close a geodesic layer's pattern with
+    the least move of c from R sin(alpha) (more circuits where the moved angle needs them to cover)."""
+    w = ctx.winding
+    big_r = ctx.surface.profile.radius
     advance, c0, c_min, c_hi = vessel_closure(ctx, cfg, index)
     perimeter = 2.0 * math.pi * big_r
     n_c = cfg.circuits or circuits_for_coverage(perimeter, math.radians(cfg.angle_deg), w.band_width)
@@ -155,6 +171,18 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
         if need <= n_c or cfg.circuits is not None:  # the engineer's count is wound as given
             break
         n_c = need
+    return n_c, k, c
+
+
+def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float,
+                         closed: tuple[int, int, float] | None = None, note: str = "") -> LayerPlan:
+    """A geodesic layer with its pattern closed by moving c (closed: (N_c, k, c) already chosen, else
+    vessel_closed_pattern's); note: a line added to the layer's notes."""
+    surf = ctx.surface
+    prof = surf.profile
+    big_r = prof.radius
+    r_open = max(prof.dome.end_radius, prof.end_dome.end_radius)
+    n_c, k, c = closed if closed is not None else vessel_closed_pattern(ctx, cfg, index)
     alpha = math.degrees(math.asin(c / big_r))
     half = half_advance(prof, c)
     ctx.report(index, 0.0, "the forward pass")
@@ -166,8 +194,8 @@ def vessel_helical_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0:
              for j in range(n_c) for i, (kind, pas) in enumerate(((PassKind.FORWARD, fwd), (PassKind.RETURN, ret)))]
     passes = turned_copies(surf, heads, [fwd[:3], ret[:3]], [j * 2.0 * half for j in range(n_c)])
     notes = [f"turnaround radius c = {c:.4f} mm on the domes (polar opening {r_open:.4g} mm); angle moved "
-             f"{alpha - cfg.angle_deg:+.4f} deg to close the pattern (k = {k} of {n_c})"]
+             f"{alpha - cfg.angle_deg:+.4f} deg to close the pattern (k = {k} of {n_c})"] + ([note] if note else [])
     e1, e2 = prof.equator_t
     stations = np.linspace(e1, e2, COVERAGE_STATIONS + 2)[1:-1]
-    return finish_layer(ctx, cfg, index, alpha, n_c, k, 0.0, 0.0, c, passes, stations, notes)
-
+    done = finish_layer(ctx, cfg, index, alpha, n_c, k, 0.0, 0.0, c, passes, stations, notes)
+    return replace(done, turnaround_radii=(c, c))

@@ -19,6 +19,7 @@ import numpy as np
 
 from winder.config.winding import LayerConfig
 from winder.winding.coverage import layer_coverage
+from winder.winding.layers.hoop_joints import traverse
 from winder.geometry.vessel import VesselMeridian
 from winder.errors import SolverError
 from winder.winding.slip import check_slip
@@ -108,19 +109,29 @@ def hoop_layer(ctx: PlanContext, cfg: LayerConfig, index: int, theta0: float) ->
         f0 = float(ctx.arcs.fraction(np.array([theta_start]))[0])
         turns_k = abs(spans[k][1] - spans[k][0]) / pitch
         m = max(3, int(math.ceil(turns_k * 360.0 / HOOP_STEP_DEG)) + 1)
-        frac = f0 + np.linspace(0.0, turns_k, m)
         forward = k % 2 == 0
-        t = np.linspace(spans[k][0], spans[k][1], m)
+        over = traverse(surf, ctx.arcs, *spans[k], f0, pitch * stretch, HOOP_STEP_DEG)  # a bent axis's joints
+        if over is None:
+            frac = f0 + np.linspace(0.0, turns_k, m)
+            t = np.linspace(spans[k][0], spans[k][1], m)
+        else:
+            t, frac, rates = over
         s = surf.s_of_t(t)
         th = ctx.arcs.theta(frac)
         th[0] = theta_start
         ev = surf.evaluate(s, th, order=1)
-        # Exact tangent of the constant-pitch path: d/dk Phi(s(t), theta(f)), both linear in k
-        # (s = t on the cylindrical region).
-        vel = ev.ps * (t[1] - t[0]) + ev.pt * (ctx.arcs.dtheta_dfrac(th) * (frac[1] - frac[0]))[:, None]
-        speed = row_norms(vel)
+        if over is None:
+            # Exact tangent of the constant-pitch path: d/dk Phi(s(t), theta(f)), both linear in k
+            # (s = t on the cylindrical region).
+            vel = ev.ps * (t[1] - t[0]) + ev.pt * (ctx.arcs.dtheta_dfrac(th) * (frac[1] - frac[0]))[:, None]
+            speed = row_norms(vel)
+            length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
+        else:  # per unit |t|, each piece at its own pitch (winder.winding.layers.hoop_joints)
+            sign = 1.0 if spans[k][1] > spans[k][0] else -1.0
+            vel = ev.ps * sign + ev.pt * (ctx.arcs.dtheta_dfrac(th) * rates)[:, None]
+            speed = row_norms(vel)
+            length = float(np.sum(0.5 * (speed[1:] + speed[:-1]) * np.abs(np.diff(t))))
         direction = vel / speed[:, None]
-        length = float(np.sum(0.5 * (speed[1:] + speed[:-1])))
         passes.append(make_pass(surf, index + 1, k + 1, len(passes) + 1, PassKind.HOOP, s, th, direction, length,
                                 ev))
         theta_start = float(th[-1])

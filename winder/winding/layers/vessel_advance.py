@@ -1,7 +1,7 @@
 """The Clairaut geodesic's turnarounds and theta advance over a domed vessel, for many c at once.
 
 A geodesic on a surface of revolution keeps r sin(alpha) = c; it turns around on each dome where
-r = c. The circuit advance is a function of c by quadrature (MATH.md 5). Closing a layer's pattern
+r = c. The circuit advance is a function of c by quadrature (docs/math/05-winding.md). Closing a layer's pattern
 solves advance(c) = k / N_c for a few candidate skips (winder.winding.pattern.close_vessel_pattern):
 every function here takes c as a float or as an (n,) array, so that the candidates are solved
 together, each step of the root finder one quadrature of all of them.
@@ -109,6 +109,12 @@ def _dome_advance(prof: VesselMeridian, c: np.ndarray, s_c: np.ndarray, s_eq: fl
     r = prof.evaluate((s_m[:, None] + (s_eq - s_m)[:, None] * half).ravel()).r.reshape(s.shape)
     far = 0.5 * np.abs(s_eq - s_m) * ((c[:, None] / (r * np.sqrt(r * r - c[:, None] ** 2))) @ w)
     return near + far
+
+
+def dome_advance_to(prof: VesselMeridian, c: float, s_c: float, s_x: float) -> float:
+    """theta advance (rad) of the geodesic of Clairaut constant c from its turnaround station s_c to the
+    station s_x on the same dome (r > c there)."""
+    return float(_dome_advance(prof, np.array([c]), np.array([s_c]), s_x)[0])
 
 
 def circuit_advance(prof: VesselMeridian, c: float | np.ndarray) -> float | np.ndarray:
