@@ -11,6 +11,7 @@ the fast tests use a shorter elbow with a wider band.
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 import re
 from pathlib import Path
@@ -317,16 +318,13 @@ def test_krl_structure(programs) -> None:
     _, program = programs["kuka_kr16"]
     texts = krl.serialize(program)
     statements = (r"&ACCESS RVP", r"&REL 1", r"DEF [A-Za-z_]\w{0,23}\( \)", r"BAS\(#INITMOV, 0\)", r"END",
-                  r"LAYER_\d+\( \)",
                   r"\$(TOOL|BASE) = \{X [-0-9.]+,Y [-0-9.]+,Z [-0-9.]+,A [-0-9.]+,B [-0-9.]+,C [-0-9.]+\}( +;.*)?",
                   r"\$IPO_MODE = #TCP", r"\$APO\.CDIS = [0-9.]+", r"\$VEL_EXTAX\[[1-6]\] = [0-9.]+", r"\$VEL\.CP = [0-9.]+",
                   r"PTP \{(A[1-6] [-0-9.]+,){6}(E[1-3] [-0-9.]+,){2}E3 [-0-9.]+\}( +;.*)?", r"LIN P\d+( C_DIS)?")
     src = [line.strip() for line in texts[".src"].splitlines() if line.strip() and not line.strip().startswith(";")]
     for line in src:
         assert any(re.fullmatch(s, line) for s in statements), line
-    assert src[2].startswith("DEF ") and src[-1] == "END"
-    defs = [line for line in src if line.startswith("DEF ")]
-    assert src.count("END") == len(defs) and len(defs) == 1 + sum(line.startswith("LAYER_") for line in src)
+    assert src[2].startswith("DEF ") and src[-1] == "END" and src.count("END") == 1
     dat = [line for line in texts[".dat"].splitlines() if line.strip()]
     assert dat[:3] == ["&ACCESS RVP", "&REL 1", "DEFDAT small_elbow PUBLIC"] and dat[-1] == "ENDDAT"
     keys = "X Y Z A B C S T E1 E2 E3 E4 E5 E6".split()
@@ -381,7 +379,9 @@ def _limited(program, limit: int):
 
 
 def _joined(texts: dict[str, str]) -> str:
-    return "".join(texts[k] for k in sorted(texts, key=lambda s: s != ".src"))
+    """The texts as simulate reads a program's files (winder.readback.program_file): every .src, the
+    main one first, then every .dat."""
+    return "".join(texts[k] for k in sorted(texts, key=lambda s: (s.endswith(".dat"), s not in (".src", ".dat"), s)))
 
 
 def _close(a, b, path: str = "") -> None:
@@ -402,7 +402,7 @@ def _close(a, b, path: str = "") -> None:
 
 
 SPLIT = {  # language: (the main program's call of layer 1, its definition)
-    "krl": (r"^LAYER_1\( \)$", r"^DEF LAYER_1\( \)$"),
+    "krl": (r"^small_elbow_L1\( \)  ; .*$", r"^DEF small_elbow_L1\( \)$"),
     "rapid": (r"^    layer_1;$", r"^  PROC layer_1\(\)$"),
     "urscript": (r"^  layer_1\(\)$", r"^  def layer_1\(\):$"),
 }
@@ -421,22 +421,28 @@ def test_split_reads_back_as_the_whole(job_plan, programs, arm: str, language: s
     assert sum(len(t) for t in whole.values()) <= PROGRAM_LIMIT[language]  # the small elbow fits
     assert not any(re.search(SPLIT[language][0], t, re.M) for t in whole.values())
     split = module.serialize(_limited(program, MIN_PROGRAM_LIMIT))
-    assert set(split) == set(whole)
     main = next(t for k, t in split.items() if k != ".dat")
-    calls = re.findall(r"(?im)^\s*(?:layer_\d+)(?:\( \)|;|\(\))$", main)
+    calls = re.findall(r"(?im)^\s*(?:small_elbow_L|layer_)\d+(?:\( \)|;|\(\))(?:  ;.*)?$", main)
     assert len(calls) == len(program.layers) == 1
-    assert re.search(SPLIT[language][0], main, re.M) and re.search(SPLIT[language][1], main, re.M)
-    assert main.index(calls[0].strip()) > 0
-    if language == "krl":
-        assert split[".dat"] == whole[".dat"]  # the points stay in the module's one .dat
+    assert re.search(SPLIT[language][0], main, re.M)
+    if language == "krl":  # a .src + .dat pair per layer; the main .dat holds no point
+        assert list(split) == [".src", ".dat", "_L1.src", "_L1.dat"]
+        assert re.search(SPLIT[language][1], split["_L1.src"], re.M)
+        assert split[".dat"].splitlines()[2:] == ["DEFDAT small_elbow PUBLIC", "ENDDAT"]
+        assert split["_L1.dat"].splitlines()[3:] == whole[".dat"].splitlines()[3:]
+        assert len(split[".src"]) < 2000 and "LIN " not in split[".src"]
+    else:  # the layer a routine or function of the one file
+        assert set(split) == set(whole)
+        assert re.search(SPLIT[language][1], main, re.M)
     sims = [simulate(machine, job_plan[1], _joined(t), f"program.{language}") for t in (whole, split)]
     _close(sims[0].summary(), sims[1].summary())
     assert sims[1].time_s == pytest.approx(program.times.total_s, rel=TIME_TOL)
 
 
 @pytest.mark.parametrize(("language", "break_it", "message"), [
-    ("krl", lambda t: t.replace("\nLAYER_1( )\n", "\n"), "never called"),
-    ("krl", lambda t: t.replace("\nLAYER_1( )\n", "\nLAYER_1( )\nLAYER_1( )\n"), "called twice"),
+    ("krl", lambda t: re.sub(r"\nsmall_elbow_L1\( \).*\n", "\n", t), "never called"),
+    ("krl", lambda t: re.sub(r"\n(small_elbow_L1\( \).*)\n", r"\n\1\n\1\n", t), "called twice"),
+    ("krl", lambda t: t.replace("DEFDAT small_elbow_L1 PUBLIC", "DEFDAT small_elbow_L2 PUBLIC"), "small_elbow_L1's"),
     ("rapid", lambda t: t.replace("    layer_1;", "    layer_2;"), "not defined"),
     ("urscript", lambda t: t.replace("\n  layer_1()\n", "\n"), "never called"),
 ])
@@ -463,3 +469,32 @@ def test_program_limit_in_config(tmp_path) -> None:
     path.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, program_limit: 10}"))
     with pytest.raises(ConfigError, match="program_limit"):
         load_config(path)
+
+
+def test_run_writes_a_split_krl_program_as_one_set(tmp_path, job_plan, programs) -> None:
+    """`run` writes a KRL program past program_limit as the main .src + .dat and a .src + .dat per
+    layer, in one set (winder.app.writes); simulate reads the main .src with the modules it calls
+    as the whole program; a job name ending in _L and a number is refused."""
+    from winder.app.simulate import simulate_files  # noqa: PLC0415
+    from winder.config.robot import name_problem  # noqa: PLC0415
+
+    config = tmp_path / "small_elbow.yaml"
+    config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, program_limit: 1000}"))
+    report = run_job(config, tmp_path / "out", formats=("krl",), summary=False)
+    assert report.ok, report.message
+    names = [Path(p).name for p in report.outputs]
+    assert names == ["small_elbow.src", "small_elbow_L1.src", "small_elbow_L1.dat", "small_elbow.dat"]
+    got = json.loads(simulate_files(str(config), str(tmp_path / "out" / "small_elbow.src"), as_json=True))
+    machine, program = programs["kuka_kr16"]  # the same cell, its program written whole
+    whole = simulate(machine, job_plan[1], _joined(krl.serialize(program)), "program.src").summary()
+    _close(whole, got)
+    (tmp_path / "out" / "small_elbow_L1.dat").unlink()
+    with pytest.raises(Exception, match="small_elbow_L1.dat"):
+        simulate_files(str(config), str(tmp_path / "out" / "small_elbow.src"), as_json=True)
+    assert name_problem("tank_L2", "krl") and name_problem("tank_L2", "rapid") is None
+
+
+def test_krl_layer_module_name_within_24_characters() -> None:
+    assert krl.layer_module("small_elbow", 12) == "small_elbow_L12"
+    with pytest.raises(ExportError, match="24 characters: shorten the job's name to 21"):
+        krl.layer_module("a" * 22, 1)

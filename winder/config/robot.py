@@ -96,7 +96,8 @@ def program_limit(cell: RobotCell, language: str) -> int:
 
 
 def subprogram_name(layer: int) -> str:
-    """The name of a layer's subprogram in every cell language (KRL's in capitals)."""
+    """The name of a layer's subprogram in RAPID and URScript (KRL's is a module of its own:
+    winder.export.dialects.krl.layer_module)."""
     return f"layer_{layer}"
 
 
@@ -104,6 +105,9 @@ def name_problem(name: str, language: str) -> str | None:
     """Why the job's name cannot name the language's module (letters, digits and _, starting with a
     letter, at most NAME_LENGTH characters, not a layer's subprogram's), or None."""
     longest = NAME_LENGTH[language]
+    if language == "krl" and re.fullmatch(r"(?i).*_L[0-9]+", name):
+        return ("KRL programs split per layer name each layer's module <name>_L<N>: a job's name cannot end in "
+                "_L and a number")
     if re.fullmatch(r"(?i)layer_[0-9]+", name):
         return (f"{LANGUAGE_TITLE[language]} programs name each layer's subprogram layer_N: rename the job (its "
                 f"module's name)")

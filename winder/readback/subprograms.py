@@ -1,7 +1,8 @@
 """A cell program's layers as subprograms (docs/math/10-robot-cell.md 10.10), read in the order the
-controller runs them: each subprogram's lines in place of its call (KRL `LAYER_N( )` and `DEF LAYER_N( )
-... END` after the main program, RAPID `layer_N;` and `PROC layer_N() ... ENDPROC`, URScript
-`layer_N()` and `def layer_N(): ... end` within the main function). Every subprogram is defined once
+controller runs them: each subprogram's lines in place of its call (KRL `<name>_L<N>( )` and `DEF
+<name>_L<N>( ) ... END`, each layer's module's .src read after the main .src by
+winder.readback.program_file; RAPID `layer_N;` and `PROC layer_N() ... ENDPROC`; URScript `layer_N()`
+and `def layer_N(): ... end` within the main function). Every subprogram is defined once
 and called once, from the main program only; anything else is refused naming its line."""
 
 from __future__ import annotations
@@ -21,10 +22,12 @@ class Grammar:
     end: str
     call: re.Pattern
     comment: str = ""  # what starts a comment after a statement (KRL's ;)
+    preamble: tuple[str, ...] = ()  # the lines a module's file starts with, dropped before a definition
 
 
-KRL = Grammar(re.compile(r"^DEF (LAYER_[0-9]{1,9})\( \)$", re.I), "END", re.compile(r"^(LAYER_[0-9]{1,9})\( \)$", re.I),
-              ";")
+_KRL_MODULE = r"([A-Za-z][A-Za-z0-9_]{0,22}_L[0-9]{1,9})"  # <name>_L<N> (the writer keeps it to 24 characters)
+KRL = Grammar(re.compile(rf"^DEF {_KRL_MODULE}\( \)$", re.I), "END", re.compile(rf"^{_KRL_MODULE}\( \)$", re.I),
+              ";", ("&ACCESS RVP", "&REL 1"))
 RAPID = Grammar(re.compile(r"^PROC (layer_[0-9]{1,9})\(\)$"), "ENDPROC", re.compile(r"^(layer_[0-9]{1,9});$"))
 URSCRIPT = Grammar(re.compile(r"^def (layer_[0-9]{1,9})\(\):$"), "end", re.compile(r"^(layer_[0-9]{1,9})\(\)$"))
 
@@ -51,6 +54,8 @@ def in_order(lines: list[tuple[int, str]], grammar: Grammar, source: str) -> lis
             continue
         hit = grammar.start.match(code)
         if hit:
+            while rest and _code(rest[-1][1], grammar) in grammar.preamble:  # the module file's first lines
+                rest.pop()
             name = hit[1].lower()
             if name in bodies:
                 raise ConfigError(f"{source}: line {number}: {hit[1]} is defined twice (line {defined_at[name]})")
@@ -79,3 +84,8 @@ def in_order(lines: list[tuple[int, str]], grammar: Grammar, source: str) -> lis
         raise ConfigError(f"{source}: line {defined_at[missing[0]]}: {missing[0]} is never called: its layer would "
                           f"not be wound")
     return out
+
+
+def defined(lines: list[tuple[int, str]], grammar: Grammar) -> list[str]:
+    """The names of the subprograms the lines define, in order."""
+    return [hit[1] for _, raw in lines if (hit := grammar.start.match(_code(raw, grammar)))]

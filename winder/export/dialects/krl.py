@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from winder.config.robot import subprogram_name
+from winder.config.robot import NAME_LENGTH
+from winder.errors import ExportError
 from winder.export.dialects.robot_text import (ANGLE_DECIMALS, BRIDGE_NOTE, JOINT_DECIMALS, POSITION_DECIMALS, abc_deg,
                                                bridges_after, cell_of, cell_start, header, layer_rows,
                                                split_if_large)
@@ -45,8 +46,9 @@ def _axes(q: np.ndarray, ext: np.ndarray) -> str:
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
-    """The .src and .dat texts of the program: past the cell's program limit, the .src's main program
-    calls a local subprogram per layer, `LAYER_N( )` (docs/math/10-robot-cell.md 10.10)."""
+    """{suffix: text} of the program: its .src and .dat, and past the cell's program limit a module per
+    layer, `_L<N>.src` + `_L<N>.dat`, that the main .src calls as `<name>_L<N>( )` in layer order, its
+    own .dat empty of points (docs/math/10-robot-cell.md 10.10)."""
     return split_if_large(program, "krl", _write)
 
 
@@ -68,8 +70,10 @@ def _write(program: MotionProgram, split: bool) -> dict[str, str]:
     dat = ["&ACCESS RVP", "&REL 1", f"DEFDAT {name} PUBLIC"]
     slow, prev = False, 0
     blocks: dict[int, list[str]] | None = {} if split else None
+    dats: dict[int, list[str]] = {}  # id(a layer's lines) -> its points, when split
     for lines, n, row in layer_rows(program, src, blocks, ";"):
-        dat.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
+        points = dat if blocks is None else dats.setdefault(id(lines), [])
+        points.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
                    f"Z {fmt(xyz[row, 2], POSITION_DECIMALS)},A {fmt(abc[row, 0], ANGLE_DECIMALS)},"
                    f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},"
                    + f"S {s[row]},T {t[row]},"
@@ -90,8 +94,27 @@ def _write(program: MotionProgram, split: bool) -> dict[str, str]:
         else:
             lines.append(f"LIN P{n} C_DIS")
         prev = row
-    src += [f"{subprogram_name(k).upper()}( )" for k in blocks or {}] + ["END"]
-    for k, lines in (blocks or {}).items():  # each layer a local subprogram of the module
-        src += ["", f"DEF {subprogram_name(k).upper()}( )"] + lines + ["END"]
+    modules = {k: layer_module(name, k) for k in blocks or {}}
+    src += [f"{module}( )  ; layer {k}: {module}.src + .dat" for k, module in modules.items()] + ["END"]
     dat.append("ENDDAT")
-    return {".src": "\n".join(src) + "\n", ".dat": "\n".join(dat) + "\n"}
+    texts = {".src": "\n".join(src) + "\n", ".dat": "\n".join(dat) + "\n"}
+    for k, module in modules.items():  # each layer a module of its own: its moves' .src, their points' .dat
+        lines = blocks[k]
+        texts[module[len(name):] + ".src"] = "\n".join(
+            ["&ACCESS RVP", "&REL 1", f"DEF {module}( )", f"; {name}'s layer {k}, called from {name}.src"]
+            + lines + ["END"]) + "\n"
+        texts[module[len(name):] + ".dat"] = "\n".join(
+            ["&ACCESS RVP", "&REL 1", f"DEFDAT {module} PUBLIC"] + dats[id(lines)] + ["ENDDAT"]) + "\n"
+    return texts
+
+
+def layer_module(name: str, layer: int) -> str:
+    """The module (its .src and .dat's name) of a layer of the job's KRL program split per layer:
+    `<name>_L<layer>`; ExportError past KRL's NAME_LENGTH."""
+    module = f"{name}_L{layer}"
+    if len(module) > NAME_LENGTH["krl"]:
+        raise ExportError(f"name: the KRL program is split per layer (docs/math/10-robot-cell.md 10.10) and layer "
+                          f"{layer}'s module {module} is longer than KRL's {NAME_LENGTH['krl']} characters: shorten the "
+                          f"job's name to {NAME_LENGTH['krl'] - len(module) + len(name)} or raise "
+                          f"machine.robot.program_limit")
+    return module
