@@ -498,3 +498,27 @@ def test_krl_layer_module_name_within_24_characters() -> None:
     assert krl.layer_module("small_elbow", 12) == "small_elbow_L12"
     with pytest.raises(ExportError, match="24 characters: shorten the job's name to 21"):
         krl.layer_module("a" * 22, 1)
+
+
+def test_two_layers_split_into_two_krl_modules(tmp_path) -> None:
+    """A second layer on the small elbow, split: the main .src calls small_elbow_L1( ) then
+    small_elbow_L2( ), each its own .src + .dat, and simulate reads them as the whole program."""
+    from winder.config.robot import MIN_PROGRAM_LIMIT  # noqa: PLC0415
+
+    path = tmp_path / "small_elbow.yaml"
+    layer = "    - {type: helical, angle: 45, slip: auto}"
+    path.write_text(SMALL_ELBOW.replace(layer, f"{layer}\n    - {{type: helical, angle: 55, slip: auto}}"))
+    job = load_config(path)
+    plan = plan_job(job)
+    machine = dataclasses.replace(job.machine, cell=RobotCell("kuka_kr16", ring=CELLS["kuka_kr16"]))
+    program = program_of(plan, machine)
+    whole, split = krl.serialize(program), krl.serialize(_limited(program, MIN_PROGRAM_LIMIT))
+    assert list(split) == [".src", ".dat", "_L1.src", "_L1.dat", "_L2.src", "_L2.dat"]
+    calls = re.findall(r"^(small_elbow_L\d)\( \)", split[".src"], re.M)
+    assert calls == ["small_elbow_L1", "small_elbow_L2"]
+    points = [re.findall(r"^LIN (P\d+)", split[f"_L{k}.src"], re.M) for k in (1, 2)]
+    assert points[0] and points[1] and int(points[0][-1][1:]) + 1 == int(points[1][0][1:])
+    for k in (1, 2):  # each layer's points in its own .dat
+        assert sorted(re.findall(r"^DECL E6POS (P\d+)=", split[f"_L{k}.dat"], re.M)) == sorted(points[k - 1])
+    sims = [simulate(machine, plan, _joined(t), "program.src") for t in (whole, split)]
+    _close(sims[0].summary(), sims[1].summary())
