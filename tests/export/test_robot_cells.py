@@ -11,6 +11,7 @@ the fast tests use a shorter elbow with a wider band.
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 import re
 from pathlib import Path
@@ -120,8 +121,8 @@ def test_urscript_structure_and_time(job_plan, programs) -> None:
     text = urscript.serialize(program)[".script"]
     lines = [line for line in text.splitlines() if line.strip() and not line.strip().startswith("#")]
     assert lines[0] == "def small_elbow():" and lines[-1] == "end"
-    moves = re.findall(r"^  movel\(p\[([^\]]*)\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=([0-9.]+)\)$", text, re.M)
-    assert moves and len(re.findall(r"^  ring\(", text, re.M)) == len(moves) + 1
+    moves = re.findall(r"^ +movel\(p\[([^\]]*)\], a=[0-9.]+, v=[0-9.]+, t=([0-9.]+), r=([0-9.]+)\)$", text, re.M)
+    assert moves and len(re.findall(r"^ +ring\(", text, re.M)) == len(moves) + 1
     times = np.array([float(t) for _, t, _ in moves])
     radii = np.array([float(r) for _, _, r in moves])
     xyz = np.array([[float(v) for v in p.split(",")[:3]] for p, _, _ in moves])
@@ -175,7 +176,7 @@ def written_flanges(arm: str, program, cell: RobotCell) -> tuple[np.ndarray, lis
         text = urscript.serialize(program)[".script"]
         start = np.degrees([float(v) for v in re.search(r"^  movej\(\[([^\]]*)\]", text, re.M)[1].split(",")])
         flanges = []
-        for m in re.finditer(r"^  movel\(p\[([^\]]*)\]", text, re.M):
+        for m in re.finditer(r"^ +movel\(p\[([^\]]*)\]", text, re.M):
             v = [float(x) for x in m[1].split(",")]
             t = np.eye(4)
             t[:3, :3], t[:3, 3] = _rotvec_matrix(v[3:]), 1000.0 * np.array(v[:3])
@@ -369,3 +370,155 @@ def test_krl_serialized_once_per_program(monkeypatch, job_plan, programs) -> Non
     src = robot_programs.krl_src(plan, job, program)
     dat = robot_programs.krl_dat(plan, job, program)
     assert src.startswith("&ACCESS") and dat.startswith("&ACCESS") and len(calls) == 1
+
+
+def _limited(program, limit: int):
+    """The program with its cell's program limit set to limit bytes."""
+    cell = dataclasses.replace(program.cell, cell=dataclasses.replace(program.cell.cell, program_limit=limit))
+    return dataclasses.replace(program, cell=cell)
+
+
+def _joined(texts: dict[str, str]) -> str:
+    """The texts as simulate reads a program's files (winder.readback.program_file): every .src, the
+    main one first, then every .dat."""
+    return "".join(texts[k] for k in sorted(texts, key=lambda s: (s.endswith(".dat"), s not in (".src", ".dat"), s)))
+
+
+def _close(a, b, path: str = "") -> None:
+    """Two simulate summaries equal: numbers within 1e-9 relative (1e-6 absolute), line numbers aside."""
+    if isinstance(a, dict):
+        assert set(a) == set(b), path
+        for k in a:
+            if "line" not in k:
+                _close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, (list, tuple)):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b)):
+            _close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) and isinstance(b, (int, float)):
+        assert abs(a - b) <= 1e-6 + 1e-9 * abs(a), (path, a, b)
+    else:
+        assert a == b, (path, a, b)
+
+
+SPLIT = {  # language: (the main program's call of layer 1, its definition)
+    "krl": (r"^small_elbow_L1\( \)  ; .*$", r"^DEF small_elbow_L1\( \)$"),
+    "rapid": (r"^    layer_1;$", r"^  PROC layer_1\(\)$"),
+    "urscript": (r"^  layer_1\(\)$", r"^  def layer_1\(\):$"),
+}
+
+
+@pytest.mark.parametrize(("arm", "language"), [("kuka_kr16", "krl"), ("abb_irb4600", "rapid"), ("ur10e", "urscript")])
+def test_split_reads_back_as_the_whole(job_plan, programs, arm: str, language: str) -> None:
+    """A limit below the program's size (docs/math/10-robot-cell.md 10.10) writes each layer as a
+    subprogram the main program calls once; simulate reads it as the whole program: the same summary
+    (fiber, time, deviations) but for the lines it names."""
+    from winder.config.robot import MIN_PROGRAM_LIMIT, PROGRAM_LIMIT  # noqa: PLC0415
+
+    machine, program = programs[arm]
+    module = {"krl": krl, "rapid": rapid, "urscript": urscript}[language]
+    whole = module.serialize(program)
+    assert sum(len(t) for t in whole.values()) <= PROGRAM_LIMIT[language]  # the small elbow fits
+    assert not any(re.search(SPLIT[language][0], t, re.M) for t in whole.values())
+    split = module.serialize(_limited(program, MIN_PROGRAM_LIMIT))
+    main = next(t for k, t in split.items() if k != ".dat")
+    calls = re.findall(r"(?im)^\s*(?:small_elbow_L|layer_)\d+(?:\( \)|;|\(\))(?:  ;.*)?$", main)
+    assert len(calls) == len(program.layers) == 1
+    assert re.search(SPLIT[language][0], main, re.M)
+    if language == "krl":  # a .src + .dat pair per layer; the main .dat holds no point
+        assert list(split) == [".src", ".dat", "_L1.src", "_L1.dat"]
+        assert re.search(SPLIT[language][1], split["_L1.src"], re.M)
+        assert split[".dat"].splitlines()[2:] == ["DEFDAT small_elbow PUBLIC", "ENDDAT"]
+        assert split["_L1.dat"].splitlines()[3:] == whole[".dat"].splitlines()[3:]
+        assert len(split[".src"]) < 2000 and "LIN " not in split[".src"]
+    else:  # the layer a routine or function of the one file
+        assert set(split) == set(whole)
+        assert re.search(SPLIT[language][1], main, re.M)
+    sims = [simulate(machine, job_plan[1], _joined(t), f"program.{language}") for t in (whole, split)]
+    _close(sims[0].summary(), sims[1].summary())
+    assert sims[1].time_s == pytest.approx(program.times.total_s, rel=TIME_TOL)
+
+
+@pytest.mark.parametrize(("language", "break_it", "message"), [
+    ("krl", lambda t: re.sub(r"\nsmall_elbow_L1\( \).*\n", "\n", t), "never called"),
+    ("krl", lambda t: re.sub(r"\n(small_elbow_L1\( \).*)\n", r"\n\1\n\1\n", t), "called twice"),
+    ("krl", lambda t: t.replace("DEFDAT small_elbow_L1 PUBLIC", "DEFDAT small_elbow_L2 PUBLIC"), "small_elbow_L1's"),
+    ("rapid", lambda t: t.replace("    layer_1;", "    layer_2;"), "not defined"),
+    ("urscript", lambda t: t.replace("\n  layer_1()\n", "\n"), "never called"),
+])
+def test_split_program_miscalled_refused(job_plan, programs, language, break_it, message) -> None:
+    from winder.config.robot import MIN_PROGRAM_LIMIT  # noqa: PLC0415
+    from winder.errors import ConfigError  # noqa: PLC0415
+
+    arm = {"krl": "kuka_kr16", "rapid": "abb_irb4600", "urscript": "ur10e"}[language]
+    machine, program = programs[arm]
+    module = {"krl": krl, "rapid": rapid, "urscript": urscript}[language]
+    texts = module.serialize(_limited(program, MIN_PROGRAM_LIMIT))
+    text = break_it(_joined(texts))
+    with pytest.raises(ConfigError, match=message):
+        simulate(machine, job_plan[1], text, f"program.{language}")
+
+
+def test_program_limit_in_config(tmp_path) -> None:
+    """machine.robot.program_limit (bytes) is read, and one below MIN_PROGRAM_LIMIT refused."""
+    from winder.errors import ConfigError  # noqa: PLC0415
+
+    path = tmp_path / "small_elbow.yaml"
+    path.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, program_limit: 5000}"))
+    assert load_config(path).machine.cell.program_limit == 5000
+    path.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, program_limit: 10}"))
+    with pytest.raises(ConfigError, match="program_limit"):
+        load_config(path)
+
+
+def test_run_writes_a_split_krl_program_as_one_set(tmp_path, job_plan, programs) -> None:
+    """`run` writes a KRL program past program_limit as the main .src + .dat and a .src + .dat per
+    layer, in one set (winder.app.writes); simulate reads the main .src with the modules it calls
+    as the whole program; a job name ending in _L and a number is refused."""
+    from winder.app.simulate import simulate_files  # noqa: PLC0415
+    from winder.config.robot import name_problem  # noqa: PLC0415
+
+    config = tmp_path / "small_elbow.yaml"
+    config.write_text(SMALL_ELBOW.replace("robot: {arm: kuka_kr16}", "robot: {arm: kuka_kr16, program_limit: 1000}"))
+    report = run_job(config, tmp_path / "out", formats=("krl",), summary=False)
+    assert report.ok, report.message
+    names = [Path(p).name for p in report.outputs]
+    assert names == ["small_elbow.src", "small_elbow_L1.src", "small_elbow_L1.dat", "small_elbow.dat"]
+    got = json.loads(simulate_files(str(config), str(tmp_path / "out" / "small_elbow.src"), as_json=True))
+    machine, program = programs["kuka_kr16"]  # the same cell, its program written whole
+    whole = simulate(machine, job_plan[1], _joined(krl.serialize(program)), "program.src").summary()
+    _close(whole, got)
+    (tmp_path / "out" / "small_elbow_L1.dat").unlink()
+    with pytest.raises(Exception, match="small_elbow_L1.dat"):
+        simulate_files(str(config), str(tmp_path / "out" / "small_elbow.src"), as_json=True)
+    assert name_problem("tank_L2", "krl") and name_problem("tank_L2", "rapid") is None
+
+
+def test_krl_layer_module_name_within_24_characters() -> None:
+    assert krl.layer_module("small_elbow", 12) == "small_elbow_L12"
+    with pytest.raises(ExportError, match="24 characters: shorten the job's name to 21"):
+        krl.layer_module("a" * 22, 1)
+
+
+def test_two_layers_split_into_two_krl_modules(tmp_path) -> None:
+    """A second layer on the small elbow, split: the main .src calls small_elbow_L1( ) then
+    small_elbow_L2( ), each its own .src + .dat, and simulate reads them as the whole program."""
+    from winder.config.robot import MIN_PROGRAM_LIMIT  # noqa: PLC0415
+
+    path = tmp_path / "small_elbow.yaml"
+    layer = "    - {type: helical, angle: 45, slip: auto}"
+    path.write_text(SMALL_ELBOW.replace(layer, f"{layer}\n    - {{type: helical, angle: 55, slip: auto}}"))
+    job = load_config(path)
+    plan = plan_job(job)
+    machine = dataclasses.replace(job.machine, cell=RobotCell("kuka_kr16", ring=CELLS["kuka_kr16"]))
+    program = program_of(plan, machine)
+    whole, split = krl.serialize(program), krl.serialize(_limited(program, MIN_PROGRAM_LIMIT))
+    assert list(split) == [".src", ".dat", "_L1.src", "_L1.dat", "_L2.src", "_L2.dat"]
+    calls = re.findall(r"^(small_elbow_L\d)\( \)", split[".src"], re.M)
+    assert calls == ["small_elbow_L1", "small_elbow_L2"]
+    points = [re.findall(r"^LIN (P\d+)", split[f"_L{k}.src"], re.M) for k in (1, 2)]
+    assert points[0] and points[1] and int(points[0][-1][1:]) + 1 == int(points[1][0][1:])
+    for k in (1, 2):  # each layer's points in its own .dat
+        assert sorted(re.findall(r"^DECL E6POS (P\d+)=", split[f"_L{k}.dat"], re.M)) == sorted(points[k - 1])
+    sims = [simulate(machine, plan, _joined(t), "program.src") for t in (whole, split)]
+    _close(sims[0].summary(), sims[1].summary())

@@ -135,17 +135,18 @@ def render_outputs(job, plan, formats: Iterable[str], summary: bool = True, prog
                         if isinstance(rendered[job.name + f.suffix], Exception)), None)
     if first_error is not None:  # the error of the first format in writing order, as one by one
         raise first_error
-    return {job.name + f.suffix: rendered[job.name + f.suffix] for f in chosen}
+    return {job.name + s: data for f in chosen for s, data in rendered[job.name + f.suffix].items()}
 
 
 def _render_each(job, plan, chosen: list, program, progress: Progress | None) -> dict[str, bytes | Exception]:
-    """file name -> bytes of each format, or the error that kept it from being rendered."""
+    """file name -> {suffix: bytes} of each format (registry.Format.render_set), or the error that kept
+    it from being rendered."""
     rendered: dict[str, bytes | Exception] = {}
     for i, fmt in enumerate(chosen):
         if progress is not None:
             progress(i / len(chosen), f"rendering the {fmt.name}")
         try:
-            rendered[job.name + fmt.suffix] = fmt.render(plan, job, program)
+            rendered[job.name + fmt.suffix] = fmt.render_set(plan, job, program)
         except WinderError as exc:  # raised by render_outputs in writing order
             rendered[job.name + fmt.suffix] = exc
     return rendered

@@ -19,6 +19,15 @@ if TYPE_CHECKING:
 # KRL 24 characters, RAPID 32, a URScript function 63.
 NAME_LENGTH = {"krl": 24, "rapid": 32, "urscript": 63}
 LANGUAGE_TITLE = {"krl": "KRL", "rapid": "RAPID", "urscript": "URScript"}
+# The largest program (bytes of all its files) taken to fit each language's controller; a larger one is
+# written as a main program calling one subprogram per layer (docs/math/10-robot-cell.md 10.10).
+# `machine.robot.program_limit` overrides it. Sources (field reports; the makers publish none):
+# KRL: a KR C4 on KSS 8.3 keeps its programs in a RAM drive of about 4 MB (robot-forum.com thread
+# 49620, "KRC4 program capacity", 2024; about 8 MB in R1 per industrialmonitordirect.com). RAPID: no
+# figure found for an IRC5 module; KRL's 4 MB taken. URScript: a script is streamed, an 18 MB script
+# of 200,000 lines crashed PolyScope (zhangty019/S3_DeformFDM issue 19): 16 MB.
+PROGRAM_LIMIT = {"krl": 4_000_000, "rapid": 4_000_000, "urscript": 16_000_000}
+MIN_PROGRAM_LIMIT = 1000  # bytes: a smaller limit would split even a header
 POSE_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 DEFAULT_TOOL = {"z": 250.0}  # the mandrel's origin 250 mm out from the flange, axes as the flange's
 # The ring 1 m in front of the arm, 800 mm up, its axis across (the cell's +y), its x axis up: the
@@ -65,7 +74,8 @@ class RobotCell:
     (`positioner.origin`). axes : the ring's external axes, 1 (E1 the ring's turn), 2 (and E2 the
     eye's yaw, keeping a flat band flat), 3 (and E3 the eye's radial slide). max_joint_step (deg),
     singularity_margin (deg): the reach check's limits. ring_width, ring_depth (mm): the ring's body
-    (positioner width and depth) that no link may touch (winder.machine.links).
+    (positioner width and depth) that no link may touch (winder.machine.links). program_limit (bytes):
+    the program size above which each layer is a subprogram (PROGRAM_LIMIT when None).
     """
 
     arm: str
@@ -77,12 +87,30 @@ class RobotCell:
     singularity_margin: float = DEFAULT_SINGULARITY_MARGIN
     ring_width: float = DEFAULT_RING_WIDTH
     ring_depth: float = DEFAULT_RING_DEPTH
+    program_limit: int | None = None  # bytes: PROGRAM_LIMIT's of the arm's language when None
+
+
+def program_limit(cell: RobotCell, language: str) -> int:
+    """The size (bytes) above which the cell's program in the language is split per layer."""
+    return cell.program_limit if cell.program_limit is not None else PROGRAM_LIMIT[language]
+
+
+def subprogram_name(layer: int) -> str:
+    """The name of a layer's subprogram in RAPID and URScript (KRL's is a module of its own:
+    winder.export.dialects.krl.layer_module)."""
+    return f"layer_{layer}"
 
 
 def name_problem(name: str, language: str) -> str | None:
     """Why the job's name cannot name the language's module (letters, digits and _, starting with a
-    letter, at most NAME_LENGTH characters), or None."""
+    letter, at most NAME_LENGTH characters, not a layer's subprogram's), or None."""
     longest = NAME_LENGTH[language]
+    if language == "krl" and re.fullmatch(r"(?i).*_L[0-9]+", name):
+        return ("KRL programs split per layer name each layer's module <name>_L<N>: a job's name cannot end in "
+                "_L and a number")
+    if re.fullmatch(r"(?i)layer_[0-9]+", name):
+        return (f"{LANGUAGE_TITLE[language]} programs name each layer's subprogram layer_N: rename the job (its "
+                f"module's name)")
     if re.fullmatch(rf"[A-Za-z][A-Za-z0-9_]{{0,{longest - 1}}}", name):
         return None
     return (f"{LANGUAGE_TITLE[language]} needs a module name of letters, digits and _, starting with a letter, at "
@@ -112,7 +140,8 @@ def parse_pose(rd: Reader, value: Any, path: str, default: dict | None = None) -
 
 def parse_robot_cell(rd: Reader, value: dict, path: str) -> RobotCell:
     """The cell of `machine.robot: {arm: ..., ...}`."""
-    m = rd.mapping(value, path, ("arm", "base", "tool", "positioner", "max_joint_step", "singularity_margin"),
+    m = rd.mapping(value, path, ("arm", "base", "tool", "positioner", "max_joint_step", "singularity_margin",
+                                      "program_limit"),
                    required=("arm",))
     arm = m["arm"]
     if not isinstance(arm, str) or arm not in ARMS:
@@ -141,4 +170,8 @@ def parse_robot_cell(rd: Reader, value: dict, path: str) -> RobotCell:
     margin = rd.number(m.get("singularity_margin", DEFAULT_SINGULARITY_MARGIN), rd.at(path, "singularity_margin"))
     if not 0.0 <= margin < 90.0:
         raise rd.error(rd.at(path, "singularity_margin"), "must be >= 0 and < 90 deg", m["singularity_margin"])
-    return RobotCell(arm, base, tool, ring, axes, step, margin, size["width"], size["depth"])
+    limit = None
+    if "program_limit" in m:
+        limit = rd.integer(m["program_limit"], rd.at(path, "program_limit"), MIN_PROGRAM_LIMIT, None,
+                           f"must be a whole number of bytes >= {MIN_PROGRAM_LIMIT}")
+    return RobotCell(arm, base, tool, ring, axes, step, margin, size["width"], size["depth"], limit)

@@ -31,6 +31,7 @@ class Format:
     function: str = "export"
     part_of: str | None = None  # written with that format, never asked for alone (KRL's .dat)
     program: bool = False  # its export takes the job's motion program (program=, built once per job)
+    extras: str | None = None  # the module's function giving the files it writes beside (KRL's layer modules)
 
     def render(self, plan, job, program=None) -> bytes:
         """This format's file: its exporter's text or bytes for a planned job.
@@ -54,6 +55,19 @@ class Format:
         data = export(plan, job, program=program) if self.program else export(plan, job)
         return data.encode("utf-8") if isinstance(data, str) else bytes(data)
 
+    def render_set(self, plan, job, program=None) -> dict[str, bytes]:
+        """{suffix: bytes} of this format's file, then of those it writes beside it in the same set."""
+        return {self.suffix: self.render(plan, job, program)} | self.render_extras(plan, job, program)
+
+    def render_extras(self, plan, job, program=None) -> dict[str, bytes]:
+        """{suffix: bytes} of the files this format writes beside its own in the same set, in writing
+        order: a KRL program split per layer's modules (`_L<N>.src`, `_L<N>.dat`); none for the others."""
+        if self.extras is None:
+            return {}
+        export = getattr(importlib.import_module(self.module), self.extras)
+        texts = export(plan, job, program=program) if self.program else export(plan, job)
+        return {suffix: text.encode("utf-8") for suffix, text in texts.items()}
+
 
 FORMATS: tuple[Format, ...] = (  # in writing order
     Format("csv", ".csv", "winder.export.job_csv"),
@@ -65,7 +79,8 @@ FORMATS: tuple[Format, ...] = (  # in writing order
     Format("layup", ".layup.csv", "winder.export.layup", default=False),  # needs a material
     Format("abaqus", ".inp", "winder.export.abaqus", default=False),  # needs ply data and analysis:
     Format("report", ".html", "winder.report.export", default=False, program=True),
-    Format("krl", ".src", "winder.export.robot_programs", default=False, function="krl_src", program=True),
+    Format("krl", ".src", "winder.export.robot_programs", default=False, function="krl_src", program=True,
+           extras="krl_layers"),
     Format("krl_dat", ".dat", "winder.export.robot_programs", default=False, function="krl_dat", part_of="krl",
            program=True),
     Format("rapid", ".mod", "winder.export.robot_programs", default=False, function="rapid", program=True),

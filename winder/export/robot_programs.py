@@ -38,6 +38,12 @@ def krl_dat(plan: WindingPlan, job, program: MotionProgram | Exception | None = 
     return _texts(plan, job, "krl", program)[".dat"]
 
 
+def krl_layers(plan: WindingPlan, job, program: MotionProgram | Exception | None = None) -> dict[str, str]:
+    """{suffix: text} of the layers' modules of a KRL program split per layer (`_L<N>.src`, `_L<N>.dat`,
+    docs/math/10-robot-cell.md 10.10), none when it is written whole."""
+    return {k: v for k, v in _texts(plan, job, "krl", program).items() if k not in (".src", ".dat")}
+
+
 def rapid(plan: WindingPlan, job, program: MotionProgram | Exception | None = None) -> str:
     return _texts(plan, job, "rapid", program)[".mod"]
 

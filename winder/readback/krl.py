@@ -7,6 +7,9 @@ p` (0 < p <= 100 %), `$VEL.CP = v` (m/s, 0 < v <= MAX_CP), `PTP {A1..A6, E1..E3}
 each bridge), `LIN Pn` or `LIN Pn C_DIS`, `END`. .dat: `&ACCESS RVP`, `&REL 1`, `DEFDAT name PUBLIC`,
 `DECL E6POS Pn={X,Y,Z,A,B,C,S,T,E1..E6}` (E4-E6 zero), `ENDDAT`. A move's time is the ring centre's
 path over $VEL.CP, or where $VEL_EXTAX[1] is below 100 %, E1's travel at that share of its top speed.
+A program split per layer (docs/math/10-robot-cell.md 10.10): the main .src calls `<name>_L<N>( )`,
+each a module of its own read after it (its .src after the main .src, its .dat after the main .dat:
+winder.readback.program_file), each module's body read in place of its call (winder.readback.subprograms).
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, number, same_frame, seconds
+from winder.readback.subprograms import KRL, defined, in_order
 
 MAX_CP = 3.0  # m/s: KRL's largest path speed
 _FRAME_KEYS = ("X", "Y", "Z", "A", "B", "C")
@@ -53,22 +57,27 @@ def _frame(values: list[float]) -> np.ndarray:
     return out
 
 
-def _dat(lines: list[tuple[int, str]], name: str, source: str) -> dict[str, list[float]]:
-    """The E6POS points of the .dat's lines (number, text)."""
+def _dat(lines: list[tuple[int, str]], names: list[str], source: str) -> dict[str, list[float]]:
+    """The E6POS points of the .dat's lines (number, text): the main module's .dat (names[0]), then
+    those of the layers' modules (names[1:], a program split per layer) in that order."""
     points: dict[str, list[float]] = {}
     code = [(n, t.split(";")[0].strip()) for n, t in lines if t.split(";")[0].strip()]
     if not code or code[-1][1] != "ENDDAT":
         raise ConfigError(f"{source}: the .dat does not end with ENDDAT: cut short?")
-    seen_def = False
-    for n, line in code[:-1]:
+    left = list(names)
+    current = None  # the module whose DEFDAT is open
+    for n, line in code:
         hit = _E6POS.match(line)
-        if line in ("&ACCESS RVP", "&REL 1") and not seen_def:
+        if line in ("&ACCESS RVP", "&REL 1") and current is None:
             continue
-        if not seen_def and (m := _DEFDAT.match(line)):
-            if m[1] != name:
-                raise ConfigError(f"{source}: line {n}: the .dat is {m[1]}'s, the .src {name}'s")
-            seen_def = True
-        elif hit and seen_def:
+        if current is None and (m := _DEFDAT.match(line)):
+            if not left or m[1].lower() != left[0].lower():
+                want = f"{left[0]}'s" if left else "no other (every module's .dat read)"
+                raise ConfigError(f"{source}: line {n}: the .dat is {m[1]}'s, the .src wants {want}")
+            current = left.pop(0)
+        elif line == "ENDDAT" and current is not None:
+            current = None
+        elif hit and current is not None:
             values = _aggregate(hit[2], _POINT_KEYS, source, n, hit[1])
             if values[6] != int(values[6]) or not 0 <= values[6] <= 7 or values[7] != int(values[7]) or not 0 <= values[7] <= 63:
                 raise ConfigError(f"{source}: line {n}: {hit[1]}'s S must be 0-7 and T 0-63, whole numbers")
@@ -79,6 +88,8 @@ def _dat(lines: list[tuple[int, str]], name: str, source: str) -> dict[str, list
             points[hit[1]] = values
         else:
             raise ConfigError(f"{source}: line {n}: not a statement of winder's KRL data list, got {line[:60]!r}")
+    if left:
+        raise ConfigError(f"{source}: the .dat of {left[0]} is missing: each module's .dat goes beside its .src")
     return points
 
 
@@ -97,7 +108,8 @@ def read_krl(text: str, machine: MachineConfig, source: str) -> CellRead:  # noq
     top_e1 = machine.dynamics.rotation.speed / 60.0
     points_lin: list[tuple] = []  # (point, line, mode, $VEL.CP, $VEL_EXTAX[1], pass, kind, tension) of each LIN
     bridges: dict[int, tuple[np.ndarray, int]] = {}
-    src = all_lines[:dat_at]
+    modules = defined(all_lines[:dat_at], KRL)  # the layers' modules of a program split per layer
+    src = in_order(all_lines[:dat_at], KRL, source)  # each layer's subprogram where it is called
     for n, raw in src:
         line = raw.strip()
         if not line or rows.comment(line, n):
@@ -151,7 +163,7 @@ def read_krl(text: str, machine: MachineConfig, source: str) -> CellRead:  # noq
             raise ConfigError(f"{source}: line {n}: not a statement of winder's KRL programs, got {line[:60]!r}")
     if not ended:
         raise ConfigError(f"{source}: the .src stops without END: cut short?")
-    points = _dat(all_lines[dat_at:], name or "", source)
+    points = _dat(all_lines[dat_at:], [name or ""] + modules, source)
     table = []
     # the rows are added once the .dat is read: each with the pass and the tension set where its LIN stands
     for k, (point, n, mode, speed, share, rows.key, rows.kind, rows.tension) in enumerate(points_lin):

@@ -13,6 +13,7 @@ not UTF-8 (a Latin-1 accent in a comment) are read as U+FFFD, and a leading byte
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Iterator
 
@@ -43,8 +44,15 @@ class ProgramFile:
         self.path = path
         self.paths = [path]
         if path.lower().endswith(".src"):  # a KRL program's points are in the .dat beside it
-            self.paths.append(path[:-4] + (".DAT" if path.endswith(".SRC") else ".dat"))
-        self.size = sum(checked_size(p, p, kind if p == path else "KRL data list", max_bytes) for p in self.paths)
+            src, dat = (".SRC", ".DAT") if path.endswith(".SRC") else (".src", ".dat")
+            checked_size(path, path, kind, max_bytes)
+            # a program split per layer (docs/math/10-robot-cell.md 10.10): the modules its .src calls,
+            # every .src before every .dat, as the reader takes them
+            folder = os.path.dirname(path)
+            modules = [os.path.join(folder, m) for m in _called_modules(path)]
+            self.paths = [path] + [m + src for m in modules] + [path[:-4] + dat] + [m + dat for m in modules]
+        self.size = sum(checked_size(p, p, kind if p == path else "KRL module" if p.endswith(("src", "SRC"))
+                                     else "KRL data list", max_bytes) for p in self.paths)
 
     def lines(self) -> Iterator[str]:
         """The lines of the file(s), in order, as str.splitlines gives them (module docstring)."""
@@ -94,6 +102,23 @@ class ProgramFile:
         if first is not None and first.startswith(_MARLIN_FIRST):
             return cell, "marlin", count
         return cell, next((name for name, _ in GCODE_LINES if name in found), "generic"), count
+
+
+def _called_modules(path: str) -> list[str]:
+    """The layers' modules a KRL .src calls (`<name>_L<N>( )`, winder.readback.subprograms.KRL), each
+    once, in order."""
+    from winder.readback.subprograms import KRL  # noqa: PLC0415
+
+    found: list[str] = []
+    try:
+        with open(path, "rb") as fh:  # of a size checked before
+            for raw in fh:
+                hit = KRL.call.match(raw.decode("utf-8", errors="replace").split(";")[0].strip())
+                if hit and hit[1] not in found:
+                    found.append(hit[1])
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read the file: {exc.strerror or exc}") from exc
+    return found
 
 
 _UPPER = tuple(name for name, _ in GCODE_LINES)  # tested in upper case, as parse.detect tests them

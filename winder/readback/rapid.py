@@ -19,6 +19,7 @@ import numpy as np
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
 from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, numbers, same_frame, seconds
+from winder.readback.subprograms import RAPID, in_order
 
 QUATERNION_TOL = 1e-6  # |q| - 1 of a written quaternion
 _N = NUMBER
@@ -69,7 +70,7 @@ def read_rapid(text: str, machine: MachineConfig, source: str) -> CellRead:  # n
     targets: dict[str, np.ndarray] = {}
     joints: dict[str, np.ndarray] = {}
     table, bridges, start, start_line, last_zone = [], {}, None, 0, ""
-    for n, raw in enumerate(lines, start=1):
+    for n, raw in in_order(list(enumerate(lines, start=1)), RAPID, source):  # each layer's routine where called
         line = raw.strip()
         if not line or rows.comment(line, n):
             continue

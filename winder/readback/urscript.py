@@ -23,6 +23,7 @@ from winder.errors import ConfigError
 from winder.machine.blends import BLEND_FRACTION, CYCLE_S, blend_radii, line_times
 from winder.machine.cell_frames import mandrel_in_base
 from winder.readback.cells import NUMBER, CellRead, Rows, frames_of, midpoints, numbers, same_frame, seconds
+from winder.readback.subprograms import URSCRIPT, in_order
 
 _N = NUMBER
 _DEF = re.compile(r"^def ([A-Za-z][A-Za-z0-9_]{0,62})\(\):$")
@@ -57,7 +58,7 @@ def read_urscript(text: str, machine: MachineConfig, source: str) -> CellRead:  
     name, start, start_line, tcp = None, None, 0, False
     poses, move_s, radii, ring_lines, bridges, pause = [], [], [], [], {}, []
     ring_at: list[tuple[int, list[float], float]] = []  # (the move it precedes, targets, time)
-    for n, raw in enumerate(lines[:-1], start=1):
+    for n, raw in in_order(list(enumerate(lines[:-1], start=1)), URSCRIPT, source):  # each layer's function where called
         line = raw.strip()
         if not line or rows.comment(line, n):
             continue

@@ -15,8 +15,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.config.robot import NAME_LENGTH
+from winder.errors import ExportError
 from winder.export.dialects.robot_text import (ANGLE_DECIMALS, BRIDGE_NOTE, JOINT_DECIMALS, POSITION_DECIMALS, abc_deg,
-                                               bridges_after, cell_of, cell_start, header, numbered_rows)
+                                               bridges_after, cell_of, cell_start, header, layer_rows,
+                                               split_if_large)
 from winder.export.dialects.text import fmt, fmt_significant
 from winder.machine.configuration import kuka_status_turn
 from winder.machine.program import MotionProgram
@@ -43,7 +46,14 @@ def _axes(q: np.ndarray, ext: np.ndarray) -> str:
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
-    """The .src and .dat texts of the program."""
+    """{suffix: text} of the program: its .src and .dat, and past the cell's program limit a module per
+    layer, `_L<N>.src` + `_L<N>.dat`, that the main .src calls as `<name>_L<N>( )` in layer order, its
+    own .dat empty of points (docs/math/10-robot-cell.md 10.10)."""
+    return split_if_large(program, "krl", _write)
+
+
+def _write(program: MotionProgram, split: bool) -> dict[str, str]:
+    """The .src and .dat texts of the program, split per layer or not."""
     cell, name, xyz, ext, time = cell_start(program, "KRL")
     c = cell.cell
     abc = abc_deg(cell.frames[:, :3, :3])
@@ -59,8 +69,11 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     src.append(f"PTP {_axes(cell.reach.joints[0], ext[0])}  ; the first pose, joint by joint")
     dat = ["&ACCESS RVP", "&REL 1", f"DEFDAT {name} PUBLIC"]
     slow, prev = False, 0
-    for n, row in numbered_rows(program, src, ";"):
-        dat.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
+    blocks: dict[int, list[str]] | None = {} if split else None
+    dats: dict[int, list[str]] = {}  # id(a layer's lines) -> its points, when split
+    for lines, n, row in layer_rows(program, src, blocks, ";"):
+        points = dat if blocks is None else dats.setdefault(id(lines), [])
+        points.append(f"DECL E6POS P{n}={{X {fmt(xyz[row, 0], POSITION_DECIMALS)},Y {fmt(xyz[row, 1], POSITION_DECIMALS)},"
                    f"Z {fmt(xyz[row, 2], POSITION_DECIMALS)},A {fmt(abc[row, 0], ANGLE_DECIMALS)},"
                    f"B {fmt(abc[row, 1], ANGLE_DECIMALS)},C {fmt(abc[row, 2], ANGLE_DECIMALS)},"
                    + f"S {s[row]},T {t[row]},"
@@ -69,18 +82,39 @@ def serialize(program: MotionProgram) -> dict[str, str]:
         if n > 1:
             if cell.tool_path[row] >= TOOL_STILL_MM:
                 if slow:
-                    src.append("$VEL_EXTAX[1] = 100")
+                    lines.append("$VEL_EXTAX[1] = 100")
                     slow = False
-                src.append(f"$VEL.CP = {fmt_significant(cell.tool_path[row] / time[row] / 1000.0)}")
+                lines.append(f"$VEL.CP = {fmt_significant(cell.tool_path[row] / time[row] / 1000.0)}")
             else:
                 share = 100.0 * abs(ext[row, 0] - ext[prev, 0]) / time[row] / top_e1
-                src.append(f"$VEL_EXTAX[1] = {fmt_significant(min(max(share, 1e-3), 100.0))}")
+                lines.append(f"$VEL_EXTAX[1] = {fmt_significant(min(max(share, 1e-3), 100.0))}")
                 slow = True
         if row in bridges:  # the arm stops at the point, then changes configuration
-            src += [f"LIN P{n}", f"; {BRIDGE_NOTE}", f"PTP {_axes(bridges[row].after, ext[row])}"]
+            lines += [f"LIN P{n}", f"; {BRIDGE_NOTE}", f"PTP {_axes(bridges[row].after, ext[row])}"]
         else:
-            src.append(f"LIN P{n} C_DIS")
+            lines.append(f"LIN P{n} C_DIS")
         prev = row
-    src.append("END")
+    modules = {k: layer_module(name, k) for k in blocks or {}}
+    src += [f"{module}( )  ; layer {k}: {module}.src + .dat" for k, module in modules.items()] + ["END"]
     dat.append("ENDDAT")
-    return {".src": "\n".join(src) + "\n", ".dat": "\n".join(dat) + "\n"}
+    texts = {".src": "\n".join(src) + "\n", ".dat": "\n".join(dat) + "\n"}
+    for k, module in modules.items():  # each layer a module of its own: its moves' .src, their points' .dat
+        lines = blocks[k]
+        texts[module[len(name):] + ".src"] = "\n".join(
+            ["&ACCESS RVP", "&REL 1", f"DEF {module}( )", f"; {name}'s layer {k}, called from {name}.src"]
+            + lines + ["END"]) + "\n"
+        texts[module[len(name):] + ".dat"] = "\n".join(
+            ["&ACCESS RVP", "&REL 1", f"DEFDAT {module} PUBLIC"] + dats[id(lines)] + ["ENDDAT"]) + "\n"
+    return texts
+
+
+def layer_module(name: str, layer: int) -> str:
+    """The module (its .src and .dat's name) of a layer of the job's KRL program split per layer:
+    `<name>_L<layer>`; ExportError past KRL's NAME_LENGTH."""
+    module = f"{name}_L{layer}"
+    if len(module) > NAME_LENGTH["krl"]:
+        raise ExportError(f"name: the KRL program is split per layer (docs/math/10-robot-cell.md 10.10) and layer "
+                          f"{layer}'s module {module} is longer than KRL's {NAME_LENGTH['krl']} characters: shorten the "
+                          f"job's name to {NAME_LENGTH['krl'] - len(module) + len(name)} or raise "
+                          f"machine.robot.program_limit")
+    return module

@@ -13,9 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.config.robot import subprogram_name
 from winder.export.dialects.robot_text import (ANGLE_DECIMALS, BRIDGE_NOTE, JOINT_DECIMALS, POSITION_DECIMALS,
                                                TIME_DECIMALS,
-                                               bridges_after, cell_of, cell_start, header, numbered_rows, quaternions)
+                                               bridges_after, cell_of, cell_start, header, layer_rows, quaternions,
+                                               split_if_large)
 from winder.export.dialects.text import fmt
 from winder.machine.configuration import abb_confdata
 from winder.machine.program import MotionProgram
@@ -43,7 +45,13 @@ def _jointtarget(name: str, q: np.ndarray, ext: np.ndarray) -> str:
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
-    """The .mod text of the program."""
+    """The .mod text of the program: past the cell's program limit, main calls a routine per layer,
+    `layer_N;` (docs/math/10-robot-cell.md 10.10)."""
+    return split_if_large(program, "rapid", _write)
+
+
+def _write(program: MotionProgram, split: bool) -> dict[str, str]:
+    """The .mod text of the program, split per layer or not."""
     cell, name, xyz, ext, time = cell_start(program, "RAPID")
     c = cell.cell
     quat = quaternions(cell.frames[:, :3, :3])
@@ -53,8 +61,10 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     lines += [f"  PERS tooldata tRing := [FALSE,{_frame(c.ring)},[1,[0,0,1],[1,0,0,0],0,0,0]];",
               f"  PERS wobjdata wMandrel := [TRUE,TRUE,\"\",{_frame(c.tool)},[[0,0,0],[1,0,0,0]]];"]
     lines.append(_jointtarget("jStart", cell.reach.joints[0], ext[0]))
-    targets, moves = [], []
-    for n, row in numbered_rows(program, moves, "    !"):
+    targets: list[str] = []
+    unsplit: list[str] = []
+    blocks: dict[int, list[str]] | None = {} if split else None
+    for moves, n, row in layer_rows(program, unsplit, blocks, "    !"):
         targets.append(f"  CONST robtarget p{n} := [[{fmt(xyz[row, 0], POSITION_DECIMALS)},"
                        f"{fmt(xyz[row, 1], POSITION_DECIMALS)},{fmt(xyz[row, 2], POSITION_DECIMALS)}],["
                        + ",".join(fmt(v, QUATERNION_DECIMALS) for v in quat[row]) + "],["
@@ -69,6 +79,9 @@ def serialize(program: MotionProgram) -> dict[str, str]:
             moves += [f"    ! {BRIDGE_NOTE}", f"    MoveAbsJ jBridge{n}, v1000 \\T:={fmt(bridges[row].time_s, TIME_DECIMALS)}, "
                       "fine, tRing \\WObj:=wMandrel;"]
     lines += targets
-    lines += ["  PROC main()", "    ConfL \\Off;",
-              "    MoveAbsJ jStart, v100, fine, tRing \\WObj:=wMandrel;"] + moves + ["  ENDPROC", "ENDMODULE"]
+    lines += ["  PROC main()", "    ConfL \\Off;", "    MoveAbsJ jStart, v100, fine, tRing \\WObj:=wMandrel;"]
+    lines += unsplit + [f"    {subprogram_name(k)};" for k in blocks or {}] + ["  ENDPROC"]
+    for k, moves in (blocks or {}).items():  # each layer a routine of the module
+        lines += [f"  PROC {subprogram_name(k)}()"] + moves + ["  ENDPROC"]
+    lines.append("ENDMODULE")
     return {".mod": "\n".join(lines) + "\n"}

@@ -115,16 +115,43 @@ def numbered_rows(program: MotionProgram, comments: list[str], mark: str) -> Ite
     """(n, row) of every row of rows(program), n counted from 1; each pass comment is appended to
     comments, as `mark head`, before its row is given, and after it the controller's tension command
     (an analog output: its description's `tension`) where the tension as written changes."""
+    for _, n, row in layer_rows(program, comments, None, mark):
+        yield n, row
+
+
+def layer_rows(program: MotionProgram, main: list[str], blocks: dict[int, list[str]] | None,
+               mark: str) -> Iterator[tuple[list[str], int, int]]:
+    """(the lines its move goes to, n, row) of every row of rows(program), n counted from 1: main, or
+    where blocks is a dict, blocks[its layer's index] (each layer a subprogram of its own,
+    docs/math/10-robot-cell.md 10.10). Each pass comment is appended to those lines, as `mark head`,
+    before its row is given, and after it the controller's tension command where it changes."""
     controller = program.machine.controller
     indent = mark[:len(mark) - len(mark.lstrip())]
+    layer_of: dict[int, int] = {}
+    if blocks is not None:
+        for layer, segments in zip(program.layers, program.segments):
+            for seg in segments:
+                layer_of.update((row, layer.index) for row in range(seg.start, seg.stop))
     said = None
     for n, (head, row, tension) in enumerate(_rows_and_tensions(program), start=1):
+        lines = main if blocks is None else blocks.setdefault(layer_of[row], [])
         if head is not None:
-            comments.append(f"{mark} {head}")
+            lines.append(f"{mark} {head}")
             if tension is not None and controller.tension and (line := controller.tension_line(tension)) != said:
-                comments.append(indent + line)
+                lines.append(indent + line)
                 said = line
-        yield n, row
+        yield lines, n, row
+
+
+def split_if_large(program: MotionProgram, language: str, write) -> dict[str, str]:
+    """write(program, split=False)'s texts, or where their bytes pass the cell's limit for the language
+    (winder.config.robot.program_limit), write(program, split=True)'s: a main program calling one
+    subprogram per layer (docs/math/10-robot-cell.md 10.10)."""
+    from winder.config.robot import program_limit  # noqa: PLC0415
+
+    texts = write(program, False)
+    size = sum(len(t.encode("utf-8")) for t in texts.values())
+    return write(program, True) if size > program_limit(cell_of(program).cell, language) else texts
 
 
 def abc_deg(r: np.ndarray) -> np.ndarray:

@@ -21,8 +21,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from winder.config.robot import subprogram_name
 from winder.export.dialects.robot_text import (BRIDGE_NOTE, TIME_DECIMALS, bridges_after, cell_start, header,
-                                               numbered_rows, rotation_vectors, rows)
+                                               layer_rows, rotation_vectors, rows,
+                                               split_if_large)
 from winder.export.dialects.text import fmt
 from winder.machine.blends import CYCLE_S, blend_radii, line_times, ring_targets
 from winder.machine.program import MotionProgram
@@ -77,7 +79,14 @@ def motion(program: MotionProgram):
 
 
 def serialize(program: MotionProgram) -> dict[str, str]:
-    """The .script text of the program."""
+    """The .script text of the program: past the cell's program limit, the main function calls a
+    function per layer, `layer_N()`, each defined within it before the calls
+    (docs/math/10-robot-cell.md 10.10)."""
+    return split_if_large(program, "urscript", _write)
+
+
+def _write(program: MotionProgram, split: bool) -> dict[str, str]:
+    """The .script text of the program, split per layer or not."""
     cell, name, _, _, _ = cell_start(program, "URScript")
     tool = cell.cell.tool.matrix()
     rv = rotation_vectors(cell.mandrel[:, :3, :3])
@@ -85,20 +94,25 @@ def serialize(program: MotionProgram) -> dict[str, str]:
     written, move_s, radii, pause, targets, spans = motion(program)
     bridges = bridges_after(program)
     lines = [f"def {name}():"] + header(program, "  #") + list(PROLOGUE)
+    body: list[str] = []
+    blocks: dict[int, list[str]] | None = {} if split else None
+    pad = "    " if split else "  "  # a layer's function's lines one level in
+    # each pass comment, and after it the controller's tension command where it changes, before its row
+    for moves, n, row in layer_rows(program, body, blocks, pad + "#"):
+        k = n - 1  # motion()'s rows are rows(program)'s, as layer_rows gives them
+        t = fmt(move_s[k], TIME_DECIMALS)
+        moves.append(pad + "ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
+                     + f", {fmt(spans[k], TIME_DECIMALS)})")
+        moves.append(pad + f"movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
+                      f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
+        if row in bridges:
+            moves += [f"{pad}# {BRIDGE_NOTE}",
+                      f"{pad}movej({_joints(bridges[row].after)}, a=1.0, v=1.0, t={fmt(pause[k], TIME_DECIMALS)}, r=0)"]
+    for k, inner in (blocks or {}).items():  # each layer a function of the script, defined before its call
+        lines += [f"  def {subprogram_name(k)}():"] + inner + ["  end"]
     lines += [f"  set_tcp({_pose(tool[:3, 3], rotation_vectors(tool[None, :3, :3])[0])})",
               f"  movej({_joints(cell.reach.joints[0])}, a=0.5, v=0.5)",
               "  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[0]) + ", 0)",
               "  ring_wait()"]
-    # each pass comment, and after it the controller's tension command where it changes, before its row
-    for n, row in numbered_rows(program, lines, "  #"):
-        k = n - 1  # motion()'s rows are rows(program)'s, as numbered_rows gives them
-        t = fmt(move_s[k], TIME_DECIMALS)
-        lines.append("  ring(" + ", ".join(fmt(v, RING_DECIMALS) for v in targets[k])
-                     + f", {fmt(spans[k], TIME_DECIMALS)})")
-        lines.append(f"  movel({_pose(xyz[row], rv[row])}, a=1.2, v=0.25, t={t}, "
-                     f"r={fmt(radii[k] / 1000.0, METRE_DECIMALS)})")
-        if row in bridges:
-            lines += [f"  # {BRIDGE_NOTE}",
-                      f"  movej({_joints(bridges[row].after)}, a=1.0, v=1.0, t={fmt(pause[k], TIME_DECIMALS)}, r=0)"]
-    lines.append("end")
+    lines += body + [f"  {subprogram_name(k)}()" for k in blocks or {}] + ["end"]
     return {".script": "\n".join(lines) + "\n"}
