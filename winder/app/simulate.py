@@ -33,7 +33,7 @@ import numpy as np
 
 from winder.readback.contact_bands import TableTooLarge, contact_points
 from winder.readback.contacts import candidates, forward, ray_distance, refine, repair, widen_ends
-from winder.readback.contact_windows import unpin
+from winder.readback.contact_windows import far_ties, unpin
 from winder.readback.exact_paths import ExactPaths
 from winder.config.machine import MachineConfig
 from winder.errors import ConfigError
@@ -205,14 +205,18 @@ def simulate(machine: MachineConfig, plan: WindingPlan, text: str | ProgramFile,
                                   machine.chord_tolerance, MAX_TABLE_ENTRIES)
         except TableTooLarge as exc:
             raise _refuse_large_table(exc, parsed, source) from None
-        # Between the candidates either side of the one picked, within the pass.
+        # From the candidate before the one picked to the end of the segment after its own (the dynamic
+        # program scores the segment from each candidate to the next, its offsets taken linear between
+        # them: parts/tank_20.yaml near a polar opening picked u = 78 where the ray that fits lies at
+        # 78.64, past the next candidate, 78.5, which read 0.018 mm off), within the pass.
         lo = cu[np.maximum(pick - 1, cstart[where])]
-        hi = cu[np.minimum(pick + 1, cstart[where + 1] - 1)]
+        hi = cu[np.minimum(pick + 2, cstart[where + 1] - 1)]
         u = forward(refine(paths, all_eye[mine], lo, cu[pick], hi), chain[mine], position[mine])
         # A move's midpoint may bow off the tangents by up to the chord tolerance; more is searched again.
         u = repair(paths, all_eye[mine], u, chain[mine], position[mine], machine.chord_tolerance)
         u = unpin(paths, all_eye[mine], u, chain[mine], position[mine], machine.chord_tolerance)
         u = widen_ends(paths, all_eye[mine], u, chain[mine], position[mine], where, cand)
+        u = far_ties(paths, all_eye[mine], u, chain[mine], position[mine], cand)
         s[mine], th[mine], p[mine], d[mine] = paths.point(u)
         toward = all_eye[mine] - p[mine]
         toward /= np.maximum(np.linalg.norm(toward, axis=1), 1e-300)[:, None]

@@ -35,6 +35,7 @@ CUT_PIECES = 4  # pieces a straying move is cut in, a round
 MEND_ROUNDS = 3
 TRAVEL_SAMPLES = 64  # contacts of a straying move at which its eye's travel is read (where to cut)
 EVEN_SHARE = 1e-3  # of the cuts' measure spread evenly over the contact index (a move whose eye is still)
+TRAVEL_STILL = 1e-9  # of a move's eye travel: a step of its samples that moves less, the eye still
 
 
 def _owners(program) -> tuple[np.ndarray, np.ndarray]:
@@ -87,11 +88,16 @@ def mend(plan: WindingPlan, program, moves: np.ndarray):
         paths = SmoothPaths(plan.surface_of(the_layer.index), list(the_layer.passes))
         offset = paths.offset[number[moves[mine]]][:, None]
         mean = 0.5 * (program.values[moves[mine] - 1] + program.values[moves[mine]])
-        # theta with the program's turns: the planned angle's turn offset is read back from A
+
+        def read(u_at: np.ndarray, mean=mean, offset=offset, paths=paths) -> np.ndarray:
+            """The exact eye (k_l, s, 3) at the contacts u_at (k_l, s) (theta with the program's turns:
+            the planned angle's turn offset is read back from A)."""
+            _, th, p, d = exact_points(paths, (offset + u_at).ravel())
+            seen = _eyes(plan, program, env, guide, p, d, th, np.repeat(mean, u_at.shape[1], axis=0))
+            return _positions(seen, program.robot).reshape(u_at.shape[0], u_at.shape[1], 3)
+
         u_seen = u0[mine, None] + g * (u1 - u0)[mine, None]  # (k_l, TRAVEL_SAMPLES)
-        _, th, p, d = exact_points(paths, (offset + u_seen).ravel())
-        seen = _eyes(plan, program, env, guide, p, d, th, np.repeat(mean, g.size, axis=0))
-        eyes = _positions(seen, program.robot).reshape(mine.size, g.size, 3)
+        u_seen, eyes = _finer(u_seen, read(u_seen), read)
         u_new[mine] = _travel_cuts(u_seen, eyes, f)
         _, th, p, d = exact_points(paths, (offset + u_new[mine]).ravel())
         rows[mine] = _eyes(plan, program, env, guide, p, d, th,
@@ -115,11 +121,31 @@ def _travel_cuts(u: np.ndarray, eyes: np.ndarray, f: np.ndarray) -> np.ndarray:
     step = np.linalg.norm(np.diff(eyes, axis=1), axis=2)  # (k, s - 1)
     travel = np.concatenate([np.zeros((u.shape[0], 1)), np.cumsum(step, axis=1)], axis=1)
     total = travel[:, -1:]
-    even = np.linspace(0.0, 1.0, u.shape[1])
+    span = u[:, -1:] - u[:, :1]
+    even = (u - u[:, :1]) / np.where(span != 0.0, span, 1.0)  # the contact index's share
     measure = (1.0 - EVEN_SHARE) * travel / np.where(total > 0.0, total, 1.0) + EVEN_SHARE * even
-    measure[total[:, 0] <= 0.0] = even
+    measure = np.where(total > 0.0, measure, even)
     measure /= measure[:, -1:]
     return np.stack([np.interp(f, m, x) for m, x in zip(measure, u)]) if u.shape[0] else np.zeros((0, f.size))
+
+
+def _finer(u: np.ndarray, eyes: np.ndarray, read) -> tuple[np.ndarray, np.ndarray]:
+    """The contacts u (k, s) and their eyes (k, s, 3) with TRAVEL_SAMPLES more contacts evenly between
+    the first and the last of them between which the eye moves (read (k, s') eyes of contacts (k, s')):
+    a move into a flat face's row (winder.machine.reduce.far_contacts) runs its contact over the corner
+    and the whole flat, its eye still along the flat, and the even samples left the corner's sweep a few
+    (configs like issue 41's tube 6, 70.5 deg: cuts on the flat, whose eyes lie on its line)."""
+    step = np.linalg.norm(np.diff(eyes, axis=1), axis=2)  # (k, s - 1)
+    moving = step > TRAVEL_STILL * np.maximum(step.sum(axis=1, keepdims=True), 1e-300)
+    first = np.argmax(moving, axis=1)
+    last = step.shape[1] - np.argmax(moving[:, ::-1], axis=1)  # the sample after the last step that moves
+    rows = np.arange(u.shape[0])
+    lo, hi = u[rows, first], u[rows, last]
+    fine = lo[:, None] + np.linspace(0.0, 1.0, TRAVEL_SAMPLES) * (hi - lo)[:, None]
+    at = np.concatenate([u, fine], axis=1)
+    order = np.argsort(at, axis=1, kind="stable")
+    both = np.concatenate([eyes, read(fine)], axis=1)
+    return np.take_along_axis(at, order, axis=1), np.take_along_axis(both, order[:, :, None], axis=1)
 
 
 def _inserted(program, moves: np.ndarray, rows: np.ndarray, u_new: np.ndarray, f: np.ndarray):

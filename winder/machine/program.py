@@ -42,7 +42,7 @@ from winder.machine.axis_batch import straight_axes
 from winder.machine.kinematics import eye_path, make_guide
 from winder.machine.limits import AXIS_DECIMALS
 from winder.machine.robot import robot_rows
-from winder.machine.reduce import reduce_table
+from winder.machine.reduce import far_contacts, reduce_table
 from winder.machine.smooth import SmoothPaths
 from winder.machine.straight import straight_passes
 from winder.winding.layer_batches import robot_poses
@@ -211,11 +211,12 @@ def _moves(laid: tuple, kept: list[np.ndarray], width: int) -> tuple[np.ndarray,
     rows = np.concatenate([keep + s for keep, s in zip(kept, start.tolist())])
     counts = np.array([keep.size for keep in kept], dtype=int)
     first = np.cumsum(counts) - counts
-    at_kept = along[rows]
+    contact = far_contacts(table, points, u, n, rows, first, as_written(table[rows], width > 4))  # a flat's far end
+    at_kept = np.interp(contact, np.arange(along.size), along)
     fiber = np.empty(at_kept.size)
     fiber[1:] = at_kept[1:] - at_kept[:-1]
     fiber[first] = at_kept[first] - at_kept[first]  # each pass's first row lays nothing (as np.diff's prepend)
-    values, index = table.take(rows, axis=0), u[rows]  # take: fancy indexing of rows costs several times more
+    values, index = table.take(rows, axis=0), np.interp(contact, np.arange(u.size), u)  # take: beats fancy indexing
     lifted = np.zeros(n.size, dtype=int)
     if lifts:  # a pass's approach rows go before its first kept row: no fiber, index -1
         at = np.concatenate([np.full(lift.shape[0], first[i]) for i, lift in lifts])

@@ -12,12 +12,15 @@ step), then each refined between the points on either side (sampled finer, then 
 search), then held nondecreasing along the pass (a tie on a flat resolves forward, never back); a sample
 still off its ray by more than the chord tolerance is searched again finely between its neighbours'
 contacts (`repair`: an eye far out sees a corner's rays sweep millimetres between two candidates).
+An eye that fits a flat (its line, within TIE) fits every point of it to round-off: the pick lands
+anywhere on it; winder.readback.contact_windows.far_ties takes it to the flat's far end.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from winder.machine.reduce import FLAT_TIE
 from winder.machine.smooth import SmoothPaths
 
 GOLDEN_STEPS = 40  # the bracket of two samples shrinks by 0.618^40 ~ 5e-9 of it
@@ -25,7 +28,7 @@ SUB_STEPS = 8  # samples per candidate interval before the golden-section search
 TURN_STEP = 0.01  # rad: the most the tangent turns between candidates (an eye 100 mm out: 1 mm apart)
 TURN_READS = 4  # the tangent is read at that many even steps along each interval for its turning
 MAX_SPLIT = 64  # at most that many candidates per point interval
-TIE = 1e-3  # mm: rays that near an eye's best fit it as well (the program's values are rounded to 1e-3)
+TIE = FLAT_TIE  # mm: rays that near an eye's best fit it as well (the program's values are rounded to 1e-3)
 REPAIR_TURN = 2e-4  # rad between the repair's samples: an eye 250 mm out, 0.05 mm apart
 REPAIR_SPLIT = 256  # at most that many per point interval
 REPAIR_STEP = 1.0 / 64.0  # and evenly that far apart (u): the rays also move sideways where they turn little
@@ -303,6 +306,12 @@ def window_reads(paths: SmoothPaths, lo: np.ndarray,
     return window[sort], reads[sort], np.vstack([fp[at_f], ep])[sort], np.vstack([fd[at_f], ed])[sort]
 
 
+def pass_span(paths: SmoothPaths, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, last) u of the pass each parameter u (k,) lies on: its first and last point."""
+    j = np.clip(np.searchsorted(paths.offset, u, "right") - 1, 0, paths.offset.size - 1)
+    return paths.offset[j].astype(float), paths.last[j].astype(float)
+
+
 def _best_read(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray,
                hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(u of the best read, the reads before and after it) (k,) in each window [lo, hi] (k,) for its
@@ -321,7 +330,10 @@ def _best_read(paths: SmoothPaths, eye: np.ndarray, lo: np.ndarray,
 def repair(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray,
            position: np.ndarray, tol: float) -> np.ndarray:
     """u with each sample whose ray misses its eye by more than tol searched again over the whole
-    stretch its neighbours' contacts leave it (the previous sample's contact to the next one's).
+    stretch its neighbours' contacts leave it (the previous sample's contact to the next one's; at a
+    chain's end, its pass's end: the move into a pass that continues the last one has its midpoint
+    first, and where the pass climbs a hoop's edge the rays of its first interval sweep past that
+    midpoint twice, the later fit lifting the row after it 0.38 mm off its ray).
     The candidates' rays sweep an eye far out by millimetres between two candidates where the tangent
     turns fast, and a spline's small overshoot where a corner meets a flat turns the tangent back: the
     dynamic program may then prefer the flat, off by the sweep, and refine only looks beside it.
@@ -356,8 +368,9 @@ def repair(paths: SmoothPaths, eye: np.ndarray, u: np.ndarray, chain: np.ndarray
         if not todo.size:
             continue
         k = order[todo]
-        lo = np.where(first[todo], out[k], out[order[np.maximum(todo - 1, 0)]])
-        hi = np.where(last[todo], out[k], out[order[np.minimum(todo + 1, order.size - 1)]])
+        start, end = pass_span(paths, out[k])
+        lo = np.where(first[todo], start, out[order[np.maximum(todo - 1, 0)]])
+        hi = np.where(last[todo], end, out[order[np.minimum(todo + 1, order.size - 1)]])
         found, a, b = _best_read(paths, eye[k], lo, hi)
         fbest = miss(k, found[:, None])[:, 0]
         a, b = golden(lambda v: miss(k, v[:, None])[:, 0], a, b)
