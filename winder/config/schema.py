@@ -32,7 +32,7 @@ from winder.config.files import MAX_NAME_LENGTH
 from winder.config.machine import (AXIS_LETTERS, DEFAULT_CHORD_TOLERANCE, DEFAULT_DYNAMICS, DEFAULT_EYE_CLEARANCE,
                                    DEFAULT_FEED, MACHINE_ROLES, MAX_EYE_CLEARANCE, WRITTEN_RESOLUTION, MachineAxes)
 from winder.config.reader import MAX_SIZE
-from winder.config.robot import (DEFAULT_AXES, DEFAULT_JOINT_STEP, DEFAULT_RING_DEPTH, DEFAULT_RING_WIDTH,
+from winder.config.robot import (MIN_PROGRAM_LIMIT, DEFAULT_AXES, DEFAULT_JOINT_STEP, DEFAULT_RING_DEPTH, DEFAULT_RING_WIDTH,
                                  DEFAULT_SINGULARITY_MARGIN, MAX_CELL_SIZE, POSE_KEYS)
 from winder.config.schema_kit import Schema, choice, closed, length, nullable, number, pair, positive, tagged
 from winder.config.schema_winding import winding_schema
@@ -216,7 +216,11 @@ def _robot() -> Schema:
         "max_joint_step": number("Largest joint turn between consecutive poses", "deg", lo=0, lo_open=True, hi=180,
                                  default=DEFAULT_JOINT_STEP),
         "singularity_margin": number("Least distance of the wrist from its singularity", "deg", lo=0, hi=90,
-                                     hi_open=True, default=DEFAULT_SINGULARITY_MARGIN)}, ("arm",))
+                                     hi_open=True, default=DEFAULT_SINGULARITY_MARGIN),
+        "program_limit": number("The most the controller holds of one program; past it the program is written "
+                                "as a main program calling one subprogram per layer (default: the arm's "
+                                "language's limit, docs/math/10-robot-cell.md 10.10)", "bytes", integer=True,
+                                lo=MIN_PROGRAM_LIMIT)}, ("arm",))
     flag = {"type": "boolean", "description": "true: write eye poses for a robot instead of G-code axes "
             "(default: true exactly when the axis is bent)."}
     return {"description": "Robot mode: true / false, or a robot cell.", "anyOf": [flag, cell]}
