@@ -4,7 +4,8 @@ Each part is drawn from its seed alone (numpy's PCG64), so a failing part is nam
 and comes back the same. The classes and ranges (issue 41, "Build" 2):
 
 - vessel: radius 40 to 400, length / diameter 0.5 to 6, hemisphere, ellipsoid (depth 0.5 to 1 R) or
-  isotensoid domes, openings 5 to 40 % of the radius (unequal ends half the time), 2 to 30 layers of
+  isotensoid domes, torispherical heads, ellipsoids given as a drawing's points (contour), end domes
+  closed round a shaft, openings 5 to 40 % of the radius (unequal ends half the time), 2 to 30 layers of
   helicals at 8 to 70 deg (geodesic, a number of slip or `auto`) and hoops, bands 3 to 40 mm;
 - pipe: radius 10 to 600, 0.3 to 12 m, helicals at 15 to 89 deg, 1 to 12 layers;
 - cone: tapers 1:5 to 1:100 up to 12 m (poles and reducers);
@@ -184,8 +185,34 @@ def _vessel(rng, size: Size) -> dict:
     winding = {"band_width": band, "friction": friction, "points": size.points, "layers": layers}
     if rng.uniform() < 0.7:
         winding["material"] = {"ply_thickness": _round(rng.uniform(0.1, 0.5), 0.05)}
+    machine = _machine(rng)
+    dome, end = _as_built(rng, radius, dome), _as_built(rng, radius, end, closable=True)
     profile = {"type": "vessel", "radius": radius, "cylinder_length": cylinder, "dome": dome, "end_dome": end}
-    return {"mandrel": {"profile": profile}, "winding": winding, "machine": _machine(rng)}
+    return {"mandrel": {"profile": profile}, "winding": winding, "machine": machine}
+
+
+def _as_built(rng, radius: float, dome: dict, closable: bool = False) -> dict:
+    """A dome as liners come (drawn after the part's other draws, which they leave as they were): a
+    hemisphere a torispherical head a third of the time (crown 0.8 to 1 D, knuckle 6 to 15 % of D: its
+    depth less, its openings the same), an ellipsoid a drawing's points a third of the time (the
+    meridian sampled, z from the cylinder to the opening), and an end dome closed round a shaft of the
+    opening's radius a quarter of the time (the helicals turn where they did)."""
+    out = dict(dome)
+    draw = rng.uniform(size=3)
+    if out["type"] == "hemisphere" and draw[0] < 1.0 / 3.0:
+        out = {"type": "torispherical", "crown_radius": _round((0.8 + 0.2 * draw[1]) * 2.0 * radius, 0.5),
+               "knuckle_radius": _round((0.06 + 0.09 * draw[2]) * 2.0 * radius, 0.5),
+               "polar_opening": out["polar_opening"]}
+    elif out["type"] == "ellipsoid" and draw[0] < 1.0 / 3.0:
+        depth, opening = out["depth"], out["polar_opening"]
+        top = math.acos(opening / radius)  # the meridian's angle where it reaches the opening
+        angle = np.linspace(0.0, top, 49)
+        out = {"type": "contour",
+               "points": [[round(depth * math.sin(a), 4), round(radius * math.cos(a), 4)] for a in angle]}
+        out["points"][-1][1] = opening
+    if closable and draw[1] < 0.25 and out["type"] != "contour":
+        out = {**out, "shaft_radius": out["polar_opening"], "polar_opening": 0.0}
+    return out
 
 
 def _pipe(rng, size: Size) -> dict:
