@@ -326,6 +326,7 @@ def test_run_batch_with_broken_configs(tmp_path, jobs):
     table = result.stdout
     assert table.index("good1") < table.index("bridging") < table.index("bad_radius") < table.index("good2")
     assert "failed" in table and "invalid" in table
+    assert result.output.rstrip("\n").splitlines()[-2:] == lines  # the Error lines last, after the table (issue 49.6)
 
     result = invoke("run", good[0], infeasible, "-o", tmp_path / "out1", "--jobs", jobs)
     assert result.exit_code == 1, result.output

@@ -91,8 +91,8 @@ class _JobBar:
 
 def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], jobs: int,
            summary: bool = True, seconds: float | None = None) -> None:
-    """Run each config as a job (see run_cmd) and report: one Error line per failure, a table, a
-    tally; exit with the batch's SPEC status."""
+    """Run each config as a job (see run_cmd) and report: a table, a tally, then one Error line per
+    failure; exit with the batch's SPEC status."""
     from winder.app.batch import batch_tasks, summary_lines  # noqa: PLC0415
     from winder.app.jobs import exit_status, run_job, run_jobs, workers_for  # noqa: PLC0415
 
@@ -110,11 +110,12 @@ def _batch(configs: tuple[str, ...], out_dir: str, formats: tuple[str, ...], job
             single.close()
 
     done = [r for r in reports if r is not None]
+    for line in summary_lines(done, out_dir):
+        _echo(line)
+    # The Error lines last: what a `| tail` or the end of a log shows is why a job failed (issue 49.6).
     for report in done:
         if not report.ok:
             _echo(f"Error: {report.message}", err=True)
-    for line in summary_lines(done, out_dir):
-        _echo(line)
     status = exit_status(r.exit_code for r in done)
     if status:
         sys.exit(status)
