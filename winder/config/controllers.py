@@ -104,6 +104,17 @@ class Controller:
             return float(read["newtons"])
         return float(read["fraction"]) * float(self.tension_full_scale or float("nan"))
 
+    def tension_reader(self):
+        """A reader of this controller's tension lines, for every language's read-back: the tension (N)
+        a line sets, else None."""
+        pattern = read_pattern(self.tension) if self.tension else None
+
+        def read(line: str) -> float | None:
+            hit = pattern.match(line) if pattern is not None else None
+            return self.newtons(hit.groupdict()) if hit else None
+
+        return read
+
     def end_code(self) -> str | None:
         """The footer line that ends the program (its last that is not `%`), if any."""
         return next((line for line in reversed(self.footer) if line.strip() != "%"), None)

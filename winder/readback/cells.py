@@ -29,7 +29,6 @@ from collections.abc import Callable
 import numpy as np
 
 from winder.config.arms import ARMS
-from winder.config.controllers import read_pattern
 from winder.config.machine import MachineConfig
 from winder.config.robot import MAX_CELL_SIZE, Pose
 from winder.errors import ConfigError
@@ -105,8 +104,7 @@ class Rows:
     kinds: list = dataclasses.field(default_factory=list)
     lines: list = dataclasses.field(default_factory=list)
     times: list = dataclasses.field(default_factory=list)
-    controller: object = None  # the machine's controller description: how it sets the tension
-    tension_line: re.Pattern | None = None  # its tension command, read as the lines pass
+    read_tension: Callable[[str], float | None] | None = None  # the controller's (Controller.tension_reader)
     tension: float = float("nan")  # N: the tension set so far (nan before the first command)
     tensions: list = dataclasses.field(default_factory=list)
 
@@ -114,15 +112,14 @@ class Rows:
     def of(cls, source: str, machine: MachineConfig) -> "Rows":
         """The rows of a program written for `machine` (its controller's tension command read)."""
         controller = machine.controller
-        command = controller.tension if controller is not None else None
-        return cls(source=source, controller=controller, tension_line=read_pattern(command) if command else None)
+        return cls(source=source, read_tension=controller.tension_reader() if controller is not None else None)
 
     def comment(self, line: str, number_: int) -> bool:
         """Whether the line is a comment or the tension command (read as they pass: pass and job
         comments, the tension set)."""
-        set_to = self.tension_line.match(line) if self.tension_line is not None else None
-        if set_to:
-            self.tension = self.controller.newtons(set_to.groupdict())
+        set_to = self.read_tension(line) if self.read_tension is not None else None
+        if set_to is not None:
+            self.tension = set_to
             return True
         hit = _PASS.match(line)
         if hit:

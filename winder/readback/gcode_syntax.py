@@ -23,7 +23,7 @@ class Syntax:
         self.controller = controller
         before, _, after = controller.comment.partition("{text}")
         self._open, self._close = before.strip(), after.strip()
-        self._tension = read_pattern(controller.tension) if controller.tension else None
+        self.tension = controller.tension_reader()  # the tension (N) a line sets, else None
         reset = controller.rotary.reset if controller.rotary.mode.startswith("reset") else None
         self._reset = read_pattern(reset) if reset else None
         self.wrap = controller.rotary.mode == "wrap"
@@ -51,13 +51,6 @@ class Syntax:
         if self._open and bare.startswith(self._open) and bare.endswith(self._close):
             return bare[len(self._open):len(bare) - len(self._close)].strip()
         return None
-
-    def tension(self, bare: str) -> float | None:
-        """The tension (N) a tension line sets, else None."""
-        if self._tension is None:
-            return None
-        hit = self._tension.match(bare)
-        return self.controller.newtons(hit.groupdict()) if hit else None
 
     def reset(self, bare: str) -> float | None:
         """The position (deg) a rotary reset line sets the axis to, else None."""
